@@ -1,0 +1,58 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#pragma once
+
+#include "BoundingBox.h"
+#include "Vec3.h"
+
+#include <string>
+#include <vector>
+
+namespace omesh
+{
+/// Material id for "not in any material". Material ids are >= 0.
+constexpr int kOutside = -1;
+
+/// One input of the hierarchical oracle: a region of space that assigns materials to the points it
+/// contains. Implementations must be safe to query from several threads at once (const queries).
+class Domain
+{
+public:
+  virtual ~Domain() = default;
+
+  /// Material id at p, or kOutside when the domain does not contain p. Boundary points count as
+  /// contained (the domain is a closed set).
+  virtual int material(const Vec3& p) const = 0;
+
+  /// Appends to `ts` parameters t in [0, 1] of segment a + t (b - a) where this domain's material
+  /// may change. Every true change must be listed (a superset is allowed): the oracle evaluates the
+  /// combined labelling between consecutive candidates, which makes intersection exact.
+  virtual void crossings(const Vec3& a, const Vec3& b, std::vector<double>& ts) const = 0;
+
+  /// World bounds of the contained region; unbounded domains (half-spaces, infinite cylinders)
+  /// return false from bounded().
+  virtual BoundingBox bounds() const = 0;
+  virtual bool bounded() const { return true; }
+
+  /// Short kind name used in messages and metadata ("Surface", "LabelMap", "Sphere", ...).
+  virtual const char* kind() const = 0;
+
+  /// Material ids this domain can return (for per-material reports).
+  virtual std::vector<int> materials() const = 0;
+
+  const std::string& name() const { return name_; }
+  void setName(const std::string& n) { name_ = n; }
+
+  /// A cut domain turns the points it contains into "outside" for itself and every domain of lower
+  /// priority (paper section 3.1).
+  bool isCut() const { return cut_; }
+  void setCut(bool c) { cut_ = c; }
+
+protected:
+  /// Helper for single-material kinds.
+  static void checkMaterialId(int id, const std::string& who);
+
+private:
+  std::string name_;
+  bool cut_ = false;
+};
+}

@@ -1,0 +1,92 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "HierarchicalOracle.h"
+
+#include "InputError.h"
+
+#include <algorithm>
+#include <set>
+
+namespace omesh
+{
+void HierarchicalOracle::add(std::shared_ptr<const Domain> domain)
+{
+  if (!domain)
+    throw InputError("HierarchicalOracle: null domain");
+  domains_.push_back(std::move(domain));
+}
+
+Intersection HierarchicalOracle::intersect(const Vec3& a, const Vec3& b) const
+{
+  Intersection result;
+  result.materialBefore = material(a);
+  std::vector<double> ts;
+  for (const auto& d : domains_)
+    d->crossings(a, b, ts);
+  std::sort(ts.begin(), ts.end());
+  ts.push_back(1.0);
+  double previous = 0.0;
+  for (double t : ts)
+  {
+    if (t <= previous)
+      continue;
+    const int m = material(lerp(a, b, 0.5 * (previous + t)));
+    if (m != result.materialBefore)
+    {
+      result.found = true;
+      result.t = previous;
+      result.point = lerp(a, b, previous);
+      result.materialAfter = m;
+      return result;
+    }
+    previous = t;
+  }
+  const int mb = material(b);
+  if (mb == result.materialBefore)
+    return result;
+  // Fallback: bisection between the last interval that agrees with a, and b.
+  double lo = 0.0, hi = 1.0;
+  while (hi - lo > 1e-12)
+  {
+    const double mid = 0.5 * (lo + hi);
+    (material(lerp(a, b, mid)) == result.materialBefore ? lo : hi) = mid;
+  }
+  result.found = true;
+  result.t = hi;
+  result.point = lerp(a, b, hi);
+  result.materialAfter = mb;
+  return result;
+}
+
+BoundingBox HierarchicalOracle::bounds() const
+{
+  if (domains_.empty())
+    throw InputError("HierarchicalOracle: no domains");
+  BoundingBox box;
+  for (const auto& d : domains_)
+  {
+    if (d->isCut())
+      continue;
+    if (!d->bounded())
+      throw InputError("HierarchicalOracle: domain '" + d->name() + "' (" + d->kind() +
+        ") is unbounded; only cut domains may be unbounded");
+    box.add(d->bounds());
+  }
+  if (box.empty())
+    throw InputError("HierarchicalOracle: every domain is a cut, so no material is left");
+  return box;
+}
+
+std::vector<int> HierarchicalOracle::materials() const
+{
+  std::set<int> all;
+  for (const auto& d : domains_)
+  {
+    if (!d->isCut())
+    {
+      for (int m : d->materials())
+        all.insert(m);
+    }
+  }
+  return { all.begin(), all.end() };
+}
+}

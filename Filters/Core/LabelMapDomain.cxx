@@ -1,0 +1,163 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "LabelMapDomain.h"
+
+#include "InputError.h"
+
+#include <algorithm>
+#include <cmath>
+#include <unordered_map>
+
+namespace omesh
+{
+namespace
+{
+AffineMap voxelToWorld(const Vec3& origin, const Vec3& spacing, const std::array<double, 9>& d, double shift)
+{
+  // world = origin + D * diag(spacing) * (u + shift)
+  std::array<double, 12> m{};
+  for (int r = 0; r < 3; ++r)
+  {
+    double t = origin[r];
+    for (int c = 0; c < 3; ++c)
+    {
+      m[4 * r + c] = d[3 * r + c] * spacing[c];
+      t += d[3 * r + c] * spacing[c] * shift;
+    }
+    m[4 * r + 3] = t;
+  }
+  return AffineMap(m);
+}
+}
+
+AffineMap LabelMapDomain::pointCenteredWorldToVoxel(
+  const Vec3& origin, const Vec3& spacing, const std::array<double, 9>& direction)
+{
+  return voxelToWorld(origin, spacing, direction, -0.5).inverse();
+}
+
+AffineMap LabelMapDomain::cellCenteredWorldToVoxel(
+  const Vec3& origin, const Vec3& spacing, const std::array<double, 9>& direction)
+{
+  return voxelToWorld(origin, spacing, direction, 0.0).inverse();
+}
+
+LabelMapDomain::LabelMapDomain(const std::array<int, 3>& dims, const std::vector<int>& labels,
+  const AffineMap& worldToVoxel, int backgroundLabel, const std::string& name)
+  : dims_(dims)
+  , worldToVoxel_(worldToVoxel)
+{
+  setName(name);
+  if (dims[0] <= 0 || dims[1] <= 0 || dims[2] <= 0)
+    throw InputError(name + ": label map is empty (" + std::to_string(dims[0]) + " x " +
+      std::to_string(dims[1]) + " x " + std::to_string(dims[2]) + " voxels)");
+  const size_t n = static_cast<size_t>(dims[0]) * dims[1] * dims[2];
+  if (labels.size() != n)
+    throw InputError(name + ": label map has " + std::to_string(labels.size()) + " labels for " +
+      std::to_string(n) + " voxels");
+  for (int i = 0; i < 3; ++i)
+    dimsD_[i] = dims[i];
+  const AffineMap toWorld = worldToVoxel.inverse(); // throws if singular
+  const auto& r = toWorld.rows();
+  voxelVolume_ = std::abs(r[0] * (r[5] * r[10] - r[6] * r[9]) - r[1] * (r[4] * r[10] - r[6] * r[8]) +
+    r[2] * (r[4] * r[9] - r[5] * r[8]));
+
+  std::unordered_map<int, uint16_t> compact;
+  compact[backgroundLabel] = 0;
+  indexMaterial_.push_back(kOutside);
+  index_.resize(n);
+  for (size_t v = 0; v < n; ++v)
+  {
+    const int label = labels[v];
+    auto it = compact.find(label);
+    if (it == compact.end())
+    {
+      if (label < 0)
+        throw InputError(name + ": label " + std::to_string(label) + " (voxel " + std::to_string(v) +
+          ") is negative; labels other than the background must be >= 0");
+      if (indexMaterial_.size() > 65535)
+        throw InputError(name + ": label map has more than 65535 distinct labels");
+      it = compact.emplace(label, static_cast<uint16_t>(indexMaterial_.size())).first;
+      indexMaterial_.push_back(label);
+    }
+    index_[v] = it->second;
+  }
+}
+
+void LabelMapDomain::crossings(const Vec3& a, const Vec3& b, std::vector<double>& ts) const
+{
+  const Vec3 ua = worldToVoxel_.apply(a), ub = worldToVoxel_.apply(b), d = ub - ua;
+  // Clip to the grid [0, dims] (slab method); entering and leaving the grid are candidates.
+  double t0 = 0.0, t1 = 1.0;
+  for (int i = 0; i < 3; ++i)
+  {
+    if (d[i] == 0.0)
+    {
+      if (!(ua[i] >= 0.0 && ua[i] <= dimsD_[i]))
+        return;
+      continue;
+    }
+    double ta = (0.0 - ua[i]) / d[i], tb = (dimsD_[i] - ua[i]) / d[i];
+    if (ta > tb)
+      std::swap(ta, tb);
+    t0 = std::max(t0, ta);
+    t1 = std::min(t1, tb);
+  }
+  if (!(t0 <= t1))
+    return;
+  ts.push_back(t0);
+  ts.push_back(t1);
+  // Voxel faces crossed inside the grid; keep those where the label actually changes.
+  std::vector<double> faces{ t0 };
+  for (int i = 0; i < 3; ++i)
+  {
+    if (d[i] == 0.0)
+      continue;
+    const double lo = std::min(ua[i] + t0 * d[i], ua[i] + t1 * d[i]);
+    const double hi = std::max(ua[i] + t0 * d[i], ua[i] + t1 * d[i]);
+    for (double k = std::floor(lo) + 1.0; k < hi; k += 1.0)
+      faces.push_back((k - ua[i]) / d[i]);
+  }
+  faces.push_back(t1);
+  std::sort(faces.begin(), faces.end());
+  int previous = -2;
+  for (size_t f = 0; f + 1 < faces.size(); ++f)
+  {
+    if (faces[f + 1] <= faces[f])
+      continue;
+    const double tm = 0.5 * (faces[f] + faces[f + 1]);
+    const Vec3 um = ua + tm * d;
+    const Vec3 uc{ std::clamp(um.x, 0.0, dimsD_[0]), std::clamp(um.y, 0.0, dimsD_[1]),
+      std::clamp(um.z, 0.0, dimsD_[2]) };
+    const int label = index_[voxelOf(uc)];
+    if (previous != -2 && label != previous)
+      ts.push_back(faces[f]);
+    previous = label;
+  }
+}
+
+BoundingBox LabelMapDomain::bounds() const
+{
+  BoundingBox grid;
+  grid.add({ 0, 0, 0 });
+  grid.add({ dimsD_[0], dimsD_[1], dimsD_[2] });
+  return worldToVoxel_.inverseImageOf(grid);
+}
+
+std::vector<int> LabelMapDomain::materials() const
+{
+  std::vector<int> m(indexMaterial_.begin() + 1, indexMaterial_.end());
+  std::sort(m.begin(), m.end());
+  return m;
+}
+
+std::map<int, size_t> LabelMapDomain::voxelCounts() const
+{
+  std::vector<size_t> perIndex(indexMaterial_.size(), 0);
+  for (uint16_t i : index_)
+    ++perIndex[i];
+  std::map<int, size_t> counts;
+  for (size_t i = 1; i < perIndex.size(); ++i)
+    counts[indexMaterial_[i]] = perIndex[i];
+  return counts;
+}
+}

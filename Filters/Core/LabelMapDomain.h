@@ -1,0 +1,67 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#pragma once
+
+#include "AffineMap.h"
+#include "Domain.h"
+
+#include <array>
+#include <cstdint>
+#include <map>
+
+namespace omesh
+{
+/// A uniform grid of voxels, each carrying an integer label; every label other than the background is
+/// a material (material id = label). Lookup is nearest-voxel: voxel (i, j, k) owns the half-open cell
+/// [i, i+1) x [j, j+1) x [k, k+1) of continuous voxel coordinates, the grid's outer faces included.
+class LabelMapDomain : public Domain
+{
+public:
+  /// `worldToVoxel` maps world points to continuous voxel coordinates; labels are x-fastest.
+  /// Throws InputError (naming `name`) for an empty grid, a size mismatch, negative labels, more
+  /// than 65535 distinct labels or a singular map.
+  LabelMapDomain(const std::array<int, 3>& dims, const std::vector<int>& labels,
+    const AffineMap& worldToVoxel, int backgroundLabel, const std::string& name = "LabelMap");
+
+  /// The two conventions images come in. Point scalars: each point is the centre of its voxel (ITK,
+  /// CGAL Image_3). Cell scalars: each cell is a voxel. `direction` is row-major 3x3 (VTK/ITK).
+  static AffineMap pointCenteredWorldToVoxel(const Vec3& origin, const Vec3& spacing,
+    const std::array<double, 9>& direction);
+  static AffineMap cellCenteredWorldToVoxel(const Vec3& origin, const Vec3& spacing,
+    const std::array<double, 9>& direction);
+
+  int material(const Vec3& p) const override
+  {
+    const Vec3 u = worldToVoxel_.apply(p);
+    if (!(u.x >= 0.0 && u.y >= 0.0 && u.z >= 0.0 && u.x <= dimsD_[0] && u.y <= dimsD_[1] &&
+          u.z <= dimsD_[2]))
+      return kOutside;
+    return indexMaterial_[index_[voxelOf(u)]];
+  }
+  void crossings(const Vec3& a, const Vec3& b, std::vector<double>& ts) const override;
+  BoundingBox bounds() const override;
+  const char* kind() const override { return "LabelMap"; }
+  std::vector<int> materials() const override;
+
+  /// Number of voxels per material (background excluded) and the volume of one voxel: the exact
+  /// material volumes the oracle represents.
+  std::map<int, size_t> voxelCounts() const;
+  double voxelVolume() const { return voxelVolume_; }
+  const std::array<int, 3>& dims() const { return dims_; }
+
+private:
+  size_t voxelOf(const Vec3& u) const
+  {
+    const int i = std::min(static_cast<int>(u.x), dims_[0] - 1);
+    const int j = std::min(static_cast<int>(u.y), dims_[1] - 1);
+    const int k = std::min(static_cast<int>(u.z), dims_[2] - 1);
+    return static_cast<size_t>(i) + static_cast<size_t>(dims_[0]) * (static_cast<size_t>(j) + static_cast<size_t>(dims_[1]) * k);
+  }
+
+  std::array<int, 3> dims_;
+  std::array<double, 3> dimsD_;
+  std::vector<uint16_t> index_;    ///< compact label index per voxel (2 bytes a voxel)
+  std::vector<int> indexMaterial_; ///< compact index -> material id (kOutside for the background)
+  AffineMap worldToVoxel_;
+  double voxelVolume_ = 0.0;
+};
+}

@@ -1,0 +1,40 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#pragma once
+
+#include <cmath>
+
+namespace omesh
+{
+/// Plain 3D vector of doubles: the only geometric value type the core's public headers use
+/// (keeps CGAL out of everything that includes them, notably the VTK wrappers).
+struct Vec3
+{
+  double x = 0.0, y = 0.0, z = 0.0;
+
+  constexpr Vec3() = default;
+  constexpr Vec3(double ax, double ay, double az)
+    : x(ax)
+    , y(ay)
+    , z(az)
+  {
+  }
+  double operator[](int i) const { return i == 0 ? x : (i == 1 ? y : z); }
+  double& operator[](int i) { return i == 0 ? x : (i == 1 ? y : z); }
+};
+
+inline Vec3 operator+(const Vec3& a, const Vec3& b) { return { a.x + b.x, a.y + b.y, a.z + b.z }; }
+inline Vec3 operator-(const Vec3& a, const Vec3& b) { return { a.x - b.x, a.y - b.y, a.z - b.z }; }
+inline Vec3 operator*(double s, const Vec3& a) { return { s * a.x, s * a.y, s * a.z }; }
+inline double dot(const Vec3& a, const Vec3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+inline Vec3 cross(const Vec3& a, const Vec3& b)
+{
+  return { a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x };
+}
+inline double norm(const Vec3& a) { return std::sqrt(dot(a, a)); }
+inline bool isFinite(const Vec3& a)
+{
+  return std::isfinite(a.x) && std::isfinite(a.y) && std::isfinite(a.z);
+}
+/// Point on segment ab at parameter t.
+inline Vec3 lerp(const Vec3& a, const Vec3& b, double t) { return a + t * (b - a); }
+}

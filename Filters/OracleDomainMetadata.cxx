@@ -1,0 +1,141 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "OracleDomainMetadata.h"
+
+#include "InputError.h"
+
+#include <vtkDoubleArray.h>
+#include <vtkFieldData.h>
+#include <vtkIntArray.h>
+#include <vtkNew.h>
+#include <vtkStringArray.h>
+
+namespace
+{
+const char* const kKind = "OracleMesh_Kind";
+const char* const kName = "OracleMesh_Name";
+const char* const kCut = "OracleMesh_Cut";
+const char* const kMaterialId = "OracleMesh_MaterialId";
+const char* const kMaterialName = "OracleMesh_MaterialName";
+const char* const kParameters = "OracleMesh_Parameters";
+const char* const kTransform = "OracleMesh_Transform";
+const char* const kLabelArray = "OracleMesh_LabelArray";
+const char* const kLabelAssociation = "OracleMesh_LabelAssociation";
+const char* const kBackground = "OracleMesh_BackgroundLabel";
+const char* const kLabelValues = "OracleMesh_LabelValues";
+const char* const kLabelNames = "OracleMesh_LabelNames";
+const char* const kVersion = "OracleMesh_FormatVersion";
+
+void putString(vtkFieldData* fd, const char* key, const std::string& v)
+{
+  vtkNew<vtkStringArray> a;
+  a->SetName(key);
+  a->InsertNextValue(v);
+  fd->AddArray(a);
+}
+void putInts(vtkFieldData* fd, const char* key, const std::vector<int>& v)
+{
+  vtkNew<vtkIntArray> a;
+  a->SetName(key);
+  for (int x : v)
+    a->InsertNextValue(x);
+  fd->AddArray(a);
+}
+void putDoubles(vtkFieldData* fd, const char* key, const std::vector<double>& v)
+{
+  vtkNew<vtkDoubleArray> a;
+  a->SetName(key);
+  for (double x : v)
+    a->InsertNextValue(x);
+  fd->AddArray(a);
+}
+std::string getString(vtkFieldData* fd, const char* key)
+{
+  auto* a = vtkStringArray::SafeDownCast(fd->GetAbstractArray(key));
+  return (a && a->GetNumberOfValues() > 0) ? a->GetValue(0) : std::string();
+}
+std::vector<double> getDoubles(vtkFieldData* fd, const char* key)
+{
+  std::vector<double> v;
+  if (vtkDataArray* a = fd->GetArray(key))
+  {
+    for (vtkIdType i = 0; i < a->GetNumberOfTuples() * a->GetNumberOfComponents(); ++i)
+      v.push_back(a->GetComponent(i / a->GetNumberOfComponents(), i % a->GetNumberOfComponents()));
+  }
+  return v;
+}
+std::vector<int> getInts(vtkFieldData* fd, const char* key)
+{
+  std::vector<int> v;
+  for (double d : getDoubles(fd, key))
+    v.push_back(static_cast<int>(d));
+  return v;
+}
+}
+
+void OracleDomainMetadata::WriteTo(vtkFieldData* fd) const
+{
+  putInts(fd, kVersion, { kFormatVersion });
+  putString(fd, kKind, Kind);
+  putString(fd, kName, Name);
+  putInts(fd, kCut, { Cut ? 1 : 0 });
+  putInts(fd, kMaterialId, { MaterialId });
+  putString(fd, kMaterialName, MaterialName);
+  putDoubles(fd, kParameters, Parameters);
+  if (!Transform.empty())
+    putDoubles(fd, kTransform, Transform);
+  else
+    fd->RemoveArray(kTransform);
+  if (Kind == "LabelMap")
+  {
+    putString(fd, kLabelArray, LabelArray);
+    putString(fd, kLabelAssociation, CellLabels ? "Cell" : "Point");
+    putInts(fd, kBackground, { BackgroundLabel });
+    putInts(fd, kLabelValues, LabelValues);
+    vtkNew<vtkStringArray> names;
+    names->SetName(kLabelNames);
+    for (const auto& n : LabelNames)
+      names->InsertNextValue(n);
+    fd->AddArray(names);
+  }
+}
+
+bool OracleDomainMetadata::ReadFrom(vtkFieldData* fd, OracleDomainMetadata& out)
+{
+  if (!fd || !fd->GetAbstractArray(kKind))
+    return false;
+  out = OracleDomainMetadata();
+  const std::vector<int> version = getInts(fd, kVersion);
+  if (version.size() != 1 || version[0] > kFormatVersion)
+    throw omesh::InputError("domain metadata has format version " +
+      (version.empty() ? std::string("(none)") : std::to_string(version[0])) +
+      "; this OracleMesh reads version " + std::to_string(kFormatVersion));
+  out.Kind = getString(fd, kKind);
+  out.Name = getString(fd, kName);
+  const auto cut = getInts(fd, kCut);
+  out.Cut = !cut.empty() && cut[0] != 0;
+  const auto mat = getInts(fd, kMaterialId);
+  if (!mat.empty())
+    out.MaterialId = mat[0];
+  out.MaterialName = getString(fd, kMaterialName);
+  out.Parameters = getDoubles(fd, kParameters);
+  out.Transform = getDoubles(fd, kTransform);
+  if (!out.Transform.empty() && out.Transform.size() != 12)
+    throw omesh::InputError("domain '" + out.Name + "': " + kTransform + " must hold 12 numbers");
+  if (out.Kind == "LabelMap")
+  {
+    out.LabelArray = getString(fd, kLabelArray);
+    out.CellLabels = getString(fd, kLabelAssociation) == "Cell";
+    const auto bg = getInts(fd, kBackground);
+    if (!bg.empty())
+      out.BackgroundLabel = bg[0];
+    out.LabelValues = getInts(fd, kLabelValues);
+    if (auto* names = vtkStringArray::SafeDownCast(fd->GetAbstractArray(kLabelNames)))
+    {
+      for (vtkIdType i = 0; i < names->GetNumberOfValues(); ++i)
+        out.LabelNames.push_back(names->GetValue(i));
+    }
+    if (out.LabelNames.size() != out.LabelValues.size())
+      throw omesh::InputError("domain '" + out.Name + "': label values and label names differ in count");
+  }
+  return true;
+}

@@ -1,0 +1,37 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#pragma once
+
+#include <string>
+#include <vector>
+
+class vtkFieldData;
+
+/// The description of one oracle domain, carried as field data on the domain's dataset (see the
+/// README, "Domain format"). Writing then reading gives back the same values.
+struct OracleDomainMetadata
+{
+  static constexpr int kFormatVersion = 1;
+
+  std::string Kind; ///< Surface, LabelMap, Sphere, Plane, Box, Cylinder
+  std::string Name;
+  bool Cut = false;
+  int MaterialId = 1;
+  std::string MaterialName;
+  /// Kind-specific numbers: Sphere cx cy cz r; Plane ox oy oz nx ny nz; Box xmin xmax ymin ymax
+  /// zmin zmax; Cylinder cx cy cz ax ay az r height (0 = infinite).
+  std::vector<double> Parameters;
+  /// Optional world-to-local affine map, 3x4 row-major (the implicit function's VTK transform).
+  std::vector<double> Transform;
+
+  // Label maps only
+  std::string LabelArray;
+  bool CellLabels = false;
+  int BackgroundLabel = 0;
+  std::vector<int> LabelValues; ///< labels that have a name, aligned with LabelNames
+  std::vector<std::string> LabelNames;
+
+  void WriteTo(vtkFieldData* fd) const;
+  /// False when `fd` carries no OracleMesh domain; throws omesh::InputError when it does but the
+  /// entries are malformed.
+  static bool ReadFrom(vtkFieldData* fd, OracleDomainMetadata& out);
+};

@@ -1,0 +1,30 @@
+#!/usr/bin/env bash
+# Installs everything OracleMesh needs on a fresh Debian 12 machine (run as root or with sudo).
+# Idempotent: packages already present are skipped by apt.
+set -euo pipefail
+SUDO=""
+if [ "$(id -u)" != "0" ]; then SUDO="sudo"; fi
+PKGS=(
+  # build tools
+  cmake ninja-build g++ ccache pkg-config
+  # ParaView 5.11 SDK (brings its own VTK 9.2 and the Python vtkmodules)
+  paraview paraview-dev python3-paraview
+  # paraview-dev needs these but does not pull them in (see shared BUILD-NOTES)
+  libopenmpi-dev libdouble-conversion-dev liblz4-dev liblzma-dev
+  # CGAL and its dependencies
+  libcgal-dev libboost-dev libeigen3-dev libgmp-dev libmpfr-dev libtbb-dev
+  # tests
+  libgtest-dev googletest python3-numpy xvfb xauth
+)
+export DEBIAN_FRONTEND=noninteractive
+missing=()
+for p in "${PKGS[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "setup: installing ${missing[*]}"
+  $SUDO apt-get update -qq
+  $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
+else
+  echo "setup: all packages present"
+fi
