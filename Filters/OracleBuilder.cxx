@@ -1,0 +1,257 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "OracleBuilder.h"
+
+#include "BoxDomain.h"
+#include "CylinderDomain.h"
+#include "HalfSpaceDomain.h"
+#include "HierarchicalOracle.h"
+#include "InputError.h"
+#include "LabelMapDomain.h"
+#include "SphereDomain.h"
+#include "SurfaceDomain.h"
+#include "TriangleSurface.h"
+
+#include <vtkCellArray.h>
+#include <vtkCellArrayIterator.h>
+#include <vtkCellData.h>
+#include <vtkDataArray.h>
+#include <vtkImageData.h>
+#include <vtkMatrix3x3.h>
+#include <vtkMultiBlockDataSet.h>
+#include <vtkPointData.h>
+#include <vtkPolyData.h>
+#include <vtkSmartPointer.h>
+
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+using omesh::InputError;
+
+namespace
+{
+std::string describe(const OracleDomainMetadata& md, const std::string& where)
+{
+  return md.Name.empty() ? where : where + " '" + md.Name + "'";
+}
+
+void expectParameters(const OracleDomainMetadata& md, size_t n, const std::string& who)
+{
+  if (md.Parameters.size() != n)
+    throw InputError(who + ": a " + md.Kind + " domain needs " + std::to_string(n) +
+      " parameters, it has " + std::to_string(md.Parameters.size()));
+}
+}
+
+OracleDomainMetadata OracleBuilder::ReadDomain(vtkDataObject* data, const std::string& where)
+{
+  if (!data)
+    throw InputError(where + ": no data");
+  OracleDomainMetadata md;
+  if (!OracleDomainMetadata::ReadFrom(data->GetFieldData(), md))
+    throw InputError(where + " (" + data->GetClassName() +
+      ") is not an OracleMesh domain: connect it through vtkSurfaceDomain, vtkLabelMapDomain, "
+      "vtkSphereDomain or vtkImplicitDomain first");
+  const std::string who = describe(md, where);
+  if (md.Kind == "Surface" && !vtkPolyData::SafeDownCast(data))
+    throw InputError(who + ": a Surface domain must be vtkPolyData, got " + data->GetClassName());
+  if (md.Kind == "LabelMap" && !vtkImageData::SafeDownCast(data))
+    throw InputError(who + ": a LabelMap domain must be vtkImageData, got " + data->GetClassName());
+  if (md.Kind != "Surface" && md.Kind != "LabelMap" && md.Kind != "Sphere" && md.Kind != "Plane" &&
+    md.Kind != "Box" && md.Kind != "Cylinder")
+    throw InputError(who + ": unknown domain kind '" + md.Kind + "'");
+  return md;
+}
+
+std::shared_ptr<omesh::Domain> OracleBuilder::BuildImplicit(const OracleDomainMetadata& md)
+{
+  const std::string who = md.Name.empty() ? md.Kind : md.Name;
+  const auto& p = md.Parameters;
+  std::shared_ptr<omesh::ImplicitShapeDomain> d;
+  if (md.Kind == "Sphere")
+  {
+    expectParameters(md, 4, who);
+    d = std::make_shared<omesh::SphereDomain>(omesh::Vec3{ p[0], p[1], p[2] }, p[3], md.MaterialId, who);
+  }
+  else if (md.Kind == "Plane")
+  {
+    expectParameters(md, 6, who);
+    d = std::make_shared<omesh::HalfSpaceDomain>(
+      omesh::Vec3{ p[0], p[1], p[2] }, omesh::Vec3{ p[3], p[4], p[5] }, md.MaterialId, who);
+  }
+  else if (md.Kind == "Box")
+  {
+    expectParameters(md, 6, who);
+    d = std::make_shared<omesh::BoxDomain>(
+      omesh::Vec3{ p[0], p[2], p[4] }, omesh::Vec3{ p[1], p[3], p[5] }, md.MaterialId, who);
+  }
+  else if (md.Kind == "Cylinder")
+  {
+    expectParameters(md, 8, who);
+    const double height = p[7] == 0.0 ? std::numeric_limits<double>::infinity() : p[7];
+    d = std::make_shared<omesh::CylinderDomain>(omesh::Vec3{ p[0], p[1], p[2] },
+      omesh::Vec3{ p[3], p[4], p[5] }, p[6], height, md.MaterialId, who);
+  }
+  else
+    throw InputError(who + ": '" + md.Kind + "' is not an analytic domain kind");
+  if (md.Transform.size() == 12)
+  {
+    std::array<double, 12> m;
+    std::copy(md.Transform.begin(), md.Transform.end(), m.begin());
+    try
+    {
+      d->setWorldToLocal(omesh::AffineMap(m));
+    }
+    catch (const InputError& e)
+    {
+      throw InputError(who + ": " + e.what());
+    }
+  }
+  d->setCut(md.Cut);
+  return d;
+}
+
+omesh::TriangleSurface OracleBuilder::ToTriangleSurface(vtkPolyData* pd, const std::string& who)
+{
+  omesh::TriangleSurface s;
+  if (!pd || pd->GetNumberOfPoints() == 0)
+    throw InputError(who + ": surface is empty (no points)");
+  if (pd->GetNumberOfStrips() > 0)
+    throw InputError(who + ": surface has " + std::to_string(pd->GetNumberOfStrips()) +
+      " triangle strips; only triangles are accepted (apply vtkTriangleFilter first)");
+  s.points.resize(pd->GetNumberOfPoints());
+  for (vtkIdType i = 0; i < pd->GetNumberOfPoints(); ++i)
+  {
+    double x[3];
+    pd->GetPoint(i, x);
+    s.points[i] = { x[0], x[1], x[2] };
+  }
+  vtkCellArray* polys = pd->GetPolys();
+  s.triangles.reserve(polys->GetNumberOfCells());
+  auto it = vtk::TakeSmartPointer(polys->NewIterator());
+  vtkIdType index = 0;
+  for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell(), ++index)
+  {
+    vtkIdType n;
+    const vtkIdType* ids;
+    it->GetCurrentCell(n, ids);
+    if (n != 3)
+      throw InputError(who + ": polygon " + std::to_string(index) + " has " + std::to_string(n) +
+        " points; only triangles are accepted (apply vtkTriangleFilter first)");
+    s.triangles.push_back({ static_cast<int>(ids[0]), static_cast<int>(ids[1]), static_cast<int>(ids[2]) });
+  }
+  if (s.triangles.empty())
+    throw InputError(who + ": surface has no triangles (it has " + std::to_string(pd->GetNumberOfLines()) +
+      " lines and " + std::to_string(pd->GetNumberOfVerts()) + " vertices)");
+  return s;
+}
+
+std::shared_ptr<omesh::LabelMapDomain> OracleBuilder::ToLabelMap(
+  vtkImageData* image, const OracleDomainMetadata& md, const std::string& who)
+{
+  if (!image || image->GetNumberOfPoints() == 0)
+    throw InputError(who + ": label map is empty (no voxels)");
+  vtkDataSetAttributes* attributes = md.CellLabels
+    ? static_cast<vtkDataSetAttributes*>(image->GetCellData())
+    : static_cast<vtkDataSetAttributes*>(image->GetPointData());
+  vtkDataArray* array = md.LabelArray.empty() ? attributes->GetScalars() : attributes->GetArray(md.LabelArray.c_str());
+  const char* assoc = md.CellLabels ? "cell" : "point";
+  if (!array)
+    throw InputError(who + ": label map has no " + std::string(assoc) + " array '" + md.LabelArray +
+      "' (or no active " + assoc + " scalars)");
+  if (array->GetNumberOfComponents() != 1)
+    throw InputError(who + ": label array '" + std::string(array->GetName() ? array->GetName() : "") +
+      "' has " + std::to_string(array->GetNumberOfComponents()) + " components; labels need 1");
+  int ext[6];
+  image->GetExtent(ext);
+  std::array<int, 3> dims{ ext[1] - ext[0] + 1, ext[3] - ext[2] + 1, ext[5] - ext[4] + 1 };
+  if (md.CellLabels)
+  {
+    for (int& d : dims)
+      d -= 1;
+    if (dims[0] < 1 || dims[1] < 1 || dims[2] < 1)
+      throw InputError(who + ": cell labels need a 3D image; this one has " + std::to_string(dims[0]) +
+        " x " + std::to_string(dims[1]) + " x " + std::to_string(dims[2]) + " cells");
+  }
+  const vtkIdType n = array->GetNumberOfTuples();
+  if (n == 0)
+    throw InputError(who + ": label map is empty (no voxels)");
+  const bool integral = array->GetDataType() != VTK_FLOAT && array->GetDataType() != VTK_DOUBLE;
+  std::vector<int> labels(n);
+  for (vtkIdType i = 0; i < n; ++i)
+  {
+    const double v = array->GetTuple1(i);
+    if (!integral && (v != std::floor(v) || !std::isfinite(v)))
+    {
+      std::ostringstream msg;
+      msg << who << ": label map is not integer: value " << v << " at " << assoc << " " << i
+          << " of array '" << (array->GetName() ? array->GetName() : "") << "' ("
+          << array->GetDataTypeAsString() << ")";
+      throw InputError(msg.str());
+    }
+    if (v < std::numeric_limits<int>::min() || v > std::numeric_limits<int>::max())
+      throw InputError(who + ": label " + std::to_string(v) + " does not fit a 32-bit integer");
+    labels[i] = static_cast<int>(v);
+  }
+  double origin[3], spacing[3];
+  image->GetOrigin(origin);
+  image->GetSpacing(spacing);
+  const double* dm = image->GetDirectionMatrix()->GetData();
+  std::array<double, 9> direction;
+  std::copy(dm, dm + 9, direction.begin());
+  // The first point is index (ext[0], ext[2], ext[4]), not necessarily the origin.
+  double first[3];
+  image->TransformIndexToPhysicalPoint(ext[0], ext[2], ext[4], first);
+  const omesh::Vec3 o{ first[0], first[1], first[2] }, s{ spacing[0], spacing[1], spacing[2] };
+  if (!(s.x > 0 && s.y > 0 && s.z > 0) || !omesh::isFinite(o))
+    throw InputError(who + ": label map spacing must be positive and origin finite");
+  const omesh::AffineMap worldToVoxel = md.CellLabels
+    ? omesh::LabelMapDomain::cellCenteredWorldToVoxel(o, s, direction)
+    : omesh::LabelMapDomain::pointCenteredWorldToVoxel(o, s, direction);
+  auto lm = std::make_shared<omesh::LabelMapDomain>(dims, labels, worldToVoxel, md.BackgroundLabel, who);
+  lm->setCut(md.Cut);
+  if (lm->materials().empty())
+    throw InputError(who + ": label map holds only the background label " + std::to_string(md.BackgroundLabel));
+  return lm;
+}
+
+std::shared_ptr<omesh::Domain> OracleBuilder::BuildDomain(vtkDataObject* data, const std::string& where)
+{
+  const OracleDomainMetadata md = ReadDomain(data, where);
+  const std::string who = describe(md, where);
+  if (md.Kind == "Surface")
+  {
+    auto d = std::make_shared<omesh::SurfaceDomain>(
+      ToTriangleSurface(vtkPolyData::SafeDownCast(data), who), md.MaterialId, who);
+    d->setCut(md.Cut);
+    return d;
+  }
+  if (md.Kind == "LabelMap")
+    return ToLabelMap(vtkImageData::SafeDownCast(data), md, who);
+  auto d = BuildImplicit(md);
+  d->setName(who);
+  return d;
+}
+
+std::shared_ptr<omesh::HierarchicalOracle> OracleBuilder::BuildOracle(vtkDataObject* data)
+{
+  auto oracle = std::make_shared<omesh::HierarchicalOracle>();
+  if (auto* mb = vtkMultiBlockDataSet::SafeDownCast(data))
+  {
+    for (unsigned int i = 0; i < mb->GetNumberOfBlocks(); ++i)
+    {
+      const std::string where = "domain " + std::to_string(i);
+      vtkDataObject* block = mb->GetBlock(i);
+      if (!block)
+        throw InputError(where + ": block is empty");
+      oracle->add(BuildDomain(block, where));
+    }
+  }
+  else if (data)
+  {
+    oracle->add(BuildDomain(data, "input"));
+  }
+  if (oracle->empty())
+    throw InputError("the oracle has no domains: connect at least one domain to vtkHierarchicalOracle");
+  return oracle;
+}

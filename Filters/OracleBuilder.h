@@ -1,0 +1,45 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#pragma once
+
+#include "OracleDomainMetadata.h"
+
+#include <memory>
+#include <string>
+
+class vtkDataObject;
+class vtkImageData;
+class vtkPolyData;
+
+namespace omesh
+{
+class Domain;
+class HierarchicalOracle;
+class LabelMapDomain;
+struct TriangleSurface;
+}
+
+/// Turns OracleMesh domain datasets (and vtkHierarchicalOracle's output) into core objects. All
+/// functions throw omesh::InputError with a message naming the input (`where`) and the problem.
+class OracleBuilder
+{
+public:
+  /// The oracle described by `data`: the multiblock output of vtkHierarchicalOracle (blocks in
+  /// priority order) or a single domain dataset.
+  static std::shared_ptr<omesh::HierarchicalOracle> BuildOracle(vtkDataObject* data);
+
+  /// Reads the domain metadata of `data` and checks the dataset type fits the kind.
+  static OracleDomainMetadata ReadDomain(vtkDataObject* data, const std::string& where);
+
+  /// Builds the core domain of one domain dataset.
+  static std::shared_ptr<omesh::Domain> BuildDomain(vtkDataObject* data, const std::string& where);
+
+  /// Core domain of an analytic kind (Sphere, Plane, Box, Cylinder) from its metadata alone.
+  static std::shared_ptr<omesh::Domain> BuildImplicit(const OracleDomainMetadata& md);
+
+  /// Triangles of `surface` as a soup; rejects polygons that are not triangles and strips.
+  static omesh::TriangleSurface ToTriangleSurface(vtkPolyData* surface, const std::string& who);
+
+  /// The label map of `image` as described by `md` (array, association, background).
+  static std::shared_ptr<omesh::LabelMapDomain> ToLabelMap(
+    vtkImageData* image, const OracleDomainMetadata& md, const std::string& who);
+};

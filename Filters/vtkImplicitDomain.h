@@ -1,0 +1,94 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/**
+ * @class vtkImplicitDomain
+ * @brief A VTK implicit function (plane, box, sphere, cylinder) as an oracle domain (a source).
+ *
+ * Inside is where the function is <= 0 (VTK's convention: a vtkPlane contains the side its normal
+ * points away from). The function's linear Transform is honoured (ParaView's box widget uses it).
+ * vtkCylinder is infinite; a positive Height caps it symmetrically about its Center (a screw).
+ * Unbounded shapes (planes, infinite cylinders) are meant as cuts. The output is a tessellation of
+ * the shape's boundary inside DisplayBounds, for display only, with the domain description in its
+ * field data.
+ */
+#ifndef vtkImplicitDomain_h
+#define vtkImplicitDomain_h
+
+#include "OracleMeshFiltersModule.h"
+
+#include <vtkPolyDataAlgorithm.h>
+
+class vtkImplicitFunction;
+
+class ORACLEMESHFILTERS_EXPORT vtkImplicitDomain : public vtkPolyDataAlgorithm
+{
+public:
+  static vtkImplicitDomain* New();
+  vtkTypeMacro(vtkImplicitDomain, vtkPolyDataAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+  vtkMTimeType GetMTime() override;
+
+  ///@{
+  /// The shape: a vtkPlane, vtkBox, vtkSphere or vtkCylinder (subclasses such as ParaView's
+  /// vtkPVPlane/vtkPVBox included). Other functions are rejected with an error.
+  void SetImplicitFunction(vtkImplicitFunction* f);
+  vtkGetObjectMacro(ImplicitFunction, vtkImplicitFunction);
+  ///@}
+
+  ///@{
+  /// Cylinders only: length along the axis, centred on the cylinder's Center; 0 = infinite.
+  vtkSetClampMacro(Height, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(Height, double);
+  ///@}
+
+  ///@{
+  /// Material id (>= 0). Default 1.
+  vtkSetMacro(MaterialId, int);
+  vtkGetMacro(MaterialId, int);
+  ///@}
+
+  ///@{
+  /// Material (and domain) name. Default "Implicit".
+  vtkSetStringMacro(MaterialName);
+  vtkGetStringMacro(MaterialName);
+  ///@}
+
+  ///@{
+  /// When on, the shape is removed from this and every lower-priority domain. Default on: most
+  /// implicit domains are cuts.
+  vtkSetMacro(Cut, bool);
+  vtkGetMacro(Cut, bool);
+  vtkBooleanMacro(Cut, bool);
+  ///@}
+
+  ///@{
+  /// Region where the shape is drawn (display only). When empty (min > max, the default) bounded
+  /// shapes use their own bounds and planes a 100-unit cube around the plane's origin.
+  vtkSetVector6Macro(DisplayBounds, double);
+  vtkGetVector6Macro(DisplayBounds, double);
+  ///@}
+
+  ///@{
+  /// Samples per axis used to draw the shape. Default 48.
+  vtkSetClampMacro(DisplayResolution, int, 4, 512);
+  vtkGetMacro(DisplayResolution, int);
+  ///@}
+
+protected:
+  vtkImplicitDomain();
+  ~vtkImplicitDomain() override;
+  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+
+  vtkImplicitFunction* ImplicitFunction = nullptr;
+  double Height = 0.0;
+  int MaterialId = 1;
+  char* MaterialName = nullptr;
+  bool Cut = true;
+  double DisplayBounds[6] = { 0, -1, 0, -1, 0, -1 };
+  int DisplayResolution = 48;
+
+private:
+  vtkImplicitDomain(const vtkImplicitDomain&) = delete;
+  void operator=(const vtkImplicitDomain&) = delete;
+};
+
+#endif

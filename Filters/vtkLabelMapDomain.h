@@ -1,0 +1,71 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/**
+ * @class vtkLabelMapDomain
+ * @brief A label map (segmented image) as materials of the hierarchical oracle.
+ *
+ * Input: vtkImageData with an integer label array, point or cell data, chosen with
+ * SetInputArrayToProcess(0, 0, 0, association, name) (default: the active point scalars, else the
+ * active cell scalars). Every label other than BackgroundLabel is a material whose id is the label.
+ * With point data each point is the centre of its voxel (as in ITK and CGAL's Image_3); with cell
+ * data each cell is a voxel. The image's direction matrix is honoured.
+ * Output: the same image with the domain description in its field data.
+ */
+#ifndef vtkLabelMapDomain_h
+#define vtkLabelMapDomain_h
+
+#include "OracleMeshFiltersModule.h"
+
+#include <vtkImageAlgorithm.h>
+
+#include <map>
+#include <string>
+
+class ORACLEMESHFILTERS_EXPORT vtkLabelMapDomain : public vtkImageAlgorithm
+{
+public:
+  static vtkLabelMapDomain* New();
+  vtkTypeMacro(vtkLabelMapDomain, vtkImageAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  ///@{
+  /// The label that is not a material. Default 0.
+  vtkSetMacro(BackgroundLabel, int);
+  vtkGetMacro(BackgroundLabel, int);
+  ///@}
+
+  ///@{
+  /// When on, every labelled voxel is removed from this and lower-priority domains. Default off.
+  vtkSetMacro(Cut, bool);
+  vtkGetMacro(Cut, bool);
+  vtkBooleanMacro(Cut, bool);
+  ///@}
+
+  ///@{
+  /// Domain name shown in reports. Default "LabelMap".
+  vtkSetStringMacro(DomainName);
+  vtkGetStringMacro(DomainName);
+  ///@}
+
+  ///@{
+  /// Optional material names per label ("cortical bone" for label 1...).
+  void SetLabelName(int label, const char* name);
+  const char* GetLabelName(int label);
+  void ClearLabelNames();
+  ///@}
+
+protected:
+  vtkLabelMapDomain();
+  ~vtkLabelMapDomain() override;
+  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+
+  int BackgroundLabel = 0;
+  bool Cut = false;
+  char* DomainName = nullptr;
+  std::map<int, std::string> LabelNames;
+
+private:
+  vtkLabelMapDomain(const vtkLabelMapDomain&) = delete;
+  void operator=(const vtkLabelMapDomain&) = delete;
+};
+
+#endif

@@ -1,0 +1,138 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "vtkOracleSampler.h"
+
+#include "HierarchicalOracle.h"
+#include "InputError.h"
+#include "OracleBuilder.h"
+
+#include <vtkDataObject.h>
+#include <vtkDoubleArray.h>
+#include <vtkFieldData.h>
+#include <vtkImageData.h>
+#include <vtkInformation.h>
+#include <vtkInformationVector.h>
+#include <vtkIntArray.h>
+#include <vtkNew.h>
+#include <vtkObjectFactory.h>
+#include <vtkPointData.h>
+#include <vtkSMPTools.h>
+#include <vtkStreamingDemandDrivenPipeline.h>
+
+#include <map>
+
+vtkStandardNewMacro(vtkOracleSampler);
+
+vtkOracleSampler::vtkOracleSampler()
+{
+  this->SetNumberOfInputPorts(1);
+}
+
+int vtkOracleSampler::FillInputPortInformation(int, vtkInformation* info)
+{
+  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkDataObject");
+  return 1;
+}
+
+int vtkOracleSampler::RequestInformation(
+  vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
+{
+  vtkInformation* outInfo = outputVector->GetInformationObject(0);
+  const int ext[6] = { 0, std::max(this->Dimensions[0], 1) - 1, 0, std::max(this->Dimensions[1], 1) - 1, 0,
+    std::max(this->Dimensions[2], 1) - 1 };
+  outInfo->Set(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), ext, 6);
+  vtkDataObject::SetPointDataActiveScalarInfo(outInfo, VTK_INT, 1);
+  return 1;
+}
+
+int vtkOracleSampler::RequestUpdateExtent(vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector*)
+{
+  // The input is a domain collection, not an image: ask for all of it.
+  vtkInformation* inInfo = inputVector[0]->GetInformationObject(0);
+  inInfo->Remove(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT());
+  return 1;
+}
+
+int vtkOracleSampler::RequestData(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  vtkDataObject* input = vtkDataObject::GetData(inputVector[0]);
+  vtkImageData* output = vtkImageData::GetData(outputVector);
+  std::shared_ptr<omesh::HierarchicalOracle> oracle;
+  omesh::BoundingBox box;
+  try
+  {
+    if (this->Dimensions[0] < 1 || this->Dimensions[1] < 1 || this->Dimensions[2] < 1)
+      throw omesh::InputError("vtkOracleSampler: Dimensions must be >= 1 on every axis");
+    oracle = OracleBuilder::BuildOracle(input);
+    const double* b = this->Bounds;
+    if (b[0] <= b[1] && b[2] <= b[3] && b[4] <= b[5])
+    {
+      box.add({ b[0], b[2], b[4] });
+      box.add({ b[1], b[3], b[5] });
+    }
+    else
+      box = oracle->bounds();
+  }
+  catch (const omesh::InputError& e)
+  {
+    vtkErrorMacro(<< e.what());
+    return 0;
+  }
+
+  const int* d = this->Dimensions;
+  double spacing[3];
+  for (int i = 0; i < 3; ++i)
+    spacing[i] = d[i] > 1 ? (box.max[i] - box.min[i]) / (d[i] - 1) : 1.0;
+  output->SetExtent(0, d[0] - 1, 0, d[1] - 1, 0, d[2] - 1);
+  output->SetOrigin(box.min.x, box.min.y, box.min.z);
+  output->SetSpacing(spacing);
+  vtkNew<vtkIntArray> material;
+  material->SetName("Material");
+  material->SetNumberOfTuples(static_cast<vtkIdType>(d[0]) * d[1] * d[2]);
+  int* values = material->GetPointer(0);
+
+  // Slice by slice: parallel inside a slice, progress and abort between slices.
+  const vtkIdType sliceSize = static_cast<vtkIdType>(d[0]) * d[1];
+  for (int k = 0; k < d[2]; ++k)
+  {
+    if (this->GetAbortExecute())
+      break;
+    vtkSMPTools::For(0, d[1], [&](vtkIdType j0, vtkIdType j1) {
+      for (vtkIdType j = j0; j < j1; ++j)
+        for (int i = 0; i < d[0]; ++i)
+        {
+          const omesh::Vec3 p{ box.min.x + i * spacing[0], box.min.y + j * spacing[1], box.min.z + k * spacing[2] };
+          values[k * sliceSize + j * d[0] + i] = oracle->material(p);
+        }
+    });
+    this->UpdateProgress(static_cast<double>(k + 1) / d[2]);
+  }
+  output->GetPointData()->SetScalars(material);
+
+  std::map<int, vtkIdType> counts;
+  for (vtkIdType i = 0; i < material->GetNumberOfTuples(); ++i)
+    ++counts[values[i]];
+  vtkNew<vtkIntArray> ids;
+  ids->SetName("MaterialIds");
+  vtkNew<vtkDoubleArray> volumes;
+  volumes->SetName("MaterialVolume");
+  const double cell = spacing[0] * spacing[1] * spacing[2];
+  for (const auto& [m, c] : counts)
+  {
+    if (m == omesh::kOutside)
+      continue;
+    ids->InsertNextValue(m);
+    volumes->InsertNextValue(c * cell);
+  }
+  output->GetFieldData()->AddArray(ids);
+  output->GetFieldData()->AddArray(volumes);
+  return 1;
+}
+
+void vtkOracleSampler::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "Dimensions: " << this->Dimensions[0] << " " << this->Dimensions[1] << " " << this->Dimensions[2] << "\n";
+  os << indent << "Bounds: " << this->Bounds[0] << " " << this->Bounds[1] << " " << this->Bounds[2] << " "
+     << this->Bounds[3] << " " << this->Bounds[4] << " " << this->Bounds[5] << "\n";
+}
