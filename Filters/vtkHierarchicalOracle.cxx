@@ -26,6 +26,7 @@ int vtkHierarchicalOracle::FillInputPortInformation(int, vtkInformation* info)
 {
   info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkDataObject");
   info->Set(vtkAlgorithm::INPUT_IS_REPEATABLE(), 1);
+  info->Set(vtkAlgorithm::INPUT_IS_OPTIONAL(), 1); // so "no domains" gets our message
   return 1;
 }
 
