@@ -44,6 +44,12 @@ int vtkHierarchicalOracle::RequestData(
     {
       vtkDataObject* in = vtkDataObject::GetData(inputVector[0], i);
       const std::string where = "vtkHierarchicalOracle input " + std::to_string(i);
+      vtkAlgorithm* producer = this->GetInputAlgorithm(0, i);
+      if (in && !in->GetFieldData()->GetAbstractArray("OracleMesh_Kind") && producer &&
+        (producer->IsA("vtkSurfaceDomain") || producer->IsA("vtkLabelMapDomain") ||
+          producer->IsA("vtkSphereDomain") || producer->IsA("vtkImplicitDomain")))
+        throw omesh::InputError(where + ": its " + producer->GetClassName() +
+          " produced no domain; that filter's own error says why");
       const OracleDomainMetadata md = OracleBuilder::ReadDomain(in, where);
       vtkSmartPointer<vtkDataObject> block = vtk::TakeSmartPointer(in->NewInstance());
       block->ShallowCopy(in);

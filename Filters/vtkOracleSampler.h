@@ -5,8 +5,9 @@
  *
  * Input: the output of vtkHierarchicalOracle (or a single domain). Output: vtkImageData with the
  * point array "Material" (int): the oracle's material at each grid point, -1 outside. Field data
- * "MaterialVolume" estimates each material's volume (sample count x sample cell volume) with
- * "MaterialIds" alongside.
+ * "MaterialVolume" estimates each material's volume (sample count x sample spacing volume; each
+ * sample stands for the cell of one spacing around it, so a material touching the sampled box's
+ * faces is overcounted by up to d/(d-1) per axis) with "MaterialIds" alongside.
  */
 #ifndef vtkOracleSampler_h
 #define vtkOracleSampler_h

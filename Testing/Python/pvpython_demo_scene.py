@@ -1,0 +1,55 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""pvpython: the demo scene clicked together from the plugin's proxies (as in the GUI), sampled on
+the server and fetched; the counts must equal the C++ pipeline's.
+    pvpython pvpython_demo_scene.py <plugin .so> <Data folder>"""
+import os
+import sys
+
+from paraview import servermanager
+from paraview.simple import *  # noqa: F401,F403
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from demo_counts import SAMPLES, counts_of, reference_counts  # noqa: E402
+
+plugin, data = sys.argv[1], sys.argv[2]
+LoadPlugin(plugin, remote=False, ns=globals())
+demo = os.path.join(data, "demo")
+
+implant_file = XMLPolyDataReader(FileName=[os.path.join(demo, "implant.vtp")])
+implant = SurfaceDomain(Input=implant_file)
+implant.MaterialId = 3
+implant.MaterialName = "implant"
+
+screw = ImplicitDomain()
+screw.Shape = "Cylinder"
+screw.Shape.Center = [-15.0, -14.0, 66.0]
+screw.Shape.Axis = [0.1, 0.05, 1.0]
+screw.Shape.Radius = 2.5
+screw.Height = 34.0
+screw.Cut = 0
+screw.MaterialId = 4
+screw.MaterialName = "screw"
+
+resection = ImplicitDomain()
+resection.Shape = "Plane"
+resection.Shape.Origin = [0.0, 0.0, 80.0]
+resection.Shape.Normal = [0.0, 0.0, -1.0]
+resection.Cut = 1
+resection.MaterialName = "resection"
+
+tibia_file = XMLImageDataReader(FileName=[os.path.join(demo, "tibia_labels.vti")])
+tibia = LabelMapDomain(Input=tibia_file)
+tibia.LabelArray = ["POINTS", "labels"]
+tibia.LabelNames = ["1", "cortical bone", "2", "cancellous bone"]
+
+oracle = HierarchicalOracle(Input=[implant, screw, resection, tibia])
+sampler = OracleSampler(Input=oracle)
+sampler.Dimensions = [SAMPLES, SAMPLES, SAMPLES]
+image = servermanager.Fetch(sampler)
+counts = counts_of(image.GetPointData().GetArray("Material"))
+expected = reference_counts()
+print("pvpython counts:", counts)
+if counts != expected:
+    print("MISMATCH with the C++ pipeline:", expected)
+    sys.exit(1)
+print("1 passed, 0 failed")

@@ -1,0 +1,201 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""Python tests of the wrapped module and the oraclemesh package (run by ctest with
+/usr/bin/python3 and PYTHONPATH set to the build tree)."""
+import json
+import math
+import os
+import subprocess
+import sys
+import tempfile
+import unittest
+
+import oraclemesh as om
+from oraclemesh.scene import build_scene, load_scene
+from vtkmodules.vtkCommonCore import vtkFloatArray
+from vtkmodules.vtkCommonDataModel import vtkImageData, vtkPolyData
+from vtkmodules.vtkFiltersSources import vtkCubeSource, vtkSphereSource
+
+from demo_counts import SAMPLES, counts_of, reference_counts
+
+DATA = os.environ.get("ORACLEMESH_DATA", os.path.join(os.path.dirname(__file__), "..", "..", "Data"))
+DEMO_SCENE = os.path.join(DATA, "demo", "scene.json")
+
+
+def sample(oracle_algorithm, n=SAMPLES):
+    sampler = om.vtkOracleSampler()
+    sampler.SetInputConnection(oracle_algorithm.GetOutputPort())
+    sampler.SetDimensions(n, n, n)
+    return om.update(sampler)
+
+
+def oracle_of(*domains):
+    oracle = om.vtkHierarchicalOracle()
+    for d in domains:
+        oracle.AddInputConnection(d.GetOutputPort())
+    return oracle
+
+
+class DemoScene(unittest.TestCase):
+    def test_same_counts_as_the_cxx_pipeline(self):
+        scene = load_scene(DEMO_SCENE)
+        image = sample(scene.oracle)
+        counts = counts_of(image.GetPointData().GetArray("Material"))
+        self.assertEqual(counts, reference_counts())
+        self.assertEqual(set(counts) - {-1}, {1, 2, 3, 4})
+
+    def test_other_file_formats_give_the_same_oracle(self):
+        from vtkmodules.vtkIOGeometry import vtkSTLWriter
+        from vtkmodules.vtkIOImage import vtkMetaImageWriter
+
+        scene = load_scene(DEMO_SCENE)
+        with tempfile.TemporaryDirectory() as tmp:
+            stl = vtkSTLWriter()
+            stl.SetInputConnection(scene.readers[0].GetOutputPort())
+            stl.SetFileName(os.path.join(tmp, "implant.stl"))
+            stl.SetFileTypeToBinary()
+            stl.Write()
+            mha = vtkMetaImageWriter()
+            mha.SetInputConnection(scene.readers[1].GetOutputPort())
+            mha.SetFileName(os.path.join(tmp, "tibia.mha"))
+            mha.SetCompression(True)
+            mha.Write()
+            description = json.load(open(DEMO_SCENE))
+            description["domains"][0]["file"] = os.path.join(tmp, "implant.stl")
+            description["domains"][3]["file"] = "tibia.mha"
+            description["domains"][3]["array"] = None  # MetaImage names its scalars itself
+            description["domains"][3].pop("array")
+            other = build_scene(description, base_dir=tmp)
+            counts = counts_of(sample(other.oracle).GetPointData().GetArray("Material"))
+        self.assertEqual(counts, reference_counts())
+
+
+class Volumes(unittest.TestCase):
+    def test_sphere_and_surface_volumes(self):
+        sphere = om.vtkSphereDomain()
+        sphere.SetRadius(2.0)
+        sphere.SetMaterialId(2)
+        volumes = self._volumes(sample(oracle_of(sphere), 120))
+        self.assertAlmostEqual(volumes[2], 4 / 3 * math.pi * 8, delta=0.02 * 4 / 3 * math.pi * 8)
+
+    def test_label_map_volume_is_voxel_count_times_voxel_volume(self):
+        image = vtkImageData()
+        image.SetDimensions(10, 10, 10)
+        image.SetSpacing(0.5, 1.0, 2.0)
+        labels = vtkFloatArray()  # float storage holding integers is accepted
+        labels.SetName("labels")
+        for k in range(10):
+            for j in range(10):
+                for i in range(10):
+                    labels.InsertNextValue(7 if 2 <= i < 8 and 3 <= j < 6 and 1 <= k < 5 else 0)
+        image.GetPointData().SetScalars(labels)
+        domain = om.vtkLabelMapDomain()
+        domain.SetInputData(image)
+        volumes = self._volumes(sample(oracle_of(domain), 117))  # not commensurate with the voxels
+        exact = 6 * 3 * 4 * 0.5 * 1.0 * 2.0
+        self.assertAlmostEqual(volumes[7], exact, delta=0.03 * exact)
+
+    @staticmethod
+    def _volumes(image):
+        fd = image.GetFieldData()
+        ids, vols = fd.GetArray("MaterialIds"), fd.GetArray("MaterialVolume")
+        return {ids.GetValue(i): vols.GetValue(i) for i in range(ids.GetNumberOfTuples())}
+
+
+class BadInput(unittest.TestCase):
+    def assertFails(self, algorithm, fragment):
+        with self.assertRaises(om.OracleMeshError) as ctx:
+            om.update(algorithm)
+        self.assertIn(fragment, str(ctx.exception))
+
+    def test_open_surface_names_its_open_edges(self):
+        source = vtkSphereSource()
+        source.Update()
+        surface = vtkPolyData()
+        surface.DeepCopy(source.GetOutput())
+        surface.BuildCells()
+        surface.DeleteCell(5)
+        surface.RemoveDeletedCells()
+        domain = om.vtkSurfaceDomain()
+        domain.SetInputData(surface)
+        domain.SetMaterialName("implant")
+        oracle = oracle_of(domain)
+        with self.assertRaises(om.OracleMeshError) as ctx:
+            om.update(oracle)
+        text = str(ctx.exception)  # the domain's own error comes first
+        self.assertIn("vtkSurfaceDomain 'implant': surface is not closed: 3 open edge(s)", text)
+        self.assertRegex(text, r"edge \d+ \([^)]*\) - \d+ \([^)]*\) used by 1 triangle")
+        # updating again (the failed domain is not re-run) still points at the domain
+        self.assertFails(oracle, "its vtkSurfaceDomain produced no domain")
+
+    def test_quads_are_not_triangles(self):
+        cube = vtkCubeSource()
+        domain = om.vtkSurfaceDomain()
+        domain.SetInputConnection(cube.GetOutputPort())
+        self.assertFails(domain, "only triangles are accepted")
+
+    def test_label_maps(self):
+        empty = om.vtkLabelMapDomain()
+        empty.SetInputData(vtkImageData())
+        self.assertFails(empty, "label")
+        image = vtkImageData()
+        image.SetDimensions(3, 3, 3)
+        values = vtkFloatArray()
+        values.SetName("density")
+        for i in range(27):
+            values.InsertNextValue(0.25 * i)
+        image.GetPointData().SetScalars(values)
+        fractional = om.vtkLabelMapDomain()
+        fractional.SetInputData(image)
+        self.assertFails(fractional, "label map is not integer: value 0.25 at point 1")
+
+    def test_spheres(self):
+        for radius in (0.0, -1.0, float("nan")):
+            s = om.vtkSphereDomain()
+            s.SetRadius(radius)
+            self.assertFails(s, "sphere radius must be positive")
+        s = om.vtkSphereDomain()
+        s.SetCenter(float("nan"), 0, 0)
+        self.assertFails(s, "NaN")
+
+    def test_oracle_inputs(self):
+        self.assertFails(om.vtkHierarchicalOracle(), "no domains connected")
+        source = vtkSphereSource()
+        plain = oracle_of(source)
+        self.assertFails(plain, "input 0 (vtkPolyData) is not an OracleMesh domain")
+
+    def test_scene_validation_lists_every_problem_with_its_json_path(self):
+        description = {"domains": [
+            {"type": "sphere", "center": [0, 0], "radius": -2, "material": 1},
+            {"type": "torus"},
+            {"type": "surface", "material": 2},
+            {"type": "labelmap", "file": "missing.vti"},
+        ]}
+        with self.assertRaises(om.OracleMeshError) as ctx:
+            build_scene(description, base_dir=tempfile.gettempdir())
+        text = str(ctx.exception)
+        for fragment in ("$.domains[0].center: must be a list of 3", "$.domains[0].radius: must be a positive",
+                         "$.domains[1].type: must be one of", "$.domains[2].file: missing",
+                         "$.domains[3].file:", "file not found"):
+            self.assertIn(fragment, text)
+        with self.assertRaises(om.OracleMeshError):
+            build_scene({"domains": []})
+
+
+class CommandLine(unittest.TestCase):
+    def test_sample_writes_an_image_and_a_report(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            out = os.path.join(tmp, "oracle.vti")
+            result = subprocess.run([sys.executable, "-m", "oraclemesh", "sample", DEMO_SCENE, "-o", out,
+                                     "--dims", "40", "40", "40"], capture_output=True, text=True, check=False)
+            self.assertEqual(result.returncode, 0, result.stderr)
+            self.assertTrue(os.path.getsize(out) > 0)
+            for name in ("cortical bone", "cancellous bone", "implant", "screw"):
+                self.assertIn(name, result.stdout)
+            bad = subprocess.run([sys.executable, "-m", "oraclemesh", "sample", os.path.join(tmp, "none.json")],
+                                 capture_output=True, text=True, check=False)
+            self.assertEqual(bad.returncode, 2)
+            self.assertIn("scene file not found", bad.stderr)
+
+
+if __name__ == "__main__":
+    unittest.main()
