@@ -2,6 +2,7 @@
 #pragma once
 
 #include "OracleDomainMetadata.h"
+#include "OracleMeshFiltersModule.h"
 
 #include <memory>
 #include <string>
@@ -20,7 +21,7 @@ struct TriangleSurface;
 
 /// Turns OracleMesh domain datasets (and vtkHierarchicalOracle's output) into core objects. All
 /// functions throw omesh::InputError with a message naming the input (`where`) and the problem.
-class OracleBuilder
+class ORACLEMESHFILTERS_EXPORT OracleBuilder
 {
 public:
   /// The oracle described by `data`: the multiblock output of vtkHierarchicalOracle (blocks in
