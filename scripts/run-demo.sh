@@ -1,0 +1,21 @@
+#!/usr/bin/env bash
+# The main job, from a fresh Debian 12 machine: install, build, then run OracleMesh on the bundled
+# bone/implant scene (Data/demo/scene.json). Writes to ./demo-output (or $1):
+#   demo_oracle.vti   the combined oracle sampled at the label map's resolution (open in ParaView)
+#   report.txt        per-material volumes
+#   demo_oracle.png   a picture of it, cut open through the screw
+set -euo pipefail
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+out="$(realpath -m "${1:-$root/demo-output}")"
+bash "$root/scripts/setup-debian.sh"
+bash "$root/scripts/build.sh"
+build="${ORACLEMESH_BUILD_DIR:-$root/build}"
+site="$(ls -d "$build"/lib/python3*/site-packages | head -n 1)"
+export PYTHONPATH="$site${PYTHONPATH:+:$PYTHONPATH}"
+mkdir -p "$out"
+/usr/bin/python3 -m oraclemesh sample "$root/Data/demo/scene.json" --dims 121 93 98 \
+  -o "$out/demo_oracle.vti" --report "$out/report.txt"
+/usr/bin/python3 -c "import json, oraclemesh.scene as s; print(json.dumps({str(k): v for k, v in s.load_scene('$root/Data/demo/scene.json').material_names().items()}))" > "$out/materials.json"
+xvfb-run -a -s "-screen 0 1280x1024x24" pvbatch "$site/oraclemesh/render.py" \
+  "$out/demo_oracle.vti" "$out/demo_oracle.png" "$out/materials.json" >/dev/null
+echo "picture: $out/demo_oracle.png"
