@@ -69,6 +69,37 @@ class DemoScene(unittest.TestCase):
         self.assertEqual(counts, reference_counts())
 
 
+class DemoData(unittest.TestCase):
+    def test_the_generator_reproduces_the_bundled_files(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            subprocess.run([sys.executable, os.path.join(DATA, "make_demo_scene.py"), tmp], check=True,
+                           capture_output=True)
+            for name in ("tibia_labels.vti", "implant.vtp", "scene.json"):
+                with open(os.path.join(tmp, name), "rb") as new, open(os.path.join(DATA, "demo", name), "rb") as old:
+                    self.assertEqual(new.read(), old.read(), f"{name} differs from a fresh run of the generator")
+
+    def test_the_implant_is_a_closed_surface_with_sharp_edges(self):
+        from vtkmodules.vtkFiltersCore import vtkFeatureEdges
+        from vtkmodules.vtkIOXML import vtkXMLPolyDataReader
+
+        reader = vtkXMLPolyDataReader()
+        reader.SetFileName(os.path.join(DATA, "demo", "implant.vtp"))
+        edges = vtkFeatureEdges()
+        edges.SetInputConnection(reader.GetOutputPort())
+        edges.BoundaryEdgesOn()
+        edges.NonManifoldEdgesOn()
+        edges.FeatureEdgesOff()
+        edges.ManifoldEdgesOff()
+        edges.Update()
+        self.assertEqual(edges.GetOutput().GetNumberOfCells(), 0)
+        edges.BoundaryEdgesOff()
+        edges.NonManifoldEdgesOff()
+        edges.FeatureEdgesOn()
+        edges.SetFeatureAngle(60)
+        edges.Update()
+        self.assertGreater(edges.GetOutput().GetNumberOfCells(), 100)
+
+
 class Volumes(unittest.TestCase):
     def test_sphere_and_surface_volumes(self):
         sphere = om.vtkSphereDomain()
