@@ -89,12 +89,12 @@ vtkImplicitDomain::vtkImplicitDomain()
 {
   this->SetNumberOfInputPorts(0);
   this->SetMaterialName("Implicit");
+  this->Cut = true; // most implicit domains are cuts
 }
 
 vtkImplicitDomain::~vtkImplicitDomain()
 {
   this->SetImplicitFunction(nullptr);
-  this->SetMaterialName(nullptr);
 }
 
 vtkMTimeType vtkImplicitDomain::GetMTime()
@@ -108,13 +108,9 @@ vtkMTimeType vtkImplicitDomain::GetMTime()
 int vtkImplicitDomain::RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
 {
   vtkPolyData* output = vtkPolyData::GetData(outputVector);
-  const std::string name = this->MaterialName ? this->MaterialName : "";
-  const std::string who = "vtkImplicitDomain '" + name + "'";
+  const std::string who = this->Describe();
   OracleDomainMetadata md;
-  md.Name = name;
-  md.MaterialName = name;
-  md.MaterialId = this->MaterialId;
-  md.Cut = this->Cut;
+  this->FillMetadata("", md); // the kind follows from the function
   omesh::BoundingBox shapeBounds;
   bool bounded = false;
   try
@@ -203,7 +199,5 @@ void vtkImplicitDomain::PrintSelf(ostream& os, vtkIndent indent)
   this->Superclass::PrintSelf(os, indent);
   os << indent << "ImplicitFunction: " << (this->ImplicitFunction ? this->ImplicitFunction->GetClassName() : "(none)") << "\n";
   os << indent << "Height: " << this->Height << "\n";
-  os << indent << "MaterialId: " << this->MaterialId << "\n";
-  os << indent << "MaterialName: " << (this->MaterialName ? this->MaterialName : "(none)") << "\n";
-  os << indent << "Cut: " << this->Cut << "\n";
+  os << indent << "DisplayResolution: " << this->DisplayResolution << "\n";
 }

@@ -6,7 +6,7 @@
  * Inside is where the function is <= 0 (VTK's convention: a vtkPlane contains the side its normal
  * points away from). The function's linear Transform is honoured (ParaView's box widget uses it).
  * vtkCylinder is infinite; a positive Height caps it symmetrically about its Center (a screw).
- * Unbounded shapes (planes, infinite cylinders) are meant as cuts. The output is a tessellation of
+ * Unbounded shapes (planes, infinite cylinders) are meant as cuts, so Cut is on by default. The output is a tessellation of
  * the shape's boundary inside DisplayBounds, for display only, with the domain description in its
  * field data.
  */
@@ -15,15 +15,15 @@
 
 #include "OracleMeshFiltersModule.h"
 
-#include <vtkPolyDataAlgorithm.h>
+#include "vtkSingleMaterialDomain.h"
 
 class vtkImplicitFunction;
 
-class ORACLEMESHFILTERS_EXPORT vtkImplicitDomain : public vtkPolyDataAlgorithm
+class ORACLEMESHFILTERS_EXPORT vtkImplicitDomain : public vtkSingleMaterialDomain
 {
 public:
   static vtkImplicitDomain* New();
-  vtkTypeMacro(vtkImplicitDomain, vtkPolyDataAlgorithm);
+  vtkTypeMacro(vtkImplicitDomain, vtkSingleMaterialDomain);
   void PrintSelf(ostream& os, vtkIndent indent) override;
   vtkMTimeType GetMTime() override;
 
@@ -38,26 +38,6 @@ public:
   /// Cylinders only: length along the axis, centred on the cylinder's Center; 0 = infinite.
   vtkSetClampMacro(Height, double, 0.0, VTK_DOUBLE_MAX);
   vtkGetMacro(Height, double);
-  ///@}
-
-  ///@{
-  /// Material id (>= 0). Default 1.
-  vtkSetMacro(MaterialId, int);
-  vtkGetMacro(MaterialId, int);
-  ///@}
-
-  ///@{
-  /// Material (and domain) name. Default "Implicit".
-  vtkSetStringMacro(MaterialName);
-  vtkGetStringMacro(MaterialName);
-  ///@}
-
-  ///@{
-  /// When on, the shape is removed from this and every lower-priority domain. Default on: most
-  /// implicit domains are cuts.
-  vtkSetMacro(Cut, bool);
-  vtkGetMacro(Cut, bool);
-  vtkBooleanMacro(Cut, bool);
   ///@}
 
   ///@{
@@ -80,9 +60,6 @@ protected:
 
   vtkImplicitFunction* ImplicitFunction = nullptr;
   double Height = 0.0;
-  int MaterialId = 1;
-  char* MaterialName = nullptr;
-  bool Cut = true;
   double DisplayBounds[6] = { 0, -1, 0, -1, 0, -1 };
   int DisplayResolution = 48;
 

@@ -19,25 +19,16 @@ vtkSphereDomain::vtkSphereDomain()
   this->SetMaterialName("Sphere");
 }
 
-vtkSphereDomain::~vtkSphereDomain()
-{
-  this->SetMaterialName(nullptr);
-}
-
 int vtkSphereDomain::RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
 {
   vtkPolyData* output = vtkPolyData::GetData(outputVector);
   OracleDomainMetadata md;
-  md.Kind = "Sphere";
-  md.Name = this->MaterialName ? this->MaterialName : "";
-  md.MaterialName = md.Name;
-  md.MaterialId = this->MaterialId;
-  md.Cut = this->Cut;
+  this->FillMetadata("Sphere", md);
   md.Parameters = { this->Center[0], this->Center[1], this->Center[2], this->Radius };
   try
   {
     OracleDomainMetadata named = md; // the error names this filter
-    named.Name = "vtkSphereDomain '" + md.Name + "'";
+    named.Name = this->Describe();
     OracleBuilder::BuildImplicit(named); // validates radius, centre, material id
   }
   catch (const omesh::InputError& e)
@@ -61,7 +52,5 @@ void vtkSphereDomain::PrintSelf(ostream& os, vtkIndent indent)
   this->Superclass::PrintSelf(os, indent);
   os << indent << "Center: " << this->Center[0] << " " << this->Center[1] << " " << this->Center[2] << "\n";
   os << indent << "Radius: " << this->Radius << "\n";
-  os << indent << "MaterialId: " << this->MaterialId << "\n";
-  os << indent << "MaterialName: " << (this->MaterialName ? this->MaterialName : "(none)") << "\n";
-  os << indent << "Cut: " << this->Cut << "\n";
+  os << indent << "Resolution: " << this->Resolution << "\n";
 }

@@ -11,13 +11,13 @@
 
 #include "OracleMeshFiltersModule.h"
 
-#include <vtkPolyDataAlgorithm.h>
+#include "vtkSingleMaterialDomain.h"
 
-class ORACLEMESHFILTERS_EXPORT vtkSphereDomain : public vtkPolyDataAlgorithm
+class ORACLEMESHFILTERS_EXPORT vtkSphereDomain : public vtkSingleMaterialDomain
 {
 public:
   static vtkSphereDomain* New();
-  vtkTypeMacro(vtkSphereDomain, vtkPolyDataAlgorithm);
+  vtkTypeMacro(vtkSphereDomain, vtkSingleMaterialDomain);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   ///@{
@@ -33,25 +33,6 @@ public:
   ///@}
 
   ///@{
-  /// Material id (>= 0). Default 1.
-  vtkSetMacro(MaterialId, int);
-  vtkGetMacro(MaterialId, int);
-  ///@}
-
-  ///@{
-  /// Material (and domain) name. Default "Sphere".
-  vtkSetStringMacro(MaterialName);
-  vtkGetStringMacro(MaterialName);
-  ///@}
-
-  ///@{
-  /// When on, the ball is removed from this and every lower-priority domain. Default off.
-  vtkSetMacro(Cut, bool);
-  vtkGetMacro(Cut, bool);
-  vtkBooleanMacro(Cut, bool);
-  ///@}
-
-  ///@{
   /// Tessellation resolution of the displayed sphere (theta and phi). Default 32.
   vtkSetClampMacro(Resolution, int, 4, 1024);
   vtkGetMacro(Resolution, int);
@@ -59,14 +40,11 @@ public:
 
 protected:
   vtkSphereDomain();
-  ~vtkSphereDomain() override;
+  ~vtkSphereDomain() override = default;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
   double Center[3] = { 0.0, 0.0, 0.0 };
   double Radius = 1.0;
-  int MaterialId = 1;
-  char* MaterialName = nullptr;
-  bool Cut = false;
   int Resolution = 32;
 
 private:

@@ -17,18 +17,12 @@ vtkSurfaceDomain::vtkSurfaceDomain()
   this->SetMaterialName("Surface");
 }
 
-vtkSurfaceDomain::~vtkSurfaceDomain()
-{
-  this->SetMaterialName(nullptr);
-}
-
 int vtkSurfaceDomain::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
   vtkPolyData* input = vtkPolyData::GetData(inputVector[0]);
   vtkPolyData* output = vtkPolyData::GetData(outputVector);
-  const std::string name = this->MaterialName ? this->MaterialName : "";
-  const std::string who = "vtkSurfaceDomain '" + name + "'";
+  const std::string who = this->Describe();
   try
   {
     if (this->MaterialId < 0)
@@ -43,19 +37,7 @@ int vtkSurfaceDomain::RequestData(
   }
   output->ShallowCopy(input);
   OracleDomainMetadata md;
-  md.Kind = "Surface";
-  md.Name = name;
-  md.Cut = this->Cut;
-  md.MaterialId = this->MaterialId;
-  md.MaterialName = name;
+  this->FillMetadata("Surface", md);
   md.WriteTo(output->GetFieldData());
   return 1;
-}
-
-void vtkSurfaceDomain::PrintSelf(ostream& os, vtkIndent indent)
-{
-  this->Superclass::PrintSelf(os, indent);
-  os << indent << "MaterialId: " << this->MaterialId << "\n";
-  os << indent << "MaterialName: " << (this->MaterialName ? this->MaterialName : "(none)") << "\n";
-  os << indent << "Cut: " << this->Cut << "\n";
 }

@@ -13,44 +13,20 @@
 
 #include "OracleMeshFiltersModule.h"
 
-#include <vtkPolyDataAlgorithm.h>
+#include "vtkSingleMaterialDomain.h"
 
 #include <string>
 
-class ORACLEMESHFILTERS_EXPORT vtkSurfaceDomain : public vtkPolyDataAlgorithm
+class ORACLEMESHFILTERS_EXPORT vtkSurfaceDomain : public vtkSingleMaterialDomain
 {
 public:
   static vtkSurfaceDomain* New();
-  vtkTypeMacro(vtkSurfaceDomain, vtkPolyDataAlgorithm);
-  void PrintSelf(ostream& os, vtkIndent indent) override;
-
-  ///@{
-  /// Material id (>= 0) of the points inside the surface. Default 1.
-  vtkSetMacro(MaterialId, int);
-  vtkGetMacro(MaterialId, int);
-  ///@}
-
-  ///@{
-  /// Material (and domain) name shown in reports. Default "Surface".
-  vtkSetStringMacro(MaterialName);
-  vtkGetStringMacro(MaterialName);
-  ///@}
-
-  ///@{
-  /// When on, the inside is removed from this and every lower-priority domain. Default off.
-  vtkSetMacro(Cut, bool);
-  vtkGetMacro(Cut, bool);
-  vtkBooleanMacro(Cut, bool);
-  ///@}
+  vtkTypeMacro(vtkSurfaceDomain, vtkSingleMaterialDomain);
 
 protected:
   vtkSurfaceDomain();
-  ~vtkSurfaceDomain() override;
+  ~vtkSurfaceDomain() override = default;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
-
-  int MaterialId = 1;
-  char* MaterialName = nullptr;
-  bool Cut = false;
 
 private:
   vtkSurfaceDomain(const vtkSurfaceDomain&) = delete;
