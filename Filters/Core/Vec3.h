@@ -35,6 +35,10 @@ inline bool isFinite(const Vec3& a)
 {
   return std::isfinite(a.x) && std::isfinite(a.y) && std::isfinite(a.z);
 }
-/// Point on segment ab at parameter t.
-inline Vec3 lerp(const Vec3& a, const Vec3& b, double t) { return a + t * (b - a); }
+/// Point on segment ab at parameter t, computed from the nearer end (stays accurate near b when
+/// a is far away).
+inline Vec3 lerp(const Vec3& a, const Vec3& b, double t)
+{
+  return t <= 0.5 ? a + t * (b - a) : b + (1.0 - t) * (a - b);
+}
 }

@@ -1,0 +1,192 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "FeatureSegments.h"
+
+#include "HierarchicalOracle.h"
+#include "InputError.h"
+
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/box_intersection_d.h>
+
+#include <cmath>
+#include <sstream>
+
+namespace omesh
+{
+namespace
+{
+using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Box = CGAL::Box_intersection_d::Box_with_info_d<double, 3, size_t>;
+
+std::string describeSegment(const FeatureSegments& f, size_t s)
+{
+  const Vec3& a = f.points[f.segments[s][0]];
+  const Vec3& b = f.points[f.segments[s][1]];
+  std::ostringstream o;
+  o << "segment " << s << " (" << a.x << ", " << a.y << ", " << a.z << ") - (" << b.x << ", " << b.y
+    << ", " << b.z << ")";
+  return o.str();
+}
+
+double angleAt(const Vec3& v, const Vec3& p, const Vec3& q)
+{
+  const Vec3 a = p - v, b = q - v;
+  const double c = dot(a, b) / (norm(a) * norm(b));
+  return std::acos(std::clamp(c, -1.0, 1.0)) * 180.0 / M_PI;
+}
+
+/// For each point, the segments incident to it.
+std::vector<std::vector<size_t>> incidence(const FeatureSegments& f)
+{
+  std::vector<std::vector<size_t>> inc(f.points.size());
+  for (size_t s = 0; s < f.segments.size(); ++s)
+  {
+    inc[f.segments[s][0]].push_back(s);
+    inc[f.segments[s][1]].push_back(s);
+  }
+  return inc;
+}
+}
+
+std::vector<bool> FeatureSegments::starVertices() const
+{
+  const auto inc = incidence(*this);
+  std::vector<bool> star(points.size(), false);
+  for (size_t p = 0; p < points.size(); ++p)
+    star[p] = inc[p].size() >= 2;
+  return star;
+}
+
+double FeatureSegments::smallestAngle() const
+{
+  const auto inc = incidence(*this);
+  double smallest = 180.0;
+  for (size_t v = 0; v < points.size(); ++v)
+  {
+    for (size_t i = 0; i < inc[v].size(); ++i)
+      for (size_t j = i + 1; j < inc[v].size(); ++j)
+      {
+        const auto& si = segments[inc[v][i]];
+        const auto& sj = segments[inc[v][j]];
+        const int pi = si[0] == int(v) ? si[1] : si[0];
+        const int pj = sj[0] == int(v) ? sj[1] : sj[0];
+        smallest = std::min(smallest, angleAt(points[v], points[pi], points[pj]));
+      }
+  }
+  return smallest;
+}
+
+std::vector<std::string> FeatureSegments::validate(const HierarchicalOracle& oracle, double radiusEdgeBound) const
+{
+  const int n = static_cast<int>(points.size());
+  for (int i = 0; i < n; ++i)
+  {
+    if (!isFinite(points[i]))
+      throw InputError("feature lines: point " + std::to_string(i) + " has a NaN or infinite coordinate");
+  }
+  for (size_t s = 0; s < segments.size(); ++s)
+  {
+    const auto& seg = segments[s];
+    if (seg[0] < 0 || seg[0] >= n || seg[1] < 0 || seg[1] >= n)
+      throw InputError("feature lines: segment " + std::to_string(s) + " refers to a point out of range");
+    if (seg[0] == seg[1] || !(length(s) > 0.0))
+      throw InputError("feature lines: " + describeSegment(*this, s) + " has zero length");
+  }
+
+  // Segments may meet only at shared end points: any other contact is a crossing.
+  std::vector<Box> boxes;
+  boxes.reserve(segments.size());
+  for (size_t s = 0; s < segments.size(); ++s)
+  {
+    const Vec3& a = points[segments[s][0]];
+    const Vec3& b = points[segments[s][1]];
+    double lo[3] = { std::min(a.x, b.x), std::min(a.y, b.y), std::min(a.z, b.z) };
+    double hi[3] = { std::max(a.x, b.x), std::max(a.y, b.y), std::max(a.z, b.z) };
+    boxes.emplace_back(lo, hi, s);
+  }
+  std::vector<std::pair<size_t, size_t>> crossings;
+  auto check = [&](const Box& x, const Box& y) {
+    const size_t s = x.info(), t = y.info();
+    const auto& a = segments[s];
+    const auto& b = segments[t];
+    const auto P = [&](int i) { return K::Point_3(points[i].x, points[i].y, points[i].z); };
+    const K::Segment_3 ss(P(a[0]), P(a[1])), tt(P(b[0]), P(b[1]));
+    int shared = -1;
+    for (int i : a)
+      for (int j : b)
+        if (i == j)
+          shared = i;
+    if (shared < 0)
+    {
+      if (CGAL::do_intersect(ss, tt))
+        crossings.emplace_back(std::min(s, t), std::max(s, t));
+      return;
+    }
+    // Sharing an end point: they cross only if collinear and overlapping.
+    const int pa = a[0] == shared ? a[1] : a[0];
+    const int pb = b[0] == shared ? b[1] : b[0];
+    if (CGAL::collinear(P(shared), P(pa), P(pb)) &&
+      CGAL::angle(P(pa), P(shared), P(pb)) == CGAL::ACUTE)
+      crossings.emplace_back(std::min(s, t), std::max(s, t));
+  };
+  CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), check);
+  if (!crossings.empty())
+  {
+    std::sort(crossings.begin(), crossings.end());
+    std::ostringstream msg;
+    msg << "feature lines: " << crossings.size() << " pair(s) of segments cross or overlap; first: "
+        << describeSegment(*this, crossings[0].first) << " and " << describeSegment(*this, crossings[0].second);
+    throw InputError(msg.str());
+  }
+
+  std::vector<std::string> warnings;
+  const auto inc = incidence(*this);
+  size_t sharp = 0;
+  std::string firstSharp;
+  double alpha0 = 180.0;
+  for (size_t v = 0; v < points.size(); ++v)
+  {
+    for (size_t i = 0; i < inc[v].size(); ++i)
+      for (size_t j = i + 1; j < inc[v].size(); ++j)
+      {
+        const auto& si = segments[inc[v][i]];
+        const auto& sj = segments[inc[v][j]];
+        const double angle = angleAt(points[v], points[si[0] == int(v) ? si[1] : si[0]],
+          points[sj[0] == int(v) ? sj[1] : sj[0]]);
+        alpha0 = std::min(alpha0, angle);
+        if (angle < 60.0 && sharp++ == 0)
+        {
+          std::ostringstream o;
+          o << describeSegment(*this, inc[v][i]) << " and " << describeSegment(*this, inc[v][j]) << " meet at "
+            << angle << " degrees";
+          firstSharp = o.str();
+        }
+      }
+  }
+  if (sharp)
+    warnings.push_back("feature lines: " + std::to_string(sharp) +
+      " pair(s) of segments meet at less than 60 degrees, where termination is not guaranteed (paper "
+      "section 2.2); first: " + firstSharp);
+  if (alpha0 < 180.0 && radiusEdgeBound > 0 && radiusEdgeBound < 1.0 / (2.0 * std::sin(alpha0 * M_PI / 180.0)))
+  {
+    std::ostringstream o;
+    o << "criteria contradict the feature lines: radius-edge bound " << radiusEdgeBound << " < 1/(2 sin "
+      << alpha0 << " deg) = " << 1.0 / (2.0 * std::sin(alpha0 * M_PI / 180.0))
+      << "; refinement may not terminate (it stops at MaximumNumberOfVertices)";
+    warnings.push_back(o.str());
+  }
+  size_t outside = 0;
+  std::string firstOutside;
+  for (size_t s = 0; s < segments.size(); ++s)
+  {
+    const Vec3& a = points[segments[s][0]];
+    const Vec3& b = points[segments[s][1]];
+    if (oracle.material(a) == kOutside && oracle.material(b) == kOutside &&
+      oracle.material(lerp(a, b, 0.5)) == kOutside && !oracle.intersect(a, b).found && outside++ == 0)
+      firstOutside = describeSegment(*this, s);
+  }
+  if (outside)
+    warnings.push_back("feature lines: " + std::to_string(outside) +
+      " segment(s) lie outside every domain and cannot become mesh edges; first: " + firstOutside);
+  return warnings;
+}
+}

@@ -1,0 +1,37 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#pragma once
+
+#include "Vec3.h"
+
+#include <array>
+#include <string>
+#include <vector>
+
+namespace omesh
+{
+class HierarchicalOracle;
+
+/// The constrained segments E of the paper: points and segments between them (polylines split
+/// into segments; a point shared by several polylines is one vertex).
+struct FeatureSegments
+{
+  std::vector<Vec3> points;
+  std::vector<std::array<int, 2>> segments;
+
+  bool empty() const { return segments.empty(); }
+  double length(size_t s) const { return norm(points[segments[s][1]] - points[segments[s][0]]); }
+
+  /// Checks what the paper's algorithm needs. Throws InputError for NaN points, indices out of
+  /// range, zero-length segments and segments crossing each other (named by index and
+  /// coordinates). Returns warnings for what it cannot guarantee: angles below 60 degrees between
+  /// segments at a shared vertex, segments outside every domain of `oracle`, and a radius-edge
+  /// bound B < 1 / (2 sin alpha0) that contradicts the smallest angle alpha0.
+  std::vector<std::string> validate(const HierarchicalOracle& oracle, double radiusEdgeBound) const;
+
+  /// Points that end at least two segments (the paper's star vertices).
+  std::vector<bool> starVertices() const;
+
+  /// Smallest angle (degrees) between two segments sharing a vertex; 180 if none share one.
+  double smallestAngle() const;
+};
+}

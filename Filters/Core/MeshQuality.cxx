@@ -1,0 +1,179 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "MeshQuality.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <unordered_map>
+#include <unordered_set>
+
+namespace omesh
+{
+double signedVolume(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d)
+{
+  return dot(cross(b - a, c - a), d - a) / 6.0;
+}
+
+double minDihedralAngle(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d)
+{
+  const Vec3 p[4] = { a, b, c, d };
+  // Outward face normals; the dihedral angle at an edge is pi minus the angle between the normals
+  // of its two faces.
+  Vec3 n[4];
+  for (int f = 0; f < 4; ++f)
+  {
+    const Vec3& u = p[(f + 1) % 4];
+    const Vec3& v = p[(f + 2) % 4];
+    const Vec3& w = p[(f + 3) % 4];
+    Vec3 m = cross(v - u, w - u);
+    if (dot(m, p[f] - u) > 0)
+      m = -1.0 * m;
+    const double l = norm(m);
+    if (!(l > 0))
+      return 0.0;
+    n[f] = (1.0 / l) * m;
+  }
+  double smallest = 180.0;
+  for (int i = 0; i < 4; ++i)
+    for (int j = i + 1; j < 4; ++j)
+    {
+      const double c = std::clamp(-dot(n[i], n[j]), -1.0, 1.0);
+      smallest = std::min(smallest, std::acos(c) * 180.0 / M_PI);
+    }
+  return smallest;
+}
+
+Vec3 circumcenter(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d)
+{
+  const Vec3 u = b - a, v = c - a, w = d - a;
+  const double det = 2.0 * dot(u, cross(v, w));
+  if (det == 0.0)
+    return { std::nan(""), std::nan(""), std::nan("") };
+  const Vec3 num = dot(u, u) * cross(v, w) + dot(v, v) * cross(w, u) + dot(w, w) * cross(u, v);
+  return a + (1.0 / det) * num;
+}
+
+double radiusEdgeRatio(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d)
+{
+  const Vec3 cc = circumcenter(a, b, c, d);
+  if (!isFinite(cc))
+    return std::numeric_limits<double>::infinity();
+  const double r = norm(cc - a);
+  const double e = std::min({ norm(b - a), norm(c - a), norm(d - a), norm(c - b), norm(d - b), norm(d - c) });
+  return r / e;
+}
+
+std::map<int, double> materialVolumes(const TetMesh& mesh)
+{
+  std::map<int, double> v;
+  for (size_t t = 0; t < mesh.tets.size(); ++t)
+  {
+    const auto& k = mesh.tets[t];
+    v[mesh.tetMaterial[t]] += std::abs(signedVolume(mesh.points[k[0]], mesh.points[k[1]], mesh.points[k[2]], mesh.points[k[3]]));
+  }
+  return v;
+}
+
+std::vector<TetMesh::Segment> locateFeatureSegments(
+  const TetMesh& mesh, const FeatureSegments& features, double tolerance)
+{
+  std::vector<TetMesh::Segment> pieces;
+  if (features.empty())
+    return pieces;
+  std::unordered_set<uint64_t> edges;
+  edges.reserve(mesh.tets.size() * 4);
+  std::vector<char> used(mesh.points.size(), 0);
+  for (const auto& t : mesh.tets)
+    for (int i = 0; i < 4; ++i)
+    {
+      used[t[i]] = 1;
+      for (int j = i + 1; j < 4; ++j)
+      {
+        const uint64_t lo = static_cast<uint64_t>(std::min(t[i], t[j])), hi = static_cast<uint64_t>(std::max(t[i], t[j]));
+        edges.insert((lo << 32) | hi);
+      }
+    }
+  // Hash the vertices of tetrahedra on a grid of the mean segment length.
+  double total = 0.0;
+  for (size_t s = 0; s < features.segments.size(); ++s)
+    total += features.length(s);
+  const double h = std::max(total / features.segments.size(), 1e-12);
+  auto key = [h](const Vec3& p) {
+    const auto q = [h](double x) { return static_cast<uint64_t>(static_cast<int64_t>(std::floor(x / h)) & 0x1fffff); };
+    return (q(p.x) << 42) | (q(p.y) << 21) | q(p.z);
+  };
+  std::unordered_map<uint64_t, std::vector<int>> grid;
+  for (size_t i = 0; i < mesh.points.size(); ++i)
+    if (used[i])
+      grid[key(mesh.points[i])].push_back(static_cast<int>(i));
+
+  for (size_t s = 0; s < features.segments.size(); ++s)
+  {
+    const Vec3 a = features.points[features.segments[s][0]], b = features.points[features.segments[s][1]];
+    const double len = features.length(s), tol = tolerance * len;
+    const Vec3 d = (1.0 / len) * (b - a);
+    std::vector<std::pair<double, int>> on;
+    std::unordered_set<int> seen;
+    const int steps = static_cast<int>(std::ceil(len / h)) + 1;
+    for (int k = 0; k <= steps; ++k)
+    {
+      const Vec3 c = lerp(a, b, std::min(1.0, double(k) / steps));
+      for (int dx = -1; dx <= 1; ++dx)
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dz = -1; dz <= 1; ++dz)
+          {
+            auto it = grid.find(key(c + Vec3{ dx * h, dy * h, dz * h }));
+            if (it == grid.end())
+              continue;
+            for (int v : it->second)
+            {
+              if (!seen.insert(v).second)
+                continue;
+              const Vec3 w = mesh.points[v] - a;
+              const double t = dot(w, d);
+              if (t >= -tol && t <= len + tol && norm(w - t * d) <= tol)
+                on.emplace_back(std::clamp(t, 0.0, len), v);
+            }
+          }
+    }
+    std::sort(on.begin(), on.end());
+    // Pieces between consecutive stations: the segment's ends (mesh vertices or not) and the
+    // mesh vertices on it.
+    std::vector<std::pair<double, int>> stations;
+    if (on.empty() || on.front().first > tol)
+      stations.emplace_back(0.0, -1);
+    stations.insert(stations.end(), on.begin(), on.end());
+    if (on.empty() || on.back().first < len - tol)
+      stations.emplace_back(len, -1);
+    for (size_t i = 0; i + 1 < stations.size(); ++i)
+    {
+      TetMesh::Segment piece;
+      piece.a = stations[i].second >= 0 ? mesh.points[stations[i].second] : lerp(a, b, stations[i].first / len);
+      piece.b = stations[i + 1].second >= 0 ? mesh.points[stations[i + 1].second] : lerp(a, b, stations[i + 1].first / len);
+      piece.aId = stations[i].second;
+      piece.bId = stations[i + 1].second;
+      piece.input = static_cast<int>(s);
+      if (piece.aId >= 0 && piece.bId >= 0)
+      {
+        const uint64_t lo = static_cast<uint64_t>(std::min(piece.aId, piece.bId));
+        const uint64_t hi = static_cast<uint64_t>(std::max(piece.aId, piece.bId));
+        piece.present = edges.count((lo << 32) | hi) > 0;
+      }
+      pieces.push_back(piece);
+    }
+  }
+  return pieces;
+}
+
+double featureCoverage(const std::vector<TetMesh::Segment>& pieces, const FeatureSegments& features)
+{
+  double total = 0.0, covered = 0.0;
+  for (size_t s = 0; s < features.segments.size(); ++s)
+    total += features.length(s);
+  for (const auto& p : pieces)
+    if (p.present)
+      covered += norm(p.b - p.a);
+  return total > 0 ? std::min(1.0, covered / total) : 1.0;
+}
+}

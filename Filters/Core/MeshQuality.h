@@ -1,0 +1,36 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The measures used everywhere (DESIGN.md), defined once.
+#pragma once
+
+#include "FeatureSegments.h"
+#include "TetMesh.h"
+
+#include <map>
+
+namespace omesh
+{
+/// Smallest of the six dihedral angles of tetrahedron abcd, in degrees (0 for a flat one).
+double minDihedralAngle(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
+
+/// Circumradius divided by the shortest edge (sqrt(6)/4 = 0.61 for the regular tetrahedron;
+/// infinite for a flat one).
+double radiusEdgeRatio(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
+
+/// Circumcentre of tetrahedron abcd (NaN coordinates for a flat one).
+Vec3 circumcenter(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
+
+/// Signed volume of abcd (positive when d is on the side of abc its normal (b-a)x(c-a) points to).
+double signedVolume(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
+
+/// Volume of the tetrahedra of each material.
+std::map<int, double> materialVolumes(const TetMesh& mesh);
+
+/// The input segments cut at the mesh vertices lying on them (within `tolerance` x segment length),
+/// each piece flagged present when its ends are joined by a tetrahedron edge.
+std::vector<TetMesh::Segment> locateFeatureSegments(
+  const TetMesh& mesh, const FeatureSegments& features, double tolerance = 1e-6);
+
+/// Fraction of the total length of the input segments that `pieces` (from locateFeatureSegments)
+/// cover with present pieces.
+double featureCoverage(const std::vector<TetMesh::Segment>& pieces, const FeatureSegments& features);
+}

@@ -1,0 +1,202 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// PRIVATE (includes CGAL): the hierarchical oracle as a CGAL Mesh_3 domain. Include it only from
+// the mesher's translation unit.
+#pragma once
+
+#include "HierarchicalOracle.h"
+
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Labeled_mesh_domain_3.h>
+#include <CGAL/Random.h>
+
+#include <functional>
+#include <tuple>
+
+namespace omesh::cgal
+{
+using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+
+inline Vec3 toVec(const K::Point_3& p) { return { p.x(), p.y(), p.z() }; }
+inline K::Point_3 toPoint(const Vec3& p) { return { p.x, p.y, p.z }; }
+
+/// Subdomain index of a material: 0 is outside (Mesh_3's null subdomain), material m is m + 1.
+inline int subdomainOf(int material) { return material + 1; }
+inline int materialOf(int subdomain) { return subdomain - 1; }
+
+/// CGAL's labelled domain with the oracle as labelling function, whose intersection queries are
+/// replaced by the oracle's exact ones (the base class bisects) and whose initial points sample the
+/// boundary of every domain (so small materials, a screw, are never missed).
+class OracleMeshDomain : public CGAL::Labeled_mesh_domain_3<K>
+{
+public:
+  using Base = CGAL::Labeled_mesh_domain_3<K>;
+
+  OracleMeshDomain(const HierarchicalOracle& oracle, const BoundingBox& box, unsigned seed)
+    : Base(std::function<int(const K::Point_3&)>(
+             [&oracle](const K::Point_3& p) { return subdomainOf(oracle.material(toVec(p))); }),
+        K::Iso_cuboid_3(box.min.x, box.min.y, box.min.z, box.max.x, box.max.y, box.max.z))
+    , oracle_(oracle)
+    , box_(box)
+    , seed_(seed)
+  {
+  }
+
+  const HierarchicalOracle& oracle() const { return oracle_; }
+
+  /// The first material change along a segment, as Mesh_3 wants it. The segment is clipped to the
+  /// domain's box first: dual edges of flat cells reach 1e14 away, where a + t (b - a) has lost
+  /// every digit of the part near the surface.
+  Intersection intersectSegment(const K::Point_3& pa, const K::Point_3& pb) const
+  {
+    Vec3 a = toVec(pa), b = toVec(pb);
+    if (!clip(a, b))
+      return Intersection();
+    const omesh::Intersection x = oracle_.intersect(a, b);
+    if (!x.found)
+      return Intersection();
+    const Surface_patch_index patch = make_surface_index(subdomainOf(x.materialBefore), subdomainOf(x.materialAfter));
+    return Intersection(toPoint(x.point), index_from_surface_patch_index(patch), 2);
+  }
+
+  /// Rays and lines become segments through the box (then clipped exactly by intersectSegment).
+  Intersection intersectClipped(const K::Ray_3& r) const
+  {
+    const Vec3 s = toVec(r.source()), d = toVec(r.point(1)) - s;
+    return intersectSegment(r.source(), toPoint(s + (farReach() / norm(d)) * d));
+  }
+  Intersection intersectClipped(const K::Line_3& l) const
+  {
+    const Vec3 s = toVec(l.point(0)), d = toVec(l.point(1)) - s;
+    const Vec3 far = (farReach() / norm(d)) * d;
+    return intersectSegment(toPoint(s - far), toPoint(s + far));
+  }
+
+  /// Clips ab to the box (slab method); the end moved onto a face gets that face's coordinate
+  /// exactly. False when the segment misses the box.
+  bool clip(Vec3& a, Vec3& b) const
+  {
+    const Vec3 d = b - a;
+    double t0 = 0.0, t1 = 1.0;
+    int axis0 = -1, axis1 = -1;
+    double face0 = 0, face1 = 0;
+    for (int i = 0; i < 3; ++i)
+    {
+      if (d[i] == 0.0)
+      {
+        if (a[i] < box_.min[i] || a[i] > box_.max[i])
+          return false;
+        continue;
+      }
+      double ta = (box_.min[i] - a[i]) / d[i], tb = (box_.max[i] - a[i]) / d[i];
+      double fa = box_.min[i], fb = box_.max[i];
+      if (ta > tb)
+      {
+        std::swap(ta, tb);
+        std::swap(fa, fb);
+      }
+      if (ta > t0)
+      {
+        t0 = ta;
+        axis0 = i;
+        face0 = fa;
+      }
+      if (tb < t1)
+      {
+        t1 = tb;
+        axis1 = i;
+        face1 = fb;
+      }
+    }
+    if (!(t0 < t1))
+      return false;
+    const Vec3 a0 = a, b0 = b;
+    if (axis0 >= 0)
+    {
+      a = lerp(a0, b0, t0);
+      a[axis0] = face0;
+    }
+    if (axis1 >= 0)
+    {
+      b = lerp(a0, b0, t1);
+      b[axis1] = face1;
+    }
+    return true;
+  }
+
+  struct Do_intersect_surface
+  {
+    const OracleMeshDomain& d;
+    Surface_patch operator()(const K::Segment_3& s) const { return patch(d.intersectSegment(s.source(), s.target())); }
+    Surface_patch operator()(const K::Ray_3& r) const { return patch(d.intersectClipped(r)); }
+    Surface_patch operator()(const K::Line_3& l) const { return patch(d.intersectClipped(l)); }
+
+  private:
+    Surface_patch patch(const Intersection& x) const
+    {
+      if (std::get<2>(x) == 0)
+        return Surface_patch();
+      return Surface_patch(d.surface_patch_index(std::get<1>(x)));
+    }
+  };
+  Do_intersect_surface do_intersect_surface_object() const { return { *this }; }
+
+  struct Construct_intersection
+  {
+    const OracleMeshDomain& d;
+    Intersection operator()(const K::Segment_3& s) const { return d.intersectSegment(s.source(), s.target()); }
+    Intersection operator()(const K::Ray_3& r) const { return d.intersectClipped(r); }
+    Intersection operator()(const K::Line_3& l) const { return d.intersectClipped(l); }
+  };
+  Construct_intersection construct_intersection_object() const { return { *this }; }
+
+  /// Boundary points of every non-cut domain, as seen through the hierarchy: rays from the
+  /// domain's centre, each change of material along them.
+  struct Construct_initial_points
+  {
+    const OracleMeshDomain& d;
+    template <class OutputIterator>
+    OutputIterator operator()(OutputIterator pts, const int n = 20) const
+    {
+      CGAL::Random rng(d.seed_);
+      for (const auto& domain : d.oracle_.domains())
+      {
+        if (domain->isCut() || !domain->bounded())
+          continue;
+        const BoundingBox b = domain->bounds();
+        const Vec3 c = 0.5 * (b.min + b.max);
+        const double reach = norm(b.size()) + 1e-9;
+        int found = 0;
+        for (int k = 0; k < 20 * n && found < n; ++k)
+        {
+          Vec3 dir{ rng.get_double(-1, 1), rng.get_double(-1, 1), rng.get_double(-1, 1) };
+          const double l = norm(dir);
+          if (!(l > 1e-3 && l <= 1.0))
+            continue;
+          Vec3 a = c;
+          const Vec3 end = c + (reach / l) * dir;
+          for (int hit = 0; hit < 4; ++hit)
+          {
+            const omesh::Intersection x = d.oracle_.intersect(a, end);
+            if (!x.found)
+              break;
+            const Surface_patch_index patch =
+              d.make_surface_index(subdomainOf(x.materialBefore), subdomainOf(x.materialAfter));
+            *pts++ = std::make_pair(toPoint(x.point), d.index_from_surface_patch_index(patch));
+            ++found;
+            a = lerp(x.point, end, 1e-9); // step past this change
+          }
+        }
+      }
+      return pts;
+    }
+  };
+  Construct_initial_points construct_initial_points_object() const { return { *this }; }
+
+private:
+  double farReach() const { return 4.0 * norm(box_.size()) + norm(box_.max) + norm(box_.min); }
+
+  const HierarchicalOracle& oracle_;
+  BoundingBox box_;
+  unsigned seed_;
+};
+}

@@ -1,0 +1,441 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The mesher: the only translation unit that instantiates CGAL Mesh_3 (it takes about a minute to
+// compile). Relies on Mesh_3 internals of CGAL 5.5 (Mesher_3 stepping, criteria classes,
+// Mesh_3::internal::init_c3t3*); CMake warns on other CGAL versions.
+#include "OracleMesher.h"
+
+#include "HierarchicalOracle.h"
+#include "InputError.h"
+#include "MeshQuality.h"
+#include "OracleMeshDomain.h"
+
+#include <CGAL/Mesh_complex_3_in_triangulation_3.h>
+#include <CGAL/Mesh_criteria_3.h>
+#include <CGAL/Mesh_domain_with_polyline_features_3.h>
+#include <CGAL/Mesh_triangulation_3.h>
+#include <CGAL/make_mesh_3.h>
+#include <CGAL/refine_mesh_3.h>
+
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <sstream>
+#include <unordered_map>
+
+namespace omesh
+{
+const char* toString(FeatureStrategy s)
+{
+  switch (s)
+  {
+    case FeatureStrategy::Conforming:
+      return "Conforming";
+    case FeatureStrategy::None:
+      return "None";
+    case FeatureStrategy::ProtectingBalls:
+      return "ProtectingBalls";
+  }
+  return "?";
+}
+
+namespace
+{
+using namespace omesh::cgal;
+using MeshDomain = CGAL::Mesh_domain_with_polyline_features_3<OracleMeshDomain>;
+using Tr = CGAL::Mesh_triangulation_3<MeshDomain, CGAL::Default, CGAL::Sequential_tag>::type;
+using C3t3 = CGAL::Mesh_complex_3_in_triangulation_3<Tr, MeshDomain::Corner_index, MeshDomain::Curve_index>;
+using Criteria = CGAL::Mesh_criteria_3<Tr>;
+using FacetCriteria = Criteria::Facet_criteria;
+using CellCriteria = Criteria::Cell_criteria;
+using EdgeCriteria = Criteria::Edge_criteria;
+using Mesher = CGAL::Mesh_3::Mesher_3<C3t3, Criteria, MeshDomain>;
+using Clock = std::chrono::steady_clock;
+
+double seconds(Clock::time_point since)
+{
+  return std::chrono::duration<double>(Clock::now() - since).count();
+}
+
+double squared(double x) { return x * x; }
+
+/// Per-material cell criteria: radius-edge ratio and circumradius bound of the cell's material
+/// (the material of its circumcentre, set by Mesh_3 before the criteria are asked).
+class MaterialCellCriterion : public CGAL::Mesh_3::Abstract_criterion<Tr, CellCriteria::Visitor>
+{
+  using Base = CGAL::Mesh_3::Abstract_criterion<Tr, CellCriteria::Visitor>;
+  using Quality = Base::Quality;
+  using Is_bad = Base::Is_bad;
+
+public:
+  explicit MaterialCellCriterion(const MaterialCriteria& c)
+    : criteria_(c)
+  {
+  }
+
+protected:
+  void do_accept(CellCriteria::Visitor& v) const override { v.visit(*this); }
+  MaterialCellCriterion* do_clone() const override { return new MaterialCellCriterion(*this); }
+  Is_bad do_is_bad(const Tr& tr, const Tr::Cell_handle& c) const override
+  {
+    const MeshCriteria m = criteria_.of(materialOf(c->subdomain_index()));
+    const auto& p = tr.point(c, 0).point();
+    const auto& q = tr.point(c, 1).point();
+    const auto& r = tr.point(c, 2).point();
+    const auto& s = tr.point(c, 3).point();
+    const double sqRadius = CGAL::squared_radius(p, q, r, s);
+    double worst = 1.0; // quality: bound / value, below 1 is bad
+    if (m.cellSize > 0 && sqRadius > squared(m.cellSize))
+      worst = std::min(worst, squared(m.cellSize) / sqRadius);
+    if (m.cellRadiusEdgeRatio > 0)
+    {
+      const double sqEdge = std::min({ CGAL::squared_distance(p, q), CGAL::squared_distance(p, r),
+        CGAL::squared_distance(p, s), CGAL::squared_distance(q, r), CGAL::squared_distance(q, s),
+        CGAL::squared_distance(r, s) });
+      const double bound = squared(m.cellRadiusEdgeRatio) * sqEdge;
+      if (sqRadius > bound)
+        worst = std::min(worst, bound / sqRadius);
+    }
+    return worst < 1.0 ? Is_bad(Quality(worst)) : Is_bad();
+  }
+
+private:
+  MaterialCriteria criteria_;
+};
+
+/// Per-material facet criteria (angle, surface Delaunay ball radius, centre-to-surface distance).
+/// An interface facet takes the stricter bound of the materials on its two sides.
+class MaterialFacetCriterion : public CGAL::Mesh_3::Abstract_criterion<Tr, FacetCriteria::Visitor>
+{
+  using Base = CGAL::Mesh_3::Abstract_criterion<Tr, FacetCriteria::Visitor>;
+  using Quality = Base::Quality;
+  using Is_bad = Base::Is_bad;
+
+public:
+  explicit MaterialFacetCriterion(const MaterialCriteria& c)
+    : criteria_(c)
+  {
+  }
+
+protected:
+  void do_accept(FacetCriteria::Visitor& v) const override { v.visit(*this); }
+  MaterialFacetCriterion* do_clone() const override { return new MaterialFacetCriterion(*this); }
+  Is_bad do_is_bad(const Tr& tr, const Tr::Facet& f) const override
+  {
+    const auto patch = f.first->surface_patch_index(f.second);
+    const MeshCriteria a = criteria_.of(materialOf(patch.first));
+    const MeshCriteria b = criteria_.of(materialOf(patch.second));
+    auto strict = [](double x, double y) { return x > 0 && y > 0 ? std::min(x, y) : std::max(x, y); };
+    const double angle = std::max(a.facetAngle, b.facetAngle);
+    const double size = strict(a.facetSize, b.facetSize);
+    const double distance = strict(a.facetDistance, b.facetDistance);
+
+    // As CGAL's standard facet criteria, with weighted points (protecting balls have weights).
+    const Tr::Weighted_point& w1 = tr.point(f.first, (f.second + 1) & 3);
+    const Tr::Weighted_point& w2 = tr.point(f.first, (f.second + 2) & 3);
+    const Tr::Weighted_point& w3 = tr.point(f.first, (f.second + 3) & 3);
+    const K::Point_3& p1 = w1.point();
+    const K::Point_3& p2 = w2.point();
+    const K::Point_3& p3 = w3.point();
+    const K::Point_3& centre = f.first->get_facet_surface_center(f.second);
+    double worst = 1.0;
+    if (angle > 0)
+    {
+      // sin^2 of the smallest angle: 4 area^2 min(d^2) / (d12^2 d13^2 d23^2)
+      const double d12 = CGAL::squared_distance(p1, p2), d13 = CGAL::squared_distance(p1, p3),
+                   d23 = CGAL::squared_distance(p2, p3);
+      const double sqSin = 4.0 * CGAL::squared_area(p1, p2, p3) * std::min({ d12, d13, d23 }) / (d12 * d13 * d23);
+      const double bound = squared(std::sin(angle * M_PI / 180.0));
+      if (sqSin < bound)
+        worst = std::min(worst, sqSin / bound);
+    }
+    if (size > 0)
+    {
+      const double sqRadius = tr.min_squared_distance(p1, centre);
+      if (sqRadius > squared(size))
+        worst = std::min(worst, squared(size) / sqRadius);
+    }
+    if (distance > 0)
+    {
+      const K::Point_3 c = tr.geom_traits().construct_weighted_circumcenter_3_object()(w1, w2, w3);
+      const double sqDist = tr.min_squared_distance(c, centre);
+      if (sqDist > squared(distance))
+        worst = std::min(worst, squared(distance) / sqDist);
+    }
+    return worst < 1.0 ? Is_bad(Quality(worst)) : Is_bad();
+  }
+
+private:
+  MaterialCriteria criteria_;
+};
+
+void checkCriteria(const MaterialCriteria& c, std::vector<std::string>& warnings)
+{
+  auto check = [&](const MeshCriteria& m, const std::string& who) {
+    const double values[] = { m.facetAngle, m.facetSize, m.facetDistance, m.cellSize, m.cellRadiusEdgeRatio, m.edgeSize };
+    for (double v : values)
+      if (std::isnan(v) || std::isinf(v))
+        throw InputError(who + ": criteria must be finite numbers");
+    if (m.facetAngle > 30.0)
+      warnings.push_back(who + ": FacetAngle " + std::to_string(m.facetAngle) +
+        " > 30 degrees: refinement is not guaranteed to terminate");
+    if (m.cellRadiusEdgeRatio > 0 && m.cellRadiusEdgeRatio < 2.0)
+      warnings.push_back(who + ": CellRadiusEdgeRatio " + std::to_string(m.cellRadiusEdgeRatio) +
+        " < 2: termination is not guaranteed (the run stops at MaximumNumberOfVertices)");
+  };
+  check(c.global, "global criteria");
+  for (const auto& [material, m] : c.perMaterial)
+    check(m.over(c.global), "criteria of material " + std::to_string(material));
+  if (c.global.cellSize <= 0 && c.global.facetSize <= 0 && c.global.facetDistance <= 0)
+  {
+    bool sized = !c.perMaterial.empty();
+    for (const auto& [material, m] : c.perMaterial)
+      sized = sized && (m.over(c.global).cellSize > 0 || m.over(c.global).facetSize > 0);
+    if (!sized)
+      warnings.push_back("no size bound (CellSize, FacetSize, FacetDistance): the mesh follows only the shape criteria");
+  }
+}
+
+/// Maximal polylines through the segments: chains broken at points of degree != 2.
+std::vector<std::vector<K::Point_3>> toPolylines(const FeatureSegments& f)
+{
+  std::vector<std::vector<size_t>> inc(f.points.size());
+  for (size_t s = 0; s < f.segments.size(); ++s)
+  {
+    inc[f.segments[s][0]].push_back(s);
+    inc[f.segments[s][1]].push_back(s);
+  }
+  std::vector<char> used(f.segments.size(), 0);
+  std::vector<std::vector<K::Point_3>> lines;
+  auto walk = [&](int start, size_t first) {
+    std::vector<K::Point_3> line{ toPoint(f.points[start]) };
+    int at = start;
+    size_t s = first;
+    while (true)
+    {
+      used[s] = 1;
+      at = f.segments[s][0] == at ? f.segments[s][1] : f.segments[s][0];
+      line.push_back(toPoint(f.points[at]));
+      if (inc[at].size() != 2)
+        break;
+      const size_t next = inc[at][0] == s ? inc[at][1] : inc[at][0];
+      if (used[next])
+        break;
+      s = next;
+    }
+    lines.push_back(std::move(line));
+  };
+  for (size_t p = 0; p < f.points.size(); ++p)
+    if (inc[p].size() != 2)
+      for (size_t s : inc[p])
+        if (!used[s])
+          walk(static_cast<int>(p), s);
+  for (size_t s = 0; s < f.segments.size(); ++s) // closed loops
+    if (!used[s])
+      walk(f.segments[s][0], s);
+  return lines;
+}
+
+/// Converts the complex to the output mesh.
+TetMesh toTetMesh(const C3t3& c3t3)
+{
+  TetMesh out;
+  std::unordered_map<Tr::Vertex_handle, int> ids;
+  auto id = [&](Tr::Vertex_handle v) {
+    auto [it, inserted] = ids.emplace(v, static_cast<int>(out.points.size()));
+    if (inserted)
+    {
+      out.points.push_back(toVec(v->point().point()));
+      const int dim = c3t3.in_dimension(v);
+      out.pointDimension.push_back(dim < 0 ? 3 : dim);
+    }
+    return it->second;
+  };
+  for (auto c = c3t3.cells_in_complex_begin(); c != c3t3.cells_in_complex_end(); ++c)
+  {
+    std::array<int, 4> t{ id(c->vertex(0)), id(c->vertex(1)), id(c->vertex(2)), id(c->vertex(3)) };
+    out.tets.push_back(t);
+    out.tetMaterial.push_back(materialOf(c3t3.subdomain_index(c)));
+  }
+  for (auto f = c3t3.facets_in_complex_begin(); f != c3t3.facets_in_complex_end(); ++f)
+  {
+    const auto patch = c3t3.surface_patch_index(*f);
+    std::array<int, 3> tri;
+    for (int k = 0; k < 3; ++k)
+      tri[k] = id(f->first->vertex((f->second + 1 + k) & 3));
+    out.interfaceTriangles.push_back(tri);
+    out.interfaceMaterials.push_back({ materialOf(patch.first), materialOf(patch.second) });
+  }
+  return out;
+}
+}
+
+TetMesh meshOracle(const HierarchicalOracle& oracle, const FeatureSegments& features,
+  const std::vector<Vec3>& seedPoints, const MesherOptions& options)
+{
+  const auto started = Clock::now();
+  std::vector<std::string> warnings;
+  const BoundingBox inner = oracle.bounds(); // throws for an empty or unbounded oracle
+  checkCriteria(options.criteria, warnings);
+  const MeshCriteria& g = options.criteria.global;
+  if (!features.empty())
+  {
+    auto w = features.validate(oracle, g.cellRadiusEdgeRatio);
+    warnings.insert(warnings.end(), w.begin(), w.end());
+  }
+  auto report = [&](double fraction, const char* phase) {
+    if (options.progress && !options.progress(fraction, phase))
+      throw MeshingAborted();
+  };
+  report(0.0, "initialisation");
+
+  // A little room around the materials, so the boundary never touches the domain's box.
+  BoundingBox box = inner;
+  const Vec3 pad = 0.02 * box.size() + (1e-9 * (1.0 + norm(box.size()))) * Vec3{ 1, 1, 1 };
+  box.add(box.min - pad);
+  box.add(box.max + pad);
+  MeshDomain domain(oracle, box, options.seed);
+  const bool protect = options.strategy == FeatureStrategy::ProtectingBalls && !features.empty();
+  if (protect)
+  {
+    auto lines = toPolylines(features);
+    domain.add_features(lines.begin(), lines.end());
+  }
+
+  // Criteria: ours per material; CGAL's topology criterion (facet vertices on the surface, T2).
+  double edgeSize = g.edgeSize;
+  if (protect && edgeSize <= 0)
+  {
+    edgeSize = norm(inner.size()) / 50.0;
+    for (double v : { g.facetSize, g.cellSize })
+      if (v > 0)
+        edgeSize = std::min(edgeSize, v);
+    warnings.push_back("EdgeSize not set: protecting balls use " + std::to_string(edgeSize));
+  }
+  FacetCriteria facetCriteria(0.0, 0.0, 0.0, CGAL::FACET_VERTICES_ON_SURFACE);
+  CellCriteria cellCriteria(0.0, 0.0);
+  Criteria criteria(EdgeCriteria(edgeSize > 0 ? edgeSize : 1.0), facetCriteria, cellCriteria);
+  criteria.add_facet_criterion(new MaterialFacetCriterion(options.criteria));
+  criteria.add_cell_criterion(new MaterialCellCriterion(options.criteria));
+
+  CGAL::get_default_random() = CGAL::Random(options.seed);
+  C3t3 c3t3;
+  const auto initStart = Clock::now();
+  if (protect)
+  {
+    CGAL::Mesh_3::internal::C3t3_initializer<C3t3, MeshDomain, Criteria, true, MeshDomain::Has_features>()(
+      c3t3, domain, criteria, true);
+  }
+  else
+    CGAL::Mesh_3::internal::init_c3t3(c3t3, domain, criteria, 20);
+  for (const Vec3& p : seedPoints)
+  {
+    const int m = oracle.material(p);
+    if (m == kOutside)
+    {
+      warnings.push_back("seed point outside every material ignored");
+      continue;
+    }
+    Tr::Vertex_handle v = c3t3.triangulation().insert(Tr::Point(toPoint(p)));
+    if (v != Tr::Vertex_handle())
+    {
+      c3t3.set_dimension(v, 3);
+      c3t3.set_index(v, domain.index_from_subdomain_index(subdomainOf(m)));
+    }
+  }
+  // Far points around the domain keep the triangulation's hull away from the material boundary:
+  // a circumcentre on a convex domain's boundary would otherwise land on the hull (CGAL adds such
+  // points itself only in parallel mode, and not after feature protection).
+  {
+    const Vec3 c = 0.5 * (box.min + box.max);
+    const double r = 2.0 * norm(box.size());
+    for (int i = 0; i < 8; ++i)
+    {
+      const Vec3 dir{ (i & 1) ? 1.0 : -1.0, (i & 2) ? 1.0 : -1.0, (i & 4) ? 1.0 : -1.0 };
+      c3t3.add_far_point(Tr::Point(toPoint(c + (r / std::sqrt(3.0)) * dir)));
+    }
+  }
+  const double initTime = seconds(initStart);
+
+  // Refinement, one step at a time: progress, abort and the vertex budget in our hands.
+  const auto refineStart = Clock::now();
+  Mesher mesher(c3t3, domain, criteria, CGAL::FACET_VERTICES_ON_SURFACE);
+  mesher.initialize();
+  size_t steps = 0;
+  bool budgetHit = false;
+  const double expected = [&] {
+    // rough size of the result, for the progress bar only
+    const double s = g.cellSize > 0 ? g.cellSize : norm(inner.size()) / 20.0;
+    return std::max(1000.0, inner.volume() / (0.1 * s * s * s));
+  }();
+  while (!mesher.is_algorithm_done())
+  {
+    mesher.one_step();
+    if (++steps % 512 == 0)
+    {
+      const double n = static_cast<double>(c3t3.triangulation().number_of_vertices());
+      report(0.05 + 0.75 * n / (n + expected), "refinement");
+      if (options.maximumNumberOfVertices && n >= options.maximumNumberOfVertices)
+      {
+        budgetHit = true;
+        break;
+      }
+    }
+  }
+  if (budgetHit)
+  {
+    mesher.fix_c3t3();
+    warnings.push_back("refinement stopped at MaximumNumberOfVertices = " +
+      std::to_string(options.maximumNumberOfVertices) + ": the criteria are not met everywhere");
+  }
+  c3t3.clear_manifold_info();
+  const double refineTime = seconds(refineStart);
+
+  const auto optStart = Clock::now();
+  if (options.perturb)
+  {
+    report(0.82, "perturbation");
+    CGAL::perturb_mesh_3(c3t3, domain,
+      CGAL::parameters::time_limit = options.optimisationTimeLimit > 0 ? options.optimisationTimeLimit : refineTime + 1.0);
+  }
+  if (options.exude)
+  {
+    report(0.92, "exudation");
+    CGAL::exude_mesh_3(c3t3,
+      CGAL::parameters::time_limit = options.optimisationTimeLimit > 0 ? options.optimisationTimeLimit : refineTime + 1.0);
+  }
+  const double optTime = seconds(optStart);
+
+  TetMesh mesh = toTetMesh(c3t3);
+  mesh.segments = locateFeatureSegments(mesh, features);
+  const double coverage = featureCoverage(mesh.segments, features);
+  if (!features.empty() && coverage < 1.0)
+  {
+    std::ostringstream o;
+    o << "feature lines: " << 100.0 * coverage << "% of their length is present as mesh edges";
+    warnings.push_back(o.str());
+  }
+  double minAngle = 180.0, sumAngle = 0.0;
+  for (const auto& t : mesh.tets)
+  {
+    const double a = minDihedralAngle(mesh.points[t[0]], mesh.points[t[1]], mesh.points[t[2]], mesh.points[t[3]]);
+    minAngle = std::min(minAngle, a);
+    sumAngle += a;
+  }
+  auto& st = mesh.statistics;
+  st["tetrahedra"] = static_cast<double>(mesh.tets.size());
+  st["vertices"] = static_cast<double>(mesh.points.size());
+  st["min_dihedral_angle"] = mesh.tets.empty() ? 0.0 : minAngle;
+  st["mean_min_dihedral_angle"] = mesh.tets.empty() ? 0.0 : sumAngle / mesh.tets.size();
+  st["feature_coverage"] = coverage;
+  st["refinement_steps"] = static_cast<double>(steps);
+  st["time.initialisation"] = initTime;
+  st["time.refinement"] = refineTime;
+  st["time.optimisation"] = optTime;
+  st["time.total"] = seconds(started);
+  for (const auto& [m, v] : materialVolumes(mesh))
+    st["volume.material_" + std::to_string(m)] = v;
+  mesh.warnings = std::move(warnings);
+  report(1.0, "done");
+  return mesh;
+}
+}

@@ -1,0 +1,56 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#pragma once
+
+#include "FeatureSegments.h"
+#include "MeshCriteria.h"
+#include "TetMesh.h"
+
+#include <cstddef>
+#include <functional>
+#include <stdexcept>
+#include <vector>
+#include <string>
+
+namespace omesh
+{
+class HierarchicalOracle;
+
+/// How constrained segments are handled.
+enum class FeatureStrategy
+{
+  Conforming,    ///< the paper: Delaunay refinement with rules T1-T3, segments kept as Delaunay edges
+  None,          ///< stock CGAL Mesh_3 on the labelled oracle (Pons et al.): segments ignored
+  ProtectingBalls ///< CGAL's Mesh_domain_with_polyline_features_3 (Dey et al.)
+};
+
+const char* toString(FeatureStrategy s);
+
+struct MesherOptions
+{
+  FeatureStrategy strategy = FeatureStrategy::Conforming;
+  MaterialCriteria criteria;
+  bool perturb = true;
+  bool exude = true;
+  double optimisationTimeLimit = 0.0; ///< seconds for each of perturb and exude; 0 = no limit
+  unsigned seed = 0;                  ///< same input + same seed = identical mesh
+  std::size_t maximumNumberOfVertices = 0; ///< 0 = unlimited; reaching it ends refinement with a warning
+  /// Called during the work with a fraction in [0, 1] and the phase name; return false to abort
+  /// (the call then throws MeshingAborted). Called from the calling thread.
+  std::function<bool(double, const char*)> progress;
+};
+
+/// Thrown when the progress callback asked to stop.
+struct MeshingAborted : std::runtime_error
+{
+  MeshingAborted()
+    : std::runtime_error("meshing aborted")
+  {
+  }
+};
+
+/// Tetrahedralizes the domain of `oracle`, preserving `features` (see FeatureStrategy) and
+/// inserting `seedPoints` first (the paper's a-priori points). Throws InputError for bad input
+/// (empty oracle, bad feature lines, bad criteria).
+TetMesh meshOracle(const HierarchicalOracle& oracle, const FeatureSegments& features,
+  const std::vector<Vec3>& seedPoints, const MesherOptions& options);
+}

@@ -1,0 +1,40 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#pragma once
+
+#include "Vec3.h"
+
+#include <array>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace omesh
+{
+/// The mesher's output: tetrahedra with a material each, the interface triangles between
+/// materials (and the outside) and the constrained segments as they stand in the mesh.
+struct TetMesh
+{
+  std::vector<Vec3> points;
+  std::vector<int> pointDimension; ///< 0 corner, 1 on a segment, 2 on an interface, 3 inside
+  std::vector<std::array<int, 4>> tets;
+  std::vector<int> tetMaterial;
+
+  std::vector<std::array<int, 3>> interfaceTriangles;
+  std::vector<std::array<int, 2>> interfaceMaterials; ///< material on each side (-1 outside)
+
+  /// Constrained segments after meshing: each input segment cut at the mesh vertices lying on it;
+  /// a piece is `present` when its two ends are mesh vertices joined by a tetrahedron edge.
+  struct Segment
+  {
+    Vec3 a, b;
+    int aId = -1, bId = -1; ///< mesh point ids of the ends, -1 where an end is no mesh vertex
+    int input = -1;         ///< index of the input segment it belongs to
+    bool present = false;
+  };
+  std::vector<Segment> segments;
+
+  /// Statistics and timings by name ("time.refine", "segment_splits", ...).
+  std::map<std::string, double> statistics;
+  std::vector<std::string> warnings;
+};
+}

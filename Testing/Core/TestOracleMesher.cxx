@@ -1,0 +1,150 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "BoxDomain.h"
+#include "HierarchicalOracle.h"
+#include "InputError.h"
+#include "MeshQuality.h"
+#include "OracleMesher.h"
+#include "SphereDomain.h"
+#include "SurfaceDomain.h"
+#include "TestShapes.h"
+
+#include <gtest/gtest.h>
+
+using namespace omesh;
+
+namespace
+{
+FeatureSegments cubeEdges(double lo, double hi)
+{
+  FeatureSegments f;
+  for (int i = 0; i < 8; ++i)
+    f.points.push_back({ (i & 1) ? hi : lo, (i & 2) ? hi : lo, (i & 4) ? hi : lo });
+  for (int i = 0; i < 8; ++i)
+    for (int bit : { 1, 2, 4 })
+      if (!(i & bit))
+        f.segments.push_back({ i, i | bit });
+  return f;
+}
+
+MesherOptions options(FeatureStrategy s, double cellSize)
+{
+  MesherOptions o;
+  o.strategy = s;
+  o.criteria.global.cellSize = cellSize;
+  o.criteria.global.facetSize = cellSize;
+  o.criteria.global.facetDistance = cellSize / 20;
+  o.criteria.global.cellRadiusEdgeRatio = 3;
+  o.seed = 7;
+  return o;
+}
+}
+
+TEST(OracleMesher, SphereAndBoxVolumesWithinTwoPercent)
+{
+  HierarchicalOracle o;
+  o.add(std::make_shared<SphereDomain>(Vec3{ 0, 0, 0 }, 1.0, 1));
+  o.add(std::make_shared<BoxDomain>(Vec3{ -0.5, -0.5, -2 }, Vec3{ 0.5, 0.5, -0.5 }, 2));
+  const TetMesh m = meshOracle(o, {}, {}, options(FeatureStrategy::None, 0.15));
+  const auto v = materialVolumes(m);
+  const double ball = 4.0 / 3.0 * M_PI;
+  EXPECT_NEAR(v.at(1), ball, 0.02 * ball);
+  // The box keeps what the ball does not take: the ball reaches below z = -0.5 inside the box's
+  // column by the integral of sqrt(1 - x^2 - y^2) - 0.5 over the unit square (midpoint rule).
+  double inBall = 0.0;
+  const int n = 400;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j)
+    {
+      const double x = -0.5 + (i + 0.5) / n, y = -0.5 + (j + 0.5) / n;
+      inBall += (std::sqrt(1.0 - x * x - y * y) - 0.5) / (double(n) * n);
+    }
+  const double boxPart = 1.5 - inBall;
+  EXPECT_NEAR(v.at(2), boxPart, 0.02 * boxPart);
+}
+
+TEST(OracleMesher, CellMaterialIsTheMaterialOfItsCircumcentre)
+{
+  HierarchicalOracle o;
+  o.add(std::make_shared<SphereDomain>(Vec3{ 0, 0, 0 }, 1.0, 4));
+  o.add(std::make_shared<SurfaceDomain>(test::cube(-1.2, 1.2), 5));
+  MesherOptions opt = options(FeatureStrategy::None, 0.3);
+  opt.perturb = opt.exude = false;
+  const TetMesh m = meshOracle(o, {}, {}, opt);
+  ASSERT_GT(m.tets.size(), 100u);
+  for (size_t t = 0; t < m.tets.size(); ++t)
+  {
+    const auto& k = m.tets[t];
+    const Vec3 c = circumcenter(m.points[k[0]], m.points[k[1]], m.points[k[2]], m.points[k[3]]);
+    ASSERT_EQ(m.tetMaterial[t], o.material(c)) << "tet " << t;
+  }
+}
+
+TEST(OracleMesher, ProtectingBallsKeepTheCubeEdges)
+{
+  HierarchicalOracle o;
+  o.add(std::make_shared<SurfaceDomain>(test::cube(0, 1), 1));
+  const FeatureSegments edges = cubeEdges(0, 1);
+  const TetMesh m = meshOracle(o, edges, {}, options(FeatureStrategy::ProtectingBalls, 0.2));
+  EXPECT_DOUBLE_EQ(featureCoverage(m.segments, edges), 1.0);
+  EXPECT_NEAR(materialVolumes(m).at(1), 1.0, 0.01);
+  EXPECT_GT(m.statistics.at("min_dihedral_angle"), 5.0);
+}
+
+TEST(OracleMesher, SameSeedSameMesh)
+{
+  HierarchicalOracle o;
+  o.add(std::make_shared<SphereDomain>(Vec3{ 0, 0, 0 }, 1.0, 1));
+  const TetMesh a = meshOracle(o, {}, {}, options(FeatureStrategy::None, 0.3));
+  const TetMesh b = meshOracle(o, {}, {}, options(FeatureStrategy::None, 0.3));
+  ASSERT_EQ(a.points.size(), b.points.size());
+  ASSERT_EQ(a.tets, b.tets);
+  for (size_t i = 0; i < a.points.size(); ++i)
+    ASSERT_EQ(norm(a.points[i] - b.points[i]), 0.0);
+}
+
+TEST(OracleMesher, BadInputIsReported)
+{
+  HierarchicalOracle empty;
+  EXPECT_THROW(meshOracle(empty, {}, {}, options(FeatureStrategy::None, 0.3)), InputError);
+  HierarchicalOracle o;
+  o.add(std::make_shared<SphereDomain>(Vec3{ 0, 0, 0 }, 1.0, 1));
+  FeatureSegments zero;
+  zero.points = { { 0, 0, 0 }, { 0, 0, 0 } };
+  zero.segments = { { 0, 1 } };
+  EXPECT_THROW(meshOracle(o, zero, {}, options(FeatureStrategy::Conforming, 0.3)), InputError);
+  FeatureSegments nan;
+  nan.points = { { 0, 0, 0 }, { std::nan(""), 0, 0 } };
+  nan.segments = { { 0, 1 } };
+  EXPECT_THROW(meshOracle(o, nan, {}, options(FeatureStrategy::Conforming, 0.3)), InputError);
+  FeatureSegments crossing;
+  crossing.points = { { -0.5, 0, 0 }, { 0.5, 0, 0 }, { 0, -0.5, 0 }, { 0, 0.5, 0 } };
+  crossing.segments = { { 0, 1 }, { 2, 3 } };
+  try
+  {
+    meshOracle(o, crossing, {}, options(FeatureStrategy::Conforming, 0.3));
+    ADD_FAILURE() << "crossing segments accepted";
+  }
+  catch (const InputError& e)
+  {
+    EXPECT_NE(std::string(e.what()).find("segment 0 (-0.5, 0, 0) - (0.5, 0, 0) and segment 1"), std::string::npos) << e.what();
+  }
+}
+
+TEST(OracleMesher, AbortAndVertexBudget)
+{
+  HierarchicalOracle o;
+  o.add(std::make_shared<SphereDomain>(Vec3{ 0, 0, 0 }, 1.0, 1));
+  MesherOptions abort = options(FeatureStrategy::None, 0.05);
+  int calls = 0;
+  abort.progress = [&](double, const char*) { return ++calls < 3; };
+  EXPECT_THROW(meshOracle(o, {}, {}, abort), MeshingAborted);
+  MesherOptions budget = options(FeatureStrategy::None, 0.02);
+  budget.maximumNumberOfVertices = 3000;
+  budget.perturb = budget.exude = false;
+  const TetMesh m = meshOracle(o, {}, {}, budget);
+  EXPECT_LT(m.points.size(), 6000u);
+  bool warned = false;
+  for (const auto& w : m.warnings)
+    warned = warned || w.find("MaximumNumberOfVertices") != std::string::npos;
+  EXPECT_TRUE(warned);
+}
