@@ -62,11 +62,15 @@ public:
   Intersection intersectClipped(const K::Ray_3& r) const
   {
     const Vec3 s = toVec(r.source()), d = toVec(r.point(1)) - s;
+    if (!(norm(d) > 0))
+      return Intersection();
     return intersectSegment(r.source(), toPoint(s + (farReach() / norm(d)) * d));
   }
   Intersection intersectClipped(const K::Line_3& l) const
   {
     const Vec3 s = toVec(l.point(0)), d = toVec(l.point(1)) - s;
+    if (!(norm(d) > 0))
+      return Intersection();
     const Vec3 far = (farReach() / norm(d)) * d;
     return intersectSegment(toPoint(s - far), toPoint(s + far));
   }
@@ -75,6 +79,8 @@ public:
   /// exactly. False when the segment misses the box.
   bool clip(Vec3& a, Vec3& b) const
   {
+    if (!isFinite(a) || !isFinite(b)) // the dual of a flat cell
+      return false;
     const Vec3 d = b - a;
     double t0 = 0.0, t1 = 1.0;
     int axis0 = -1, axis1 = -1;

@@ -235,6 +235,108 @@ std::vector<std::vector<K::Point_3>> toPolylines(const FeatureSegments& f)
   return lines;
 }
 
+/// The constrained segments as they are being refined: points (input points first) and
+/// sub-segments between them (paper section 2.1: E_i after the i-th split).
+struct SegmentSet
+{
+  std::vector<Vec3> points;
+  std::vector<char> corner;       ///< input points (dimension 0 in the mesh)
+  std::vector<std::array<int, 3>> subs; ///< a, b, input segment
+  size_t trims = 0, splits = 0;
+
+  int add(const Vec3& p)
+  {
+    points.push_back(p);
+    corner.push_back(0);
+    return static_cast<int>(points.size()) - 1;
+  }
+  double length(size_t s) const { return norm(points[subs[s][1]] - points[subs[s][0]]); }
+  /// Splits sub-segment s at parameter t from its first end; returns the new point.
+  int split(size_t s, double t)
+  {
+    const auto [a, b, input] = subs[s];
+    const int m = add(lerp(points[a], points[b], t));
+    subs[s] = { a, m, input };
+    subs.push_back({ m, b, input });
+    return m;
+  }
+};
+
+/// Rule T1 applied to the segments alone (the paper's initial conformation step, independent of
+/// the geometry): trim segments at star vertices to l_min/3 (T1.1), then split at midpoints every
+/// sub-segment encroached by a segment point or longer than `edgeSize` (T1.2).
+SegmentSet conformSegments(const FeatureSegments& f, double edgeSize, size_t maxPoints, std::vector<std::string>& warnings)
+{
+  SegmentSet set;
+  set.points = f.points;
+  set.corner.assign(f.points.size(), 1);
+  for (size_t s = 0; s < f.segments.size(); ++s)
+    set.subs.push_back({ f.segments[s][0], f.segments[s][1], static_cast<int>(s) });
+  const std::vector<bool> star = f.starVertices();
+  std::vector<double> lmin(f.points.size(), std::numeric_limits<double>::infinity());
+  for (size_t s = 0; s < f.segments.size(); ++s)
+    for (int end : f.segments[s])
+      lmin[end] = std::min(lmin[end], f.length(s));
+  // T1.1: every segment at a star vertex p_i gets a point at l_min,i / 3 from p_i.
+  for (size_t s = 0, n = set.subs.size(); s < n; ++s)
+  {
+    for (int side = 0; side < 2; ++side)
+    {
+      const int a = set.subs[s][0], b = set.subs[s][1];
+      const int at = side == 0 ? a : b;
+      if (at >= static_cast<int>(star.size()) || !star[at])
+        continue;
+      const double len = set.length(s), cut = lmin[at] / 3.0;
+      if (len <= cut * (1.0 + 1e-9))
+        continue;
+      // split so that the piece touching `at` has length cut; keep sub-segment s as the piece
+      // away from already-trimmed ends
+      if (at == a)
+      {
+        const int m = set.split(s, cut / len); // s = (a, m), new = (m, b)
+        std::swap(set.subs[s], set.subs.back()); // s = (m, b) continues, the trimmed piece is done
+        (void)m;
+      }
+      else
+        set.split(s, 1.0 - cut / len); // s = (a, m), new = (m, b) is the trimmed piece
+      ++set.trims;
+    }
+  }
+  // T1.2: midpoint splits until no sub-segment is encroached by a segment point (or too long).
+  bool changed = true;
+  while (changed)
+  {
+    changed = false;
+    for (size_t s = 0; s < set.subs.size(); ++s)
+    {
+      const Vec3 a = set.points[set.subs[s][0]], b = set.points[set.subs[s][1]];
+      const Vec3 mid = 0.5 * (a + b);
+      const double r2 = 0.25 * dot(b - a, b - a);
+      bool bad = edgeSize > 0 && 4.0 * r2 > edgeSize * edgeSize;
+      for (size_t p = 0; !bad && p < set.points.size(); ++p)
+      {
+        if (static_cast<int>(p) == set.subs[s][0] || static_cast<int>(p) == set.subs[s][1])
+          continue;
+        const Vec3 d = set.points[p] - mid;
+        bad = dot(d, d) < r2 * (1.0 - 1e-12);
+      }
+      if (bad)
+      {
+        if (set.points.size() >= maxPoints)
+        {
+          warnings.push_back("feature lines: segment refinement stopped at " + std::to_string(maxPoints) +
+            " points (segments meeting at small angles keep encroaching each other)");
+          return set;
+        }
+        set.split(s, 0.5);
+        ++set.splits;
+        changed = true;
+      }
+    }
+  }
+  return set;
+}
+
 /// Converts the complex to the output mesh.
 TetMesh toTetMesh(const C3t3& c3t3)
 {
@@ -320,6 +422,18 @@ TetMesh meshOracle(const HierarchicalOracle& oracle, const FeatureSegments& feat
   CGAL::get_default_random() = CGAL::Random(options.seed);
   C3t3 c3t3;
   const auto initStart = Clock::now();
+  // First, far points around the domain keep the triangulation's hull away from the material boundary:
+  // a circumcentre on a convex domain's boundary would otherwise land on the hull (CGAL adds such
+  // points itself only in parallel mode, and not after feature protection).
+  {
+    const Vec3 c = 0.5 * (box.min + box.max);
+    const double r = 2.0 * norm(box.size());
+    for (int i = 0; i < 8; ++i)
+    {
+      const Vec3 dir{ (i & 1) ? 1.0 : -1.0, (i & 2) ? 1.0 : -1.0, (i & 4) ? 1.0 : -1.0 };
+      c3t3.add_far_point(Tr::Point(toPoint(c + (r / std::sqrt(3.0)) * dir)));
+    }
+  }
   if (protect)
   {
     CGAL::Mesh_3::internal::C3t3_initializer<C3t3, MeshDomain, Criteria, true, MeshDomain::Has_features>()(
@@ -342,48 +456,101 @@ TetMesh meshOracle(const HierarchicalOracle& oracle, const FeatureSegments& feat
       c3t3.set_index(v, domain.index_from_subdomain_index(subdomainOf(m)));
     }
   }
-  // Far points around the domain keep the triangulation's hull away from the material boundary:
-  // a circumcentre on a convex domain's boundary would otherwise land on the hull (CGAL adds such
-  // points itself only in parallel mode, and not after feature protection).
-  {
-    const Vec3 c = 0.5 * (box.min + box.max);
-    const double r = 2.0 * norm(box.size());
-    for (int i = 0; i < 8; ++i)
-    {
-      const Vec3 dir{ (i & 1) ? 1.0 : -1.0, (i & 2) ? 1.0 : -1.0, (i & 4) ? 1.0 : -1.0 };
-      c3t3.add_far_point(Tr::Point(toPoint(c + (r / std::sqrt(3.0)) * dir)));
-    }
-  }
   const double initTime = seconds(initStart);
 
-  // Refinement, one step at a time: progress, abort and the vertex budget in our hands.
+  // Conforming: the segments, conformed by rule T1, enter the triangulation first; their points
+  // are mesh vertices of dimension 0 (input points) or 1 (on a segment), which CGAL's perturber
+  // never moves.
+  const bool conforming = options.strategy == FeatureStrategy::Conforming && !features.empty();
+  SegmentSet segs;
+  std::vector<Tr::Vertex_handle> segVertex;
+  auto insertSegmentPoint = [&](int p) {
+    Tr::Vertex_handle v = c3t3.triangulation().insert(Tr::Point(toPoint(segs.points[p])));
+    if (v != Tr::Vertex_handle())
+    {
+      c3t3.set_dimension(v, segs.corner[p] ? 0 : 1);
+      c3t3.set_index(v, segs.corner[p] ? domain.index_from_corner_index(p + 1) : domain.index_from_curve_index(1));
+    }
+    if (segVertex.size() <= static_cast<size_t>(p))
+      segVertex.resize(p + 1);
+    segVertex[p] = v;
+  };
+  // Sub-segments that are no longer edges of the triangulation (a refinement point encroached
+  // them) get their midpoint (T1.2). A sub-segment that is an edge but has no incident
+  // tetrahedron in a material (a convex crease whose surface sampling lies closer than half the
+  // piece's length: every circumcentre there falls outside) is left alone and reported: splitting
+  // does not converge there (see the README's limits).
+  auto recoverSegments = [&]() {
+    size_t split = 0;
+    for (size_t s = 0, n = segs.subs.size(); s < n; ++s)
+    {
+      Tr::Cell_handle c;
+      int i, j;
+      if (c3t3.triangulation().is_edge(segVertex[segs.subs[s][0]], segVertex[segs.subs[s][1]], c, i, j))
+        continue;
+      insertSegmentPoint(segs.split(s, 0.5));
+      ++split;
+    }
+    if (split)
+      c3t3.rescan_after_load_of_triangulation();
+    return split;
+  };
+  if (conforming)
+  {
+    warnings.push_back("FeatureStrategy Conforming is experimental: rule T1 and the recovery of "
+                       "encroached segments are in, the T2.1/T3.1 fallbacks are not yet; segments on "
+                       "convex creases at the domain's outer boundary may be missing");
+    const size_t budget = options.maximumNumberOfVertices ? options.maximumNumberOfVertices : 1000000;
+    segs = conformSegments(features, g.edgeSize, budget, warnings);
+    for (size_t p = 0; p < segs.points.size(); ++p)
+      insertSegmentPoint(static_cast<int>(p));
+    c3t3.rescan_after_load_of_triangulation();
+  }
+
+  // Refinement, one step at a time: progress, abort and the vertex budget in our hands. The
+  // conforming strategy refines in rounds: after each, sub-segments that refinement points
+  // encroached (no longer Delaunay edges) are split and refinement resumes.
   const auto refineStart = Clock::now();
-  Mesher mesher(c3t3, domain, criteria, CGAL::FACET_VERTICES_ON_SURFACE);
-  mesher.initialize();
-  size_t steps = 0;
+  size_t steps = 0, recovered = 0;
+  int rounds = 0;
   bool budgetHit = false;
   const double expected = [&] {
     // rough size of the result, for the progress bar only
-    const double s = g.cellSize > 0 ? g.cellSize : norm(inner.size()) / 20.0;
-    return std::max(1000.0, inner.volume() / (0.1 * s * s * s));
+    const double sz = g.cellSize > 0 ? g.cellSize : norm(inner.size()) / 20.0;
+    return std::max(1000.0, inner.volume() / (0.1 * sz * sz * sz));
   }();
-  while (!mesher.is_algorithm_done())
-  {
-    mesher.one_step();
-    if (++steps % 512 == 0)
+  auto refine = [&]() {
+    Mesher mesher(c3t3, domain, criteria, CGAL::FACET_VERTICES_ON_SURFACE);
+    mesher.initialize();
+    while (!mesher.is_algorithm_done())
     {
-      const double n = static_cast<double>(c3t3.triangulation().number_of_vertices());
-      report(0.05 + 0.75 * n / (n + expected), "refinement");
-      if (options.maximumNumberOfVertices && n >= options.maximumNumberOfVertices)
+      mesher.one_step();
+      if (++steps % 512 == 0)
       {
-        budgetHit = true;
-        break;
+        const double n = static_cast<double>(c3t3.triangulation().number_of_vertices());
+        report(0.05 + 0.75 * n / (n + expected), "refinement");
+        if (options.maximumNumberOfVertices && n >= options.maximumNumberOfVertices)
+        {
+          budgetHit = true;
+          break;
+        }
       }
     }
+    if (budgetHit)
+      mesher.fix_c3t3();
+    ++rounds;
+  };
+  refine();
+  while (conforming && !budgetHit && rounds < 50)
+  {
+    const size_t n = recoverSegments();
+    if (n == 0)
+      break;
+    recovered += n;
+    refine();
   }
   if (budgetHit)
   {
-    mesher.fix_c3t3();
     warnings.push_back("refinement stopped at MaximumNumberOfVertices = " +
       std::to_string(options.maximumNumberOfVertices) + ": the criteria are not met everywhere");
   }
@@ -391,17 +558,28 @@ TetMesh meshOracle(const HierarchicalOracle& oracle, const FeatureSegments& feat
   const double refineTime = seconds(refineStart);
 
   const auto optStart = Clock::now();
+  const double optLimit = options.optimisationTimeLimit > 0 ? options.optimisationTimeLimit : refineTime + 1.0;
+  size_t repaired = 0;
   if (options.perturb)
   {
     report(0.82, "perturbation");
-    CGAL::perturb_mesh_3(c3t3, domain,
-      CGAL::parameters::time_limit = options.optimisationTimeLimit > 0 ? options.optimisationTimeLimit : refineTime + 1.0);
+    CGAL::perturb_mesh_3(c3t3, domain, CGAL::parameters::time_limit = optLimit);
+    // The perturber never moves segment vertices, but moving their neighbours can push a
+    // sub-segment out of the Delaunay triangulation: split what it broke and refine again
+    // (weights are still zero here; after the exuder they are not, so this comes first).
+    for (int round = 0; conforming && !budgetHit && round < 10; ++round)
+    {
+      const size_t n = recoverSegments();
+      if (n == 0)
+        break;
+      repaired += n;
+      refine();
+    }
   }
   if (options.exude)
   {
     report(0.92, "exudation");
-    CGAL::exude_mesh_3(c3t3,
-      CGAL::parameters::time_limit = options.optimisationTimeLimit > 0 ? options.optimisationTimeLimit : refineTime + 1.0);
+    CGAL::exude_mesh_3(c3t3, CGAL::parameters::time_limit = optLimit);
   }
   const double optTime = seconds(optStart);
 
@@ -428,6 +606,11 @@ TetMesh meshOracle(const HierarchicalOracle& oracle, const FeatureSegments& feat
   st["mean_min_dihedral_angle"] = mesh.tets.empty() ? 0.0 : sumAngle / mesh.tets.size();
   st["feature_coverage"] = coverage;
   st["refinement_steps"] = static_cast<double>(steps);
+  st["refinement_rounds"] = rounds;
+  st["segment_trims_T1.1"] = static_cast<double>(segs.trims);
+  st["segment_splits_T1.2"] = static_cast<double>(segs.splits);
+  st["segment_splits_encroached"] = static_cast<double>(recovered);
+  st["segment_splits_after_optimisation"] = static_cast<double>(repaired);
   st["time.initialisation"] = initTime;
   st["time.refinement"] = refineTime;
   st["time.optimisation"] = optTime;

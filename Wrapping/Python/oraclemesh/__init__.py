@@ -17,6 +17,7 @@ VTK errors into a Python exception (``OracleMeshError``)::
 from vtkmodules import vtkCommonCore, vtkCommonDataModel, vtkCommonExecutionModel  # noqa: F401
 
 from .OracleMeshFilters import (  # noqa: F401
+    vtkFeaturePreservingTetrahedralizer,
     vtkHierarchicalOracle,
     vtkImplicitDomain,
     vtkLabelMapDomain,
@@ -29,6 +30,7 @@ from .errors import OracleMeshError, update  # noqa: F401
 __all__ = [
     "OracleMeshError",
     "update",
+    "vtkFeaturePreservingTetrahedralizer",
     "vtkHierarchicalOracle",
     "vtkImplicitDomain",
     "vtkLabelMapDomain",

@@ -1,0 +1,289 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "vtkFeaturePreservingTetrahedralizer.h"
+
+#include "HierarchicalOracle.h"
+#include "InputError.h"
+#include "MeshQuality.h"
+#include "OracleBuilder.h"
+#include "OracleMesher.h"
+
+#include <vtkCellArray.h>
+#include <vtkCellArrayIterator.h>
+#include <vtkCellData.h>
+#include <vtkDoubleArray.h>
+#include <vtkFieldData.h>
+#include <vtkInformation.h>
+#include <vtkInformationVector.h>
+#include <vtkIntArray.h>
+#include <vtkNew.h>
+#include <vtkObjectFactory.h>
+#include <vtkPointData.h>
+#include <vtkPoints.h>
+#include <vtkPolyData.h>
+#include <vtkStringArray.h>
+#include <vtkUnstructuredGrid.h>
+
+#include <cmath>
+#include <unordered_map>
+
+vtkStandardNewMacro(vtkFeaturePreservingTetrahedralizer);
+
+namespace
+{
+/// Polylines of port 1 as segments; points shared by polylines become one vertex.
+omesh::FeatureSegments toSegments(vtkPolyData* lines)
+{
+  omesh::FeatureSegments f;
+  if (!lines)
+    return f;
+  std::unordered_map<vtkIdType, int> index;
+  auto vertex = [&](vtkIdType id) {
+    auto [it, inserted] = index.emplace(id, static_cast<int>(f.points.size()));
+    if (inserted)
+    {
+      double x[3];
+      lines->GetPoint(id, x);
+      f.points.push_back({ x[0], x[1], x[2] });
+    }
+    return it->second;
+  };
+  auto it = vtk::TakeSmartPointer(lines->GetLines()->NewIterator());
+  for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell())
+  {
+    vtkIdType n;
+    const vtkIdType* ids;
+    it->GetCurrentCell(n, ids);
+    for (vtkIdType k = 0; k + 1 < n; ++k)
+      f.segments.push_back({ vertex(ids[k]), vertex(ids[k + 1]) });
+  }
+  return f;
+}
+
+vtkSmartPointer<vtkPoints> toPoints(const std::vector<omesh::Vec3>& pts)
+{
+  auto points = vtkSmartPointer<vtkPoints>::New();
+  points->SetDataTypeToDouble();
+  points->SetNumberOfPoints(static_cast<vtkIdType>(pts.size()));
+  for (size_t i = 0; i < pts.size(); ++i)
+    points->SetPoint(static_cast<vtkIdType>(i), pts[i].x, pts[i].y, pts[i].z);
+  return points;
+}
+}
+
+vtkFeaturePreservingTetrahedralizer::vtkFeaturePreservingTetrahedralizer()
+{
+  this->SetNumberOfInputPorts(3);
+  this->SetNumberOfOutputPorts(3);
+}
+
+vtkFeaturePreservingTetrahedralizer::~vtkFeaturePreservingTetrahedralizer() = default;
+
+int vtkFeaturePreservingTetrahedralizer::FillInputPortInformation(int port, vtkInformation* info)
+{
+  if (port == 0)
+    info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkDataObject");
+  else
+  {
+    info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkPolyData");
+    info->Set(vtkAlgorithm::INPUT_IS_OPTIONAL(), 1);
+  }
+  return 1;
+}
+
+int vtkFeaturePreservingTetrahedralizer::FillOutputPortInformation(int port, vtkInformation* info)
+{
+  info->Set(vtkDataObject::DATA_TYPE_NAME(), port == 0 ? "vtkUnstructuredGrid" : "vtkPolyData");
+  return 1;
+}
+
+void vtkFeaturePreservingTetrahedralizer::SetMaterialCriteria(int materialId, double facetAngle,
+  double facetSize, double facetDistance, double cellSize, double cellRadiusEdgeRatio, double edgeSize)
+{
+  this->MaterialCriteria[materialId] = { facetAngle, facetSize, facetDistance, cellSize, cellRadiusEdgeRatio, edgeSize };
+  this->Modified();
+}
+
+void vtkFeaturePreservingTetrahedralizer::RemoveMaterialCriteria(int materialId)
+{
+  if (this->MaterialCriteria.erase(materialId))
+    this->Modified();
+}
+
+void vtkFeaturePreservingTetrahedralizer::ClearMaterialCriteria()
+{
+  if (!this->MaterialCriteria.empty())
+  {
+    this->MaterialCriteria.clear();
+    this->Modified();
+  }
+}
+
+int vtkFeaturePreservingTetrahedralizer::RequestData(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  vtkDataObject* oracleData = vtkDataObject::GetData(inputVector[0]);
+  vtkPolyData* lines = vtkPolyData::GetData(inputVector[1]);
+  vtkPolyData* seeds = vtkPolyData::GetData(inputVector[2]);
+  vtkUnstructuredGrid* grid = vtkUnstructuredGrid::GetData(outputVector, 0);
+  vtkPolyData* interfaces = vtkPolyData::GetData(outputVector, 1);
+  vtkPolyData* segmentsOut = vtkPolyData::GetData(outputVector, 2);
+
+  omesh::MesherOptions options;
+  options.strategy = this->FeatureStrategy == CONFORMING ? omesh::FeatureStrategy::Conforming
+    : this->FeatureStrategy == NONE                    ? omesh::FeatureStrategy::None
+                                                        : omesh::FeatureStrategy::ProtectingBalls;
+  options.criteria.global = { this->FacetAngle, this->FacetSize, this->FacetDistance, this->CellSize,
+    this->CellRadiusEdgeRatio, this->EdgeSize };
+  for (const auto& [m, c] : this->MaterialCriteria)
+  {
+    omesh::MeshCriteria o = omesh::MeshCriteria::inheritAll();
+    double* fields[6] = { &o.facetAngle, &o.facetSize, &o.facetDistance, &o.cellSize, &o.cellRadiusEdgeRatio, &o.edgeSize };
+    for (int k = 0; k < 6; ++k)
+      if (c[k] >= 0)
+        *fields[k] = c[k];
+    options.criteria.perMaterial[m] = o;
+  }
+  options.perturb = this->Perturb;
+  options.exude = this->Exude;
+  options.seed = static_cast<unsigned>(this->Seed);
+  options.maximumNumberOfVertices = static_cast<std::size_t>(this->MaximumNumberOfVertices);
+  options.progress = [this](double fraction, const char*) {
+    this->UpdateProgress(fraction);
+    return !this->GetAbortExecute();
+  };
+
+  omesh::TetMesh mesh;
+  omesh::FeatureSegments features;
+  try
+  {
+    auto oracle = OracleBuilder::BuildOracle(oracleData);
+    features = toSegments(lines);
+    std::vector<omesh::Vec3> seedPoints;
+    for (vtkIdType i = 0; seeds && i < seeds->GetNumberOfPoints(); ++i)
+    {
+      double x[3];
+      seeds->GetPoint(i, x);
+      seedPoints.push_back({ x[0], x[1], x[2] });
+    }
+    mesh = omesh::meshOracle(*oracle, features, seedPoints, options);
+  }
+  catch (const omesh::InputError& e)
+  {
+    vtkErrorMacro(<< e.what());
+    return 0;
+  }
+  catch (const omesh::MeshingAborted&)
+  {
+    vtkWarningMacro(<< "meshing aborted");
+    return 1;
+  }
+  for (const auto& w : mesh.warnings)
+    vtkWarningMacro(<< w);
+
+  // Port 0: tetrahedra, positively oriented.
+  grid->SetPoints(toPoints(mesh.points));
+  vtkNew<vtkCellArray> tets;
+  tets->AllocateExact(static_cast<vtkIdType>(mesh.tets.size()), 4 * static_cast<vtkIdType>(mesh.tets.size()));
+  vtkNew<vtkIntArray> material;
+  material->SetName("Material");
+  vtkNew<vtkDoubleArray> dihedral;
+  dihedral->SetName("MinDihedralAngle");
+  vtkNew<vtkDoubleArray> ratio;
+  ratio->SetName("RadiusEdgeRatio");
+  for (size_t t = 0; t < mesh.tets.size(); ++t)
+  {
+    auto k = mesh.tets[t];
+    const auto& P = mesh.points;
+    if (omesh::signedVolume(P[k[0]], P[k[1]], P[k[2]], P[k[3]]) < 0)
+      std::swap(k[0], k[1]);
+    const vtkIdType ids[4] = { k[0], k[1], k[2], k[3] };
+    tets->InsertNextCell(4, ids);
+    material->InsertNextValue(mesh.tetMaterial[t]);
+    dihedral->InsertNextValue(omesh::minDihedralAngle(P[k[0]], P[k[1]], P[k[2]], P[k[3]]));
+    ratio->InsertNextValue(omesh::radiusEdgeRatio(P[k[0]], P[k[1]], P[k[2]], P[k[3]]));
+  }
+  grid->SetCells(VTK_TETRA, tets);
+  grid->GetCellData()->AddArray(material);
+  grid->GetCellData()->SetScalars(material);
+  grid->GetCellData()->AddArray(dihedral);
+  grid->GetCellData()->AddArray(ratio);
+  vtkNew<vtkIntArray> dimension;
+  dimension->SetName("Dimension");
+  for (int d : mesh.pointDimension)
+    dimension->InsertNextValue(d);
+  grid->GetPointData()->AddArray(dimension);
+  vtkNew<vtkStringArray> names;
+  names->SetName("StatisticNames");
+  vtkNew<vtkDoubleArray> values;
+  values->SetName("StatisticValues");
+  for (const auto& [name, value] : mesh.statistics)
+  {
+    names->InsertNextValue(name);
+    values->InsertNextValue(value);
+  }
+  vtkNew<vtkStringArray> warnings;
+  warnings->SetName("Warnings");
+  for (const auto& w : mesh.warnings)
+    warnings->InsertNextValue(w);
+  grid->GetFieldData()->AddArray(names);
+  grid->GetFieldData()->AddArray(values);
+  grid->GetFieldData()->AddArray(warnings);
+
+  // Port 1: interface triangles with the materials on both sides.
+  interfaces->SetPoints(grid->GetPoints());
+  vtkNew<vtkCellArray> tris;
+  vtkNew<vtkIntArray> sides;
+  sides->SetName("Materials");
+  sides->SetNumberOfComponents(2);
+  for (size_t f = 0; f < mesh.interfaceTriangles.size(); ++f)
+  {
+    const auto& t = mesh.interfaceTriangles[f];
+    const vtkIdType ids[3] = { t[0], t[1], t[2] };
+    tris->InsertNextCell(3, ids);
+    const int m[2] = { mesh.interfaceMaterials[f][0], mesh.interfaceMaterials[f][1] };
+    sides->InsertNextTypedTuple(m);
+  }
+  interfaces->SetPolys(tris);
+  interfaces->GetCellData()->AddArray(sides);
+
+  // Port 2: the constrained segments as they stand in the mesh.
+  vtkNew<vtkPoints> segPoints;
+  segPoints->SetDataTypeToDouble();
+  vtkNew<vtkCellArray> segLines;
+  vtkNew<vtkIntArray> present;
+  present->SetName("Present");
+  vtkNew<vtkIntArray> input;
+  input->SetName("InputSegment");
+  for (const auto& s : mesh.segments)
+  {
+    const vtkIdType ids[2] = { segPoints->InsertNextPoint(s.a.x, s.a.y, s.a.z), segPoints->InsertNextPoint(s.b.x, s.b.y, s.b.z) };
+    segLines->InsertNextCell(2, ids);
+    present->InsertNextValue(s.present ? 1 : 0);
+    input->InsertNextValue(s.input);
+  }
+  segmentsOut->SetPoints(segPoints);
+  segmentsOut->SetLines(segLines);
+  segmentsOut->GetCellData()->AddArray(present);
+  segmentsOut->GetCellData()->SetScalars(present);
+  segmentsOut->GetCellData()->AddArray(input);
+  return 1;
+}
+
+void vtkFeaturePreservingTetrahedralizer::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "FeatureStrategy: " << this->FeatureStrategy << "\n";
+  os << indent << "FacetAngle: " << this->FacetAngle << "\n";
+  os << indent << "FacetSize: " << this->FacetSize << "\n";
+  os << indent << "FacetDistance: " << this->FacetDistance << "\n";
+  os << indent << "CellSize: " << this->CellSize << "\n";
+  os << indent << "CellRadiusEdgeRatio: " << this->CellRadiusEdgeRatio << "\n";
+  os << indent << "EdgeSize: " << this->EdgeSize << "\n";
+  os << indent << "Perturb: " << this->Perturb << "\n";
+  os << indent << "Exude: " << this->Exude << "\n";
+  os << indent << "Seed: " << this->Seed << "\n";
+  os << indent << "MaximumNumberOfVertices: " << this->MaximumNumberOfVertices << "\n";
+  for (const auto& [m, c] : this->MaterialCriteria)
+    os << indent << "Material " << m << " criteria: " << c[0] << " " << c[1] << " " << c[2] << " " << c[3]
+       << " " << c[4] << " " << c[5] << "\n";
+}

@@ -1,0 +1,132 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/**
+ * @class vtkFeaturePreservingTetrahedralizer
+ * @brief Multi-material tetrahedral mesh of a hierarchical oracle, keeping given feature lines.
+ *
+ * Inputs: port 0, the output of vtkHierarchicalOracle (or one domain); port 1 (optional),
+ * vtkPolyData lines: the constrained segments (polylines are split into segments, shared points are
+ * shared vertices); port 2 (optional), vtkPolyData points inserted first (a-priori points).
+ *
+ * Delaunay refinement on CGAL Mesh_3 with the oracle's exact intersections; each tetrahedron takes
+ * the material of its circumcentre. FeatureStrategy: ProtectingBalls (CGAL's protecting balls,
+ * Dey et al.; the default for now), None (stock Mesh_3, Pons et al.), Conforming (the paper's
+ * rules; experimental: see the README). Criteria are global and can be overridden per material.
+ *
+ * Outputs: port 0, vtkUnstructuredGrid of tetrahedra with cell data Material, MinDihedralAngle
+ * (degrees) and RadiusEdgeRatio, point data Dimension (0 corner, 1 segment, 2 interface,
+ * 3 volume), field data StatisticNames/StatisticValues and Warnings; port 1, the interface
+ * triangles with cell data Materials (2 components: the materials on the two sides, -1 outside);
+ * port 2, the constrained segments cut at the mesh vertices on them, cell data Present (1 when the
+ * piece is a mesh edge).
+ */
+#ifndef vtkFeaturePreservingTetrahedralizer_h
+#define vtkFeaturePreservingTetrahedralizer_h
+
+#include "OracleMeshFiltersModule.h"
+
+#include <vtkUnstructuredGridAlgorithm.h>
+
+#include <map>
+#include <array>
+
+class ORACLEMESHFILTERS_EXPORT vtkFeaturePreservingTetrahedralizer : public vtkUnstructuredGridAlgorithm
+{
+public:
+  static vtkFeaturePreservingTetrahedralizer* New();
+  vtkTypeMacro(vtkFeaturePreservingTetrahedralizer, vtkUnstructuredGridAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  enum FeatureStrategies
+  {
+    CONFORMING = 0,
+    NONE = 1,
+    PROTECTING_BALLS = 2
+  };
+
+  ///@{
+  /// How constrained segments are kept. Default PROTECTING_BALLS.
+  vtkSetClampMacro(FeatureStrategy, int, CONFORMING, PROTECTING_BALLS);
+  vtkGetMacro(FeatureStrategy, int);
+  void SetFeatureStrategyToConforming() { this->SetFeatureStrategy(CONFORMING); }
+  void SetFeatureStrategyToNone() { this->SetFeatureStrategy(NONE); }
+  void SetFeatureStrategyToProtectingBalls() { this->SetFeatureStrategy(PROTECTING_BALLS); }
+  ///@}
+
+  ///@{
+  /// Global criteria (0 = no bound). FacetAngle: lower bound of surface triangle angles (degrees,
+  /// default 25). FacetSize: upper bound of the surface Delaunay ball radius. FacetDistance: upper
+  /// bound of the distance between a surface triangle and the surface. CellSize: upper bound of the
+  /// tetrahedron circumradius. CellRadiusEdgeRatio: upper bound of circumradius / shortest edge
+  /// (default 3). EdgeSize: upper bound of constrained-segment pieces.
+  vtkSetMacro(FacetAngle, double);
+  vtkGetMacro(FacetAngle, double);
+  vtkSetMacro(FacetSize, double);
+  vtkGetMacro(FacetSize, double);
+  vtkSetMacro(FacetDistance, double);
+  vtkGetMacro(FacetDistance, double);
+  vtkSetMacro(CellSize, double);
+  vtkGetMacro(CellSize, double);
+  vtkSetMacro(CellRadiusEdgeRatio, double);
+  vtkGetMacro(CellRadiusEdgeRatio, double);
+  vtkSetMacro(EdgeSize, double);
+  vtkGetMacro(EdgeSize, double);
+  ///@}
+
+  ///@{
+  /// Per-material overrides, in the order facet angle, facet size, facet distance, cell size,
+  /// cell radius-edge ratio, edge size; a negative value keeps the global one.
+  void SetMaterialCriteria(int materialId, double facetAngle, double facetSize, double facetDistance,
+    double cellSize, double cellRadiusEdgeRatio, double edgeSize);
+  void RemoveMaterialCriteria(int materialId);
+  void ClearMaterialCriteria();
+  ///@}
+
+  ///@{
+  /// Sliver removal after refinement (CGAL's perturber and exuder). Default on.
+  vtkSetMacro(Perturb, bool);
+  vtkGetMacro(Perturb, bool);
+  vtkBooleanMacro(Perturb, bool);
+  vtkSetMacro(Exude, bool);
+  vtkGetMacro(Exude, bool);
+  vtkBooleanMacro(Exude, bool);
+  ///@}
+
+  ///@{
+  /// Seed of the random choices: same input and seed give an identical mesh. Default 0.
+  vtkSetMacro(Seed, int);
+  vtkGetMacro(Seed, int);
+  ///@}
+
+  ///@{
+  /// Refinement stops (with a warning) at this many vertices; 0 = unlimited. Default 2,000,000.
+  vtkSetClampMacro(MaximumNumberOfVertices, vtkIdType, 0, VTK_ID_MAX);
+  vtkGetMacro(MaximumNumberOfVertices, vtkIdType);
+  ///@}
+
+protected:
+  vtkFeaturePreservingTetrahedralizer();
+  ~vtkFeaturePreservingTetrahedralizer() override;
+  int FillInputPortInformation(int port, vtkInformation* info) override;
+  int FillOutputPortInformation(int port, vtkInformation* info) override;
+  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+
+  int FeatureStrategy = PROTECTING_BALLS;
+  double FacetAngle = 25.0;
+  double FacetSize = 0.0;
+  double FacetDistance = 0.0;
+  double CellSize = 0.0;
+  double CellRadiusEdgeRatio = 3.0;
+  double EdgeSize = 0.0;
+  bool Perturb = true;
+  bool Exude = true;
+  int Seed = 0;
+  vtkIdType MaximumNumberOfVertices = 2000000;
+
+private:
+  vtkFeaturePreservingTetrahedralizer(const vtkFeaturePreservingTetrahedralizer&) = delete;
+  void operator=(const vtkFeaturePreservingTetrahedralizer&) = delete;
+
+  std::map<int, std::array<double, 6>> MaterialCriteria;
+};
+
+#endif
