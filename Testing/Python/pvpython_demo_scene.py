@@ -52,4 +52,15 @@ print("pvpython counts:", counts)
 if counts != expected:
     print("MISMATCH with the C++ pipeline:", expected)
     sys.exit(1)
-print("1 passed, 0 failed")
+
+# The tetrahedralizer proxy meshes a small oracle on the server.
+ball = SphereDomain()
+ball.Radius = 1.0
+mesher = FeaturePreservingTetrahedralizer(Input=HierarchicalOracle(Input=[ball]))
+mesher.FeatureStrategy = "None"
+mesher.CellSize = 0.3
+grid = servermanager.Fetch(mesher)
+if grid.GetNumberOfCells() < 100 or grid.GetCellData().GetArray("Material") is None:
+    print("the tetrahedralizer proxy produced no mesh")
+    sys.exit(1)
+print("2 passed, 0 failed")

@@ -212,6 +212,86 @@ class BadInput(unittest.TestCase):
             build_scene({"domains": []})
 
 
+class Tetrahedralizer(unittest.TestCase):
+    """The mesher through its VTK adapter (the core is tested by GoogleTest)."""
+
+    def mesh(self, oracle, lines=None, strategy="None", **criteria):
+        t = om.vtkFeaturePreservingTetrahedralizer()
+        t.SetInputConnection(0, oracle.GetOutputPort())
+        if lines is not None:
+            t.SetInputData(1, lines)
+        getattr(t, "SetFeatureStrategyTo" + strategy)()
+        for name, value in criteria.items():
+            getattr(t, "Set" + name)(value)
+        return t, om.update(t)
+
+    def test_volumes_materials_and_outputs(self):
+        from vtkmodules.util.numpy_support import vtk_to_numpy
+        from vtkmodules.vtkFiltersVerdict import vtkCellSizeFilter
+
+        ball = om.vtkSphereDomain()
+        ball.SetRadius(1.0)
+        ball.SetMaterialId(2)
+        t, grid = self.mesh(oracle_of(ball), CellSize=0.2, FacetSize=0.2, FacetDistance=0.01)
+        self.assertGreater(grid.GetNumberOfCells(), 100)
+        self.assertEqual(set(vtk_to_numpy(grid.GetCellData().GetArray("Material"))), {2})
+        sizes = vtkCellSizeFilter()
+        sizes.SetInputData(grid)
+        sizes.Update()
+        volumes = vtk_to_numpy(sizes.GetOutput().GetCellData().GetArray("Volume"))
+        self.assertTrue((volumes > 0).all(), "every tetrahedron is positively oriented")
+        self.assertAlmostEqual(volumes.sum(), 4 / 3 * math.pi, delta=0.02 * 4 / 3 * math.pi)
+        angles = vtk_to_numpy(grid.GetCellData().GetArray("MinDihedralAngle"))
+        self.assertGreater(angles.min(), 5.0)
+        interfaces = t.GetOutputDataObject(1)
+        self.assertGreater(interfaces.GetNumberOfCells(), 50)
+        sides = vtk_to_numpy(interfaces.GetCellData().GetArray("Materials"))
+        self.assertTrue(((sides == [-1, 2]) | (sides == [2, -1])).all(axis=1).all())
+        names = grid.GetFieldData().GetAbstractArray("StatisticNames")
+        self.assertIn("min_dihedral_angle", [names.GetValue(i) for i in range(names.GetNumberOfValues())])
+
+    def test_protecting_balls_keep_the_cube_edges(self):
+        from vtkmodules.vtkFiltersCore import vtkFeatureEdges, vtkTriangleFilter
+        from vtkmodules.util.numpy_support import vtk_to_numpy
+
+        cube = vtkCubeSource()
+        tri = vtkTriangleFilter()
+        tri.SetInputConnection(cube.GetOutputPort())
+        clean = __import__("vtkmodules.vtkFiltersCore", fromlist=["vtkCleanPolyData"]).vtkCleanPolyData()
+        clean.SetInputConnection(tri.GetOutputPort())
+        surface = om.vtkSurfaceDomain()
+        surface.SetInputConnection(clean.GetOutputPort())
+        edges = vtkFeatureEdges()
+        edges.SetInputConnection(clean.GetOutputPort())
+        edges.BoundaryEdgesOff()
+        edges.NonManifoldEdgesOff()
+        edges.ManifoldEdgesOff()
+        edges.Update()
+        self.assertEqual(edges.GetOutput().GetNumberOfCells(), 12)
+        t, grid = self.mesh(oracle_of(surface), edges.GetOutput(), "ProtectingBalls",
+                            CellSize=0.2, FacetSize=0.2, FacetDistance=0.01)
+        present = vtk_to_numpy(t.GetOutputDataObject(2).GetCellData().GetArray("Present"))
+        self.assertTrue(len(present) >= 12 and present.all(), "every cube edge is a chain of mesh edges")
+
+    def test_bad_input(self):
+        from vtkmodules.vtkCommonCore import vtkPoints
+        from vtkmodules.vtkCommonDataModel import vtkCellArray
+
+        self.assertRaises(om.OracleMeshError, self.mesh, om.vtkHierarchicalOracle())
+        ball = om.vtkSphereDomain()
+        lines = vtkPolyData()
+        points = vtkPoints()
+        points.InsertNextPoint(0, 0, 0)
+        points.InsertNextPoint(float("nan"), 0, 0)
+        cells = vtkCellArray()
+        cells.InsertNextCell(2, (0, 1))
+        lines.SetPoints(points)
+        lines.SetLines(cells)
+        with self.assertRaises(om.OracleMeshError) as ctx:
+            self.mesh(oracle_of(ball), lines, "ProtectingBalls", CellSize=0.3)
+        self.assertIn("feature lines: point 1 has a NaN", str(ctx.exception))
+
+
 class CommandLine(unittest.TestCase):
     def test_sample_writes_an_image_and_a_report(self):
         with tempfile.TemporaryDirectory() as tmp:
