@@ -1,0 +1,214 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The three feature strategies side by side on the demo bone/implant scene, same oracle, same
+// criteria: tetrahedra, vertices, wall time, peak memory (each run in its own process), dihedral
+// angles, feature coverage and the Hausdorff distance of the implant's mesh boundary to the implant.
+//   usage: MesherBenchmark <Data/demo folder> [radius-edge bound (1.1)] [vertex budget (300000)]
+#include "FeatureSegments.h"
+#include "HierarchicalOracle.h"
+#include "MeshQuality.h"
+#include "OracleBuilder.h"
+#include "OracleMesher.h"
+#include "TriangleDistance.h"
+#include "TriangleSurface.h"
+#include "vtkHierarchicalOracle.h"
+#include "vtkImplicitDomain.h"
+#include "vtkLabelMapDomain.h"
+#include "vtkSurfaceDomain.h"
+
+#include <vtkCellArray.h>
+#include <vtkCellArrayIterator.h>
+#include <vtkCylinder.h>
+#include <vtkFeatureEdges.h>
+#include <vtkMultiBlockDataSet.h>
+#include <vtkNew.h>
+#include <vtkPlane.h>
+#include <vtkPolyData.h>
+#include <vtkXMLImageDataReader.h>
+#include <vtkXMLPolyDataReader.h>
+
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <unordered_map>
+
+namespace
+{
+struct Result
+{
+  double tets = 0, vertices = 0, seconds = 0, minAngle = 0, meanAngle = 0, coverage = 0, hausdorff = 0;
+  int budgetHit = 0;
+};
+
+omesh::FeatureSegments FeatureLines(vtkPolyData* lines)
+{
+  omesh::FeatureSegments f;
+  std::unordered_map<vtkIdType, int> index;
+  auto vertex = [&](vtkIdType id) {
+    auto [it, inserted] = index.emplace(id, static_cast<int>(f.points.size()));
+    if (inserted)
+    {
+      double x[3];
+      lines->GetPoint(id, x);
+      f.points.push_back({ x[0], x[1], x[2] });
+    }
+    return it->second;
+  };
+  auto it = vtk::TakeSmartPointer(lines->GetLines()->NewIterator());
+  for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell())
+  {
+    vtkIdType n;
+    const vtkIdType* ids;
+    it->GetCurrentCell(n, ids);
+    for (vtkIdType k = 0; k + 1 < n; ++k)
+      f.segments.push_back({ vertex(ids[k]), vertex(ids[k + 1]) });
+  }
+  return f;
+}
+
+Result Run(const omesh::HierarchicalOracle& oracle, const omesh::FeatureSegments& features,
+  const omesh::TriangleSurface& implant, const omesh::MesherOptions& options)
+{
+  Result r;
+  const auto t0 = std::chrono::steady_clock::now();
+  const omesh::TetMesh m = omesh::meshOracle(oracle, features, {}, options);
+  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  r.tets = static_cast<double>(m.tets.size());
+  r.vertices = static_cast<double>(m.points.size());
+  r.minAngle = m.statistics.at("min_dihedral_angle");
+  r.meanAngle = m.statistics.at("mean_min_dihedral_angle");
+  r.coverage = m.statistics.at("feature_coverage");
+  for (const auto& w : m.warnings)
+    r.budgetHit |= w.find("MaximumNumberOfVertices") != std::string::npos;
+  omesh::TriangleSurface boundary; // the implant's side of the interfaces
+  boundary.points = m.points;
+  for (size_t f = 0; f < m.interfaceTriangles.size(); ++f)
+    if ((m.interfaceMaterials[f][0] == 3) != (m.interfaceMaterials[f][1] == 3))
+      boundary.triangles.push_back(m.interfaceTriangles[f]);
+  r.hausdorff = boundary.triangles.empty() ? -1 : omesh::TriangleDistance::hausdorff(boundary, implant);
+  return r;
+}
+}
+
+int main(int argc, char* argv[])
+{
+  if (argc < 2)
+  {
+    std::fprintf(stderr, "usage: %s <demo folder> [radius-edge bound] [vertex budget]\n", argv[0]);
+    return 2;
+  }
+  const std::string dir = argv[1];
+  const double ratio = argc > 2 ? std::atof(argv[2]) : 1.1;
+  const size_t budget = argc > 3 ? std::strtoul(argv[3], nullptr, 10) : 300000;
+
+  vtkNew<vtkXMLPolyDataReader> implantReader;
+  implantReader->SetFileName((dir + "/implant.vtp").c_str());
+  vtkNew<vtkSurfaceDomain> implant;
+  implant->SetInputConnection(implantReader->GetOutputPort());
+  implant->SetMaterialId(3);
+  vtkNew<vtkCylinder> screwShape;
+  screwShape->SetCenter(-15, -14, 66);
+  screwShape->SetAxis(0.1, 0.05, 1);
+  screwShape->SetRadius(2.5);
+  vtkNew<vtkImplicitDomain> screw;
+  screw->SetImplicitFunction(screwShape);
+  screw->SetHeight(34);
+  screw->SetCut(false);
+  screw->SetMaterialId(4);
+  vtkNew<vtkPlane> plane;
+  plane->SetOrigin(0, 0, 80);
+  plane->SetNormal(0, 0, -1);
+  vtkNew<vtkImplicitDomain> resection;
+  resection->SetImplicitFunction(plane);
+  vtkNew<vtkXMLImageDataReader> imageReader;
+  imageReader->SetFileName((dir + "/tibia_labels.vti").c_str());
+  vtkNew<vtkLabelMapDomain> tibia;
+  tibia->SetInputConnection(imageReader->GetOutputPort());
+  vtkNew<vtkHierarchicalOracle> scene;
+  for (vtkAlgorithm* d : std::initializer_list<vtkAlgorithm*>{ implant, screw, resection, tibia })
+    scene->AddInputConnection(d->GetOutputPort());
+  scene->Update();
+  vtkNew<vtkFeatureEdges> edges; // the implant's sharp edges
+  edges->SetInputConnection(implantReader->GetOutputPort());
+  edges->BoundaryEdgesOff();
+  edges->NonManifoldEdgesOff();
+  edges->ManifoldEdgesOff();
+  edges->FeatureEdgesOn();
+  edges->SetFeatureAngle(60);
+  edges->Update();
+
+  const auto oracle = OracleBuilder::BuildOracle(scene->GetOutput());
+  const omesh::FeatureSegments features = FeatureLines(edges->GetOutput());
+  const omesh::TriangleSurface implantSurface = OracleBuilder::ToTriangleSurface(implantReader->GetOutput(), "implant");
+
+  // The paper's criteria (section 4), in the scene's millimetres: radius-edge 1.1 everywhere,
+  // circumradius 1 (implant, screw) and 3 (bone), facet distance 0.1 and 2.
+  omesh::MesherOptions base;
+  base.criteria.global.cellRadiusEdgeRatio = ratio;
+  base.criteria.global.cellSize = 3.0;
+  base.criteria.global.facetSize = 3.0;
+  base.criteria.global.facetDistance = 2.0;
+  base.criteria.global.edgeSize = 1.0;
+  for (int m : { 3, 4 })
+  {
+    omesh::MeshCriteria c = omesh::MeshCriteria::inheritAll();
+    c.cellSize = 1.0;
+    c.facetSize = 1.0;
+    c.facetDistance = 0.1;
+    base.criteria.perMaterial[m] = c;
+  }
+  base.maximumNumberOfVertices = budget;
+  base.seed = 1;
+
+  std::printf("MesherBenchmark: demo scene, %zu feature segments, radius-edge %.2f, budget %zu vertices\n",
+    features.segments.size(), ratio, budget);
+  std::printf("%-16s %10s %9s %8s %9s %8s %8s %9s %10s %s\n", "strategy", "tets", "vertices", "time s",
+    "peak MiB", "min dih", "mean", "coverage", "Hausdorff", "");
+  Result none{};
+  for (omesh::FeatureStrategy s : { omesh::FeatureStrategy::None, omesh::FeatureStrategy::ProtectingBalls,
+         omesh::FeatureStrategy::Conforming })
+  {
+    // Each strategy in its own process: its own peak memory, and a crash cannot hide the others.
+    std::fflush(stdout); // or the children print the parent's buffer again
+    int fd[2];
+    if (pipe(fd) != 0)
+      return 1;
+    const pid_t pid = fork();
+    if (pid == 0)
+    {
+      close(fd[0]);
+      omesh::MesherOptions o = base;
+      o.strategy = s;
+      const Result r = Run(*oracle, features, implantSurface, o);
+      if (write(fd[1], &r, sizeof r) != sizeof r)
+        _exit(1);
+      _exit(0);
+    }
+    close(fd[1]);
+    Result r{};
+    const bool got = read(fd[0], &r, sizeof r) == sizeof r;
+    close(fd[0]);
+    int status = 0;
+    rusage ru{};
+    wait4(pid, &status, 0, &ru);
+    if (!got)
+    {
+      std::printf("%-16s failed (status %d)\n", omesh::toString(s), status);
+      continue;
+    }
+    if (s == omesh::FeatureStrategy::None)
+      none = r;
+    std::printf("%-16s %10.0f %9.0f %8.2f %9.0f %8.2f %8.2f %8.1f%% %10.3f %s\n", omesh::toString(s), r.tets,
+      r.vertices, r.seconds, ru.ru_maxrss / 1024.0, r.minAngle, r.meanAngle, 100 * r.coverage, r.hausdorff,
+      r.budgetHit ? "(vertex budget hit)" : "");
+    std::fflush(stdout);
+    if (s != omesh::FeatureStrategy::None && none.tets > 0)
+      std::printf("%-16s %9.2fx %32s  time per tet %.2fx of None\n", "  vs None", r.tets / none.tets, "",
+        (r.seconds / r.tets) / (none.seconds / none.tets));
+  }
+  return 0;
+}
