@@ -10,21 +10,10 @@
 #include "OracleMesher.h"
 #include "TriangleDistance.h"
 #include "TriangleSurface.h"
-#include "vtkHierarchicalOracle.h"
-#include "vtkImplicitDomain.h"
-#include "vtkLabelMapDomain.h"
-#include "vtkSurfaceDomain.h"
+#include "DemoScenePipeline.h"
 
-#include <vtkCellArray.h>
-#include <vtkCellArrayIterator.h>
-#include <vtkCylinder.h>
 #include <vtkFeatureEdges.h>
-#include <vtkMultiBlockDataSet.h>
-#include <vtkNew.h>
-#include <vtkPlane.h>
 #include <vtkPolyData.h>
-#include <vtkXMLImageDataReader.h>
-#include <vtkXMLPolyDataReader.h>
 
 #include <sys/resource.h>
 #include <sys/wait.h>
@@ -34,7 +23,6 @@
 #include <cstdio>
 #include <cstdlib>
 #include <string>
-#include <unordered_map>
 
 namespace
 {
@@ -43,32 +31,6 @@ struct Result
   double tets = 0, vertices = 0, seconds = 0, minAngle = 0, meanAngle = 0, coverage = 0, hausdorff = 0;
   int budgetHit = 0;
 };
-
-omesh::FeatureSegments FeatureLines(vtkPolyData* lines)
-{
-  omesh::FeatureSegments f;
-  std::unordered_map<vtkIdType, int> index;
-  auto vertex = [&](vtkIdType id) {
-    auto [it, inserted] = index.emplace(id, static_cast<int>(f.points.size()));
-    if (inserted)
-    {
-      double x[3];
-      lines->GetPoint(id, x);
-      f.points.push_back({ x[0], x[1], x[2] });
-    }
-    return it->second;
-  };
-  auto it = vtk::TakeSmartPointer(lines->GetLines()->NewIterator());
-  for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell())
-  {
-    vtkIdType n;
-    const vtkIdType* ids;
-    it->GetCurrentCell(n, ids);
-    for (vtkIdType k = 0; k + 1 < n; ++k)
-      f.segments.push_back({ vertex(ids[k]), vertex(ids[k + 1]) });
-  }
-  return f;
-}
 
 Result Run(const omesh::HierarchicalOracle& oracle, const omesh::FeatureSegments& features,
   const omesh::TriangleSurface& implant, const omesh::MesherOptions& options)
@@ -105,35 +67,9 @@ int main(int argc, char* argv[])
   const double ratio = argc > 2 ? std::atof(argv[2]) : 1.1;
   const size_t budget = argc > 3 ? std::strtoul(argv[3], nullptr, 10) : 300000;
 
-  vtkNew<vtkXMLPolyDataReader> implantReader;
-  implantReader->SetFileName((dir + "/implant.vtp").c_str());
-  vtkNew<vtkSurfaceDomain> implant;
-  implant->SetInputConnection(implantReader->GetOutputPort());
-  implant->SetMaterialId(3);
-  vtkNew<vtkCylinder> screwShape;
-  screwShape->SetCenter(-15, -14, 66);
-  screwShape->SetAxis(0.1, 0.05, 1);
-  screwShape->SetRadius(2.5);
-  vtkNew<vtkImplicitDomain> screw;
-  screw->SetImplicitFunction(screwShape);
-  screw->SetHeight(34);
-  screw->SetCut(false);
-  screw->SetMaterialId(4);
-  vtkNew<vtkPlane> plane;
-  plane->SetOrigin(0, 0, 80);
-  plane->SetNormal(0, 0, -1);
-  vtkNew<vtkImplicitDomain> resection;
-  resection->SetImplicitFunction(plane);
-  vtkNew<vtkXMLImageDataReader> imageReader;
-  imageReader->SetFileName((dir + "/tibia_labels.vti").c_str());
-  vtkNew<vtkLabelMapDomain> tibia;
-  tibia->SetInputConnection(imageReader->GetOutputPort());
-  vtkNew<vtkHierarchicalOracle> scene;
-  for (vtkAlgorithm* d : std::initializer_list<vtkAlgorithm*>{ implant, screw, resection, tibia })
-    scene->AddInputConnection(d->GetOutputPort());
-  scene->Update();
+  DemoScenePipeline demo(dir);
   vtkNew<vtkFeatureEdges> edges; // the implant's sharp edges
-  edges->SetInputConnection(implantReader->GetOutputPort());
+  edges->SetInputConnection(demo.implantReader->GetOutputPort());
   edges->BoundaryEdgesOff();
   edges->NonManifoldEdgesOff();
   edges->ManifoldEdgesOff();
@@ -141,9 +77,9 @@ int main(int argc, char* argv[])
   edges->SetFeatureAngle(60);
   edges->Update();
 
-  const auto oracle = OracleBuilder::BuildOracle(scene->GetOutput());
-  const omesh::FeatureSegments features = FeatureLines(edges->GetOutput());
-  const omesh::TriangleSurface implantSurface = OracleBuilder::ToTriangleSurface(implantReader->GetOutput(), "implant");
+  const auto oracle = OracleBuilder::BuildOracle(demo.oracle->GetOutput());
+  const omesh::FeatureSegments features = OracleBuilder::ToFeatureSegments(edges->GetOutput());
+  const omesh::TriangleSurface implantSurface = OracleBuilder::ToTriangleSurface(demo.implantReader->GetOutput(), "implant");
 
   // The paper's criteria (section 4), in the scene's millimetres: radius-edge 1.1 everywhere,
   // circumradius 1 (implant, screw) and 3 (bone), facet distance 0.1 and 2.

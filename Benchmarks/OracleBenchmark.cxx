@@ -8,10 +8,7 @@
 #include "OracleBuilder.h"
 #include "SurfaceDomain.h"
 #include "TriangleSurface.h"
-#include "vtkHierarchicalOracle.h"
-#include "vtkImplicitDomain.h"
-#include "vtkLabelMapDomain.h"
-#include "vtkSurfaceDomain.h"
+#include "DemoScenePipeline.h"
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Image_3.h>
@@ -131,16 +128,10 @@ int main(int argc, char* argv[])
   long checksum = 0;
 
   // --- inputs through the VTK adapters, as a user builds them
-  vtkNew<vtkXMLImageDataReader> imageReader;
-  imageReader->SetFileName((dir + "/tibia_labels.vti").c_str());
-  vtkNew<vtkLabelMapDomain> labels;
-  labels->SetInputConnection(imageReader->GetOutputPort());
-  labels->Update();
-  vtkNew<vtkXMLPolyDataReader> implantReader;
-  implantReader->SetFileName((dir + "/implant.vtp").c_str());
-  vtkNew<vtkSurfaceDomain> implant;
-  implant->SetInputConnection(implantReader->GetOutputPort());
-  implant->SetMaterialId(3);
+  DemoScenePipeline demo(dir);
+  vtkLabelMapDomain* labels = demo.tibia;
+  vtkXMLImageDataReader* imageReader = demo.imageReader;
+  vtkMultiBlockDataSet* sceneOutput = demo.oracle->GetOutput();
   vtkNew<vtkSphereSource> bigSource; // 100,352 triangles
   bigSource->SetRadius(30);
   bigSource->SetCenter(0, 0, 45);
@@ -149,24 +140,6 @@ int main(int argc, char* argv[])
   vtkNew<vtkSurfaceDomain> big;
   big->SetInputConnection(bigSource->GetOutputPort());
   big->Update();
-  vtkNew<vtkCylinder> screwShape;
-  screwShape->SetCenter(-15, -14, 66);
-  screwShape->SetAxis(0.1, 0.05, 1);
-  screwShape->SetRadius(2.5);
-  vtkNew<vtkImplicitDomain> screw;
-  screw->SetImplicitFunction(screwShape);
-  screw->SetHeight(34);
-  screw->SetCut(false);
-  screw->SetMaterialId(4);
-  vtkNew<vtkPlane> plane;
-  plane->SetOrigin(0, 0, 80);
-  plane->SetNormal(0, 0, -1);
-  vtkNew<vtkImplicitDomain> resection;
-  resection->SetImplicitFunction(plane);
-  vtkNew<vtkHierarchicalOracle> scene;
-  for (vtkAlgorithm* d : std::initializer_list<vtkAlgorithm*>{ implant, screw, resection, labels })
-    scene->AddInputConnection(d->GetOutputPort());
-  scene->Update();
 
   const double rss0 = PeakRssMiB();
   auto t0 = std::chrono::steady_clock::now();
@@ -175,7 +148,7 @@ int main(int argc, char* argv[])
   const omesh::TriangleSurface bigSurface = OracleBuilder::ToTriangleSurface(big->GetOutput(), "sphere");
   auto bigOracle = OracleBuilder::BuildOracle(big->GetOutput());
   auto t2 = std::chrono::steady_clock::now();
-  auto sceneOracle = OracleBuilder::BuildOracle(scene->GetOutput());
+  auto sceneOracle = OracleBuilder::BuildOracle(sceneOutput);
   auto t3 = std::chrono::steady_clock::now();
   const double rss1 = PeakRssMiB();
   auto secs = [](auto a, auto b) { return std::chrono::duration<double>(b - a).count(); };

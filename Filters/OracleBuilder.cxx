@@ -2,6 +2,7 @@
 #include "OracleBuilder.h"
 
 #include "BoxDomain.h"
+#include "FeatureSegments.h"
 #include "CylinderDomain.h"
 #include "HalfSpaceDomain.h"
 #include "HierarchicalOracle.h"
@@ -25,6 +26,7 @@
 #include <cmath>
 #include <limits>
 #include <sstream>
+#include <unordered_map>
 
 using omesh::InputError;
 
@@ -144,6 +146,34 @@ omesh::TriangleSurface OracleBuilder::ToTriangleSurface(vtkPolyData* pd, const s
     throw InputError(who + ": surface has no triangles (it has " + std::to_string(pd->GetNumberOfLines()) +
       " lines and " + std::to_string(pd->GetNumberOfVerts()) + " vertices)");
   return s;
+}
+
+omesh::FeatureSegments OracleBuilder::ToFeatureSegments(vtkPolyData* lines)
+{
+  omesh::FeatureSegments f;
+  if (!lines)
+    return f;
+  std::unordered_map<vtkIdType, int> index;
+  auto vertex = [&](vtkIdType id) {
+    auto [it, inserted] = index.emplace(id, static_cast<int>(f.points.size()));
+    if (inserted)
+    {
+      double x[3];
+      lines->GetPoint(id, x);
+      f.points.push_back({ x[0], x[1], x[2] });
+    }
+    return it->second;
+  };
+  auto it = vtk::TakeSmartPointer(lines->GetLines()->NewIterator());
+  for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell())
+  {
+    vtkIdType n;
+    const vtkIdType* ids;
+    it->GetCurrentCell(n, ids);
+    for (vtkIdType k = 0; k + 1 < n; ++k)
+      f.segments.push_back({ vertex(ids[k]), vertex(ids[k + 1]) });
+  }
+  return f;
 }
 
 std::shared_ptr<omesh::LabelMapDomain> OracleBuilder::ToLabelMap(

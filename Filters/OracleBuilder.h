@@ -16,6 +16,7 @@ namespace omesh
 class Domain;
 class HierarchicalOracle;
 class LabelMapDomain;
+struct FeatureSegments;
 struct TriangleSurface;
 }
 
@@ -39,6 +40,10 @@ public:
 
   /// Triangles of `surface` as a soup; rejects polygons that are not triangles and strips.
   static omesh::TriangleSurface ToTriangleSurface(vtkPolyData* surface, const std::string& who);
+
+  /// The lines of `lines` as constrained segments: polylines split into segments, a point shared
+  /// by several polylines one vertex. Null gives no segments.
+  static omesh::FeatureSegments ToFeatureSegments(vtkPolyData* lines);
 
   /// The label map of `image` as described by `md` (array, association, background).
   static std::shared_ptr<omesh::LabelMapDomain> ToLabelMap(

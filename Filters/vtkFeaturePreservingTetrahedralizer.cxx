@@ -24,41 +24,11 @@
 #include <vtkUnstructuredGrid.h>
 
 #include <cmath>
-#include <unordered_map>
 
 vtkStandardNewMacro(vtkFeaturePreservingTetrahedralizer);
 
 namespace
 {
-/// Polylines of port 1 as segments; points shared by polylines become one vertex.
-omesh::FeatureSegments toSegments(vtkPolyData* lines)
-{
-  omesh::FeatureSegments f;
-  if (!lines)
-    return f;
-  std::unordered_map<vtkIdType, int> index;
-  auto vertex = [&](vtkIdType id) {
-    auto [it, inserted] = index.emplace(id, static_cast<int>(f.points.size()));
-    if (inserted)
-    {
-      double x[3];
-      lines->GetPoint(id, x);
-      f.points.push_back({ x[0], x[1], x[2] });
-    }
-    return it->second;
-  };
-  auto it = vtk::TakeSmartPointer(lines->GetLines()->NewIterator());
-  for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell())
-  {
-    vtkIdType n;
-    const vtkIdType* ids;
-    it->GetCurrentCell(n, ids);
-    for (vtkIdType k = 0; k + 1 < n; ++k)
-      f.segments.push_back({ vertex(ids[k]), vertex(ids[k + 1]) });
-  }
-  return f;
-}
-
 vtkSmartPointer<vtkPoints> toPoints(const std::vector<omesh::Vec3>& pts)
 {
   auto points = vtkSmartPointer<vtkPoints>::New();
@@ -157,7 +127,7 @@ int vtkFeaturePreservingTetrahedralizer::RequestData(
   try
   {
     auto oracle = OracleBuilder::BuildOracle(oracleData);
-    features = toSegments(lines);
+    features = OracleBuilder::ToFeatureSegments(lines);
     std::vector<omesh::Vec3> seedPoints;
     for (vtkIdType i = 0; seeds && i < seeds->GetNumberOfPoints(); ++i)
     {

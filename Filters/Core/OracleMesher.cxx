@@ -436,8 +436,12 @@ TetMesh meshOracle(const HierarchicalOracle& oracle, const FeatureSegments& feat
   }
   if (protect)
   {
+    // The vertex budget also bounds the protection of the features (CGAL's ball refinement can
+    // run long on small angles; it reports no progress of its own).
+    CGAL::parameters::internal::Mesh_3_options meshOptions;
+    meshOptions.maximal_number_of_vertices = options.maximumNumberOfVertices;
     CGAL::Mesh_3::internal::C3t3_initializer<C3t3, MeshDomain, Criteria, true, MeshDomain::Has_features>()(
-      c3t3, domain, criteria, true);
+      c3t3, domain, criteria, true, meshOptions);
   }
   else
     CGAL::Mesh_3::internal::init_c3t3(c3t3, domain, criteria, 20);
