@@ -523,15 +523,28 @@ TetMesh meshOracle(const HierarchicalOracle& oracle, const FeatureSegments& feat
     const double sz = g.cellSize > 0 ? g.cellSize : norm(inner.size()) / 20.0;
     return std::max(1000.0, inner.volume() / (0.1 * sz * sz * sz));
   }();
+  bool stalled = false;
   auto refine = [&]() {
     Mesher mesher(c3t3, domain, criteria, CGAL::FACET_VERTICES_ON_SURFACE);
     mesher.initialize();
+    size_t lastCount = 0, idleChecks = 0;
     while (!mesher.is_algorithm_done())
     {
       mesher.one_step();
       if (++steps % 512 == 0)
       {
-        const double n = static_cast<double>(c3t3.triangulation().number_of_vertices());
+        const size_t count = c3t3.triangulation().number_of_vertices();
+        // A refinement point that repeats an existing vertex inserts nothing and is tried again
+        // forever (seen with protecting balls): stop after ~100k idle steps instead of hanging.
+        idleChecks = count == lastCount ? idleChecks + 1 : 0;
+        lastCount = count;
+        if (idleChecks >= 200)
+        {
+          stalled = true;
+          mesher.fix_c3t3();
+          break;
+        }
+        const double n = static_cast<double>(count);
         report(0.05 + 0.75 * n / (n + expected), "refinement");
         if (options.maximumNumberOfVertices && n >= options.maximumNumberOfVertices)
         {
@@ -545,7 +558,7 @@ TetMesh meshOracle(const HierarchicalOracle& oracle, const FeatureSegments& feat
     ++rounds;
   };
   refine();
-  while (conforming && !budgetHit && rounds < 50)
+  while (conforming && !budgetHit && !stalled && rounds < 50)
   {
     const size_t n = recoverSegments();
     if (n == 0)
@@ -553,6 +566,9 @@ TetMesh meshOracle(const HierarchicalOracle& oracle, const FeatureSegments& feat
     recovered += n;
     refine();
   }
+  if (stalled)
+    warnings.push_back("refinement stalled (100k steps without a new vertex: a refinement point "
+                       "repeats an existing vertex); the criteria are not met everywhere");
   if (budgetHit)
   {
     warnings.push_back("refinement stopped at MaximumNumberOfVertices = " +
@@ -562,7 +578,9 @@ TetMesh meshOracle(const HierarchicalOracle& oracle, const FeatureSegments& feat
   const double refineTime = seconds(refineStart);
 
   const auto optStart = Clock::now();
-  const double optLimit = options.optimisationTimeLimit > 0 ? options.optimisationTimeLimit : refineTime + 1.0;
+  // No time limit by default: a limit makes the result depend on the machine's speed (the same
+  // seed must give the same mesh); the optimisers stop on their own sliver bounds.
+  const double optLimit = std::max(0.0, options.optimisationTimeLimit);
   size_t repaired = 0;
   if (options.perturb)
   {

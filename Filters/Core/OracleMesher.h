@@ -31,7 +31,7 @@ struct MesherOptions
   MaterialCriteria criteria;
   bool perturb = true;
   bool exude = true;
-  double optimisationTimeLimit = 0.0; ///< seconds for each of perturb and exude; 0 = no limit
+  double optimisationTimeLimit = 0.0; ///< seconds for each of perturb and exude; 0 = no limit (deterministic)
   unsigned seed = 0;                  ///< same input + same seed = identical mesh
   std::size_t maximumNumberOfVertices = 0; ///< 0 = unlimited; reaching it ends refinement with a warning
   /// Called during the work with a fraction in [0, 1] and the phase name; return false to abort
