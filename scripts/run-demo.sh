@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # The main job, from a fresh Debian 12 machine: install, build, then run OracleMesh on the bundled
 # bone/implant scene (Data/demo/scene.json). Writes to ./demo-output (or $1):
-#   demo_oracle.vti   the combined oracle sampled at the label map's resolution (open in ParaView)
-#   report.txt        per-material volumes
-#   demo_oracle.png   a picture of it, cut open through the screw
+#   demo_mesh.vtu     the multi-material tetrahedral mesh (open in ParaView, colour by Material)
+#   mesh_report.txt   its quality report (tets and volume per material, dihedral angles, features)
+#   demo_mesh.png     a picture of it, cut open through the screw
+#   demo_oracle.vti / report.txt / demo_oracle.png   the combined oracle sampled on a grid
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 out="$(realpath -m "${1:-$root/demo-output}")"
@@ -18,4 +19,8 @@ mkdir -p "$out"
 /usr/bin/python3 -c "import json, oraclemesh.scene as s; print(json.dumps({str(k): v for k, v in s.load_scene('$root/Data/demo/scene.json').material_names().items()}))" > "$out/materials.json"
 xvfb-run -a -s "-screen 0 1280x1024x24" pvbatch "$site/oraclemesh/render.py" \
   "$out/demo_oracle.vti" "$out/demo_oracle.png" "$out/materials.json" >/dev/null
-echo "picture: $out/demo_oracle.png"
+/usr/bin/python3 -m oraclemesh mesh "$root/Data/demo/scene.json" -o "$out/demo_mesh.vtu" \
+  --report "$out/mesh_report.txt" 2> "$out/mesh_warnings.log"
+xvfb-run -a -s "-screen 0 1280x1024x24" pvbatch "$site/oraclemesh/render.py" \
+  "$out/demo_mesh.vtu" "$out/demo_mesh.png" "$out/materials.json" >/dev/null
+echo "pictures: $out/demo_oracle.png $out/demo_mesh.png"

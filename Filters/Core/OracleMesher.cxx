@@ -608,7 +608,7 @@ TetMesh meshOracle(const HierarchicalOracle& oracle, const FeatureSegments& feat
   TetMesh mesh = toTetMesh(c3t3);
   mesh.segments = locateFeatureSegments(mesh, features);
   const double coverage = featureCoverage(mesh.segments, features);
-  if (!features.empty() && coverage < 1.0)
+  if (!features.empty() && coverage < 0.9999)
   {
     std::ostringstream o;
     o << "feature lines: " << 100.0 * coverage << "% of their length is present as mesh edges";

@@ -293,6 +293,23 @@ class Tetrahedralizer(unittest.TestCase):
 
 
 class CommandLine(unittest.TestCase):
+    def test_mesh_writes_the_demo_mesh_and_its_report(self):
+        from vtkmodules.util.numpy_support import vtk_to_numpy
+        from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader
+
+        with tempfile.TemporaryDirectory() as tmp:
+            out = os.path.join(tmp, "demo.vtu")
+            result = subprocess.run([sys.executable, "-m", "oraclemesh", "mesh", DEMO_SCENE, "-o", out],
+                                    capture_output=True, text=True, check=False)
+            self.assertEqual(result.returncode, 0, result.stderr)
+            self.assertIn("feature lines present as mesh edges: 100.0%", result.stdout)
+            reader = vtkXMLUnstructuredGridReader()
+            reader.SetFileName(out)
+            reader.Update()
+            materials = set(vtk_to_numpy(reader.GetOutput().GetCellData().GetArray("Material")).tolist())
+            self.assertEqual(materials, {1, 2, 3, 4})
+
+
     def test_sample_writes_an_image_and_a_report(self):
         with tempfile.TemporaryDirectory() as tmp:
             out = os.path.join(tmp, "oracle.vti")

@@ -2,20 +2,28 @@
 """Renders a sampled oracle image (point array Material) to a PNG, cut open at y = -14 (the demo screw) so the
 layers show. Runs under ParaView's pvbatch (needs an X display: use xvfb-run):
 
-    xvfb-run -a -s "-screen 0 1280x1024x24" pvbatch render.py oracle.vti picture.png [names.json]
+    xvfb-run -a -s "-screen 0 1280x1024x24" pvbatch render.py oracle.vti|mesh.vtu picture.png [names.json]
 """
 import json
 import sys
 
 
-def render(image_file, png_file, names=None, size=(1200, 900)):
+def render(data_file, png_file, names=None, size=(1200, 900)):
+    """Renders a sampled oracle (.vti, point data Material) or a tetrahedral mesh (.vtu, cell data
+    Material, drawn with its edges)."""
     from paraview import simple as pv
 
-    reader = pv.XMLImageDataReader(FileName=[image_file])
-    solid = pv.Threshold(Input=reader)
-    solid.Scalars = ["POINTS", "Material"]
-    solid.LowerThreshold = 0
-    solid.UpperThreshold = 1.0e9
+    mesh = data_file.lower().endswith(".vtu")
+    if mesh:
+        solid = pv.XMLUnstructuredGridReader(FileName=[data_file])
+        association = "CELLS"
+    else:
+        reader = pv.XMLImageDataReader(FileName=[data_file])
+        solid = pv.Threshold(Input=reader)
+        solid.Scalars = ["POINTS", "Material"]
+        solid.LowerThreshold = 0
+        solid.UpperThreshold = 1.0e9
+        association = "POINTS"
     cut = pv.Clip(Input=solid)
     cut.ClipType = "Plane"
     cut.ClipType.Origin = [0.0, -14.0, 0.0]  # through the demo screw
@@ -31,7 +39,10 @@ def render(image_file, png_file, names=None, size=(1200, 900)):
     except AttributeError:
         pass
     display = pv.Show(cut, view)
-    pv.ColorBy(display, ("POINTS", "Material"))
+    if mesh:
+        display.SetRepresentationType("Surface With Edges")
+        display.EdgeColor = [0.2, 0.2, 0.2]
+    pv.ColorBy(display, (association, "Material"))
     lut = pv.GetColorTransferFunction("Material")
     lut.InterpretValuesAsCategories = 1
     ids = sorted(int(k) for k in (names or {}))
