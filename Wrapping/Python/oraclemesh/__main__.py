@@ -9,6 +9,26 @@ from .errors import OracleMeshError, update
 from .scene import load_scene
 
 
+def _write(data, path, writer_class):
+    """Writes `data` with a VTK XML writer (zlib-compressed), creating the folder."""
+    os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
+    writer = writer_class()
+    writer.SetFileName(path)
+    writer.SetInputData(data)
+    writer.SetCompressorTypeToZLib()
+    if not writer.Write():
+        raise OracleMeshError(f"{path}: could not be written")
+
+
+def _publish(lines, report_path):
+    """Prints a report and, when asked, saves it."""
+    report = "\n".join(lines)
+    print(report)
+    if report_path:
+        with open(report_path, "w") as f:
+            f.write(report + "\n")
+
+
 def _sample(args):
     from vtkmodules.vtkIOXML import vtkXMLImageDataWriter
 
@@ -21,12 +41,7 @@ def _sample(args):
     sampler.SetDimensions(*args.dims)
     image = update(sampler)
     if args.output:
-        os.makedirs(os.path.dirname(os.path.abspath(args.output)), exist_ok=True)
-        writer = vtkXMLImageDataWriter()
-        writer.SetFileName(args.output)
-        writer.SetInputData(image)
-        writer.SetCompressorTypeToZLib()
-        writer.Write()
+        _write(image, args.output, vtkXMLImageDataWriter)
     names = scene.material_names()
     fd = image.GetFieldData()
     ids, volumes = fd.GetArray("MaterialIds"), fd.GetArray("MaterialVolume")
@@ -40,11 +55,7 @@ def _sample(args):
     lines.append(f"{'all':>8}  {'':<18} {total:>14.1f}")
     if args.output:
         lines.append(f"wrote {args.output} (point array 'Material', -1 outside): open it in ParaView")
-    report = "\n".join(lines)
-    print(report)
-    if args.report:
-        with open(args.report, "w") as f:
-            f.write(report + "\n")
+    _publish(lines, args.report)
     return 0
 
 
@@ -110,12 +121,7 @@ def _mesh(args):
     scene = load_scene(args.scene)
     mesher = _mesher_for(scene, args)
     grid = update(mesher)
-    os.makedirs(os.path.dirname(os.path.abspath(args.output)), exist_ok=True)
-    writer = vtkXMLUnstructuredGridWriter()
-    writer.SetFileName(args.output)
-    writer.SetInputData(grid)
-    writer.SetCompressorTypeToZLib()
-    writer.Write()
+    _write(grid, args.output, vtkXMLUnstructuredGridWriter)
     fd = grid.GetFieldData()
     names_array, values_array = fd.GetAbstractArray("StatisticNames"), fd.GetArray("StatisticValues")
     stats = {names_array.GetValue(i): values_array.GetValue(i) for i in range(names_array.GetNumberOfValues())}
@@ -138,11 +144,7 @@ def _mesh(args):
     for i in range(warnings.GetNumberOfValues()):
         lines.append("warning: " + warnings.GetValue(i))
     lines.append(f"wrote {args.output} (cell data Material, MinDihedralAngle, RadiusEdgeRatio): open it in ParaView")
-    report = "\n".join(lines)
-    print(report)
-    if args.report:
-        with open(args.report, "w") as f:
-            f.write(report + "\n")
+    _publish(lines, args.report)
     return 0
 
 
