@@ -17,8 +17,10 @@
 #include <CGAL/Mesh_triangulation_3.h>
 #include <CGAL/make_mesh_3.h>
 #include <CGAL/refine_mesh_3.h>
+#include <CGAL/optimize_mesh_3.h>
 
 #include <chrono>
+#include <cstdlib>
 #include <cmath>
 #include <map>
 #include <memory>
@@ -504,6 +506,12 @@ TetMesh meshOracle(const HierarchicalOracle& oracle, const FeatureSegments& feat
   // seed must give the same mesh); the optimisers stop on their own sliver bounds.
   const double optLimit = std::max(0.0, options.optimisationTimeLimit);
   size_t repaired = 0;
+  if (const char* odt = std::getenv("OMESH_ODT"))
+  {
+    report(0.8, "odt");
+    CGAL::odt_optimize_mesh_3(c3t3, domain, CGAL::parameters::time_limit = 0,
+      CGAL::parameters::max_iteration_number = std::atoi(odt));
+  }
   if (options.perturb)
   {
     report(0.82, "perturbation");
@@ -511,7 +519,9 @@ TetMesh meshOracle(const HierarchicalOracle& oracle, const FeatureSegments& feat
     // The perturber never moves segment vertices, but a moved neighbour can land in a diametral
     // ball and so break a sub-segment: refine again (the segment level splits what was
     // encroached; weights are still zero here, after the exuder they are not).
-    if (conforming && !budgetHit && !stalled)
+    const bool encroached = conforming && !budgetHit && !stalled &&
+      Segments(c3t3, segs, segVertex, domain.index_from_curve_index(1), minSubSegment, segCount).countEncroached() > 0;
+    if (encroached)
     {
       const size_t before = segCount.splitsEncroached + segCount.splitsVetoed;
       refine();

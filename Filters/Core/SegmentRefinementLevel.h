@@ -89,6 +89,15 @@ public:
       enqueue(static_cast<int>(s));
   }
 
+  /// Number of sub-segments whose diametral ball holds a vertex.
+  size_t countEncroached() const
+  {
+    size_t n = 0;
+    for (size_t s = 0; s < segs_.subs.size(); ++s)
+      n += encroached(static_cast<int>(s));
+    return n;
+  }
+
   // --- the Mesher_level protocol -------------------------------------------------------------
   bool is_algorithm_done() const { return queue_.empty(); }
 

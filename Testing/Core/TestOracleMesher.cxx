@@ -2,6 +2,7 @@
 #include "BoxDomain.h"
 #include "HierarchicalOracle.h"
 #include "InputError.h"
+#include "LabelMapDomain.h"
 #include "MeshQuality.h"
 #include "OracleMesher.h"
 #include "SphereDomain.h"
@@ -294,4 +295,42 @@ TEST(OracleMesher, ConformingSameSeedSameMesh)
   ASSERT_EQ(a.tets, b.tets);
   for (size_t i = 0; i < a.points.size(); ++i)
     ASSERT_EQ(norm(a.points[i] - b.points[i]), 0.0);
+}
+
+TEST(OracleMesher, LabelMapVolumesWithinTwoPercentOfTheOracle)
+{
+  // a ball of label 1 (radius 8 voxels) around a ball of label 2 (radius 4), read trilinearly
+  const std::array<int, 3> d{ 24, 24, 24 };
+  std::vector<int> labels(static_cast<size_t>(d[0]) * d[1] * d[2], 0);
+  for (int k = 0; k < d[2]; ++k)
+    for (int j = 0; j < d[1]; ++j)
+      for (int i = 0; i < d[0]; ++i)
+      {
+        const double r = norm(Vec3{ i + 0.5, j + 0.5, k + 0.5 } - Vec3{ 12, 12, 12 });
+        labels[i + d[0] * (j + d[1] * k)] = r < 4 ? 2 : (r < 8 ? 1 : 0);
+      }
+  const std::array<double, 9> identity{ 1, 0, 0, 0, 1, 0, 0, 0, 1 };
+  HierarchicalOracle o;
+  o.add(std::make_shared<LabelMapDomain>(d, labels,
+    LabelMapDomain::cellCenteredWorldToVoxel({ 0, 0, 0 }, { 1, 1, 1 }, identity), 0, "balls",
+    LabelInterpolation::Trilinear));
+  MesherOptions opt = options(FeatureStrategy::None, 2.0);
+  opt.criteria.global.facetDistance = 0.08;
+  const TetMesh m = meshOracle(o, {}, {}, opt);
+  // the oracle's volumes on a 120^3 lattice of cell centres over [2, 22]^3
+  std::map<int, double> expected;
+  const int n = 120;
+  const double h = 20.0 / n;
+  for (int k = 0; k < n; ++k)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i)
+      {
+        const int mat = o.material({ 2 + (i + 0.5) * h, 2 + (j + 0.5) * h, 2 + (k + 0.5) * h });
+        if (mat != kOutside)
+          expected[mat] += h * h * h;
+      }
+  const auto v = materialVolumes(m);
+  ASSERT_EQ(expected.size(), 2u);
+  for (const auto& [mat, vol] : expected)
+    EXPECT_NEAR(v.at(mat), vol, 0.02 * vol) << "material " << mat;
 }
