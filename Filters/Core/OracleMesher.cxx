@@ -15,12 +15,12 @@
 #include <CGAL/Mesh_criteria_3.h>
 #include <CGAL/Mesh_domain_with_polyline_features_3.h>
 #include <CGAL/Mesh_triangulation_3.h>
+#include <CGAL/exude_mesh_3.h>
 #include <CGAL/make_mesh_3.h>
+#include <CGAL/perturb_mesh_3.h>
 #include <CGAL/refine_mesh_3.h>
-#include <CGAL/optimize_mesh_3.h>
 
 #include <chrono>
-#include <cstdlib>
 #include <cmath>
 #include <map>
 #include <memory>
@@ -238,6 +238,44 @@ std::vector<std::vector<K::Point_3>> toPolylines(const FeatureSegments& f)
     if (!used[s])
       walk(f.segments[s][0], s);
   return lines;
+}
+
+/// CGAL's optimiser visitors, asking `check` (which may throw MeshingAborted) every 256 visits.
+struct OptimiserVisitor
+{
+  std::function<void()> check;
+  size_t visits = 0;
+  void tick()
+  {
+    if (++visits % 256 == 0)
+      check();
+  }
+  void bound_reached(double) { tick(); }
+  void end_of_perturbation_iteration(std::size_t) { tick(); }
+  void after_cell_pumped(std::size_t) { tick(); }
+};
+
+/// As CGAL::perturb_mesh_3 with its defaults, abortable.
+void perturb(C3t3& c3t3, const MeshDomain& domain, double timeLimit, std::function<void()> check)
+{
+  const auto criterion = CGAL::parameters::default_values_for_mesh_3::default_sliver_criterion(
+    c3t3, CGAL::parameters::default_values_for_mesh_3::perturb_sliver_bound);
+  using Criterion = std::remove_const_t<decltype(criterion)>;
+  CGAL::Mesh_3::Sliver_perturber<C3t3, MeshDomain, Criterion, OptimiserVisitor> perturber(c3t3, domain, criterion);
+  for (auto* p : CGAL::default_perturbation_vector(c3t3, domain, criterion))
+    perturber.add_perturbation(p);
+  perturber.set_time_limit(timeLimit);
+  perturber(OptimiserVisitor{ std::move(check) });
+}
+
+/// As CGAL::exude_mesh_3 with its defaults, abortable.
+void exude(C3t3& c3t3, double timeLimit, std::function<void()> check)
+{
+  using Criterion = CGAL::Mesh_3::Min_dihedral_angle_criterion<Tr>;
+  Criterion criterion(CGAL::parameters::default_values_for_mesh_3::exude_sliver_bound, c3t3.triangulation());
+  CGAL::Mesh_3::Slivers_exuder<C3t3, Criterion, OptimiserVisitor> exuder(c3t3, criterion);
+  exuder.set_time_limit(timeLimit);
+  exuder(OptimiserVisitor{ std::move(check) });
 }
 
 /// Sub-segments of `segs` that are not edges of the triangulation, minus `missingBefore`; the
@@ -506,16 +544,10 @@ TetMesh meshOracle(const HierarchicalOracle& oracle, const FeatureSegments& feat
   // seed must give the same mesh); the optimisers stop on their own sliver bounds.
   const double optLimit = std::max(0.0, options.optimisationTimeLimit);
   size_t repaired = 0;
-  if (const char* odt = std::getenv("OMESH_ODT"))
-  {
-    report(0.8, "odt");
-    CGAL::odt_optimize_mesh_3(c3t3, domain, CGAL::parameters::time_limit = 0,
-      CGAL::parameters::max_iteration_number = std::atoi(odt));
-  }
   if (options.perturb)
   {
     report(0.82, "perturbation");
-    CGAL::perturb_mesh_3(c3t3, domain, CGAL::parameters::time_limit = optLimit);
+    perturb(c3t3, domain, optLimit, [&] { report(0.82, "perturbation"); });
     // The perturber never moves segment vertices, but a moved neighbour can land in a diametral
     // ball and so break a sub-segment: refine again (the segment level splits what was
     // encroached; weights are still zero here, after the exuder they are not).
@@ -538,7 +570,7 @@ TetMesh meshOracle(const HierarchicalOracle& oracle, const FeatureSegments& feat
     const size_t missingBefore = conforming ? missingSubSegments() : 0;
     if (conforming)
       kept = std::make_unique<C3t3>(c3t3);
-    CGAL::exude_mesh_3(c3t3, CGAL::parameters::time_limit = optLimit);
+    exude(c3t3, optLimit, [&] { report(0.92, "exudation"); });
     if (conforming)
     {
       segVertex.clear(); // the exuder re-creates vertices: find the segment points again

@@ -334,3 +334,19 @@ TEST(OracleMesher, LabelMapVolumesWithinTwoPercentOfTheOracle)
   for (const auto& [mat, vol] : expected)
     EXPECT_NEAR(v.at(mat), vol, 0.02 * vol) << "material " << mat;
 }
+
+TEST(OracleMesher, AbortDuringOptimisation)
+{
+  HierarchicalOracle o;
+  o.add(std::make_shared<SphereDomain>(Vec3{ 0, 0, 0 }, 1.0, 1));
+  for (const std::string phase : { "perturbation", "exudation" })
+  {
+    SCOPED_TRACE(phase);
+    MesherOptions opt = options(FeatureStrategy::None, 0.08);
+    int calls = 0;
+    // the first call announces the phase; a second one comes from inside CGAL's optimiser
+    opt.progress = [&](double, const char* p) { return !(phase == p && ++calls >= 2); };
+    EXPECT_THROW(meshOracle(o, {}, {}, opt), MeshingAborted);
+    EXPECT_EQ(calls, 2);
+  }
+}
