@@ -141,7 +141,7 @@ void LabelMapDomain::crossings(const Vec3& a, const Vec3& b, std::vector<double>
   }
 }
 
-uint16_t LabelMapDomain::trilinearIndex(const Vec3& u) const
+void LabelMapDomain::gather(const Vec3& u, uint16_t idx[8], double w[8]) const
 {
   // the 8 voxel centres (i + 0.5) around u, clamped at the grid's border
   int lo[3];
@@ -153,8 +153,6 @@ uint16_t LabelMapDomain::trilinearIndex(const Vec3& u) const
     lo[a] = static_cast<int>(fl);
     f[a] = x - fl;
   }
-  uint16_t idx[8];
-  double w[8];
   for (int c = 0; c < 8; ++c)
   {
     size_t offset = 0, stride = 1;
@@ -170,6 +168,15 @@ uint16_t LabelMapDomain::trilinearIndex(const Vec3& u) const
     idx[c] = index_[offset];
     w[c] = weight;
   }
+}
+
+uint16_t LabelMapDomain::trilinearIndex(const Vec3& u) const
+{
+  uint16_t idx[8];
+  double w[8];
+  gather(u, idx, w);
+  if (std::all_of(idx + 1, idx + 8, [&](uint16_t i) { return i == idx[0]; }))
+    return idx[0]; // inside one label: the common case
   // largest summed weight; ties go to the smaller index (deterministic)
   uint16_t best = idx[0];
   double bestWeight = -1.0;
@@ -222,6 +229,18 @@ void LabelMapDomain::trilinearCrossings(
     const double a = planes[p], b = planes[p + 1];
     if (!(b > a))
       continue;
+    {
+      // a piece whose 8 voxel centres all carry the label we are in cannot change it
+      const Vec3 um = ua + (0.5 * (a + b)) * d;
+      uint16_t idx[8];
+      double w[8];
+      gather({ std::clamp(um.x, 0.0, dimsD_[0]), std::clamp(um.y, 0.0, dimsD_[1]), std::clamp(um.z, 0.0, dimsD_[2]) }, idx, w);
+      if (std::all_of(idx, idx + 8, [&](uint16_t i) { return i == previous; }))
+      {
+        previousT = b;
+        continue;
+      }
+    }
     for (int s = 1; s <= kSamples; ++s)
     {
       const double t = a + (b - a) * s / kSamples;
