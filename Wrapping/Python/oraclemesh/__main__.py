@@ -25,7 +25,7 @@ def _publish(lines, report_path):
     print(report)
     if report_path:
         os.makedirs(os.path.dirname(os.path.abspath(report_path)), exist_ok=True)
-        with open(report_path, "w") as f:
+        with open(report_path, "w", encoding="utf-8") as f:
             f.write(report + "\n")
 
 

@@ -63,8 +63,9 @@ def _run_one(job, args, env):
     messages = []
     if os.path.exists(job.summary):
         os.remove(job.summary)
-    with open(job.log, "w") as log:
-        process = subprocess.Popen(command, stdout=log, stderr=subprocess.PIPE, text=True, env=env)
+    with open(job.log, "w", encoding="utf-8") as log:
+        process = subprocess.Popen(command, stdout=log, stderr=subprocess.PIPE, encoding="utf-8",
+                                   errors="replace", env=env)
         timer, timed_out = None, []
         if args.timeout:
             def stop():
@@ -164,7 +165,7 @@ def run_batch(args):
                 sys.stdout.flush()
             if pending:
                 time.sleep(0.2)
-    with open(csv_path, "w", newline="") as f:
+    with open(csv_path, "w", newline="", encoding="utf-8") as f:
         writer = csv.DictWriter(f, fieldnames=CSV_COLUMNS)
         writer.writeheader()
         for job in jobs:
