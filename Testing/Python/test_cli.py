@@ -290,6 +290,35 @@ class SceneFormat(unittest.TestCase):
             counts.append(material_counts(vtk_to_numpy(grid.GetCellData().GetArray("Material"))))
         self.assertGreater(counts[1][2], 2 * counts[0][2])
 
+    def test_feature_lines_from_a_surface_and_from_files_are_joined(self):
+        from vtkmodules.vtkFiltersCore import vtkCleanPolyData, vtkFeatureEdges, vtkTriangleFilter
+        from vtkmodules.vtkFiltersSources import vtkCubeSource
+        from vtkmodules.vtkIOXML import vtkXMLPolyDataWriter
+
+        from oraclemesh.__main__ import mesher_for
+
+        with tempfile.TemporaryDirectory() as tmp:
+            cube = vtkCubeSource()
+            triangles = vtkTriangleFilter()
+            triangles.SetInputConnection(cube.GetOutputPort())
+            clean = vtkCleanPolyData()
+            clean.SetInputConnection(triangles.GetOutputPort())
+            edges = vtkFeatureEdges()
+            edges.SetInputConnection(clean.GetOutputPort())
+            edges.BoundaryEdgesOff()
+            edges.NonManifoldEdgesOff()
+            edges.ManifoldEdgesOff()
+            for name, algorithm in (("cube.vtp", clean), ("edges.vtp", edges)):
+                writer = vtkXMLPolyDataWriter()
+                writer.SetFileName(os.path.join(tmp, name))
+                writer.SetInputConnection(algorithm.GetOutputPort())
+                writer.Write()
+            scene = build_scene({"domains": [{"name": "cube", "type": "surface", "file": "cube.vtp", "material": 1}],
+                                 "mesh": {"features": {"from_surface": "cube", "files": ["edges.vtp"]}}}, base_dir=tmp)
+            mesher = mesher_for(scene)
+            lines = om.update(mesher.GetInputAlgorithm(1, 0))
+            self.assertEqual(lines.GetNumberOfLines(), 2 * 12)  # the cube's 12 edges, twice
+
     def test_outputs_section_is_used_when_no_output_is_given(self):
         with tempfile.TemporaryDirectory() as tmp:
             description = dict(SMALL_SCENE, outputs={"mesh": ["out/a.vtu", "out/a.mesh"], "report": "out/r.txt",
