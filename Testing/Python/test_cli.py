@@ -275,7 +275,7 @@ class SceneFormat(unittest.TestCase):
             ]})
             with self.assertRaises(om.OracleMeshError) as ctx:
                 clash.material_criteria()
-            self.assertIn("$.domains[1].criteria.cell_size: material 1 already has cell_size 1.0 from "
+            self.assertIn("scene: $.domains[1].criteria.cell_size: material 1 already has cell_size 1.0 from "
                           "$.domains[0].criteria.cell_size", str(ctx.exception))
 
     def test_finer_domain_criteria_give_more_tetrahedra_in_that_material(self):
@@ -464,6 +464,17 @@ class Readers(unittest.TestCase):
             f.write(LABELS.tobytes())
         self.assertPlaced("ras.nhdr", LPS_FROM_RAS @ LABEL_CENTRE)
         self.assertPlaced("ras.nhdr", LABEL_CENTRE, space="RAS")
+
+    def test_inrimage_spacing_and_translation(self):
+        import struct
+
+        values = LABELS.astype(np.uint16)  # 16 bits, big-endian ("sun"), gzip-compressed
+        header = ("#INRIMAGE-4#{\nXDIM=12\nYDIM=10\nZDIM=8\nVDIM=1\nTYPE=unsigned fixed\nPIXSIZE=16 bits\n"
+                  "SCALE=2**0\nCPU=sun\nVX=0.5\nVY=1\nVZ=2\n" + "".join(f"T{a}={v:g}\n" for a, v in zip("XYZ", ORIGIN)))
+        header = header + "\n" * (256 - len(header) - 4) + "##}\n"
+        with gzip.open(os.path.join(self.dir, "a.inr.gz"), "wb") as f:
+            f.write(header.encode() + struct.pack(f">{values.size}H", *values.ravel()))
+        self.assertPlaced("a.inr.gz", ORIGIN + SPACING * np.array([3.5, 4.5, 3.0]))
 
     def test_bad_nrrd_is_named(self):
         with open(os.path.join(self.dir, "four.nrrd"), "wb") as f:

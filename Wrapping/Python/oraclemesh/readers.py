@@ -2,8 +2,8 @@
 """Readers chosen by file extension, for surfaces and label maps.
 
 Surfaces (``.vtp .vtk .stl .obj .ply``) go through VTK's readers and are taken as they are, in the
-scene's coordinates. Label maps (``.vti .mha .mhd .nii .nii.gz .nrrd .nhdr``) are placed in the scene
-with their origin, spacing and direction, and converted to the scene's anatomical frame (``space``:
+scene's coordinates. Label maps (``.vti .mha .mhd .nii .nii.gz .nrrd .nhdr .inr .inr.gz``) are placed
+in the scene with their origin, spacing and direction, and converted to the scene's anatomical frame (``space``:
 ``LPS``, the default, as ITK and 3D Slicer's files use, or ``RAS``):
 
 - ``.vti``: origin, spacing and direction as stored, no anatomical frame;
@@ -12,7 +12,9 @@ with their origin, spacing and direction, and converted to the scene's anatomica
 - NIfTI ``.nii/.nii.gz``: the sform when its code is set, else the qform, else the spacing alone;
   NIfTI's world is RAS (VTK's reader leaves the matrices aside: they are applied here);
 - NRRD ``.nrrd/.nhdr``: read here (VTK 9.2's vtkNrrdReader misreads 3-D volumes): ``space origin``,
-  ``space directions`` (or ``spacings``), the frame from ``space``; raw, gzip, bzip2 or ASCII data.
+  ``space directions`` (or ``spacings``), the frame from ``space``; raw, gzip, bzip2 or ASCII data;
+- INRIMAGE ``.inr/.inr.gz`` (CGAL's format): ``VX VY VZ`` spacing, ``TX TY TZ`` origin (CGAL's
+  Image_3 translation), no direction and no anatomical frame.
 """
 import functools
 import os
@@ -20,13 +22,16 @@ import os
 from .errors import OracleMeshError
 
 SURFACE_EXTENSIONS = (".vtp", ".vtk", ".stl", ".obj", ".ply")
-LABEL_MAP_EXTENSIONS = (".vti", ".mha", ".mhd", ".nii", ".nii.gz", ".nrrd", ".nhdr")
+LABEL_MAP_EXTENSIONS = (".vti", ".mha", ".mhd", ".nii", ".nii.gz", ".nrrd", ".nhdr", ".inr", ".inr.gz")
 SPACES = ("LPS", "RAS")
 
 
 def _extension(path):
     lower = path.lower()
-    return ".nii.gz" if lower.endswith(".nii.gz") else os.path.splitext(lower)[1]
+    for double in (".nii.gz", ".inr.gz"):
+        if lower.endswith(double):
+            return double
+    return os.path.splitext(lower)[1]
 
 
 def surface_reader(path):
@@ -68,7 +73,9 @@ def label_map_reader(path, space="LPS"):
         reader.SetFileName(path)
         return reader
     if ext in (".nrrd", ".nhdr"):
-        return _NrrdReader(path, space)
+        return _ArrayReader(path, space, read_nrrd)
+    if ext in (".inr", ".inr.gz"):
+        return _ArrayReader(path, space, read_inrimage)
     if ext in (".mha", ".mhd"):
         from vtkmodules.vtkIOImage import vtkMetaImageReader
 
@@ -314,25 +321,26 @@ def read_nrrd(path):
 
 
 @functools.lru_cache(maxsize=None)
-def _nrrd_class():
+def _array_reader_class():
     from vtkmodules.util.numpy_support import numpy_to_vtk
     from vtkmodules.util.vtkAlgorithm import VTKPythonAlgorithmBase
     from vtkmodules.vtkCommonDataModel import vtkDataObject, vtkImageData
     from vtkmodules.vtkCommonExecutionModel import vtkStreamingDemandDrivenPipeline
 
-    class NrrdReader(VTKPythonAlgorithmBase):
-        """A NRRD label map as vtkImageData (point scalars 'labels'), placed in the scene's frame."""
+    class ArrayReader(VTKPythonAlgorithmBase):
+        """A label map read by `read` (NRRD, INRIMAGE) as vtkImageData (point scalars 'labels'), placed in
+        the scene's frame."""
 
-        def __init__(self, path, space):
+        def __init__(self, path, space, read):
             VTKPythonAlgorithmBase.__init__(self, nInputPorts=0, nOutputPorts=1, outputType="vtkImageData")
-            self.path, self.space, self.cache = path, space, None
+            self.path, self.space, self.read, self.cache = path, space, read, None
 
         def GetFileName(self):
             return self.path
 
         def _read(self):
             if self.cache is None:
-                labels, origin, spacing, direction, frame = read_nrrd(self.path)
+                labels, origin, spacing, direction, frame = self.read(self.path)
                 origin, direction = _to_space(origin, direction, frame, self.space)
                 self.cache = (labels, origin, spacing, direction)
             return self.cache
@@ -364,8 +372,60 @@ def _nrrd_class():
             image.GetPointData().SetScalars(array)
             return 1
 
-    return NrrdReader
+    return ArrayReader
 
 
-def _NrrdReader(path, space):
-    return _nrrd_class()(path, space)
+def _ArrayReader(path, space, read):
+    return _array_reader_class()(path, space, read)
+
+
+# ---------------------------------------------------------------------------------------------------
+# INRIMAGE-4: a text header padded to a multiple of 256 bytes, ending with "##}\n", then the voxels.
+
+_INR_TYPES = {("unsigned fixed", 8): "u1", ("unsigned fixed", 16): "u2", ("unsigned fixed", 32): "u4",
+              ("unsigned fixed", 64): "u8", ("signed fixed", 8): "i1", ("signed fixed", 16): "i2",
+              ("signed fixed", 32): "i4", ("signed fixed", 64): "i8", ("float", 32): "f4", ("float", 64): "f8"}
+
+
+def read_inrimage(path):
+    """(labels as a numpy array indexed [k, j, i], origin, spacing, identity direction, no frame)."""
+    import gzip
+
+    import numpy as np
+
+    try:
+        with (gzip.open(path, "rb") if path.lower().endswith(".gz") else open(path, "rb")) as f:
+            blob = f.read()
+    except (OSError, EOFError) as e:
+        raise OracleMeshError(f"{path}: cannot be read ({e})") from None
+    end = blob.find(b"##}\n")
+    if not blob.startswith(b"#INRIMAGE-4#{") or end < 0:
+        raise OracleMeshError(f"{path}: not an INRIMAGE-4 file (no #INRIMAGE-4#{{ ... ##}} header)")
+    header_size = (end + 4 + 255) // 256 * 256
+    fields = {}
+    for line in blob[:end].decode("latin-1").splitlines()[1:]:
+        key, sep, value = line.partition("=")
+        if sep:
+            fields[key.strip().upper()] = value.strip()
+    try:
+        sizes = [int(fields[k]) for k in ("XDIM", "YDIM", "ZDIM")]
+        components = int(fields.get("VDIM", "1"))
+        bits = int(fields.get("PIXSIZE", "8 bits").split()[0])
+        dtype = np.dtype(_INR_TYPES[(fields.get("TYPE", "unsigned fixed").lower(), bits)])
+    except (KeyError, ValueError) as e:
+        raise OracleMeshError(f"{path}: INRIMAGE header has a missing or bad XDIM/YDIM/ZDIM, TYPE or PIXSIZE ({e})") \
+            from None
+    if components != 1:
+        raise OracleMeshError(f"{path}: a label map must have one value per voxel, got VDIM={components}")
+    if dtype.itemsize > 1:
+        big = fields.get("CPU", "decm").lower() in ("sun", "sgi")
+        dtype = dtype.newbyteorder(">" if big else "<")
+    count = sizes[0] * sizes[1] * sizes[2]
+    payload = blob[header_size:]
+    if len(payload) < count * dtype.itemsize:
+        raise OracleMeshError(f"{path}: {len(payload)} bytes of data for {' x '.join(map(str, sizes))} voxels "
+                              f"of {dtype.itemsize} byte(s)")
+    values = np.frombuffer(payload, dtype=dtype, count=count)
+    spacing = np.array([float(fields.get(k, "1")) for k in ("VX", "VY", "VZ")])
+    origin = np.array([float(fields.get(k, "0")) for k in ("TX", "TY", "TZ")])  # CGAL's Image_3 translation
+    return values.reshape(sizes[2], sizes[1], sizes[0]), origin, spacing, np.eye(3), None

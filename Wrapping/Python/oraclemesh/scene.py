@@ -1,17 +1,23 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """Scene files: a JSON description of the oracle's domains in priority order, turned into a VTK
-pipeline (readers -> domain algorithms -> vtkHierarchicalOracle).
+pipeline (readers -> domain algorithms -> vtkHierarchicalOracle), plus how to mesh it and where to
+write the results (the README's "Scene files" section documents every key):
 
-    {"domains": [
-       {"name": "implant", "type": "surface", "file": "implant.vtp", "material": 3},
+    {"space": "LPS",
+     "domains": [
+       {"name": "implant", "type": "surface", "file": "implant.vtp", "material": 3,
+        "criteria": {"cell_size": 1}},
        {"name": "screw", "type": "cylinder", "center": [x, y, z], "axis": [ax, ay, az],
         "radius": 2.5, "height": 34, "material": 4},
        {"name": "resection", "type": "plane", "origin": [...], "normal": [...], "cut": true},
-       {"name": "tibia", "type": "labelmap", "file": "labels.vti", "array": "labels",
+       {"name": "tibia", "type": "labelmap", "file": "labels.nii.gz", "array": "labels",
         "background": 0, "label_names": {"1": "cortical bone"}},
        {"name": "ball", "type": "sphere", "center": [...], "radius": 5, "material": 5},
-       {"name": "block", "type": "box", "bounds": [xmin, xmax, ymin, ymax, zmin, zmax], "material": 6}
-    ]}
+       {"name": "block", "type": "box", "bounds": [xmin, xmax, ymin, ymax, zmin, zmax], "material": 6}],
+     "mesh": {"strategy": "Conforming", "criteria": {...}, "materials": {"3": {...}},
+              "features": {"from_surface": "implant", "feature_angle": 60, "files": [...]},
+              "seed": 1, "maximum_number_of_vertices": 200000},
+     "outputs": {"mesh": ["out.vtu", "out.inp"], "report": "report.txt", "histogram": "dihedral.png"}}
 
 The first domain has the highest priority. Relative file paths resolve against the scene file.
 Every problem found is reported at once, each with its JSON path.
@@ -61,6 +67,7 @@ class Scene:
         self.outputs = {}
         self.domain_criteria = []
         self.feature_readers = []
+        self.source = "scene"
 
     def path(self, file):
         """A scene path: relative ones resolve against the scene file's folder."""
@@ -76,7 +83,7 @@ class Scene:
                 for key, value in criteria.items():
                     where = f"$.domains[{index}].criteria.{key}"
                     if key in merged.get(m, {}) and merged[m][key] != value:
-                        raise OracleMeshError(f"{where}: material {m} already has {key} {merged[m][key]} "
+                        raise OracleMeshError(f"{self.source}: {where}: material {m} already has {key} {merged[m][key]} "
                                               f"from {origin[(m, key)]}")
                     merged.setdefault(m, {})[key] = value
                     origin[(m, key)] = where
@@ -102,7 +109,7 @@ class Scene:
             data = image.GetPointData()
         array = data.GetArray(name) if name else data.GetScalars()
         if array is None:
-            raise OracleMeshError(f"$.domains[{index}].file: no label array {name or '(scalars)'} in {spec['file']}")
+            raise OracleMeshError(f"{self.source}: $.domains[{index}].file: no label array {name or '(scalars)'} in {spec['file']}")
         labels = np.unique(vtk_to_numpy(array))
         return [int(v) for v in labels if v != spec.get("background", 0)]
 
@@ -303,6 +310,7 @@ def build_scene(description, base_dir=".", source="scene"):
 
     problems = _Problems()
     scene = Scene(description, base_dir)
+    scene.source = source
     space = description.get("space", "LPS") if isinstance(description, dict) else "LPS"
     if space not in SPACES:
         problems.add("$.space", f"must be one of {', '.join(SPACES)} (the scene's anatomical frame), got {space!r}")
