@@ -159,6 +159,57 @@ class MeshOutputs(unittest.TestCase):
         self.assertIn("x.stl: unknown mesh format '.stl'", result.stderr)
 
 
+def _two_tetrahedra(materials):
+    from vtkmodules.util.vtkConstants import VTK_TETRA
+    from vtkmodules.vtkCommonCore import vtkIntArray, vtkPoints
+    from vtkmodules.vtkCommonDataModel import vtkUnstructuredGrid
+
+    grid = vtkUnstructuredGrid()
+    points = vtkPoints()
+    for p in ((0, 0, 0), (1, 0, 0), (0, 1, 0), (0, 0, 1), (0, 0, -1)):
+        points.InsertNextPoint(p)
+    grid.SetPoints(points)
+    array = vtkIntArray()
+    array.SetName("Material")
+    for ids, m in zip(((0, 1, 2, 3), (0, 2, 1, 4)), materials):
+        grid.InsertNextCell(VTK_TETRA, 4, ids)
+        array.InsertNextValue(m)
+    grid.GetCellData().AddArray(array)
+    return grid
+
+
+class Writers(unittest.TestCase):
+    def test_abaqus_set_names_are_valid_and_distinct(self):
+        import meshio
+
+        from oraclemesh.writers import write_mesh
+
+        with tempfile.TemporaryDirectory() as tmp:
+            path = os.path.join(tmp, "two.inp")
+            write_mesh(_two_tetrahedra((1, 2)), path, {1: "cortical bone", 2: "Cortical-Bone"})
+            sets = meshio.read(path).cell_sets
+            self.assertEqual({k: [list(p) for p in v] for k, v in sets.items()},
+                             {"CORTICAL_BONE": [[0]], "CORTICAL_BONE_2": [[1]]})
+            write_mesh(_two_tetrahedra((0, 7)), path)
+            self.assertEqual(set(meshio.read(path).cell_sets), {"MATERIAL_0", "MATERIAL_7"})
+
+    def test_bad_meshes_and_formats_are_named(self):
+        from oraclemesh.writers import write_mesh
+
+        with tempfile.TemporaryDirectory() as tmp:
+            with self.assertRaises(om.OracleMeshError) as ctx:
+                write_mesh(_two_tetrahedra((0, 1)), os.path.join(tmp, "zero.msh"))
+            self.assertIn("zero.msh: material 0 cannot be a Gmsh physical tag", str(ctx.exception))
+            with self.assertRaises(om.OracleMeshError) as ctx:
+                write_mesh(_two_tetrahedra((1, 2)), os.path.join(tmp, "a.off"))
+            self.assertIn("a.off: unknown mesh format '.off'", str(ctx.exception))
+            grid = _two_tetrahedra((1, 2))
+            grid.GetCellData().RemoveArray("Material")
+            with self.assertRaises(om.OracleMeshError) as ctx:
+                write_mesh(grid, os.path.join(tmp, "b.mesh"))
+            self.assertIn("b.mesh: no cell array 'Material'", str(ctx.exception))
+
+
 class Batch(unittest.TestCase):
     def test_two_scenes_mesh_and_the_broken_ones_are_reported(self):
         with tempfile.TemporaryDirectory() as tmp:
@@ -195,6 +246,13 @@ class Batch(unittest.TestCase):
             counts = {n: material_counts(vtk_to_numpy(read_vtu(os.path.join(out, n + ".vtu")).GetCellData()
                                                       .GetArray("Material"))) for n in ("small", "smaller")}
             self.assertLess(counts["smaller"][2], counts["small"][2])
+
+    def test_a_scene_over_its_timeout_is_stopped_and_reported(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            small = write_json(os.path.join(tmp, "small.json"), SMALL_SCENE)
+            result = run("batch", small, "--timeout", "0.05", "-o", tmp)
+            self.assertEqual(result.returncode, 1)
+            self.assertIn("stopped after the 0.05 s timeout", result.stderr)
 
     def test_bad_jobs_is_a_usage_error(self):
         result = run("batch", "a.json", "--jobs", "0")
@@ -324,8 +382,9 @@ class SceneFormat(unittest.TestCase):
             description = dict(SMALL_SCENE, outputs={"mesh": ["out/a.vtu", "out/a.mesh"], "report": "out/r.txt",
                                                      "histogram": "out/h.png"})
             scene = write_json(os.path.join(tmp, "s.json"), description)
-            result = run("mesh", scene)
+            result = run("mesh", scene, "--progress")
             self.assertEqual(result.returncode, 0, result.stderr)
+            self.assertIn("meshing: 100%", result.stderr)  # not a terminal: a line every 10 %
             for name in ("a.vtu", "a.mesh", "r.txt", "h.png"):
                 self.assertTrue(os.path.getsize(os.path.join(tmp, "out", name)) > 0, name)
             no_output = write_json(os.path.join(tmp, "n.json"), SMALL_SCENE)
