@@ -3,6 +3,7 @@
 # bone/implant scene (Data/demo/scene.json). Writes to ./demo-output (or $1):
 #   demo_mesh.vtu     the multi-material tetrahedral mesh (open in ParaView, colour by Material)
 #   mesh_report.txt   its quality report (tets and volume per material, dihedral angles, features)
+#   demo_dihedral.png its dihedral-angle histogram
 #   demo_mesh.png     a picture of it, cut open through the screw
 #   demo_oracle.vti / report.txt / demo_oracle.png   the combined oracle sampled on a grid
 set -euo pipefail
@@ -20,7 +21,7 @@ mkdir -p "$out"
 xvfb-run -a -s "-screen 0 1280x1024x24" pvbatch "$site/oraclemesh/render.py" \
   "$out/demo_oracle.vti" "$out/demo_oracle.png" "$out/materials.json" >/dev/null
 /usr/bin/python3 -m oraclemesh mesh "$root/Data/demo/scene.json" -o "$out/demo_mesh.vtu" \
-  --report "$out/mesh_report.txt" 2> "$out/mesh_warnings.log"
+  --report "$out/mesh_report.txt" --histogram "$out/demo_dihedral.png" 2> "$out/mesh_warnings.log"
 xvfb-run -a -s "-screen 0 1280x1024x24" pvbatch "$site/oraclemesh/render.py" \
   "$out/demo_mesh.vtu" "$out/demo_mesh.png" "$out/materials.json" >/dev/null
 echo "pictures: $out/demo_oracle.png $out/demo_mesh.png"

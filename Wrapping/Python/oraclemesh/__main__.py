@@ -1,23 +1,22 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""Command line: ``python3 -m oraclemesh <command> ...`` (see ``--help``)."""
+"""Command line: ``oraclemesh <command> ...`` or ``python3 -m oraclemesh <command> ...`` (see ``--help``).
+
+  sample SCENE   sample a scene's oracle to a label image and report material volumes
+  mesh SCENE     tetrahedralize a scene to .vtu / .inp / .msh / .mesh with a quality report
+  report MESH    quality report of a .vtu mesh: table and dihedral-angle histogram (text and PNG)
+  batch SCENES   mesh many scenes, each in its own process, with a summary CSV
+"""
 import argparse
+import json
 import os
 import sys
 import time
 
 from .errors import OracleMeshError, update
-from .scene import load_scene
+from .scene import CRITERIA_KEYS, STRATEGIES, load_scene
+from .writers import MESH_FORMATS, write_mesh, write_vtk_xml
 
-
-def _write(data, path, writer_class):
-    """Writes `data` with a VTK XML writer (zlib-compressed), creating the folder."""
-    os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
-    writer = writer_class()
-    writer.SetFileName(path)
-    writer.SetInputData(data)
-    writer.SetCompressorTypeToZLib()
-    if not writer.Write():
-        raise OracleMeshError(f"{path}: could not be written")
+PROGRESS_PREFIX = "oraclemesh-progress "  # machine-readable progress lines (batch reads them)
 
 
 def _publish(lines, report_path):
@@ -25,7 +24,8 @@ def _publish(lines, report_path):
     report = "\n".join(lines)
     print(report)
     if report_path:
-        with open(report_path, "w") as f:
+        os.makedirs(os.path.dirname(os.path.abspath(report_path)), exist_ok=True)
+        with open(report_path, "w", encoding="utf-8") as f:
             f.write(report + "\n")
 
 
@@ -41,7 +41,7 @@ def _sample(args):
     sampler.SetDimensions(*args.dims)
     image = update(sampler)
     if args.output:
-        _write(image, args.output, vtkXMLImageDataWriter)
+        write_vtk_xml(image, args.output, vtkXMLImageDataWriter)
     names = scene.material_names()
     fd = image.GetFieldData()
     ids, volumes = fd.GetArray("MaterialIds"), fd.GetArray("MaterialVolume")
@@ -59,97 +59,164 @@ def _sample(args):
     return 0
 
 
-CRITERIA_KEYS = {
-    "facet_angle": "FacetAngle", "facet_size": "FacetSize", "facet_distance": "FacetDistance",
-    "cell_size": "CellSize", "cell_radius_edge_ratio": "CellRadiusEdgeRatio", "edge_size": "EdgeSize",
-}
-STRATEGIES = ("Conforming", "None", "ProtectingBalls")
-
-
-def _mesher_for(scene, args):
-    """The tetrahedralizer set up from the scene's "mesh" block (criteria, per-material criteria,
-    feature lines, strategy, seed), command-line options winning."""
-    from vtkmodules.vtkFiltersCore import vtkFeatureEdges
+def mesher_for(scene, strategy=None):
+    """The tetrahedralizer set up from the scene's validated "mesh" block (criteria, per-material
+    criteria from the domains and "mesh.materials", feature lines, strategy, seed); `strategy`
+    overrides the scene's."""
+    from vtkmodules.vtkFiltersCore import vtkAppendPolyData, vtkFeatureEdges
 
     from . import vtkFeaturePreservingTetrahedralizer
 
-    spec = scene.description.get("mesh", {})
+    spec = scene.mesh
     mesher = vtkFeaturePreservingTetrahedralizer()
     mesher.SetInputConnection(0, scene.oracle.GetOutputPort())
-    strategy = args.strategy or spec.get("strategy", "Conforming")
-    if strategy not in STRATEGIES:
-        raise OracleMeshError(f"$.mesh.strategy: must be one of {', '.join(STRATEGIES)}, got {strategy!r}")
-    getattr(mesher, "SetFeatureStrategyTo" + strategy)()
+    getattr(mesher, "SetFeatureStrategyTo" + (strategy or spec.get("strategy", "Conforming")))()
     for key, value in spec.get("criteria", {}).items():
-        if key not in CRITERIA_KEYS:
-            raise OracleMeshError(f"$.mesh.criteria.{key}: unknown (use {', '.join(CRITERIA_KEYS)})")
-        getattr(mesher, "Set" + CRITERIA_KEYS[key])(float(value))
-    for material, overrides in spec.get("materials", {}).items():
-        values = [-1.0] * 6
+        getattr(mesher, "Set" + CRITERIA_KEYS[key])(value)
+    for material, overrides in scene.material_criteria().items():
+        values = [-1.0] * len(CRITERIA_KEYS)  # < 0: inherit the global value
         for key, value in overrides.items():
-            if key not in CRITERIA_KEYS:
-                raise OracleMeshError(f"$.mesh.materials.{material}.{key}: unknown criterion")
-            values[list(CRITERIA_KEYS).index(key)] = float(value)
-        mesher.SetMaterialCriteria(int(material), *values)
+            values[list(CRITERIA_KEYS).index(key)] = value
+        mesher.SetMaterialCriteria(material, *values)
     features = spec.get("features")
     if features:
-        names = [d.get("name") for d in scene.description["domains"]]
-        source = features.get("from_surface")
-        if source not in names or scene.description["domains"][names.index(source)]["type"] != "surface":
-            raise OracleMeshError(f"$.mesh.features.from_surface: no surface domain named {source!r}")
-        reader = scene.domains[names.index(source)].GetInputAlgorithm()
-        edges = vtkFeatureEdges()
-        edges.SetInputConnection(reader.GetOutputPort())
-        edges.BoundaryEdgesOff()
-        edges.NonManifoldEdgesOff()
-        edges.ManifoldEdgesOff()
-        edges.SetFeatureAngle(float(features.get("feature_angle", 60)))
-        mesher.SetInputConnection(1, edges.GetOutputPort())
-        scene.feature_edges = edges
-    mesher.SetSeed(int(spec.get("seed", 0)))
+        parts = []
+        for index in features["from_surface"]:
+            edges = vtkFeatureEdges()
+            edges.SetInputConnection(scene.domains[index].GetInputConnection(0, 0))
+            edges.BoundaryEdgesOff()
+            edges.NonManifoldEdgesOff()
+            edges.ManifoldEdgesOff()
+            edges.SetFeatureAngle(features["feature_angle"])
+            parts.append(edges)
+        parts.extend(scene.feature_readers)
+        if len(parts) == 1:
+            lines = parts[0]
+        else:
+            lines = vtkAppendPolyData()
+            for part in parts:
+                lines.AddInputConnection(part.GetOutputPort())
+        mesher.SetInputConnection(1, lines.GetOutputPort())
+        scene.feature_lines = lines  # keeps the Python objects alive with the scene
+    mesher.SetSeed(spec.get("seed", 0))
     if "maximum_number_of_vertices" in spec:
-        mesher.SetMaximumNumberOfVertices(int(spec["maximum_number_of_vertices"]))
+        mesher.SetMaximumNumberOfVertices(spec["maximum_number_of_vertices"])
     return mesher
 
 
+class _Progress:
+    """Reports a filter's ProgressEvent: a bar redrawn in place on a terminal, else a line every 10 %,
+    or machine-readable lines (``--progress-lines``, read by ``batch``)."""
+
+    def __init__(self, stream, machine=False):
+        self.stream, self.machine = stream, machine
+        self.tty = not machine and stream.isatty()
+        self.last, self.last_time = -1.0, 0.0
+
+    def __call__(self, algorithm, event):
+        fraction = algorithm.GetProgress()
+        now = time.monotonic()
+        if self.machine or self.tty:
+            if fraction - self.last < 0.01 and now - self.last_time < 1.0 and fraction < 1.0:
+                return
+            if self.machine:
+                self.stream.write(f"{PROGRESS_PREFIX}{fraction:.4f}\n")
+            else:
+                filled = int(30 * fraction)
+                self.stream.write(f"\rmeshing [{'#' * filled}{'-' * (30 - filled)}] {100 * fraction:5.1f}%"
+                                  + ("\n" if fraction >= 1.0 else ""))
+        elif int(10 * fraction) > int(10 * max(self.last, 0)) or self.last < 0:
+            self.stream.write(f"meshing: {100 * fraction:.0f}%\n")
+        else:
+            return
+        self.stream.flush()
+        self.last, self.last_time = fraction, now
+
+
+def _describe(grid, names, feature_segments):
+    """Stores {material id: name} (MaterialIds, MaterialNames) and the number of feature-line
+    segments given (FeatureSegments) in the mesh's field data, for the report."""
+    from vtkmodules.vtkCommonCore import vtkIntArray, vtkStringArray
+
+    count = vtkIntArray()
+    count.SetName("FeatureSegments")
+    count.InsertNextValue(feature_segments)
+    grid.GetFieldData().AddArray(count)
+    ids, strings = vtkIntArray(), vtkStringArray()
+    ids.SetName("MaterialIds")
+    strings.SetName("MaterialNames")
+    for m, name in sorted(names.items()):
+        ids.InsertNextValue(m)
+        strings.InsertNextValue(name)
+    grid.GetFieldData().AddArray(ids)
+    grid.GetFieldData().AddArray(strings)
+
+
 def _mesh(args):
-    import numpy as np
-    from vtkmodules.util.numpy_support import vtk_to_numpy
-    from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridWriter
+    from .report import report_lines, save_histogram, statistics
 
     started = time.perf_counter()
     scene = load_scene(args.scene)
-    mesher = _mesher_for(scene, args)
+    outputs = args.output or scene.outputs.get("mesh")
+    if not outputs:
+        raise OracleMeshError(f"{args.scene}: no output: give -o OUT (or \"outputs\": {{\"mesh\": ...}} in the scene)")
+    for out in outputs:
+        ext = os.path.splitext(out)[1].lower()
+        if ext not in MESH_FORMATS:
+            raise OracleMeshError(f"{out}: unknown mesh format '{ext}' (use one of {', '.join(MESH_FORMATS)})")
+    mesher = mesher_for(scene, args.strategy)
+    if args.progress or args.progress_lines:
+        mesher.AddObserver("ProgressEvent", _Progress(sys.stderr, machine=args.progress_lines))
     grid = update(mesher)
-    _write(grid, args.output, vtkXMLUnstructuredGridWriter)
-    fd = grid.GetFieldData()
-    names_array, values_array = fd.GetAbstractArray("StatisticNames"), fd.GetArray("StatisticValues")
-    stats = {names_array.GetValue(i): values_array.GetValue(i) for i in range(names_array.GetNumberOfValues())}
-    material = vtk_to_numpy(grid.GetCellData().GetArray("Material"))
-    angles = vtk_to_numpy(grid.GetCellData().GetArray("MinDihedralAngle"))
     names = scene.material_names()
-    lines = [f"Mesh of {args.scene}: {grid.GetNumberOfCells()} tetrahedra, {grid.GetNumberOfPoints()} vertices "
-             f"({time.perf_counter() - started:.1f} s, strategy {args.strategy or scene.description.get('mesh', {}).get('strategy', 'Conforming')})",
-             f"{'material':>8}  {'name':<18} {'tets':>9} {'volume [mm^3]':>14} {'min dihedral':>13}"]
-    for m in sorted(set(material.tolist())):
-        sel = material == m
-        lines.append(f"{m:>8}  {names.get(m, '?'):<18} {int(sel.sum()):>9} "
-                     f"{stats.get(f'volume.material_{m}', 0):>14.1f} {angles[sel].min():>12.2f}°")
-    hist, edges = np.histogram(angles, bins=[0, 5, 10, 20, 30, 40, 50, 60, 90])
-    lines.append("dihedral angles: " + ", ".join(f"{int(a)}-{int(b)}°: {n}" for a, b, n in zip(edges, edges[1:], hist)))
-    lines.append(f"min dihedral {stats['min_dihedral_angle']:.2f}°, mean of per-tet minima "
-                 f"{stats['mean_min_dihedral_angle']:.1f}°, feature lines present as mesh edges: "
-                 f"{100 * stats['feature_coverage']:.1f}%")
-    warnings = fd.GetAbstractArray("Warnings")
-    for i in range(warnings.GetNumberOfValues()):
-        lines.append("warning: " + warnings.GetValue(i))
-    lines.append(f"wrote {args.output} (cell data Material, MinDihedralAngle, RadiusEdgeRatio): open it in ParaView")
+    segments = mesher.GetOutputDataObject(2)
+    _describe(grid, names, segments.GetNumberOfCells() if segments is not None else 0)
+    for out in outputs:
+        write_mesh(grid, out, names)
+    seconds = time.perf_counter() - started
+    strategy = args.strategy or scene.mesh.get("strategy", "Conforming")
+    lines, q = report_lines(grid, f"Mesh of {args.scene} ({seconds:.1f} s, strategy {strategy})", names)
+    lines.append(f"wrote {', '.join(outputs)}"
+                 + (" (.vtu: cell data Material, MinDihedralAngle, RadiusEdgeRatio; open it in ParaView)"
+                    if any(o.lower().endswith(".vtu") for o in outputs) else ""))
+    histogram = args.histogram or scene.outputs.get("histogram")
+    if histogram:
+        save_histogram(q, histogram, names, f"Dihedral angles: {os.path.basename(args.scene)}")
+        lines.append(f"wrote {histogram}")
+    _publish(lines, args.report or scene.outputs.get("report"))
+    if args.summary:
+        stats = statistics(grid)
+        with open(args.summary, "w") as f:
+            json.dump({"tets": q["tets"], "vertices": q["vertices"], "min_dihedral": q["min_dihedral"],
+                       "feature_coverage": stats.get("feature_coverage") if scene.mesh.get("features") else None,
+                       "seconds": seconds, "outputs": outputs}, f)
+    return 0
+
+
+def _report(args):
+    from .report import read_mesh, report_lines, save_histogram
+
+    grid = read_mesh(args.mesh)
+    lines, q = report_lines(grid, f"Mesh {args.mesh}", source=args.mesh)
+    png = None if args.no_png else (args.png or os.path.splitext(args.mesh)[0] + "_dihedral.png")
+    if png:
+        from .report import material_names
+
+        save_histogram(q, png, material_names(grid), f"Dihedral angles: {os.path.basename(args.mesh)}")
+        lines.append(f"wrote {png}")
     _publish(lines, args.report)
     return 0
 
 
+def _batch(args):
+    from .batch import run_batch
+
+    return run_batch(args)
+
+
 def main(argv=None):
-    parser = argparse.ArgumentParser(prog="oraclemesh", description=__doc__)
+    parser = argparse.ArgumentParser(prog="oraclemesh", description=__doc__,
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
     sub = parser.add_subparsers(dest="command", required=True)
     p = sub.add_parser("sample", help="sample a scene's oracle to a label image and report material volumes")
     p.add_argument("scene", help="scene file (JSON)")
@@ -158,12 +225,35 @@ def main(argv=None):
                    help="grid points per axis (default 128 128 128)")
     p.add_argument("--report", help="also write the report to this text file")
     p.set_defaults(run=_sample)
-    p = sub.add_parser("mesh", help="tetrahedralize a scene (its \"mesh\" block sets the criteria) to a .vtu")
+    p = sub.add_parser("mesh", help="tetrahedralize a scene (its \"mesh\" block sets the criteria)")
     p.add_argument("scene", help="scene file (JSON)")
-    p.add_argument("-o", "--output", required=True, help="output mesh (.vtu)")
+    p.add_argument("-o", "--output", action="append",
+                   help=f"output mesh, format by extension ({' '.join(MESH_FORMATS)}); repeat for several "
+                        "(default: the scene's outputs.mesh)")
     p.add_argument("--strategy", choices=STRATEGIES, help="feature strategy (default: the scene's, else Conforming)")
     p.add_argument("--report", help="also write the quality report to this text file")
+    p.add_argument("--histogram", help="save the dihedral-angle histogram to this PNG")
+    p.add_argument("--progress", action="store_true", help="show the mesher's progress on stderr")
+    p.add_argument("--progress-lines", action="store_true", help=argparse.SUPPRESS)
+    p.add_argument("--summary", help=argparse.SUPPRESS)  # JSON of the figures batch puts in its CSV
     p.set_defaults(run=_mesh)
+    p = sub.add_parser("report", help="quality report of a .vtu mesh written by 'mesh': table and histogram")
+    p.add_argument("mesh", help="tetrahedral mesh (.vtu with cell data Material and MinDihedralAngle)")
+    p.add_argument("--png", help="histogram picture (default: MESH without .vtu + _dihedral.png)")
+    p.add_argument("--no-png", action="store_true", help="do not save the histogram picture")
+    p.add_argument("--report", help="also write the report to this text file")
+    p.set_defaults(run=_report)
+    p = sub.add_parser("batch", help="mesh several scenes, each in its own process, with a summary CSV")
+    p.add_argument("scenes", nargs="+", help="scene files (JSON)")
+    p.add_argument("-j", "--jobs", type=int, default=1, help="scenes meshed at once (default 1)")
+    p.add_argument("-o", "--output-dir", default="batch-output",
+                   help="folder for the meshes, reports, logs and summary.csv (default ./batch-output)")
+    p.add_argument("-f", "--format", action="append", choices=[f[1:] for f in MESH_FORMATS],
+                   help="mesh format(s) to write (default vtu; repeat for several)")
+    p.add_argument("--csv", help="summary CSV (default OUTPUT_DIR/summary.csv)")
+    p.add_argument("--strategy", choices=STRATEGIES, help="feature strategy for every scene")
+    p.add_argument("--timeout", type=float, help="seconds after which a scene's process is stopped")
+    p.set_defaults(run=_batch)
     args = parser.parse_args(argv)
     try:
         return args.run(args)

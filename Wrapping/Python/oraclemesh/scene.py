@@ -1,17 +1,23 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """Scene files: a JSON description of the oracle's domains in priority order, turned into a VTK
-pipeline (readers -> domain algorithms -> vtkHierarchicalOracle).
+pipeline (readers -> domain algorithms -> vtkHierarchicalOracle), plus how to mesh it and where to
+write the results (the README's "Scene files" section documents every key):
 
-    {"domains": [
-       {"name": "implant", "type": "surface", "file": "implant.vtp", "material": 3},
+    {"space": "LPS",
+     "domains": [
+       {"name": "implant", "type": "surface", "file": "implant.vtp", "material": 3,
+        "criteria": {"cell_size": 1}},
        {"name": "screw", "type": "cylinder", "center": [x, y, z], "axis": [ax, ay, az],
         "radius": 2.5, "height": 34, "material": 4},
        {"name": "resection", "type": "plane", "origin": [...], "normal": [...], "cut": true},
-       {"name": "tibia", "type": "labelmap", "file": "labels.vti", "array": "labels",
+       {"name": "tibia", "type": "labelmap", "file": "labels.nii.gz", "array": "labels",
         "background": 0, "label_names": {"1": "cortical bone"}},
        {"name": "ball", "type": "sphere", "center": [...], "radius": 5, "material": 5},
-       {"name": "block", "type": "box", "bounds": [xmin, xmax, ymin, ymax, zmin, zmax], "material": 6}
-    ]}
+       {"name": "block", "type": "box", "bounds": [xmin, xmax, ymin, ymax, zmin, zmax], "material": 6}],
+     "mesh": {"strategy": "Conforming", "criteria": {...}, "materials": {"3": {...}},
+              "features": {"from_surface": "implant", "feature_angle": 60, "files": [...]},
+              "seed": 1, "maximum_number_of_vertices": 200000},
+     "outputs": {"mesh": ["out.vtu", "out.inp"], "report": "report.txt", "histogram": "dihedral.png"}}
 
 The first domain has the highest priority. Relative file paths resolve against the scene file.
 Every problem found is reported at once, each with its JSON path.
@@ -21,14 +27,35 @@ import math
 import os
 
 from .errors import OracleMeshError
-from .readers import label_map_reader, surface_reader
+from .readers import SPACES, label_map_reader, surface_reader
 
 DOMAIN_TYPES = ("surface", "labelmap", "sphere", "plane", "box", "cylinder")
+# Criteria in the scene -> the tetrahedralizer's setters (this order is SetMaterialCriteria's).
+CRITERIA_KEYS = {
+    "facet_angle": "FacetAngle", "facet_size": "FacetSize", "facet_distance": "FacetDistance",
+    "cell_size": "CellSize", "cell_radius_edge_ratio": "CellRadiusEdgeRatio", "edge_size": "EdgeSize",
+}
+STRATEGIES = ("Conforming", "None", "ProtectingBalls")
+COMMON_KEYS = {"name", "type", "material", "cut", "criteria", "comment"}
+DOMAIN_KEYS = {
+    "surface": {"file"},
+    "labelmap": {"file", "array", "association", "background", "label_names"},
+    "sphere": {"center", "radius"},
+    "plane": {"origin", "normal"},
+    "box": {"bounds"},
+    "cylinder": {"center", "axis", "radius", "height"},
+}
+TOP_KEYS = {"description", "comment", "space", "domains", "mesh", "outputs"}
+MESH_KEYS = {"strategy", "criteria", "materials", "features", "seed", "maximum_number_of_vertices", "comment"}
+FEATURE_KEYS = {"from_surface", "feature_angle", "files", "comment"}
+OUTPUT_KEYS = {"mesh", "report", "histogram", "comment"}
 
 
 class Scene:
     """The pipeline built from a scene: ``domains`` (algorithms, priority order), ``readers`` and
-    ``oracle`` (a vtkHierarchicalOracle)."""
+    ``oracle`` (a vtkHierarchicalOracle); ``mesh`` (the validated "mesh" block: strategy, criteria,
+    materials {id: {criterion: value}}, features, seed, maximum_number_of_vertices), ``outputs``
+    (absolute paths) and ``domain_criteria`` [(domain index, {criterion: value})]."""
 
     def __init__(self, description, base_dir):
         self.description = description
@@ -36,6 +63,55 @@ class Scene:
         self.readers = []
         self.domains = []
         self.oracle = None
+        self.mesh = {}
+        self.outputs = {}
+        self.domain_criteria = []
+        self.feature_readers = []
+        self.source = "scene"
+
+    def path(self, file):
+        """A scene path: relative ones resolve against the scene file's folder."""
+        return file if os.path.isabs(file) else os.path.join(self.base_dir, file)
+
+    def material_criteria(self):
+        """{material id: {criterion: value}}: the domains' "criteria" (a label map's apply to each of
+        its labels), then the "mesh.materials" entries, which win on the same criterion. Two domains
+        giving one material different values for a criterion is an error."""
+        merged, origin = {}, {}
+        for index, criteria in self.domain_criteria:
+            for m in self._materials_of(index):
+                for key, value in criteria.items():
+                    where = f"$.domains[{index}].criteria.{key}"
+                    if key in merged.get(m, {}) and merged[m][key] != value:
+                        raise OracleMeshError(f"{self.source}: {where}: material {m} already has {key} {merged[m][key]} "
+                                              f"from {origin[(m, key)]}")
+                    merged.setdefault(m, {})[key] = value
+                    origin[(m, key)] = where
+        for m, criteria in self.mesh.get("materials", {}).items():
+            merged.setdefault(m, {}).update(criteria)
+        return merged
+
+    def _materials_of(self, index):
+        spec = self.description["domains"][index]
+        if spec["type"] != "labelmap":
+            return [int(spec.get("material", 1))]
+        import numpy as np
+        from vtkmodules.util.numpy_support import vtk_to_numpy
+
+        from .errors import update
+
+        domain = self.domains[index]
+        image = update(domain.GetInputAlgorithm())
+        name = spec.get("array")
+        if spec.get("association", "point") == "cell":
+            data = image.GetCellData()
+        else:
+            data = image.GetPointData()
+        array = data.GetArray(name) if name else data.GetScalars()
+        if array is None:
+            raise OracleMeshError(f"{self.source}: $.domains[{index}].file: no label array {name or '(scalars)'} in {spec['file']}")
+        labels = np.unique(vtk_to_numpy(array))
+        return [int(v) for v in labels if v != spec.get("background", 0)]
 
     def material_names(self):
         """{material id: name} from the scene's domains (cut domains have no material)."""
@@ -102,6 +178,130 @@ def load_scene(path):
     return build_scene(description, os.path.dirname(os.path.abspath(path)), source=path)
 
 
+def _criteria(problems, value, path):
+    """A validated {criterion: float} from a "criteria" object, or {}."""
+    if not isinstance(value, dict):
+        problems.add(path, f"must be an object {{criterion: number}} with criteria from {', '.join(CRITERIA_KEYS)}")
+        return {}
+    out = {}
+    for key in value:
+        if key not in CRITERIA_KEYS:
+            problems.add(f"{path}.{key}", f"unknown criterion (use {', '.join(CRITERIA_KEYS)})")
+            continue
+        number = _number(problems, value, path, key)
+        if number is not None:
+            out[key] = number
+    return out
+
+
+def _unknown_keys(problems, spec, path, allowed):
+    for key in spec:
+        if key not in allowed and not str(key).startswith("_"):
+            problems.add(f"{path}.{key}", f"unknown key (use {', '.join(sorted(allowed))})")
+
+
+def _paths(problems, value, path, scene):
+    """A list of absolute paths from a string or a list of strings, or []."""
+    items = [value] if isinstance(value, str) else value
+    if not isinstance(items, list) or not items or not all(isinstance(v, str) and v for v in items):
+        problems.add(path, f"must be a file name or a list of file names, got {value!r}")
+        return []
+    return [scene.path(v) for v in items]
+
+
+def _mesh_block(problems, spec, scene):
+    """Validates the "mesh" block into scene.mesh (feature files are read by scene.feature_readers)."""
+    if not isinstance(spec, dict):
+        problems.add("$.mesh", "must be an object")
+        return
+    _unknown_keys(problems, spec, "$.mesh", MESH_KEYS)
+    mesh = scene.mesh
+    strategy = spec.get("strategy", "Conforming")
+    if strategy not in STRATEGIES:
+        problems.add("$.mesh.strategy", f"must be one of {', '.join(STRATEGIES)}, got {strategy!r}")
+    mesh["strategy"] = strategy
+    mesh["criteria"] = _criteria(problems, spec.get("criteria", {}), "$.mesh.criteria")
+    materials = spec.get("materials", {})
+    mesh["materials"] = {}
+    if not isinstance(materials, dict):
+        problems.add("$.mesh.materials", "must be an object {material id: {criterion: number}}")
+        materials = {}
+    for key, value in materials.items():
+        try:
+            material = int(key)
+        except ValueError:
+            problems.add(f"$.mesh.materials.{key}", "key must be an integer material id")
+            continue
+        mesh["materials"][material] = _criteria(problems, value, f"$.mesh.materials.{key}")
+    mesh["seed"] = _number(problems, spec, "$.mesh", "seed", required=False, default=0, integer=True) or 0
+    limit = _number(problems, spec, "$.mesh", "maximum_number_of_vertices", positive=True, required=False,
+                    integer=True)
+    if limit is not None:
+        mesh["maximum_number_of_vertices"] = limit
+    features = spec.get("features")
+    if features is None:
+        return
+    if not isinstance(features, dict):
+        problems.add("$.mesh.features", "must be an object")
+        return
+    _unknown_keys(problems, features, "$.mesh.features", FEATURE_KEYS)
+    out = {"from_surface": [], "files": []}
+    if "from_surface" in features:
+        names = features["from_surface"]
+        names = [names] if isinstance(names, str) else names
+        domains = scene.description["domains"]
+        surfaces = {d.get("name"): i for i, d in enumerate(domains) if isinstance(d, dict) and d.get("type") == "surface"}
+        if not isinstance(names, list) or not names:
+            problems.add("$.mesh.features.from_surface", "must be a surface domain's name or a list of them")
+            names = []
+        for k, name in enumerate(names):
+            if name in surfaces:
+                out["from_surface"].append(surfaces[name])
+            else:
+                where = "$.mesh.features.from_surface" + (f"[{k}]" if isinstance(features["from_surface"], list) else "")
+                problems.add(where, f"no surface domain named {name!r} "
+                                    f"(surfaces: {', '.join(map(str, surfaces)) or 'none'})")
+        angle = _number(problems, features, "$.mesh.features", "feature_angle", positive=True, required=False,
+                        default=60)
+        if angle is not None and angle >= 180:
+            problems.add("$.mesh.features.feature_angle", f"must be below 180 degrees, got {angle}")
+        out["feature_angle"] = angle or 60.0
+    if "files" in features:
+        for k, file in enumerate(_paths(problems, features["files"], "$.mesh.features.files", scene)):
+            try:
+                scene.feature_readers.append(surface_reader(file))
+            except OracleMeshError as e:
+                where = "$.mesh.features.files" + (f"[{k}]" if isinstance(features["files"], list) else "")
+                problems.add(where, str(e))
+            out["files"].append(file)
+    if "from_surface" not in features and "files" not in features:
+        problems.add("$.mesh.features", "give 'from_surface' (a surface domain's name) and/or 'files' (polylines)")
+    mesh["features"] = out
+
+
+def _outputs_block(problems, spec, scene):
+    if not isinstance(spec, dict):
+        problems.add("$.outputs", "must be an object")
+        return
+    _unknown_keys(problems, spec, "$.outputs", OUTPUT_KEYS)
+    if "mesh" in spec:
+        from .writers import MESH_FORMATS
+
+        files = _paths(problems, spec["mesh"], "$.outputs.mesh", scene)
+        for k, file in enumerate(files):
+            ext = os.path.splitext(file)[1].lower()
+            if ext not in MESH_FORMATS:
+                where = "$.outputs.mesh" + (f"[{k}]" if isinstance(spec["mesh"], list) else "")
+                problems.add(where, f"unknown mesh format '{ext}' (use one of {', '.join(MESH_FORMATS)})")
+        scene.outputs["mesh"] = files
+    for key in ("report", "histogram"):
+        if key in spec:
+            if not isinstance(spec[key], str) or not spec[key]:
+                problems.add(f"$.outputs.{key}", f"must be a file name, got {spec[key]!r}")
+            else:
+                scene.outputs[key] = scene.path(spec[key])
+
+
 def build_scene(description, base_dir=".", source="scene"):
     from vtkmodules.vtkCommonDataModel import vtkBox, vtkCylinder, vtkPlane
 
@@ -110,6 +310,11 @@ def build_scene(description, base_dir=".", source="scene"):
 
     problems = _Problems()
     scene = Scene(description, base_dir)
+    scene.source = source
+    space = description.get("space", "LPS") if isinstance(description, dict) else "LPS"
+    if space not in SPACES:
+        problems.add("$.space", f"must be one of {', '.join(SPACES)} (the scene's anatomical frame), got {space!r}")
+        space = "LPS"
     domains = description.get("domains") if isinstance(description, dict) else None
     if not isinstance(domains, list) or not domains:
         raise OracleMeshError(f"{source}: $.domains: missing or empty (a list of domains, highest priority first)")
@@ -122,8 +327,16 @@ def build_scene(description, base_dir=".", source="scene"):
         if kind not in DOMAIN_TYPES:
             problems.add(f"{where}.type", f"must be one of {', '.join(DOMAIN_TYPES)}, got {kind!r}")
             continue
+        _unknown_keys(problems, spec, where, COMMON_KEYS | DOMAIN_KEYS[kind])
         name = spec.get("name", f"{kind}{i}")
         cut = spec.get("cut", False)
+        if "criteria" in spec:
+            if cut:
+                problems.add(f"{where}.criteria", "a cut domain has no material to mesh: criteria do not apply")
+            else:
+                criteria = _criteria(problems, spec["criteria"], f"{where}.criteria")
+                if criteria:
+                    scene.domain_criteria.append((i, criteria))
         if not isinstance(cut, bool):
             problems.add(f"{where}.cut", f"must be true or false, got {cut!r}")
         material = _number(problems, spec, where, "material", required=not cut and kind != "labelmap",
@@ -137,9 +350,9 @@ def build_scene(description, base_dir=".", source="scene"):
             if not isinstance(file, str) or not file:
                 problems.add(f"{where}.file", "missing (path of the input file)")
                 continue
-            full = file if os.path.isabs(file) else os.path.join(base_dir, file)
+            full = scene.path(file)
             try:
-                reader = surface_reader(full) if kind == "surface" else label_map_reader(full)
+                reader = surface_reader(full) if kind == "surface" else label_map_reader(full, space)
             except OracleMeshError as e:
                 problems.add(f"{where}.file", str(e))
                 continue
@@ -220,6 +433,11 @@ def build_scene(description, base_dir=".", source="scene"):
             domain.SetImplicitFunction(function)
         domain.SetCut(bool(cut))
         scene.domains.append(domain)
+    if isinstance(description, dict):
+        _unknown_keys(problems, description, "$", TOP_KEYS)
+        _mesh_block(problems, description.get("mesh", {}), scene)
+        if "outputs" in description:
+            _outputs_block(problems, description["outputs"], scene)
     if problems.items:
         raise OracleMeshError(f"{source}: " + "; ".join(problems.items))
     oracle = vtkHierarchicalOracle()

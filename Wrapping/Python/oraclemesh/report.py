@@ -1,0 +1,135 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""Quality report of a tetrahedral mesh written by ``oraclemesh mesh`` (cell data Material,
+MinDihedralAngle; field data StatisticNames/StatisticValues, Warnings and MaterialIds/MaterialNames
+when present): per material tetrahedra, volume and minimal dihedral angle, a dihedral-angle
+histogram as text and as a PNG (matplotlib, Agg: no display needed)."""
+from .errors import OracleMeshError
+from .writers import tetrahedra
+
+# Text histogram bins [degrees]: a tetrahedron's minimal dihedral angle is at most 70.53 degrees.
+TEXT_BINS = (0, 5, 10, 20, 30, 40, 50, 60, 90)
+
+
+def _strings(array):
+    return [array.GetValue(i) for i in range(array.GetNumberOfValues())] if array is not None else []
+
+
+def material_names(grid):
+    """{material id: name} stored in the mesh's field data by ``oraclemesh mesh`` (may be empty)."""
+    fd = grid.GetFieldData()
+    ids, names = fd.GetArray("MaterialIds"), fd.GetAbstractArray("MaterialNames")
+    if ids is None or names is None:
+        return {}
+    return {int(ids.GetValue(i)): names.GetValue(i) for i in range(min(ids.GetNumberOfValues(),
+                                                                       names.GetNumberOfValues()))}
+
+
+def statistics(grid):
+    """The mesher's statistics {name: value} from the field data (empty for other meshes)."""
+    fd = grid.GetFieldData()
+    names, values = fd.GetAbstractArray("StatisticNames"), fd.GetArray("StatisticValues")
+    if names is None or values is None:
+        return {}
+    return {n: values.GetValue(i) for i, n in enumerate(_strings(names))}
+
+
+def quality(grid, source="mesh"):
+    """Per-material quality of a tetrahedral mesh: {"materials": {id: {"tets", "volume",
+    "min_dihedral", "mean_min_dihedral"}}, "tets", "vertices", "volume", "min_dihedral",
+    "angles" (per-tet minimal dihedral angles), "material" (per-tet material)}.
+    Volumes come from the geometry, so any tetrahedral .vtu with Material and MinDihedralAngle works."""
+    import numpy as np
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+
+    points, cells, material = tetrahedra(grid, source)
+    array = grid.GetCellData().GetArray("MinDihedralAngle")
+    if array is None:
+        raise OracleMeshError(f"{source}: no cell array 'MinDihedralAngle' (write meshes with 'oraclemesh mesh')")
+    angles = vtk_to_numpy(array).astype(np.float64)
+    p = points[cells]
+    volumes = np.abs(np.einsum("ij,ij->i", p[:, 1] - p[:, 0], np.cross(p[:, 2] - p[:, 0], p[:, 3] - p[:, 0]))) / 6
+    materials = {}
+    for m in sorted(set(material.tolist())):
+        sel = material == m
+        materials[m] = {"tets": int(sel.sum()), "volume": float(volumes[sel].sum()),
+                        "min_dihedral": float(angles[sel].min()), "mean_min_dihedral": float(angles[sel].mean())}
+    return {"materials": materials, "tets": int(len(cells)), "vertices": int(grid.GetNumberOfPoints()),
+            "volume": float(volumes.sum()), "min_dihedral": float(angles.min()), "angles": angles,
+            "material": material}
+
+
+def report_lines(grid, title, names=None, source="mesh"):
+    """The quality report as lines of text (and the quality dict it was made from)."""
+    import numpy as np
+
+    q = quality(grid, source)
+    names = {**material_names(grid), **(names or {})}
+    stats = statistics(grid)
+    lines = [f"{title}: {q['tets']} tetrahedra, {q['vertices']} vertices",
+             f"{'material':>8}  {'name':<18} {'tets':>9} {'volume [mm^3]':>14} {'min dihedral':>13} {'mean min':>9}"]
+    for m, row in q["materials"].items():
+        lines.append(f"{m:>8}  {names.get(m, '?'):<18} {row['tets']:>9} {row['volume']:>14.1f} "
+                     f"{row['min_dihedral']:>12.2f}° {row['mean_min_dihedral']:>8.1f}°")
+    lines.append(f"{'all':>8}  {'':<18} {q['tets']:>9} {q['volume']:>14.1f} {q['min_dihedral']:>12.2f}° "
+                 f"{q['angles'].mean():>8.1f}°")
+    hist, edges = np.histogram(q["angles"], bins=TEXT_BINS)
+    lines.append("minimal dihedral angle per tetrahedron: "
+                 + ", ".join(f"{int(a)}-{int(b)}°: {n}" for a, b, n in zip(edges, edges[1:], hist)))
+    segments = grid.GetFieldData().GetArray("FeatureSegments")
+    if segments is not None and segments.GetValue(0) == 0:
+        lines.append("feature lines: none given")
+    elif "feature_coverage" in stats:
+        lines.append(f"feature lines present as mesh edges: {100 * stats['feature_coverage']:.1f}%"
+                     + (f" ({segments.GetValue(0)} segments)" if segments is not None else ""))
+    for warning in _strings(grid.GetFieldData().GetAbstractArray("Warnings")):
+        lines.append("warning: " + warning)
+    return lines, q
+
+
+def save_histogram(q, png_path, names=None, title=None):
+    """Saves the histogram of the per-tetrahedron minimal dihedral angles, stacked by material, as PNG."""
+    import os
+
+    import numpy as np
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    names = names or {}
+    figure = Figure(figsize=(8, 4.5), dpi=100)
+    FigureCanvasAgg(figure)
+    axes = figure.add_subplot()
+    ids = list(q["materials"])
+    axes.hist([q["angles"][q["material"] == m] for m in ids], bins=np.arange(0, 72, 1.0), stacked=True,
+              label=[f"{m}: {names[m]}" if m in names else str(m) for m in ids])
+    axes.set_xlabel("minimal dihedral angle of the tetrahedron [°]")
+    axes.set_ylabel("tetrahedra")
+    axes.set_xlim(0, 72)
+    axes.set_title(title or "Dihedral angles")
+    axes.legend(title="Material")
+    figure.tight_layout()
+    os.makedirs(os.path.dirname(os.path.abspath(png_path)), exist_ok=True)
+    try:
+        figure.savefig(png_path)
+    except OSError as e:
+        raise OracleMeshError(f"{png_path}: could not be written: {e.strerror}") from None
+
+
+def read_mesh(path):
+    """Reads a .vtu mesh; raises OracleMeshError naming the file when it is missing or unreadable."""
+    import os
+
+    from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader
+
+    if not path.lower().endswith(".vtu"):
+        raise OracleMeshError(f"{path}: the report reads .vtu meshes written by 'oraclemesh mesh'")
+    if not os.path.isfile(path):
+        raise OracleMeshError(f"{path}: file not found")
+    from .errors import update
+
+    reader = vtkXMLUnstructuredGridReader()
+    reader.SetFileName(path)
+    try:
+        grid = update(reader)
+    except OracleMeshError as e:
+        raise OracleMeshError(f"{path}: not a readable .vtu file ({e})") from None
+    return grid
