@@ -201,13 +201,16 @@ class BadInput(unittest.TestCase):
             {"type": "torus"},
             {"type": "surface", "material": 2},
             {"type": "labelmap", "file": "missing.vti"},
+            {"type": "labelmap", "file": os.path.join(os.path.dirname(DEMO_SCENE), "tibia_labels.vti"),
+             "interpolation": "cubic"},
         ]}
         with self.assertRaises(om.OracleMeshError) as ctx:
             build_scene(description, base_dir=tempfile.gettempdir())
         text = str(ctx.exception)
         for fragment in ("$.domains[0].center: must be a list of 3", "$.domains[0].radius: must be a positive",
                          "$.domains[1].type: must be one of", "$.domains[2].file: missing",
-                         "$.domains[3].file:", "file not found"):
+                         "$.domains[3].file:", "file not found",
+                         "$.domains[4].interpolation: must be 'trilinear' or 'nearest'"):
             self.assertIn(fragment, text)
         with self.assertRaises(om.OracleMeshError):
             build_scene({"domains": []})

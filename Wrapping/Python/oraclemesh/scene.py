@@ -39,7 +39,7 @@ STRATEGIES = ("Conforming", "None", "ProtectingBalls")
 COMMON_KEYS = {"name", "type", "material", "cut", "criteria", "comment"}
 DOMAIN_KEYS = {
     "surface": {"file"},
-    "labelmap": {"file", "array", "association", "background", "label_names"},
+    "labelmap": {"file", "array", "association", "background", "label_names", "interpolation"},
     "sphere": {"center", "radius"},
     "plane": {"origin", "normal"},
     "box": {"bounds"},
@@ -366,6 +366,11 @@ def build_scene(description, base_dir=".", source="scene"):
                 domain.SetDomainName(name)
                 background = _number(problems, spec, where, "background", required=False, default=0, integer=True)
                 domain.SetBackgroundLabel(background if background is not None else 0)
+                interpolation = spec.get("interpolation", "trilinear")
+                if interpolation not in ("trilinear", "nearest"):
+                    problems.add(f"{where}.interpolation", f"must be 'trilinear' or 'nearest', got {interpolation!r}")
+                elif interpolation == "nearest":
+                    domain.SetInterpolationToNearest()
                 array = spec.get("array")
                 if array is not None:
                     association = spec.get("association", "point")
