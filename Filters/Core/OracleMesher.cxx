@@ -20,7 +20,9 @@
 #include <CGAL/perturb_mesh_3.h>
 #include <CGAL/refine_mesh_3.h>
 
+#include <atomic>
 #include <chrono>
+#include <future>
 #include <cmath>
 #include <map>
 #include <memory>
@@ -404,11 +406,30 @@ TetMesh meshOracle(const HierarchicalOracle& oracle, const FeatureSegments& feat
   if (protect)
   {
     // The vertex budget also bounds the protection of the features (CGAL's ball refinement can
-    // run long on small angles; it reports no progress of its own).
+    // run long on small angles). It reports no progress of its own: it runs in a worker thread
+    // while this one keeps asking the progress callback, and stops through CGAL's stop flag.
+    std::atomic<bool> stop{ false };
     CGAL::parameters::internal::Mesh_3_options meshOptions;
     meshOptions.maximal_number_of_vertices = options.maximumNumberOfVertices;
-    CGAL::Mesh_3::internal::C3t3_initializer<C3t3, MeshDomain, Criteria, true, MeshDomain::Has_features>()(
-      c3t3, domain, criteria, true, meshOptions);
+    meshOptions.pointer_to_stop_atomic_boolean = &stop;
+    auto protection = std::async(std::launch::async, [&] {
+      CGAL::Mesh_3::internal::C3t3_initializer<C3t3, MeshDomain, Criteria, true, MeshDomain::Has_features>()(
+        c3t3, domain, criteria, true, meshOptions);
+    });
+    while (protection.wait_for(std::chrono::milliseconds(50)) != std::future_status::ready)
+    {
+      try
+      {
+        report(0.02, "feature protection");
+      }
+      catch (...)
+      {
+        stop = true;
+        protection.wait();
+        throw;
+      }
+    }
+    protection.get(); // rethrows what the worker threw
   }
   else
     CGAL::Mesh_3::internal::init_c3t3(c3t3, domain, criteria, 20);

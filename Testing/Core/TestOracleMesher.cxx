@@ -350,3 +350,15 @@ TEST(OracleMesher, AbortDuringOptimisation)
     EXPECT_EQ(calls, 2);
   }
 }
+
+TEST(OracleMesher, AbortDuringFeatureProtection)
+{
+  HierarchicalOracle o;
+  o.add(std::make_shared<SurfaceDomain>(test::cube(0, 1), 1));
+  MesherOptions opt = options(FeatureStrategy::ProtectingBalls, 0.2);
+  opt.criteria.global.edgeSize = 1e-4; // 10^4 protecting balls per edge: seconds of work
+  bool asked = false;
+  opt.progress = [&](double, const char* phase) { return !(asked = std::string(phase) == "feature protection"); };
+  EXPECT_THROW(meshOracle(o, cubeEdges(0, 1), {}, opt), MeshingAborted);
+  EXPECT_TRUE(asked);
+}
