@@ -4,6 +4,8 @@
 #include "OracleDomainMetadata.h"
 #include "OracleMeshFiltersModule.h"
 
+#include <array>
+#include <map>
 #include <memory>
 #include <string>
 
@@ -28,6 +30,11 @@ public:
   /// The oracle described by `data`: the multiblock output of vtkHierarchicalOracle (blocks in
   /// priority order) or a single domain dataset.
   static std::shared_ptr<omesh::HierarchicalOracle> BuildOracle(vtkDataObject* data);
+
+  /// The criteria the domains of an oracle (the output of vtkHierarchicalOracle, or one domain)
+  /// set for their materials, per material id (6 values, negative = not set); the
+  /// higher-priority domain's value counts where two differ. Cut domains set nothing.
+  static std::map<int, std::array<double, 6>> DomainCriteria(vtkDataObject* data);
 
   /// Reads the domain metadata of `data` and checks the dataset type fits the kind.
   static OracleDomainMetadata ReadDomain(vtkDataObject* data, const std::string& where);

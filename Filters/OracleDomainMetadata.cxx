@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "OracleDomainMetadata.h"
 
+#include <algorithm>
+
 #include "InputError.h"
 
 #include <vtkDoubleArray.h>
@@ -22,6 +24,7 @@ const char* const kLabelArray = "OracleMesh_LabelArray";
 const char* const kLabelAssociation = "OracleMesh_LabelAssociation";
 const char* const kBackground = "OracleMesh_BackgroundLabel";
 const char* const kInterpolation = "OracleMesh_LabelInterpolation";
+const char* const kCriteria = "OracleMesh_Criteria";
 const char* const kLabelValues = "OracleMesh_LabelValues";
 const char* const kLabelNames = "OracleMesh_LabelNames";
 const char* const kVersion = "OracleMesh_FormatVersion";
@@ -86,6 +89,10 @@ void OracleDomainMetadata::WriteTo(vtkFieldData* fd) const
     putDoubles(fd, kTransform, Transform);
   else
     fd->RemoveArray(kTransform);
+  if (std::any_of(Criteria.begin(), Criteria.end(), [](double v) { return v >= 0; }))
+    putDoubles(fd, kCriteria, { Criteria.begin(), Criteria.end() });
+  else
+    fd->RemoveArray(kCriteria);
   if (Kind == "LabelMap")
   {
     putString(fd, kLabelArray, LabelArray);
@@ -123,6 +130,10 @@ bool OracleDomainMetadata::ReadFrom(vtkFieldData* fd, OracleDomainMetadata& out)
   out.Transform = getDoubles(fd, kTransform);
   if (!out.Transform.empty() && out.Transform.size() != 12)
     throw omesh::InputError("domain '" + out.Name + "': " + kTransform + " must hold 12 numbers");
+  const auto criteria = getDoubles(fd, kCriteria);
+  if (!criteria.empty() && criteria.size() != 6)
+    throw omesh::InputError("domain '" + out.Name + "': " + kCriteria + " must hold 6 numbers");
+  std::copy(criteria.begin(), criteria.end(), out.Criteria.begin());
   if (out.Kind == "LabelMap")
   {
     out.LabelArray = getString(fd, kLabelArray);

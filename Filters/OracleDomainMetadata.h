@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -27,6 +28,9 @@ struct OracleDomainMetadata
   std::string LabelArray;
   bool CellLabels = false;
   int BackgroundLabel = 0;
+  /// Optional criteria for this domain's material(s): facet angle, facet size, facet distance,
+  /// cell size, cell radius-edge ratio, edge size; negative = not set.
+  std::array<double, 6> Criteria{ -1, -1, -1, -1, -1, -1 };
   bool TrilinearLabels = false; ///< LabelMap: trilinear label interpolation (absent = nearest voxel)
   std::vector<int> LabelValues; ///< labels that have a name, aligned with LabelNames
   std::vector<std::string> LabelNames;

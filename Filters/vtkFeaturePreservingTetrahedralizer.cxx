@@ -104,15 +104,25 @@ int vtkFeaturePreservingTetrahedralizer::RequestData(
                                                         : omesh::FeatureStrategy::ProtectingBalls;
   options.criteria.global = { this->FacetAngle, this->FacetSize, this->FacetDistance, this->CellSize,
     this->CellRadiusEdgeRatio, this->EdgeSize };
-  for (const auto& [m, c] : this->MaterialCriteria)
-  {
-    omesh::MeshCriteria o = omesh::MeshCriteria::inheritAll();
+  // per material: the domains' criteria, then this filter's SetMaterialCriteria over them
+  auto overrideWith = [&](int m, const std::array<double, 6>& c) {
+    omesh::MeshCriteria& o = options.criteria.perMaterial.try_emplace(m, omesh::MeshCriteria::inheritAll()).first->second;
     double* fields[6] = { &o.facetAngle, &o.facetSize, &o.facetDistance, &o.cellSize, &o.cellRadiusEdgeRatio, &o.edgeSize };
     for (int k = 0; k < 6; ++k)
       if (c[k] >= 0)
         *fields[k] = c[k];
-    options.criteria.perMaterial[m] = o;
+  };
+  try
+  {
+    for (const auto& [m, c] : OracleBuilder::DomainCriteria(oracleData))
+      overrideWith(m, c);
   }
+  catch (const omesh::InputError&)
+  {
+    // reported below, where the oracle is built
+  }
+  for (const auto& [m, c] : this->MaterialCriteria)
+    overrideWith(m, { c[0], c[1], c[2], c[3], c[4], c[5] });
   options.perturb = this->Perturb;
   options.exude = this->Exude;
   options.seed = static_cast<unsigned>(this->Seed);

@@ -69,6 +69,8 @@ int vtkLabelMapDomain::RequestData(
   md.Cut = this->Cut;
   md.BackgroundLabel = this->BackgroundLabel;
   md.TrilinearLabels = this->Interpolation == TRILINEAR;
+  md.Criteria = { this->FacetAngle, this->FacetSize, this->FacetDistance, this->CellSize,
+    this->CellRadiusEdgeRatio, this->EdgeSize };
   int association = vtkDataObject::FIELD_ASSOCIATION_POINTS;
   vtkDataArray* array = input ? this->GetInputArrayToProcess(0, inputVector, association) : nullptr;
   if (!array && input && input->GetCellData()->GetScalars())

@@ -67,6 +67,25 @@ public:
   void ClearLabelNames();
   ///@}
 
+  ///@{
+  /// Optional mesh criteria for every label of this map, as on
+  /// vtkFeaturePreservingTetrahedralizer; negative (the default) = use the tetrahedralizer's.
+  /// The tetrahedralizer's SetMaterialCriteria overrides these; where two domains give one
+  /// material different values, the higher-priority domain's count.
+  vtkSetMacro(FacetAngle, double);
+  vtkGetMacro(FacetAngle, double);
+  vtkSetMacro(FacetSize, double);
+  vtkGetMacro(FacetSize, double);
+  vtkSetMacro(FacetDistance, double);
+  vtkGetMacro(FacetDistance, double);
+  vtkSetMacro(CellSize, double);
+  vtkGetMacro(CellSize, double);
+  vtkSetMacro(CellRadiusEdgeRatio, double);
+  vtkGetMacro(CellRadiusEdgeRatio, double);
+  vtkSetMacro(EdgeSize, double);
+  vtkGetMacro(EdgeSize, double);
+  ///@}
+
 protected:
   vtkLabelMapDomain();
   ~vtkLabelMapDomain() override;
@@ -74,6 +93,12 @@ protected:
 
   int BackgroundLabel = 0;
   int Interpolation = TRILINEAR;
+  double FacetAngle = -1;
+  double FacetSize = -1;
+  double FacetDistance = -1;
+  double CellSize = -1;
+  double CellRadiusEdgeRatio = -1;
+  double EdgeSize = -1;
   bool Cut = false;
   char* DomainName = nullptr;
   std::map<int, std::string> LabelNames;

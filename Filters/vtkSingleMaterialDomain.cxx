@@ -22,6 +22,8 @@ void vtkSingleMaterialDomain::FillMetadata(const char* kind, OracleDomainMetadat
   md.MaterialName = md.Name;
   md.MaterialId = this->MaterialId;
   md.Cut = this->Cut;
+  md.Criteria = { this->FacetAngle, this->FacetSize, this->FacetDistance, this->CellSize,
+    this->CellRadiusEdgeRatio, this->EdgeSize };
 }
 
 void vtkSingleMaterialDomain::PrintSelf(ostream& os, vtkIndent indent)

@@ -42,6 +42,25 @@ public:
   vtkBooleanMacro(Cut, bool);
   ///@}
 
+  ///@{
+  /// Optional mesh criteria for this domain's material(s), as on
+  /// vtkFeaturePreservingTetrahedralizer; negative (the default) = use the tetrahedralizer's.
+  /// The tetrahedralizer's SetMaterialCriteria overrides these; where two domains give one
+  /// material different values, the higher-priority domain's count.
+  vtkSetMacro(FacetAngle, double);
+  vtkGetMacro(FacetAngle, double);
+  vtkSetMacro(FacetSize, double);
+  vtkGetMacro(FacetSize, double);
+  vtkSetMacro(FacetDistance, double);
+  vtkGetMacro(FacetDistance, double);
+  vtkSetMacro(CellSize, double);
+  vtkGetMacro(CellSize, double);
+  vtkSetMacro(CellRadiusEdgeRatio, double);
+  vtkGetMacro(CellRadiusEdgeRatio, double);
+  vtkSetMacro(EdgeSize, double);
+  vtkGetMacro(EdgeSize, double);
+  ///@}
+
 protected:
   vtkSingleMaterialDomain();
   ~vtkSingleMaterialDomain() override;
@@ -54,6 +73,12 @@ protected:
   int MaterialId = 1;
   char* MaterialName = nullptr;
   bool Cut = false;
+  double FacetAngle = -1;
+  double FacetSize = -1;
+  double FacetDistance = -1;
+  double CellSize = -1;
+  double CellRadiusEdgeRatio = -1;
+  double EdgeSize = -1;
 
 private:
   vtkSingleMaterialDomain(const vtkSingleMaterialDomain&) = delete;

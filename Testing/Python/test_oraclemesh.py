@@ -9,6 +9,8 @@ import sys
 import tempfile
 import unittest
 
+import numpy as np
+
 import oraclemesh as om
 from oraclemesh.scene import build_scene, load_scene
 from vtkmodules.vtkCommonCore import vtkFloatArray
@@ -253,6 +255,34 @@ class Tetrahedralizer(unittest.TestCase):
         self.assertTrue(((sides == [-1, 2]) | (sides == [2, -1])).all(axis=1).all())
         names = grid.GetFieldData().GetAbstractArray("StatisticNames")
         self.assertIn("min_dihedral_angle", [names.GetValue(i) for i in range(names.GetNumberOfValues())])
+
+    def test_domain_criteria_and_their_override(self):
+        from vtkmodules.util.numpy_support import vtk_to_numpy
+
+        def largest_circumradius(grid, material):
+            materials = vtk_to_numpy(grid.GetCellData().GetArray("Material"))
+            pts = vtk_to_numpy(grid.GetPoints().GetData())
+            cells = vtk_to_numpy(grid.GetCells().GetConnectivityArray()).reshape(-1, 4)[materials == material]
+            a, b, c, d = (pts[cells[:, k]] for k in range(4))
+            # circumcentre x of each tetrahedron: 2 (p_k - a) . x = |p_k|^2 - |a|^2, k = b, c, d
+            m = 2 * np.stack([b - a, c - a, d - a], axis=1)
+            rhs = np.stack([(q * q).sum(1) - (a * a).sum(1) for q in (b, c, d)], axis=1)
+            x = np.linalg.solve(m, rhs[..., None])[..., 0]
+            return np.linalg.norm(x - a, axis=1).max()
+
+        inner, outer = om.vtkSphereDomain(), om.vtkSphereDomain()
+        inner.SetRadius(1.0); inner.SetMaterialId(2); inner.SetCellSize(0.25)   # the domain's own bound
+        outer.SetRadius(2.0); outer.SetMaterialId(1)
+        oracle = om.vtkHierarchicalOracle()
+        oracle.AddInputConnection(inner.GetOutputPort()); oracle.AddInputConnection(outer.GetOutputPort())
+        t, grid = self.mesh(oracle, None, "None", CellSize=0.8, Perturb=False, Exude=False)
+        self.assertLessEqual(largest_circumradius(grid, 2), 0.25 * (1 + 1e-9))
+        self.assertGreater(largest_circumradius(grid, 1), 0.4)  # the global bound, not the ball's
+        t.SetMaterialCriteria(2, -1, -1, -1, 0.5, -1, -1)  # the tetrahedralizer's value wins
+        grid = om.update(t)
+        radius = largest_circumradius(grid, 2)
+        self.assertLessEqual(radius, 0.5 * (1 + 1e-9))
+        self.assertGreater(radius, 0.25)
 
     def test_protecting_balls_keep_the_cube_edges(self):
         from vtkmodules.vtkFiltersCore import vtkFeatureEdges, vtkTriangleFilter
