@@ -30,6 +30,7 @@ struct Result
 {
   double tets = 0, vertices = 0, seconds = 0, minAngle = 0, meanAngle = 0, coverage = 0, hausdorff = 0;
   int budgetHit = 0;
+  int stalled = 0;
 };
 
 Result Run(const omesh::HierarchicalOracle& oracle, const omesh::FeatureSegments& features,
@@ -45,7 +46,10 @@ Result Run(const omesh::HierarchicalOracle& oracle, const omesh::FeatureSegments
   r.meanAngle = m.statistics.at("mean_min_dihedral_angle");
   r.coverage = m.statistics.at("feature_coverage");
   for (const auto& w : m.warnings)
-    r.budgetHit |= w.find("MaximumNumberOfVertices") != std::string::npos;
+  {
+    r.budgetHit |= w.find("refinement stopped at MaximumNumberOfVertices") != std::string::npos;
+    r.stalled |= w.find("refinement stalled") != std::string::npos;
+  }
   omesh::TriangleSurface boundary; // the implant's side of the interfaces
   boundary.points = m.points;
   for (size_t f = 0; f < m.interfaceTriangles.size(); ++f)
@@ -60,12 +64,13 @@ int main(int argc, char* argv[])
 {
   if (argc < 2)
   {
-    std::fprintf(stderr, "usage: %s <demo folder> [radius-edge bound] [vertex budget]\n", argv[0]);
+    std::fprintf(stderr, "usage: %s <demo folder> [radius-edge bound] [vertex budget] [edge size]\n", argv[0]);
     return 2;
   }
   const std::string dir = argv[1];
   const double ratio = argc > 2 ? std::atof(argv[2]) : 1.1;
   const size_t budget = argc > 3 ? std::strtoul(argv[3], nullptr, 10) : 300000;
+  const double edgeSize = argc > 4 ? std::atof(argv[4]) : 1.0;
 
   DemoScenePipeline demo(dir);
   vtkNew<vtkFeatureEdges> edges; // the implant's sharp edges
@@ -90,7 +95,7 @@ int main(int argc, char* argv[])
   base.criteria.global.cellSize = 3.0;
   base.criteria.global.facetSize = 3.0;
   base.criteria.global.facetDistance = 2.0;
-  base.criteria.global.edgeSize = 1.0;
+  base.criteria.global.edgeSize = edgeSize;
   auto perMaterial = [&](int m, double cell, double facet, double distance) {
     omesh::MeshCriteria c = omesh::MeshCriteria::inheritAll();
     c.cellSize = cell;
@@ -105,8 +110,8 @@ int main(int argc, char* argv[])
   base.maximumNumberOfVertices = budget;
   base.seed = 1;
 
-  std::printf("MesherBenchmark: demo scene, %zu feature segments, radius-edge %.2f, budget %zu vertices\n",
-    features.segments.size(), ratio, budget);
+  std::printf("MesherBenchmark: demo scene, %zu feature segments, radius-edge %.2f, edge size %.2f, budget %zu vertices\n",
+    features.segments.size(), ratio, edgeSize, budget);
   std::printf("%-16s %10s %9s %8s %9s %8s %8s %9s %10s %s\n", "strategy", "tets", "vertices", "time s",
     "peak MiB", "min dih", "mean", "coverage", "Hausdorff", "");
   Result none{};
@@ -145,7 +150,7 @@ int main(int argc, char* argv[])
       none = r;
     std::printf("%-16s %10.0f %9.0f %8.2f %9.0f %8.2f %8.2f %8.1f%% %10.3f %s\n", omesh::toString(s), r.tets,
       r.vertices, r.seconds, ru.ru_maxrss / 1024.0, r.minAngle, r.meanAngle, 100 * r.coverage, r.hausdorff,
-      r.budgetHit ? "(vertex budget hit)" : "");
+      r.budgetHit ? "(vertex budget hit)" : r.stalled ? "(refinement stalled)" : "");
     std::fflush(stdout);
     if (s != omesh::FeatureStrategy::None && none.tets > 0)
       std::printf("%-16s %9.2fx %32s  time per tet %.2fx of None\n", "  vs None", r.tets / none.tets, "",

@@ -486,11 +486,30 @@ TetMesh meshOracle(const HierarchicalOracle& oracle, const FeatureSegments& feat
   size_t steps = 0;
   int rounds = 0;
   bool budgetHit = false;
+  // Expected number of vertices, for the progress bar only: about one per cell-size cube of each
+  // material (measured on the demo scene), from a coarse sampling of the oracle.
   const double expected = [&] {
-    // rough size of the result, for the progress bar only
-    const double sz = g.cellSize > 0 ? g.cellSize : norm(inner.size()) / 20.0;
-    return std::max(1000.0, inner.volume() / (0.1 * sz * sz * sz));
+    std::map<int, double> volume;
+    const int n = 24;
+    const Vec3 step = (1.0 / n) * inner.size();
+    for (int k = 0; k < n; ++k)
+      for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i)
+        {
+          const int m = oracle.material(inner.min + Vec3{ (i + 0.5) * step.x, (j + 0.5) * step.y, (k + 0.5) * step.z });
+          if (m != kOutside)
+            volume[m] += step.x * step.y * step.z;
+        }
+    double sum = 0.0;
+    for (const auto& [m, v] : volume)
+    {
+      const MeshCriteria c = options.criteria.of(m);
+      const double size = c.cellSize > 0 ? c.cellSize : norm(inner.size()) / 20.0;
+      sum += v / (size * size * size);
+    }
+    return std::max(1000.0, sum);
   }();
+
   bool stalled = false;
   auto drive = [&](auto& mesher) {
     mesher.initialize();
@@ -512,7 +531,7 @@ TetMesh meshOracle(const HierarchicalOracle& oracle, const FeatureSegments& feat
           break;
         }
         const double n = static_cast<double>(count);
-        report(0.05 + 0.75 * n / (n + expected), "refinement");
+        report(0.05 + 0.4 * std::min(1.0, n / expected), "refinement");
         if (options.maximumNumberOfVertices && n >= options.maximumNumberOfVertices)
         {
           budgetHit = true;
@@ -567,8 +586,9 @@ TetMesh meshOracle(const HierarchicalOracle& oracle, const FeatureSegments& feat
   size_t repaired = 0;
   if (options.perturb)
   {
-    report(0.82, "perturbation");
-    perturb(c3t3, domain, optLimit, [&] { report(0.82, "perturbation"); });
+    report(0.45, "perturbation");
+    size_t visits = 0; // the optimisers do not know their own progress: creep toward the phase's end
+    perturb(c3t3, domain, optLimit, [&] { report(0.45 + 0.35 * (1.0 - 1.0 / (1.0 + 1e-3 * ++visits)), "perturbation"); });
     // The perturber never moves segment vertices, but a moved neighbour can land in a diametral
     // ball and so break a sub-segment: refine again (the segment level splits what was
     // encroached; weights are still zero here, after the exuder they are not).
@@ -584,14 +604,15 @@ TetMesh meshOracle(const HierarchicalOracle& oracle, const FeatureSegments& feat
   }
   if (options.exude)
   {
-    report(0.92, "exudation");
+    report(0.8, "exudation");
     // The exuder changes weights, which can flip a sub-segment out of the (regular) triangulation.
     // It is undone when it would break a segment the refinement kept.
     std::unique_ptr<C3t3> kept;
     const size_t missingBefore = conforming ? missingSubSegments() : 0;
     if (conforming)
       kept = std::make_unique<C3t3>(c3t3);
-    exude(c3t3, optLimit, [&] { report(0.92, "exudation"); });
+    size_t visits = 0;
+    exude(c3t3, optLimit, [&] { report(0.8 + 0.18 * (1.0 - 1.0 / (1.0 + 1e-3 * ++visits)), "exudation"); });
     if (conforming)
     {
       segVertex.clear(); // the exuder re-creates vertices: find the segment points again
