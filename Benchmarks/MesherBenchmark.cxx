@@ -81,22 +81,27 @@ int main(int argc, char* argv[])
   const omesh::FeatureSegments features = OracleBuilder::ToFeatureSegments(edges->GetOutput());
   const omesh::TriangleSurface implantSurface = OracleBuilder::ToTriangleSurface(demo.implantReader->GetOutput(), "implant");
 
-  // The paper's criteria (section 4), in the scene's millimetres: radius-edge 1.1 everywhere,
-  // circumradius 1 (implant, screw) and 3 (bone), facet distance 0.1 and 2.
+  // The demo scene's criteria (Data/demo/scene.json, "mesh"): the paper's (section 4) in the
+  // scene's millimetres — circumradius 1 (implant, screw) and 3 (bone), facet distance 0.1 and 2 —
+  // with a finer cortical shell (1.5, facet distance 0.5) and cancellous interface (1).
   omesh::MesherOptions base;
   base.criteria.global.cellRadiusEdgeRatio = ratio;
+  base.criteria.global.facetAngle = 25.0;
   base.criteria.global.cellSize = 3.0;
   base.criteria.global.facetSize = 3.0;
   base.criteria.global.facetDistance = 2.0;
   base.criteria.global.edgeSize = 1.0;
-  for (int m : { 3, 4 })
-  {
+  auto perMaterial = [&](int m, double cell, double facet, double distance) {
     omesh::MeshCriteria c = omesh::MeshCriteria::inheritAll();
-    c.cellSize = 1.0;
-    c.facetSize = 1.0;
-    c.facetDistance = 0.1;
+    c.cellSize = cell;
+    c.facetSize = facet;
+    c.facetDistance = distance;
     base.criteria.perMaterial[m] = c;
-  }
+  };
+  perMaterial(1, 1.5, 1.5, 0.5);
+  perMaterial(2, 3.0, 3.0, 1.0);
+  perMaterial(3, 1.0, 1.0, 0.1);
+  perMaterial(4, 1.0, 1.0, 0.1);
   base.maximumNumberOfVertices = budget;
   base.seed = 1;
 

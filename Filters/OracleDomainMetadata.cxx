@@ -21,6 +21,7 @@ const char* const kTransform = "OracleMesh_Transform";
 const char* const kLabelArray = "OracleMesh_LabelArray";
 const char* const kLabelAssociation = "OracleMesh_LabelAssociation";
 const char* const kBackground = "OracleMesh_BackgroundLabel";
+const char* const kInterpolation = "OracleMesh_LabelInterpolation";
 const char* const kLabelValues = "OracleMesh_LabelValues";
 const char* const kLabelNames = "OracleMesh_LabelNames";
 const char* const kVersion = "OracleMesh_FormatVersion";
@@ -90,6 +91,7 @@ void OracleDomainMetadata::WriteTo(vtkFieldData* fd) const
     putString(fd, kLabelArray, LabelArray);
     putString(fd, kLabelAssociation, CellLabels ? "Cell" : "Point");
     putInts(fd, kBackground, { BackgroundLabel });
+    putString(fd, kInterpolation, TrilinearLabels ? "Trilinear" : "Nearest");
     putInts(fd, kLabelValues, LabelValues);
     vtkNew<vtkStringArray> names;
     names->SetName(kLabelNames);
@@ -128,6 +130,11 @@ bool OracleDomainMetadata::ReadFrom(vtkFieldData* fd, OracleDomainMetadata& out)
     const auto bg = getInts(fd, kBackground);
     if (!bg.empty())
       out.BackgroundLabel = bg[0];
+    const std::string interpolation = getString(fd, kInterpolation);
+    if (!interpolation.empty() && interpolation != "Nearest" && interpolation != "Trilinear")
+      throw omesh::InputError("domain '" + out.Name + "': " + kInterpolation + " is '" + interpolation +
+        "'; expected Nearest or Trilinear");
+    out.TrilinearLabels = interpolation == "Trilinear";
     out.LabelValues = getInts(fd, kLabelValues);
     if (auto* names = vtkStringArray::SafeDownCast(fd->GetAbstractArray(kLabelNames)))
     {

@@ -27,6 +27,7 @@ struct OracleDomainMetadata
   std::string LabelArray;
   bool CellLabels = false;
   int BackgroundLabel = 0;
+  bool TrilinearLabels = false; ///< LabelMap: trilinear label interpolation (absent = nearest voxel)
   std::vector<int> LabelValues; ///< labels that have a name, aligned with LabelNames
   std::vector<std::string> LabelNames;
 

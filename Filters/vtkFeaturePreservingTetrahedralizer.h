@@ -8,9 +8,10 @@
  * shared vertices); port 2 (optional), vtkPolyData points inserted first (a-priori points).
  *
  * Delaunay refinement on CGAL Mesh_3 with the oracle's exact intersections; each tetrahedron takes
- * the material of its circumcentre. FeatureStrategy: ProtectingBalls (CGAL's protecting balls,
- * Dey et al.; the default for now), None (stock Mesh_3, Pons et al.), Conforming (the paper's
- * rules; experimental: see the README). Criteria are global and can be overridden per material.
+ * the material of its circumcentre. FeatureStrategy: Conforming (the default; the paper's rules
+ * T1-T3: the segments are refined as the lowest level of Mesh_3's refinement and stay Delaunay
+ * edges), None (stock Mesh_3, Pons et al.), ProtectingBalls (CGAL's protecting balls, Dey et al.).
+ * Criteria are global and can be overridden per material.
  *
  * Outputs: port 0, vtkUnstructuredGrid of tetrahedra with cell data Material, MinDihedralAngle
  * (degrees) and RadiusEdgeRatio, point data Dimension (0 corner, 1 segment, 2 interface,
@@ -120,7 +121,7 @@ protected:
   int FillOutputPortInformation(int port, vtkInformation* info) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
-  int FeatureStrategy = PROTECTING_BALLS;
+  int FeatureStrategy = CONFORMING;
   double FacetAngle = 25.0;
   double FacetSize = 0.0;
   double FacetDistance = 0.0;

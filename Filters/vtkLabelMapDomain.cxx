@@ -68,6 +68,7 @@ int vtkLabelMapDomain::RequestData(
   md.Name = name;
   md.Cut = this->Cut;
   md.BackgroundLabel = this->BackgroundLabel;
+  md.TrilinearLabels = this->Interpolation == TRILINEAR;
   int association = vtkDataObject::FIELD_ASSOCIATION_POINTS;
   vtkDataArray* array = input ? this->GetInputArrayToProcess(0, inputVector, association) : nullptr;
   if (!array && input && input->GetCellData()->GetScalars())
@@ -107,6 +108,7 @@ void vtkLabelMapDomain::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "BackgroundLabel: " << this->BackgroundLabel << "\n";
+  os << indent << "Interpolation: " << (this->Interpolation == TRILINEAR ? "Trilinear" : "Nearest") << "\n";
   os << indent << "Cut: " << this->Cut << "\n";
   os << indent << "DomainName: " << (this->DomainName ? this->DomainName : "(none)") << "\n";
   for (const auto& [label, name] : this->LabelNames)

@@ -33,6 +33,20 @@ public:
   vtkGetMacro(BackgroundLabel, int);
   ///@}
 
+  enum InterpolationModes
+  {
+    NEAREST = 0,  ///< each voxel owns its box: material boundaries are voxel staircases
+    TRILINEAR = 1 ///< the label with the largest trilinear indicator (as CGAL's image domains): smooth boundaries
+  };
+  ///@{
+  /// How labels are read between voxel centres. Default TRILINEAR: staircase boundaries force
+  /// flat tetrahedra on the interfaces.
+  vtkSetClampMacro(Interpolation, int, NEAREST, TRILINEAR);
+  vtkGetMacro(Interpolation, int);
+  void SetInterpolationToNearest() { this->SetInterpolation(NEAREST); }
+  void SetInterpolationToTrilinear() { this->SetInterpolation(TRILINEAR); }
+  ///@}
+
   ///@{
   /// When on, every labelled voxel is removed from this and lower-priority domains. Default off.
   vtkSetMacro(Cut, bool);
@@ -59,6 +73,7 @@ protected:
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
   int BackgroundLabel = 0;
+  int Interpolation = TRILINEAR;
   bool Cut = false;
   char* DomainName = nullptr;
   std::map<int, std::string> LabelNames;

@@ -42,9 +42,10 @@ AffineMap LabelMapDomain::cellCenteredWorldToVoxel(
 }
 
 LabelMapDomain::LabelMapDomain(const std::array<int, 3>& dims, const std::vector<int>& labels,
-  const AffineMap& worldToVoxel, int backgroundLabel, const std::string& name)
+  const AffineMap& worldToVoxel, int backgroundLabel, const std::string& name, LabelInterpolation interpolation)
   : dims_(dims)
   , worldToVoxel_(worldToVoxel)
+  , interpolation_(interpolation)
 {
   setName(name);
   if (dims[0] <= 0 || dims[1] <= 0 || dims[2] <= 0)
@@ -106,6 +107,11 @@ void LabelMapDomain::crossings(const Vec3& a, const Vec3& b, std::vector<double>
     return;
   ts.push_back(t0);
   ts.push_back(t1);
+  if (interpolation_ == LabelInterpolation::Trilinear)
+  {
+    trilinearCrossings(ua, d, t0, t1, ts);
+    return;
+  }
   // Voxel faces crossed inside the grid; keep those where the label actually changes.
   std::vector<double> faces{ t0 };
   for (int i = 0; i < 3; ++i)
@@ -132,6 +138,110 @@ void LabelMapDomain::crossings(const Vec3& a, const Vec3& b, std::vector<double>
     if (previous != -2 && label != previous)
       ts.push_back(faces[f]);
     previous = label;
+  }
+}
+
+uint16_t LabelMapDomain::trilinearIndex(const Vec3& u) const
+{
+  // the 8 voxel centres (i + 0.5) around u, clamped at the grid's border
+  int lo[3];
+  double f[3];
+  for (int a = 0; a < 3; ++a)
+  {
+    const double x = u[a] - 0.5;
+    const double fl = std::floor(x);
+    lo[a] = static_cast<int>(fl);
+    f[a] = x - fl;
+  }
+  uint16_t idx[8];
+  double w[8];
+  for (int c = 0; c < 8; ++c)
+  {
+    size_t offset = 0, stride = 1;
+    double weight = 1.0;
+    for (int a = 0; a < 3; ++a)
+    {
+      const int up = (c >> a) & 1;
+      const int i = std::clamp(lo[a] + up, 0, dims_[a] - 1);
+      offset += stride * static_cast<size_t>(i);
+      stride *= static_cast<size_t>(dims_[a]);
+      weight *= up ? f[a] : 1.0 - f[a];
+    }
+    idx[c] = index_[offset];
+    w[c] = weight;
+  }
+  // largest summed weight; ties go to the smaller index (deterministic)
+  uint16_t best = idx[0];
+  double bestWeight = -1.0;
+  for (int c = 0; c < 8; ++c)
+  {
+    bool seen = false;
+    for (int k = 0; k < c && !seen; ++k)
+      seen = idx[k] == idx[c];
+    if (seen)
+      continue;
+    double sum = 0.0;
+    for (int k = c; k < 8; ++k)
+      sum += idx[k] == idx[c] ? w[k] : 0.0;
+    if (sum > bestWeight || (sum == bestWeight && idx[c] < best))
+    {
+      best = idx[c];
+      bestWeight = sum;
+    }
+  }
+  return best;
+}
+
+void LabelMapDomain::trilinearCrossings(
+  const Vec3& ua, const Vec3& d, double t0, double t1, std::vector<double>& ts) const
+{
+  // Between the planes through voxel centres the indicators are trilinear (cubic along the
+  // segment): sample each such piece four times and bisect every change of label to full
+  // precision. Two changes closer than a quarter of a piece may be missed (a sliver of a label
+  // thinner than about a quarter voxel along the segment).
+  std::vector<double> planes{ t0, t1 };
+  for (int i = 0; i < 3; ++i)
+  {
+    if (d[i] == 0.0)
+      continue;
+    const double lo = std::min(ua[i] + t0 * d[i], ua[i] + t1 * d[i]) - 0.5;
+    const double hi = std::max(ua[i] + t0 * d[i], ua[i] + t1 * d[i]) - 0.5;
+    for (double k = std::floor(lo) + 1.0; k < hi; k += 1.0)
+      planes.push_back((k + 0.5 - ua[i]) / d[i]);
+  }
+  std::sort(planes.begin(), planes.end());
+  auto labelAt = [&](double t) {
+    const Vec3 u = ua + t * d;
+    return trilinearIndex({ std::clamp(u.x, 0.0, dimsD_[0]), std::clamp(u.y, 0.0, dimsD_[1]), std::clamp(u.z, 0.0, dimsD_[2]) });
+  };
+  constexpr int kSamples = 4;
+  double previousT = t0;
+  uint16_t previous = labelAt(t0);
+  for (size_t p = 0; p + 1 < planes.size(); ++p)
+  {
+    const double a = planes[p], b = planes[p + 1];
+    if (!(b > a))
+      continue;
+    for (int s = 1; s <= kSamples; ++s)
+    {
+      const double t = a + (b - a) * s / kSamples;
+      const uint16_t label = labelAt(t);
+      // every change between the previous sample and t (a few at most)
+      for (int guard = 0; label != previous && guard < 8; ++guard)
+      {
+        double lo = previousT, hi = t;
+        while (hi - lo > 1e-12 * (1.0 + std::abs(hi)))
+        {
+          const double mid = 0.5 * (lo + hi);
+          (labelAt(mid) == previous ? lo : hi) = mid;
+        }
+        ts.push_back(hi);
+        previous = labelAt(hi);
+        previousT = hi;
+      }
+      previous = label;
+      previousT = t;
+    }
   }
 }
 

@@ -10,9 +10,20 @@
 
 namespace omesh
 {
+/// How a label map is read between voxel centres.
+enum class LabelInterpolation
+{
+  /// Voxel (i, j, k) owns the half-open cell [i, i+1) x [j, j+1) x [k, k+1) of continuous voxel
+  /// coordinates, the grid's outer faces included: material boundaries are voxel staircases.
+  Nearest,
+  /// The label whose indicator function, interpolated trilinearly between the 8 nearest voxel
+  /// centres, is largest (as CGAL's labelled image domains): smooth material boundaries, which
+  /// mesh without the flat tetrahedra a staircase forces on the interfaces.
+  Trilinear
+};
+
 /// A uniform grid of voxels, each carrying an integer label; every label other than the background is
-/// a material (material id = label). Lookup is nearest-voxel: voxel (i, j, k) owns the half-open cell
-/// [i, i+1) x [j, j+1) x [k, k+1) of continuous voxel coordinates, the grid's outer faces included.
+/// a material (material id = label). The grid's outer faces bound every material.
 class LabelMapDomain : public Domain
 {
 public:
@@ -20,7 +31,8 @@ public:
   /// Throws InputError (naming `name`) for an empty grid, a size mismatch, negative labels, more
   /// than 65535 distinct labels or a singular map.
   LabelMapDomain(const std::array<int, 3>& dims, const std::vector<int>& labels,
-    const AffineMap& worldToVoxel, int backgroundLabel, const std::string& name = "LabelMap");
+    const AffineMap& worldToVoxel, int backgroundLabel, const std::string& name = "LabelMap",
+    LabelInterpolation interpolation = LabelInterpolation::Nearest);
 
   /// The two conventions images come in. Point scalars: each point is the centre of its voxel (ITK,
   /// CGAL Image_3). Cell scalars: each cell is a voxel. `direction` is row-major 3x3 (VTK/ITK).
@@ -35,15 +47,17 @@ public:
     if (!(u.x >= 0.0 && u.y >= 0.0 && u.z >= 0.0 && u.x <= dimsD_[0] && u.y <= dimsD_[1] &&
           u.z <= dimsD_[2]))
       return kOutside;
-    return indexMaterial_[index_[voxelOf(u)]];
+    return indexMaterial_[interpolation_ == LabelInterpolation::Nearest ? index_[voxelOf(u)] : trilinearIndex(u)];
   }
   void crossings(const Vec3& a, const Vec3& b, std::vector<double>& ts) const override;
   BoundingBox bounds() const override;
   const char* kind() const override { return "LabelMap"; }
   std::vector<int> materials() const override;
 
+  LabelInterpolation interpolation() const { return interpolation_; }
+
   /// Number of voxels per material (background excluded) and the volume of one voxel: the exact
-  /// material volumes the oracle represents.
+  /// material volumes the oracle represents with Nearest interpolation.
   std::map<int, size_t> voxelCounts() const;
   double voxelVolume() const { return voxelVolume_; }
   const std::array<int, 3>& dims() const { return dims_; }
@@ -57,11 +71,16 @@ private:
     return static_cast<size_t>(i) + static_cast<size_t>(dims_[0]) * (static_cast<size_t>(j) + static_cast<size_t>(dims_[1]) * k);
   }
 
+  /// Compact label index of the largest trilinear indicator at voxel coordinates u (in the grid).
+  uint16_t trilinearIndex(const Vec3& u) const;
+  void trilinearCrossings(const Vec3& ua, const Vec3& d, double t0, double t1, std::vector<double>& ts) const;
+
   std::array<int, 3> dims_;
   std::array<double, 3> dimsD_;
   std::vector<uint16_t> index_;    ///< compact label index per voxel (2 bytes a voxel)
   std::vector<int> indexMaterial_; ///< compact index -> material id (kOutside for the background)
   AffineMap worldToVoxel_;
   double voxelVolume_ = 0.0;
+  LabelInterpolation interpolation_ = LabelInterpolation::Nearest;
 };
 }

@@ -7,18 +7,23 @@
 #include "HierarchicalOracle.h"
 #include "InputError.h"
 #include "MeshQuality.h"
+#include "ConformingMesher3.h"
 #include "OracleMeshDomain.h"
+#include "SegmentConformation.h"
 
 #include <CGAL/Mesh_complex_3_in_triangulation_3.h>
 #include <CGAL/Mesh_criteria_3.h>
 #include <CGAL/Mesh_domain_with_polyline_features_3.h>
 #include <CGAL/Mesh_triangulation_3.h>
+#include <CGAL/exude_mesh_3.h>
 #include <CGAL/make_mesh_3.h>
+#include <CGAL/perturb_mesh_3.h>
 #include <CGAL/refine_mesh_3.h>
 
 #include <chrono>
 #include <cmath>
 #include <map>
+#include <memory>
 #include <sstream>
 #include <unordered_map>
 
@@ -235,106 +240,68 @@ std::vector<std::vector<K::Point_3>> toPolylines(const FeatureSegments& f)
   return lines;
 }
 
-/// The constrained segments as they are being refined: points (input points first) and
-/// sub-segments between them (paper section 2.1: E_i after the i-th split).
-struct SegmentSet
+/// CGAL's optimiser visitors, asking `check` (which may throw MeshingAborted) every 256 visits.
+struct OptimiserVisitor
 {
-  std::vector<Vec3> points;
-  std::vector<char> corner;       ///< input points (dimension 0 in the mesh)
-  std::vector<std::array<int, 3>> subs; ///< a, b, input segment
-  size_t trims = 0, splits = 0;
-
-  int add(const Vec3& p)
+  std::function<void()> check;
+  size_t visits = 0;
+  void tick()
   {
-    points.push_back(p);
-    corner.push_back(0);
-    return static_cast<int>(points.size()) - 1;
+    if (++visits % 256 == 0)
+      check();
   }
-  double length(size_t s) const { return norm(points[subs[s][1]] - points[subs[s][0]]); }
-  /// Splits sub-segment s at parameter t from its first end; returns the new point.
-  int split(size_t s, double t)
-  {
-    const auto [a, b, input] = subs[s];
-    const int m = add(lerp(points[a], points[b], t));
-    subs[s] = { a, m, input };
-    subs.push_back({ m, b, input });
-    return m;
-  }
+  void bound_reached(double) { tick(); }
+  void end_of_perturbation_iteration(std::size_t) { tick(); }
+  void after_cell_pumped(std::size_t) { tick(); }
 };
 
-/// Rule T1 applied to the segments alone (the paper's initial conformation step, independent of
-/// the geometry): trim segments at star vertices to l_min/3 (T1.1), then split at midpoints every
-/// sub-segment encroached by a segment point or longer than `edgeSize` (T1.2).
-SegmentSet conformSegments(const FeatureSegments& f, double edgeSize, size_t maxPoints, std::vector<std::string>& warnings)
+/// As CGAL::perturb_mesh_3 with its defaults, abortable.
+void perturb(C3t3& c3t3, const MeshDomain& domain, double timeLimit, std::function<void()> check)
 {
-  SegmentSet set;
-  set.points = f.points;
-  set.corner.assign(f.points.size(), 1);
-  for (size_t s = 0; s < f.segments.size(); ++s)
-    set.subs.push_back({ f.segments[s][0], f.segments[s][1], static_cast<int>(s) });
-  const std::vector<bool> star = f.starVertices();
-  std::vector<double> lmin(f.points.size(), std::numeric_limits<double>::infinity());
-  for (size_t s = 0; s < f.segments.size(); ++s)
-    for (int end : f.segments[s])
-      lmin[end] = std::min(lmin[end], f.length(s));
-  // T1.1: every segment at a star vertex p_i gets a point at l_min,i / 3 from p_i.
-  for (size_t s = 0, n = set.subs.size(); s < n; ++s)
+  const auto criterion = CGAL::parameters::default_values_for_mesh_3::default_sliver_criterion(
+    c3t3, CGAL::parameters::default_values_for_mesh_3::perturb_sliver_bound);
+  using Criterion = std::remove_const_t<decltype(criterion)>;
+  CGAL::Mesh_3::Sliver_perturber<C3t3, MeshDomain, Criterion, OptimiserVisitor> perturber(c3t3, domain, criterion);
+  for (auto* p : CGAL::default_perturbation_vector(c3t3, domain, criterion))
+    perturber.add_perturbation(p);
+  perturber.set_time_limit(timeLimit);
+  perturber(OptimiserVisitor{ std::move(check) });
+}
+
+/// As CGAL::exude_mesh_3 with its defaults, abortable.
+void exude(C3t3& c3t3, double timeLimit, std::function<void()> check)
+{
+  using Criterion = CGAL::Mesh_3::Min_dihedral_angle_criterion<Tr>;
+  Criterion criterion(CGAL::parameters::default_values_for_mesh_3::exude_sliver_bound, c3t3.triangulation());
+  CGAL::Mesh_3::Slivers_exuder<C3t3, Criterion, OptimiserVisitor> exuder(c3t3, criterion);
+  exuder.set_time_limit(timeLimit);
+  exuder(OptimiserVisitor{ std::move(check) });
+}
+
+/// Sub-segments of `segs` that are not edges of the triangulation, minus `missingBefore`; the
+/// segment points are located anew (the exuder re-creates the vertices it pumps).
+size_t brokenByExudation(const C3t3& c3t3, const SegmentSet& segs, size_t missingBefore)
+{
+  const Tr& tr = c3t3.triangulation();
+  std::vector<Tr::Vertex_handle> vertex(segs.points.size());
+  Tr::Cell_handle hint;
+  for (size_t p = 0; p < segs.points.size(); ++p)
   {
-    for (int side = 0; side < 2; ++side)
-    {
-      const int a = set.subs[s][0], b = set.subs[s][1];
-      const int at = side == 0 ? a : b;
-      if (at >= static_cast<int>(star.size()) || !star[at])
-        continue;
-      const double len = set.length(s), cut = lmin[at] / 3.0;
-      if (len <= cut * (1.0 + 1e-9))
-        continue;
-      // split so that the piece touching `at` has length cut; keep sub-segment s as the piece
-      // away from already-trimmed ends
-      if (at == a)
-      {
-        const int m = set.split(s, cut / len); // s = (a, m), new = (m, b)
-        std::swap(set.subs[s], set.subs.back()); // s = (m, b) continues, the trimmed piece is done
-        (void)m;
-      }
-      else
-        set.split(s, 1.0 - cut / len); // s = (a, m), new = (m, b) is the trimmed piece
-      ++set.trims;
-    }
+    Tr::Locate_type lt;
+    int i, j;
+    hint = tr.locate(Tr::Point(toPoint(segs.points[p])), lt, i, j, hint);
+    if (lt == Tr::VERTEX)
+      vertex[p] = hint->vertex(i);
   }
-  // T1.2: midpoint splits until no sub-segment is encroached by a segment point (or too long).
-  bool changed = true;
-  while (changed)
+  size_t missing = 0;
+  for (const auto& sub : segs.subs)
   {
-    changed = false;
-    for (size_t s = 0; s < set.subs.size(); ++s)
-    {
-      const Vec3 a = set.points[set.subs[s][0]], b = set.points[set.subs[s][1]];
-      const Vec3 mid = 0.5 * (a + b);
-      const double r2 = 0.25 * dot(b - a, b - a);
-      bool bad = edgeSize > 0 && 4.0 * r2 > edgeSize * edgeSize;
-      for (size_t p = 0; !bad && p < set.points.size(); ++p)
-      {
-        if (static_cast<int>(p) == set.subs[s][0] || static_cast<int>(p) == set.subs[s][1])
-          continue;
-        const Vec3 d = set.points[p] - mid;
-        bad = dot(d, d) < r2 * (1.0 - 1e-12);
-      }
-      if (bad)
-      {
-        if (set.points.size() >= maxPoints)
-        {
-          warnings.push_back("feature lines: segment refinement stopped at " + std::to_string(maxPoints) +
-            " points (segments meeting at small angles keep encroaching each other)");
-          return set;
-        }
-        set.split(s, 0.5);
-        ++set.splits;
-        changed = true;
-      }
-    }
+    Tr::Cell_handle c;
+    int i, j;
+    const auto a = vertex[sub[0]], b = vertex[sub[1]];
+    missing += a == Tr::Vertex_handle() || b == Tr::Vertex_handle() || !tr.is_edge(a, b, c, i, j);
   }
-  return set;
+  return missing > missingBefore ? missing - missingBefore : 0;
 }
 
 /// Converts the complex to the output mesh.
@@ -464,58 +431,38 @@ TetMesh meshOracle(const HierarchicalOracle& oracle, const FeatureSegments& feat
 
   // Conforming: the segments, conformed by rule T1, enter the triangulation first; their points
   // are mesh vertices of dimension 0 (input points) or 1 (on a segment), which CGAL's perturber
-  // never moves.
+  // never moves. Refinement then keeps every sub-segment's diametral ball empty (T1.2) and refuses
+  // refinement points inside them (T2.1, T3.1): see SegmentRefinementLevel.
   const bool conforming = options.strategy == FeatureStrategy::Conforming && !features.empty();
+  using Segments = SegmentRefinementLevel<C3t3>;
   SegmentSet segs;
   std::vector<Tr::Vertex_handle> segVertex;
-  auto insertSegmentPoint = [&](int p) {
-    Tr::Vertex_handle v = c3t3.triangulation().insert(Tr::Point(toPoint(segs.points[p])));
-    if (v != Tr::Vertex_handle())
-    {
-      c3t3.set_dimension(v, segs.corner[p] ? 0 : 1);
-      c3t3.set_index(v, segs.corner[p] ? domain.index_from_corner_index(p + 1) : domain.index_from_curve_index(1));
-    }
-    if (segVertex.size() <= static_cast<size_t>(p))
-      segVertex.resize(p + 1);
-    segVertex[p] = v;
-  };
-  // Sub-segments that are no longer edges of the triangulation (a refinement point encroached
-  // them) get their midpoint (T1.2). A sub-segment that is an edge but has no incident
-  // tetrahedron in a material (a convex crease whose surface sampling lies closer than half the
-  // piece's length: every circumcentre there falls outside) is left alone and reported: splitting
-  // does not converge there (see the README's limits).
-  auto recoverSegments = [&]() {
-    size_t split = 0;
-    for (size_t s = 0, n = segs.subs.size(); s < n; ++s)
-    {
-      Tr::Cell_handle c;
-      int i, j;
-      if (c3t3.triangulation().is_edge(segVertex[segs.subs[s][0]], segVertex[segs.subs[s][1]], c, i, j))
-        continue;
-      insertSegmentPoint(segs.split(s, 0.5));
-      ++split;
-    }
-    if (split)
-      c3t3.rescan_after_load_of_triangulation();
-    return split;
-  };
+  typename Segments::Counters segCount;
+  double minSubSegment = 0.0;
   if (conforming)
   {
-    warnings.push_back("FeatureStrategy Conforming is experimental: rule T1 and the recovery of "
-                       "encroached segments are in, the T2.1/T3.1 fallbacks are not yet; segments on "
-                       "convex creases at the domain's outer boundary may be missing");
     const size_t budget = options.maximumNumberOfVertices ? options.maximumNumberOfVertices : 1000000;
     segs = conformSegments(features, g.edgeSize, budget, warnings);
+    segVertex.resize(segs.points.size());
     for (size_t p = 0; p < segs.points.size(); ++p)
-      insertSegmentPoint(static_cast<int>(p));
+    {
+      Tr::Vertex_handle v = c3t3.triangulation().insert(Tr::Point(toPoint(segs.points[p])));
+      c3t3.set_dimension(v, segs.corner[p] ? 0 : 1);
+      c3t3.set_index(v, segs.corner[p] ? domain.index_from_corner_index(static_cast<int>(p) + 1)
+                                       : domain.index_from_curve_index(1));
+      segVertex[p] = v;
+    }
     c3t3.rescan_after_load_of_triangulation();
+    // Sub-segments are never split below 1/64 of the shortest conformed one: a surface or a
+    // segment meeting a segment at a tiny angle would otherwise split it without end.
+    minSubSegment = std::numeric_limits<double>::infinity();
+    for (size_t s = 0; s < segs.subs.size(); ++s)
+      minSubSegment = std::min(minSubSegment, segs.length(s) / 64.0);
   }
 
-  // Refinement, one step at a time: progress, abort and the vertex budget in our hands. The
-  // conforming strategy refines in rounds: after each, sub-segments that refinement points
-  // encroached (no longer Delaunay edges) are split and refinement resumes.
+  // Refinement, one step at a time: progress, abort and the vertex budget in our hands.
   const auto refineStart = Clock::now();
-  size_t steps = 0, recovered = 0;
+  size_t steps = 0;
   int rounds = 0;
   bool budgetHit = false;
   const double expected = [&] {
@@ -524,8 +471,7 @@ TetMesh meshOracle(const HierarchicalOracle& oracle, const FeatureSegments& feat
     return std::max(1000.0, inner.volume() / (0.1 * sz * sz * sz));
   }();
   bool stalled = false;
-  auto refine = [&]() {
-    Mesher mesher(c3t3, domain, criteria, CGAL::FACET_VERTICES_ON_SURFACE);
+  auto drive = [&](auto& mesher) {
     mesher.initialize();
     size_t lastCount = 0, idleChecks = 0;
     while (!mesher.is_algorithm_done())
@@ -555,17 +501,33 @@ TetMesh meshOracle(const HierarchicalOracle& oracle, const FeatureSegments& feat
     }
     if (budgetHit)
       mesher.fix_c3t3();
+  };
+  auto refine = [&]() {
+    if (conforming)
+    {
+      Segments level(c3t3, segs, segVertex, domain.index_from_curve_index(1), minSubSegment, segCount);
+      ConformingMesher3<C3t3, Criteria, MeshDomain> mesher(c3t3, domain, criteria, level, CGAL::FACET_VERTICES_ON_SURFACE);
+      drive(mesher);
+    }
+    else
+    {
+      Mesher mesher(c3t3, domain, criteria, CGAL::FACET_VERTICES_ON_SURFACE);
+      drive(mesher);
+    }
     ++rounds;
   };
+  // Sub-segments that are no longer Delaunay edges of the mesh.
+  auto missingSubSegments = [&]() {
+    size_t missing = 0;
+    for (const auto& sub : segs.subs)
+    {
+      Tr::Cell_handle c;
+      int i, j;
+      missing += !c3t3.triangulation().is_edge(segVertex[sub[0]], segVertex[sub[1]], c, i, j);
+    }
+    return missing;
+  };
   refine();
-  while (conforming && !budgetHit && !stalled && rounds < 50)
-  {
-    const size_t n = recoverSegments();
-    if (n == 0)
-      break;
-    recovered += n;
-    refine();
-  }
   if (stalled)
     warnings.push_back("refinement stalled (100k steps without a new vertex: a refinement point "
                        "repeats an existing vertex); the criteria are not met everywhere");
@@ -585,23 +547,40 @@ TetMesh meshOracle(const HierarchicalOracle& oracle, const FeatureSegments& feat
   if (options.perturb)
   {
     report(0.82, "perturbation");
-    CGAL::perturb_mesh_3(c3t3, domain, CGAL::parameters::time_limit = optLimit);
-    // The perturber never moves segment vertices, but moving their neighbours can push a
-    // sub-segment out of the Delaunay triangulation: split what it broke and refine again
-    // (weights are still zero here; after the exuder they are not, so this comes first).
-    for (int round = 0; conforming && !budgetHit && round < 10; ++round)
+    perturb(c3t3, domain, optLimit, [&] { report(0.82, "perturbation"); });
+    // The perturber never moves segment vertices, but a moved neighbour can land in a diametral
+    // ball and so break a sub-segment: refine again (the segment level splits what was
+    // encroached; weights are still zero here, after the exuder they are not).
+    const bool encroached = conforming && !budgetHit && !stalled &&
+      Segments(c3t3, segs, segVertex, domain.index_from_curve_index(1), minSubSegment, segCount).countEncroached() > 0;
+    if (encroached)
     {
-      const size_t n = recoverSegments();
-      if (n == 0)
-        break;
-      repaired += n;
+      const size_t before = segCount.splitsEncroached + segCount.splitsVetoed;
       refine();
+      repaired = segCount.splitsEncroached + segCount.splitsVetoed - before;
+      c3t3.clear_manifold_info();
     }
   }
   if (options.exude)
   {
     report(0.92, "exudation");
-    CGAL::exude_mesh_3(c3t3, CGAL::parameters::time_limit = optLimit);
+    // The exuder changes weights, which can flip a sub-segment out of the (regular) triangulation.
+    // It is undone when it would break a segment the refinement kept.
+    std::unique_ptr<C3t3> kept;
+    const size_t missingBefore = conforming ? missingSubSegments() : 0;
+    if (conforming)
+      kept = std::make_unique<C3t3>(c3t3);
+    exude(c3t3, optLimit, [&] { report(0.92, "exudation"); });
+    if (conforming)
+    {
+      segVertex.clear(); // the exuder re-creates vertices: find the segment points again
+      if (const size_t broken = brokenByExudation(c3t3, segs, missingBefore))
+      {
+        c3t3.swap(*kept);
+        warnings.push_back("exudation undone: it would have removed " + std::to_string(broken) +
+          " constrained sub-segments from the mesh");
+      }
+    }
   }
   const double optTime = seconds(optStart);
 
@@ -631,7 +610,10 @@ TetMesh meshOracle(const HierarchicalOracle& oracle, const FeatureSegments& feat
   st["refinement_rounds"] = rounds;
   st["segment_trims_T1.1"] = static_cast<double>(segs.trims);
   st["segment_splits_T1.2"] = static_cast<double>(segs.splits);
-  st["segment_splits_encroached"] = static_cast<double>(recovered);
+  st["segment_splits_encroached"] = static_cast<double>(segCount.splitsEncroached);
+  st["segment_splits_for_refused_points_T2.1_T3.1"] = static_cast<double>(segCount.splitsVetoed);
+  st["refinement_points_refused_T2.1_T3.1"] = static_cast<double>(segCount.vetoes);
+  st["refinement_points_dropped_at_short_segments"] = static_cast<double>(segCount.dropped);
   st["segment_splits_after_optimisation"] = static_cast<double>(repaired);
   st["time.initialisation"] = initTime;
   st["time.refinement"] = refineTime;

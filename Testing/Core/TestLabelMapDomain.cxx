@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
+#include "HierarchicalOracle.h"
 #include "InputError.h"
 #include "LabelMapDomain.h"
 #include "TestShapes.h"
@@ -108,4 +109,43 @@ TEST(LabelMapDomain, BadInputIsRejected)
   EXPECT_THROW(LabelMapDomain({ 2, 2, 2 }, { 0, 1 }, id, 0, "ct"), InputError);
   // a negative background is fine: it is not a material
   EXPECT_NO_THROW(LabelMapDomain({ 2, 1, 1 }, { -1, 4 }, id, -1, "ct"));
+}
+
+TEST(LabelMapDomain, TrilinearBoundariesAreSmoothAndTheirCrossingsExact)
+{
+  // label 1 below the diagonal i + j < 20 of a 20 x 20 x 4 grid: a staircase for Nearest, close to
+  // the plane x + y = 20 for Trilinear
+  const std::array<int, 3> d{ 20, 20, 4 };
+  std::vector<int> labels(static_cast<size_t>(d[0]) * d[1] * d[2], 0);
+  for (int k = 0; k < d[2]; ++k)
+    for (int j = 0; j < d[1]; ++j)
+      for (int i = 0; i < d[0]; ++i)
+        labels[i + d[0] * (j + d[1] * k)] = i + j < 20 ? 1 : 0;
+  const AffineMap map = LabelMapDomain::cellCenteredWorldToVoxel({ 0, 0, 0 }, { 1, 1, 1 }, kIdentity);
+  for (auto mode : { LabelInterpolation::Nearest, LabelInterpolation::Trilinear })
+  {
+    SCOPED_TRACE(mode == LabelInterpolation::Nearest ? "Nearest" : "Trilinear");
+    HierarchicalOracle o;
+    o.add(std::make_shared<LabelMapDomain>(d, labels, map, 0, "diagonal", mode));
+    double lo = 1e9, hi = -1e9;
+    for (int s = 0; s < 40; ++s)
+    {
+      const double y = 3.0 + 14.0 * (s + 0.37) / 40.0;
+      const Vec3 a{ 0.2, y, 2.0 }, b{ 19.8, y, 2.0 };
+      const Intersection x = o.intersect(a, b);
+      ASSERT_TRUE(x.found);
+      EXPECT_EQ(x.materialBefore, 1);
+      EXPECT_EQ(x.materialAfter, kOutside);
+      // exact: the material changes right at the reported point
+      EXPECT_EQ(o.material(x.point - Vec3{ 1e-7, 0, 0 }), 1);
+      EXPECT_EQ(o.material(x.point + Vec3{ 1e-7, 0, 0 }), kOutside);
+      lo = std::min(lo, x.point.x + y);
+      hi = std::max(hi, x.point.x + y);
+    }
+    if (mode == LabelInterpolation::Nearest)
+      EXPECT_GT(hi - lo, 0.9); // a staircase of one-voxel steps
+    else
+      EXPECT_LT(hi - lo, 0.5); // within a fraction of a voxel of the plane
+    EXPECT_NEAR(0.5 * (lo + hi), 20.5, 0.3);
+  }
 }

@@ -1,0 +1,151 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Private to the mesher (includes CGAL). CGAL's Mesher_3 with one more level below the facets:
+// the constrained segments (SegmentRefinementLevel). Mirrors Mesh_3::Mesher_3 of CGAL 5.5
+// (sequential), whose chain is fixed to Null_mesher_level below the facets.
+#pragma once
+
+#include "SegmentRefinementLevel.h"
+
+#include <CGAL/Mesh_3/Mesher_3.h>
+#include <CGAL/Mesh_3/Refine_cells_3.h>
+#include <CGAL/Mesh_3/Refine_facets_3.h>
+#include <CGAL/Mesh_3/Refine_facets_manifold_base.h>
+#include <CGAL/Mesh_3/Refine_tets_visitor.h>
+#include <CGAL/Mesher_level_visitors.h>
+
+namespace omesh
+{
+namespace cgal
+{
+/// The facet level as seen by the cell level: a cell refinement point is first tested against
+/// the segments (T3.1), then against the restricted facets (T3.2) as in CGAL.
+template <class FacetsLevel, class SegmentLevel>
+class FacetsLevelWithSegments : public FacetsLevel
+{
+public:
+  template <class... Args>
+  explicit FacetsLevelWithSegments(SegmentLevel& segments, Args&&... args)
+    : FacetsLevel(std::forward<Args>(args)...)
+    , segments_(segments)
+  {
+  }
+
+  template <class P, class Z>
+  CGAL::Mesher_level_conflict_status test_point_conflict_from_superior(const P& p, Z& zone)
+  {
+    const auto r = segments_.test_point_conflict_from_superior(p, zone);
+    return r != CGAL::NO_CONFLICT ? r : FacetsLevel::test_point_conflict_from_superior(p, zone);
+  }
+
+private:
+  SegmentLevel& segments_;
+};
+
+template <class C3t3, class Criteria, class MeshDomain>
+class ConformingMesher3
+{
+public:
+  using Tr = typename C3t3::Triangulation;
+  using Segments = SegmentRefinementLevel<C3t3>;
+  using FacetsBase = CGAL::Mesh_3::Refine_facets_3<Tr, typename Criteria::Facet_criteria, MeshDomain, C3t3,
+    Segments, CGAL::Sequential_tag, CGAL::Mesh_3::Refine_facets_manifold_base>;
+  using Facets = FacetsLevelWithSegments<FacetsBase, Segments>;
+  using Cells = CGAL::Mesh_3::Refine_cells_3<Tr, typename Criteria::Cell_criteria, MeshDomain, C3t3, Facets,
+    CGAL::Sequential_tag>;
+  using SegmentsVisitor = typename Segments::Visitor;
+  using FacetsVisitor = CGAL::Mesh_3::tets::Refine_facets_visitor<Tr, Cells, SegmentsVisitor>;
+  using CellsVisitor = CGAL::Null_mesh_visitor_level<FacetsVisitor>;
+
+  ConformingMesher3(C3t3& c3t3, const MeshDomain& domain, const Criteria& criteria, Segments& segments, int topology)
+    : c3t3_(c3t3)
+    , segments_(segments)
+    , facets_(segments, c3t3.triangulation(), criteria.facet_criteria_object(), domain, segments, c3t3, topology,
+        std::size_t(0), nullptr)
+    , cells_(c3t3.triangulation(), criteria.cell_criteria_object(), domain, facets_, c3t3, std::size_t(0), nullptr)
+    , facetsVisitor_(&cells_, &segmentsVisitor_)
+    , cellsVisitor_(facetsVisitor_)
+  {
+    // a segment point is inserted as the facet level inserts its points: the facets (and, once
+    // cells are refined, the cells) of its conflict zone are updated by their levels
+    segmentsVisitor_.before = [this](const typename Tr::Weighted_point& p, typename Segments::Zone& zone) {
+      facets_.before_insertion_impl(typename Tr::Facet(), p, zone);
+      if (facetsVisitor_.is_active())
+        cells_.before_insertion_handle_cells_in_conflict_zone(zone);
+    };
+    segmentsVisitor_.after = [this](const typename Tr::Vertex_handle& v) {
+      facets_.after_insertion_impl(v);
+      if (facetsVisitor_.is_active())
+        cells_.update_star(v);
+    };
+  }
+  ConformingMesher3(const ConformingMesher3&) = delete;
+  ConformingMesher3& operator=(const ConformingMesher3&) = delete;
+
+  void initialize()
+  {
+    segments_.queueAll();
+    facets_.scan_triangulation();
+    stage_ = Stage::Facets;
+  }
+
+  /// As Mesher_3::one_step: facets (and segments below them) first, then cells.
+  void one_step()
+  {
+    if (!facetsVisitor_.is_active())
+    {
+      facets_.one_step(facetsVisitor_);
+      if (facets_.is_algorithm_done())
+      {
+        switch (stage_)
+        {
+          case Stage::Facets:
+            facets_.scan_edges();
+            stage_ = Stage::FacetsAndEdges;
+            if (!facets_.is_algorithm_done())
+              break;
+            [[fallthrough]];
+          case Stage::FacetsAndEdges:
+            facets_.scan_vertices();
+            stage_ = Stage::FacetsEdgesAndVertices;
+            if (!facets_.is_algorithm_done())
+              break;
+            [[fallthrough]];
+          default:
+            facetsVisitor_.activate();
+            cells_.scan_triangulation();
+            stage_ = Stage::All;
+        }
+      }
+    }
+    else
+      cells_.one_step(cellsVisitor_);
+  }
+
+  bool is_algorithm_done() { return cells_.is_algorithm_done(); }
+
+  /// After an interruption: the cells of the complex, if cell refinement had not started.
+  void fix_c3t3()
+  {
+    if (!facetsVisitor_.is_active())
+      cells_.scan_triangulation();
+  }
+
+private:
+  enum class Stage
+  {
+    Facets,
+    FacetsAndEdges,
+    FacetsEdgesAndVertices,
+    All
+  };
+  C3t3& c3t3_;
+  Segments& segments_;
+  Facets facets_;
+  Cells cells_;
+  SegmentsVisitor segmentsVisitor_;
+  FacetsVisitor facetsVisitor_;
+  CellsVisitor cellsVisitor_;
+  Stage stage_ = Stage::Facets;
+};
+}
+}
