@@ -24,6 +24,7 @@
 #include <vtkUnstructuredGrid.h>
 
 #include <cmath>
+#include <sstream>
 
 vtkStandardNewMacro(vtkFeaturePreservingTetrahedralizer);
 
@@ -88,6 +89,39 @@ void vtkFeaturePreservingTetrahedralizer::ClearMaterialCriteria()
   }
 }
 
+void vtkFeaturePreservingTetrahedralizer::AddMaterialCriteria(double materialId, double facetAngle,
+  double facetSize, double facetDistance, double cellSize, double cellRadiusEdgeRatio, double edgeSize)
+{
+  const int row = this->MaterialCriteriaRows++;
+  const bool integral = std::isfinite(materialId) && materialId >= 0 && materialId <= VTK_INT_MAX &&
+    materialId == std::floor(materialId);
+  if (this->MaterialCriteriaError.empty())
+  {
+    std::ostringstream message;
+    if (!integral)
+      message << "material criteria row " << row + 1 << ": the material id must be an integer >= 0, got "
+              << materialId;
+    else if (this->MaterialCriteria.count(static_cast<int>(materialId)))
+      message << "material criteria row " << row + 1 << ": material " << static_cast<int>(materialId)
+              << " is listed twice";
+    this->MaterialCriteriaError = message.str();
+  }
+  if (integral)
+    this->SetMaterialCriteria(static_cast<int>(materialId), facetAngle, facetSize, facetDistance, cellSize,
+      cellRadiusEdgeRatio, edgeSize);
+  else
+    this->Modified();
+}
+
+void vtkFeaturePreservingTetrahedralizer::RemoveAllMaterialCriteria()
+{
+  if (this->MaterialCriteriaRows > 0 || !this->MaterialCriteriaError.empty())
+    this->Modified();
+  this->MaterialCriteriaRows = 0;
+  this->MaterialCriteriaError.clear();
+  this->ClearMaterialCriteria();
+}
+
 int vtkFeaturePreservingTetrahedralizer::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
@@ -98,6 +132,11 @@ int vtkFeaturePreservingTetrahedralizer::RequestData(
   vtkPolyData* interfaces = vtkPolyData::GetData(outputVector, 1);
   vtkPolyData* segmentsOut = vtkPolyData::GetData(outputVector, 2);
 
+  if (!this->MaterialCriteriaError.empty())
+  {
+    vtkErrorMacro(<< this->MaterialCriteriaError);
+    return 0;
+  }
   omesh::MesherOptions options;
   options.strategy = this->FeatureStrategy == CONFORMING ? omesh::FeatureStrategy::Conforming
     : this->FeatureStrategy == NONE                    ? omesh::FeatureStrategy::None

@@ -27,8 +27,9 @@
 
 #include <vtkUnstructuredGridAlgorithm.h>
 
-#include <map>
 #include <array>
+#include <map>
+#include <string>
 
 class ORACLEMESHFILTERS_EXPORT vtkFeaturePreservingTetrahedralizer : public vtkUnstructuredGridAlgorithm
 {
@@ -83,6 +84,15 @@ public:
   ///@}
 
   ///@{
+  /// The same as a table of rows (ParaView's repeatable property): material id, then the six
+  /// values as in SetMaterialCriteria. The id comes as a double (a table of doubles) and must be
+  /// an integer >= 0 listed once; otherwise the next update fails with an error naming the row.
+  void AddMaterialCriteria(double materialId, double facetAngle, double facetSize, double facetDistance,
+    double cellSize, double cellRadiusEdgeRatio, double edgeSize);
+  void RemoveAllMaterialCriteria();
+  ///@}
+
+  ///@{
   /// Sliver removal after refinement (CGAL's perturber and exuder). Default on.
   vtkSetMacro(Perturb, bool);
   vtkGetMacro(Perturb, bool);
@@ -128,6 +138,8 @@ private:
   void operator=(const vtkFeaturePreservingTetrahedralizer&) = delete;
 
   std::map<int, std::array<double, 6>> MaterialCriteria;
+  int MaterialCriteriaRows = 0;
+  std::string MaterialCriteriaError; // first bad row given to AddMaterialCriteria
 };
 
 #endif

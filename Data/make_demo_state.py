@@ -1,0 +1,187 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""Builds the pipeline of a scene file (Data/demo/scene.json) from the OracleMesh plugin's ParaView
+proxies, and writes the ParaView state Data/demo_scene.pvsm of the demo scene:
+
+    pvpython Data/make_demo_state.py build/lib/paraview-plugins/OracleMesh/OracleMesh.so
+
+The state names its data files relative to Data/ ("demo/implant.vtp"): load it with the data
+directory option (GUI: File > Load State, "Search files under specified directory" = Data/;
+pvpython: LoadState("Data/demo_scene.pvsm", data_directory="Data")) or from inside Data/.
+The plugin must be loaded first.
+
+Importable from pvpython: build_pipeline(scene_file) returns the proxies by name (one per scene
+domain and its reader, "Oracle", "Feature Edges", "Tetrahedralizer"), the plugin loaded with
+paraview.simple.LoadPlugin(path) (no ns argument: the constructors go to paraview.simple)."""
+import json
+import os
+import sys
+
+# Scene keys (the command line's "mesh" block) -> tetrahedralizer properties, in the order of the
+# per-material table's columns; the fallbacks are the VTK class's defaults, as in the command line.
+CRITERIA = [("facet_angle", "FacetAngle", 25.0), ("facet_size", "FacetSize", 0.0),
+            ("facet_distance", "FacetDistance", 0.0), ("cell_size", "CellSize", 0.0),
+            ("cell_radius_edge_ratio", "CellRadiusEdgeRatio", 3.0), ("edge_size", "EdgeSize", 0.0)]
+STRATEGIES = {"Conforming": "Conforming", "None": "None", "ProtectingBalls": "Protecting Balls"}
+
+
+def material_criteria_rows(materials):
+    """The scene's per-material overrides as the flat 7-column table of the MaterialCriteria
+    property (material id, then the six criteria, -1 = keep the global value)."""
+    rows = []
+    for material in sorted(materials, key=int):
+        overrides = materials[material]
+        unknown = set(overrides) - {key for key, _, _ in CRITERIA}
+        if unknown:
+            raise ValueError(f"$.mesh.materials.{material}: unknown criteria {sorted(unknown)}")
+        rows += [float(int(material))] + [float(overrides.get(key, -1.0)) for key, _, _ in CRITERIA]
+    return rows
+
+
+def build_pipeline(scene_file, file_prefix=None):
+    """Creates the proxies of the scene (the plugin must be loaded). Data files are named
+    os.path.join(file_prefix, file); file_prefix defaults to the scene's folder."""
+    from paraview import simple as pv
+
+    with open(scene_file) as f:
+        scene = json.load(f)
+    if file_prefix is None:
+        file_prefix = os.path.dirname(os.path.abspath(scene_file))
+    proxies, domains, readers = {}, [], {}
+    for d in scene["domains"]:
+        name, kind = d["name"], d["type"]
+        if kind in ("surface", "labelmap"):
+            reader = pv.OpenDataFile(os.path.join(file_prefix, d["file"]))
+            if reader is None:
+                raise ValueError(f"no ParaView reader for {d['file']!r} (domain {name!r})")
+            pv.RenameSource(d["file"], reader)
+            proxies[d["file"]] = readers[name] = reader
+        if kind == "surface":
+            domain = pv.SurfaceDomain(Input=reader)
+        elif kind == "labelmap":
+            domain = pv.LabelMapDomain(Input=reader)
+            reader.UpdatePipeline()
+            association = "POINTS" if d["array"] in reader.PointData.keys() else "CELLS"
+            domain.LabelArray = [association, d["array"]]
+            domain.BackgroundLabel = int(d.get("background", 0))
+            domain.DomainName = name
+            domain.LabelNames = [x for label, text in sorted(d.get("label_names", {}).items())
+                                 for x in (str(label), text)]
+        elif kind == "sphere":
+            domain = pv.SphereDomain(Center=d["center"], Radius=d["radius"])
+        elif kind in ("plane", "box", "cylinder"):
+            domain = pv.ImplicitDomain()
+            domain.Shape = kind.capitalize()
+            if kind == "plane":
+                domain.Shape.Origin, domain.Shape.Normal = d["origin"], d["normal"]
+            elif kind == "box":
+                b = d["bounds"]
+                domain.Shape.Position = [b[0], b[2], b[4]]
+                domain.Shape.Length = [b[1] - b[0], b[3] - b[2], b[5] - b[4]]
+            else:
+                domain.Shape.Center, domain.Shape.Axis = d["center"], d["axis"]
+                domain.Shape.Radius = d["radius"]
+                domain.Height = d.get("height", 0.0)
+        else:
+            raise ValueError(f"domain {name!r}: unknown type {kind!r}")
+        if kind != "labelmap":
+            domain.MaterialId = int(d.get("material", 1))
+            domain.MaterialName = name
+        domain.Cut = int(bool(d.get("cut", False)))
+        pv.RenameSource(name, domain)
+        proxies[name] = domain
+        domains.append(domain)
+
+    oracle = pv.HierarchicalOracle(Input=domains)  # connection order = priority
+    pv.RenameSource("Oracle", oracle)
+    proxies["Oracle"] = oracle
+
+    spec = scene.get("mesh", {})
+    mesher = pv.FeaturePreservingTetrahedralizer(Input=oracle)
+    features = spec.get("features")
+    if features:
+        edges = pv.FeatureEdges(Input=readers[features["from_surface"]])
+        edges.BoundaryEdges = edges.NonManifoldEdges = edges.ManifoldEdges = 0
+        edges.FeatureEdges = 1
+        edges.FeatureAngle = float(features.get("feature_angle", 60))
+        pv.RenameSource("Feature Edges", edges)
+        proxies["Feature Edges"] = edges
+        mesher.FeatureLines = edges
+    mesher.FeatureStrategy = STRATEGIES[spec.get("strategy", "Conforming")]
+    criteria = spec.get("criteria", {})
+    for key, prop, fallback in CRITERIA:
+        setattr(mesher, prop, float(criteria.get(key, fallback)))
+    mesher.MaterialCriteria = material_criteria_rows(spec.get("materials", {}))
+    mesher.Seed = int(spec.get("seed", 0))
+    if "maximum_number_of_vertices" in spec:
+        mesher.MaximumNumberOfVertices = int(spec["maximum_number_of_vertices"])
+    pv.RenameSource("Tetrahedralizer", mesher)
+    proxies["Tetrahedralizer"] = mesher
+    return proxies, scene
+
+
+def material_names(scene):
+    """Material id -> name, from the scene's domains."""
+    names = {}
+    for d in scene["domains"]:
+        if d["type"] == "labelmap":
+            names.update({int(k): v for k, v in d.get("label_names", {}).items()})
+        elif not d.get("cut", False):
+            names[int(d.get("material", 1))] = d["name"]
+    return names
+
+
+def show_demo(proxies, scene):
+    """The view of the state: the mesh cut open through the screw (whole tetrahedra), its edges
+    drawn, coloured by material with the materials' names."""
+    from paraview import simple as pv
+
+    cut = pv.Clip(Input=proxies["Tetrahedralizer"])
+    cut.ClipType = "Plane"
+    cut.ClipType.Origin = [0.0, -14.0, 0.0]
+    cut.ClipType.Normal = [0.0, -1.0, 0.0]
+    cut.Crinkleclip = 1
+    pv.RenameSource("Cut through the screw", cut)
+    view = pv.CreateView("RenderView")
+    view.ViewSize = [1000, 750]
+    view.OrientationAxesVisibility = 1
+    display = pv.Show(cut, view)
+    display.SetRepresentationType("Surface With Edges")
+    display.EdgeColor = [0.25, 0.25, 0.25]
+    pv.ColorBy(display, ("CELLS", "Material"))
+    lut = pv.GetColorTransferFunction("Material")
+    lut.InterpretValuesAsCategories = 1
+    names = material_names(scene)
+    lut.Annotations = [x for m in sorted(names) for x in (str(m), f"{m}: {names[m]}")]
+    lut.ApplyPreset("Brewer Qualitative Set1", True)
+    display.SetScalarBarVisibility(view, True)
+    bar = pv.GetScalarBar(lut, view)
+    bar.Title, bar.ComponentTitle = "Material", ""
+    bar.TitleFontSize = bar.LabelFontSize = 12
+    view.CameraPosition = [-160.0, -260.0, 140.0]
+    view.CameraFocalPoint = [0.0, 0.0, 50.0]
+    view.CameraViewUp = [0.0, 0.0, 1.0]
+    pv.AssignViewToLayout(view)
+    return view
+
+
+def main(argv):
+    if len(argv) < 2:
+        print(__doc__)
+        return 2
+    from paraview import simple as pv
+
+    plugin = os.path.abspath(argv[1])
+    data = os.path.dirname(os.path.abspath(__file__))
+    output = os.path.abspath(argv[2]) if len(argv) > 2 else os.path.join(data, "demo_scene.pvsm")
+    pv.LoadPlugin(plugin, remote=False)  # adds the constructors to paraview.simple
+    os.chdir(data)  # the state names its files relative to Data/
+    proxies, scene = build_pipeline(os.path.join("demo", "scene.json"), file_prefix="demo")
+    view = show_demo(proxies, scene)
+    view.ResetCamera()  # data bounds from the readers only: the mesh is not computed here
+    pv.SaveState(output)
+    print(f"wrote {output}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv))

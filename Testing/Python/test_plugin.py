@@ -1,0 +1,146 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""The ParaView plugin's server-manager XML (menus, documentation, property groups, widgets) and the
+tetrahedralizer's per-material criteria table (AddMaterialCriteria / RemoveAllMaterialCriteria, the
+methods behind the GUI table), without ParaView."""
+import os
+import unittest
+import xml.etree.ElementTree as ET
+
+import oraclemesh as om
+from vtkmodules.util.numpy_support import vtk_to_numpy
+
+XML = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "Plugin", "OracleMesh", "OracleMesh.xml")
+PROPERTY_TAGS = ("IntVectorProperty", "DoubleVectorProperty", "IdTypeVectorProperty", "StringVectorProperty",
+                 "ProxyProperty", "InputProperty")
+
+
+def proxies():
+    root = ET.parse(XML).getroot()
+    return {p.get("name"): p for group in root.findall("ProxyGroup") for p in group.findall("SourceProxy")}
+
+
+class PluginXML(unittest.TestCase):
+    def test_every_proxy_is_in_the_menu_with_a_label_and_documentation(self):
+        for name, proxy in proxies().items():
+            with self.subTest(proxy=name):
+                self.assertTrue(proxy.get("label"), "no readable label")
+                menu = proxy.find("Hints/ShowInMenu")
+                self.assertIsNotNone(menu, "not in the Sources/Filters menus")
+                self.assertEqual(menu.get("category"), "OracleMesh")
+                doc = proxy.find("Documentation")
+                self.assertTrue(doc is not None and doc.get("short_help") and doc.text.strip())
+
+    def test_every_property_has_a_tooltip_and_sits_in_a_group(self):
+        for name, proxy in proxies().items():
+            grouped = {p.get("name") for g in proxy.findall("PropertyGroup") for p in g.findall("Property")}
+            for prop in proxy:
+                if prop.tag not in PROPERTY_TAGS or prop.get("is_internal") == "1":
+                    continue
+                with self.subTest(proxy=name, property=prop.get("name")):
+                    doc = prop.find("Documentation")
+                    self.assertTrue(doc is not None and doc.text and doc.text.strip(), "no tooltip")
+                    # inputs and shapes are shown on their own; every other property in a group
+                    if prop.tag not in ("InputProperty", "ProxyProperty"):
+                        self.assertIn(prop.get("name"), grouped, "in no property group")
+
+    def test_tetrahedralizer_groups_defaults_and_display_hints(self):
+        mesher = proxies()["OracleMeshTetrahedralizer"]
+        groups = [g.get("label") for g in mesher.findall("PropertyGroup")]
+        for label in ("Size criteria", "Shape criteria", "Features", "Optimisation", "Advanced"):
+            self.assertIn(label, groups)
+        for prop in ("CellSize", "FacetSize", "FacetDistance"):
+            domain = mesher.find(f"DoubleVectorProperty[@name='{prop}']/BoundsDomain")
+            self.assertIsNotNone(domain, f"{prop}: no default from the input's bounds")
+            self.assertEqual(domain.get("mode"), "scaled_extent")
+        hints = mesher.find("Hints")
+        self.assertEqual(hints.find("RepresentationType[@port='0']").get("type"), "Surface With Edges")
+        self.assertEqual({v.get("port") for v in hints.findall("View") if v.get("type") == "None"}, {"1", "2"})
+        table = mesher.find("DoubleVectorProperty[@name='MaterialCriteria']")
+        self.assertEqual((table.get("command"), table.get("clean_command"), table.get("repeat_command"),
+                          table.get("number_of_elements_per_command")),
+                         ("AddMaterialCriteria", "RemoveAllMaterialCriteria", "1", "7"))
+        self.assertEqual(len(table.findall("Hints/ShowComponentLabels/ComponentLabel")), 7)
+
+    def test_domains_have_the_3d_widgets(self):
+        p = proxies()
+        self.assertEqual([g.get("panel_widget") for g in p["OracleMeshSphereDomain"].findall("PropertyGroup")
+                          if g.get("panel_widget")], ["InteractiveSphere"])
+        shapes = [x.get("name") for x in
+                  p["OracleMeshImplicitDomain"].findall("ProxyProperty/ProxyListDomain/Proxy")]
+        self.assertEqual(shapes, ["Plane", "Box", "Sphere", "Cylinder"])  # ParaView's widget-backed functions
+        for name in ("OracleMeshSurfaceDomain", "OracleMeshLabelMapDomain", "OracleMeshSphereDomain",
+                     "OracleMeshImplicitDomain"):
+            self.assertIn("Domain", [g.get("label") for g in p[name].findall("PropertyGroup")])
+
+
+def two_balls():
+    """Material 2 (radius 0.5) inside material 1 (radius 1)."""
+    inner, outer = om.vtkSphereDomain(), om.vtkSphereDomain()
+    inner.SetRadius(0.5)
+    inner.SetMaterialId(2)
+    outer.SetRadius(1.0)
+    outer.SetMaterialId(1)
+    oracle = om.vtkHierarchicalOracle()
+    oracle.AddInputConnection(inner.GetOutputPort())
+    oracle.AddInputConnection(outer.GetOutputPort())
+    mesher = om.vtkFeaturePreservingTetrahedralizer()
+    mesher.SetInputConnection(oracle.GetOutputPort())
+    mesher.SetFeatureStrategyToNone()
+    mesher.SetCellSize(0.4)
+    mesher.SetFacetSize(0.4)
+    mesher.SetFacetDistance(0.05)
+    mesher.SetSeed(3)
+    mesher._keep = (inner, outer, oracle)
+    return mesher
+
+
+def mean_tet_volume(grid, material):
+    stats = grid.GetFieldData()
+    names = stats.GetAbstractArray("StatisticNames")
+    values = stats.GetArray("StatisticValues")
+    volume = {names.GetValue(i): values.GetValue(i) for i in range(names.GetNumberOfValues())}[
+        f"volume.material_{material}"]
+    count = int((vtk_to_numpy(grid.GetCellData().GetArray("Material")) == material).sum())
+    return volume / count
+
+
+class MaterialCriteriaTable(unittest.TestCase):
+    def test_a_table_row_is_the_same_as_set_material_criteria(self):
+        by_table, by_call = two_balls(), two_balls()
+        by_table.AddMaterialCriteria(2.0, -1, -1, -1, 0.1, -1, -1)
+        by_call.SetMaterialCriteria(2, -1, -1, -1, 0.1, -1, -1)
+        a, b = om.update(by_table), om.update(by_call)
+        self.assertEqual(a.GetNumberOfCells(), b.GetNumberOfCells())
+        self.assertEqual(vtk_to_numpy(a.GetPoints().GetData()).tolist(), vtk_to_numpy(b.GetPoints().GetData()).tolist())
+        # the row acts: material 2's tetrahedra are much smaller than material 1's
+        self.assertLess(mean_tet_volume(a, 2), 0.3 * mean_tet_volume(a, 1))
+
+    def test_clearing_the_table_restores_the_global_criteria(self):
+        mesher = two_balls()
+        plain = om.update(mesher).GetNumberOfCells()
+        mesher.AddMaterialCriteria(2.0, -1, -1, -1, 0.1, -1, -1)
+        self.assertGreater(om.update(mesher).GetNumberOfCells(), plain)
+        mesher.RemoveAllMaterialCriteria()
+        self.assertEqual(om.update(mesher).GetNumberOfCells(), plain)
+
+    def test_bad_rows_are_named(self):
+        mesher = two_balls()
+        mesher.AddMaterialCriteria(1.0, -1, -1, -1, 0.3, -1, -1)
+        mesher.AddMaterialCriteria(2.5, -1, -1, -1, 0.3, -1, -1)
+        with self.assertRaisesRegex(om.OracleMeshError, r"row 2: the material id must be an integer >= 0, got 2\.5"):
+            om.update(mesher)
+        mesher.RemoveAllMaterialCriteria()
+        mesher.AddMaterialCriteria(2.0, -1, -1, -1, 0.3, -1, -1)
+        mesher.AddMaterialCriteria(2.0, -1, -1, -1, 0.2, -1, -1)
+        with self.assertRaisesRegex(om.OracleMeshError, "row 2: material 2 is listed twice"):
+            om.update(mesher)
+        mesher.RemoveAllMaterialCriteria()
+        mesher.AddMaterialCriteria(-1.0, -1, -1, -1, 0.3, -1, -1)
+        with self.assertRaisesRegex(om.OracleMeshError, "row 1: the material id must be an integer >= 0"):
+            om.update(mesher)
+        mesher.RemoveAllMaterialCriteria()  # a clean table meshes again
+        self.assertGreater(om.update(mesher).GetNumberOfCells(), 0)
+
+
+if __name__ == "__main__":
+    unittest.main()
