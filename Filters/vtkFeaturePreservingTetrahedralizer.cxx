@@ -162,6 +162,7 @@ int vtkFeaturePreservingTetrahedralizer::RequestData(
   }
   for (const auto& [m, c] : this->MaterialCriteria)
     overrideWith(m, { c[0], c[1], c[2], c[3], c[4], c[5] });
+  options.interfaceSliverAngle = this->InterfaceSliverAngle;
   options.perturb = this->Perturb;
   options.exude = this->Exude;
   options.seed = static_cast<unsigned>(this->Seed);
@@ -298,6 +299,7 @@ void vtkFeaturePreservingTetrahedralizer::PrintSelf(ostream& os, vtkIndent inden
   os << indent << "CellSize: " << this->CellSize << "\n";
   os << indent << "CellRadiusEdgeRatio: " << this->CellRadiusEdgeRatio << "\n";
   os << indent << "EdgeSize: " << this->EdgeSize << "\n";
+  os << indent << "InterfaceSliverAngle: " << this->InterfaceSliverAngle << "\n";
   os << indent << "Perturb: " << this->Perturb << "\n";
   os << indent << "Exude: " << this->Exude << "\n";
   os << indent << "Seed: " << this->Seed << "\n";

@@ -103,6 +103,14 @@ public:
   ///@}
 
   ///@{
+  /// Tetrahedra whose four vertices lie on interfaces or feature lines and whose minimal dihedral
+  /// angle is below this bound (degrees) are refined: the perturber and exuder cannot fix them
+  /// (those vertices only slide on their interface). 0 turns it off. Default 10.
+  vtkSetClampMacro(InterfaceSliverAngle, double, 0.0, 30.0);
+  vtkGetMacro(InterfaceSliverAngle, double);
+  ///@}
+
+  ///@{
   /// Seed of the random choices: same input and seed give an identical mesh. Default 0.
   vtkSetMacro(Seed, int);
   vtkGetMacro(Seed, int);
@@ -122,6 +130,7 @@ protected:
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
   int FeatureStrategy = CONFORMING;
+  double InterfaceSliverAngle = 10.0;
   double FacetAngle = 25.0;
   double FacetSize = 0.0;
   double FacetDistance = 0.0;

@@ -74,8 +74,9 @@ class MaterialCellCriterion : public CGAL::Mesh_3::Abstract_criterion<Tr, CellCr
   using Is_bad = Base::Is_bad;
 
 public:
-  explicit MaterialCellCriterion(const MaterialCriteria& c)
+  MaterialCellCriterion(const MaterialCriteria& c, double interfaceSliverAngle)
     : criteria_(c)
+    , sliverAngle_(interfaceSliverAngle)
   {
   }
 
@@ -102,11 +103,23 @@ protected:
       if (sqRadius > bound)
         worst = std::min(worst, bound / sqRadius);
     }
+    // A flat tetrahedron whose four vertices lie on interfaces or feature lines: the perturber and
+    // the exuder cannot fix it (those vertices only slide on their interface), its circumcentre
+    // refines it (usually through the restricted facet it encroaches). Not next to protecting balls
+    // (weighted vertices): there the refinement point falls in a ball and refinement never ends.
+    auto onInterface = [&](int i) { return c->vertex(i)->in_dimension() < 3 && tr.point(c, i).weight() == 0; };
+    if (sliverAngle_ > 0 && worst >= 1.0 && onInterface(0) && onInterface(1) && onInterface(2) && onInterface(3))
+    {
+      const double a = minDihedralAngle(toVec(p), toVec(q), toVec(r), toVec(s));
+      if (a < sliverAngle_)
+        worst = 0.99 * a / sliverAngle_;
+    }
     return worst < 1.0 ? Is_bad(Quality(worst)) : Is_bad();
   }
 
 private:
   MaterialCriteria criteria_;
+  double sliverAngle_;
 };
 
 /// Per-material facet criteria (angle, surface Delaunay ball radius, centre-to-surface distance).
@@ -386,7 +399,7 @@ TetMesh meshOracle(const HierarchicalOracle& oracle, const FeatureSegments& feat
   CellCriteria cellCriteria(0.0, 0.0);
   Criteria criteria(EdgeCriteria(edgeSize > 0 ? edgeSize : 1.0), facetCriteria, cellCriteria);
   criteria.add_facet_criterion(new MaterialFacetCriterion(options.criteria));
-  criteria.add_cell_criterion(new MaterialCellCriterion(options.criteria));
+  criteria.add_cell_criterion(new MaterialCellCriterion(options.criteria, options.interfaceSliverAngle));
 
   CGAL::get_default_random() = CGAL::Random(options.seed);
   C3t3 c3t3;
@@ -413,6 +426,8 @@ TetMesh meshOracle(const HierarchicalOracle& oracle, const FeatureSegments& feat
     meshOptions.maximal_number_of_vertices = options.maximumNumberOfVertices;
     meshOptions.pointer_to_stop_atomic_boolean = &stop;
     auto protection = std::async(std::launch::async, [&] {
+      // CGAL's default random generator is per thread and seeded from the clock: seed this one
+      CGAL::get_default_random() = CGAL::Random(options.seed);
       CGAL::Mesh_3::internal::C3t3_initializer<C3t3, MeshDomain, Criteria, true, MeshDomain::Has_features>()(
         c3t3, domain, criteria, true, meshOptions);
     });
@@ -611,8 +626,26 @@ TetMesh meshOracle(const HierarchicalOracle& oracle, const FeatureSegments& feat
     const size_t missingBefore = conforming ? missingSubSegments() : 0;
     if (conforming)
       kept = std::make_unique<C3t3>(c3t3);
-    size_t visits = 0;
-    exude(c3t3, optLimit, [&] { report(0.8 + 0.18 * (1.0 - 1.0 / (1.0 + 1e-3 * ++visits)), "exudation"); });
+    // CGAL's exuder can cycle (seen next to protecting balls): it is stopped, with a warning, after
+    // 10 pumping attempts per cell. It stops between two cells, where the mesh is consistent.
+    struct ExuderCycles
+    {
+    };
+    const double limit = 10.0 * static_cast<double>(c3t3.number_of_cells_in_complex()) + 5e4;
+    size_t checks = 0;
+    try
+    {
+      exude(c3t3, optLimit, [&] {
+        if (256.0 * ++checks > limit)
+          throw ExuderCycles{};
+        report(0.8 + 0.18 * (1.0 - 1.0 / (1.0 + 1e-3 * checks)), "exudation");
+      });
+    }
+    catch (const ExuderCycles&)
+    {
+      warnings.push_back("exudation stopped after " + std::to_string(256 * checks) +
+        " pumping attempts (CGAL's exuder cycles on this mesh): some slivers may remain");
+    }
     if (conforming)
     {
       segVertex.clear(); // the exuder re-creates vertices: find the segment points again

@@ -29,6 +29,10 @@ struct MesherOptions
 {
   FeatureStrategy strategy = FeatureStrategy::Conforming;
   MaterialCriteria criteria;
+  /// Tetrahedra with all four vertices on interfaces or feature lines and a minimal dihedral angle
+  /// below this (degrees) are refined like bad cells: the optimisers cannot fix them. 0 = off.
+  /// Not covered by CGAL's termination guarantee: refinement also stops at the vertex budget.
+  double interfaceSliverAngle = 10.0;
   bool perturb = true;
   bool exude = true;
   double optimisationTimeLimit = 0.0; ///< seconds for each of perturb and exude; 0 = no limit (deterministic)

@@ -284,17 +284,21 @@ TEST(OracleMesher, SizeAndDistanceCriteriaHoldPerMaterial)
   EXPECT_GT(sampled, 1000u);
 }
 
-TEST(OracleMesher, ConformingSameSeedSameMesh)
+TEST(OracleMesher, FeatureStrategiesSameSeedSameMesh)
 {
   HierarchicalOracle o;
   o.add(std::make_shared<SurfaceDomain>(test::cube(0, 1), 1));
   const FeatureSegments edges = cubeEdges(0, 1);
-  const TetMesh a = meshOracle(o, edges, {}, options(FeatureStrategy::Conforming, 0.25));
-  const TetMesh b = meshOracle(o, edges, {}, options(FeatureStrategy::Conforming, 0.25));
-  ASSERT_EQ(a.points.size(), b.points.size());
-  ASSERT_EQ(a.tets, b.tets);
-  for (size_t i = 0; i < a.points.size(); ++i)
-    ASSERT_EQ(norm(a.points[i] - b.points[i]), 0.0);
+  for (auto s : { FeatureStrategy::Conforming, FeatureStrategy::ProtectingBalls })
+  {
+    SCOPED_TRACE(toString(s));
+    const TetMesh a = meshOracle(o, edges, {}, options(s, 0.25));
+    const TetMesh b = meshOracle(o, edges, {}, options(s, 0.25));
+    ASSERT_EQ(a.points.size(), b.points.size());
+    ASSERT_EQ(a.tets, b.tets);
+    for (size_t i = 0; i < a.points.size(); ++i)
+      ASSERT_EQ(norm(a.points[i] - b.points[i]), 0.0);
+  }
 }
 
 TEST(OracleMesher, LabelMapVolumesWithinTwoPercentOfTheOracle)
@@ -361,4 +365,27 @@ TEST(OracleMesher, AbortDuringFeatureProtection)
   opt.progress = [&](double, const char* phase) { return !(asked = std::string(phase) == "feature protection"); };
   EXPECT_THROW(meshOracle(o, cubeEdges(0, 1), {}, opt), MeshingAborted);
   EXPECT_TRUE(asked);
+}
+
+TEST(OracleMesher, InterfaceSliversAreRefined)
+{
+  HierarchicalOracle o;
+  o.add(std::make_shared<SphereDomain>(Vec3{ 0, 0, 0 }, 1.0, 1));
+  o.add(std::make_shared<BoxDomain>(Vec3{ -0.5, -0.5, -2 }, Vec3{ 0.5, 0.5, -0.5 }, 2));
+  auto worstInterfaceTet = [](const TetMesh& m) {
+    double worst = 180.0;
+    for (const auto& t : m.tets)
+      if (m.pointDimension[t[0]] < 3 && m.pointDimension[t[1]] < 3 && m.pointDimension[t[2]] < 3 &&
+        m.pointDimension[t[3]] < 3)
+        worst = std::min(worst, minDihedralAngle(m.points[t[0]], m.points[t[1]], m.points[t[2]], m.points[t[3]]));
+    return worst;
+  };
+  MesherOptions opt = options(FeatureStrategy::None, 0.2);
+  opt.perturb = opt.exude = false; // what refinement alone guarantees
+  opt.interfaceSliverAngle = 0.0;
+  const double without = worstInterfaceTet(meshOracle(o, {}, {}, opt));
+  opt.interfaceSliverAngle = 15.0;
+  const double with = worstInterfaceTet(meshOracle(o, {}, {}, opt));
+  EXPECT_GE(with, 15.0);
+  EXPECT_LT(without, 15.0) << "the case should have interface slivers to refine";
 }

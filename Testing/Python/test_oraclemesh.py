@@ -342,9 +342,9 @@ class CommandLine(unittest.TestCase):
             reader.Update()
             materials = set(vtk_to_numpy(reader.GetOutput().GetCellData().GetArray("Material")).tolist())
             self.assertEqual(materials, {1, 2, 3, 4})
-            # the paper's quality after optimisation, with every feature line kept
+            # the paper's quality after optimisation (8.72 degrees), with every feature line kept
             angles = vtk_to_numpy(reader.GetOutput().GetCellData().GetArray("MinDihedralAngle"))
-            self.assertGreater(angles.min(), 5.0)
+            self.assertGreater(angles.min(), 8.72)
 
 
     def test_sample_writes_an_image_and_a_report(self):

@@ -99,6 +99,10 @@ def mesher_for(scene, strategy=None):
         mesher.SetInputConnection(1, lines.GetOutputPort())
         scene.feature_lines = lines  # keeps the Python objects alive with the scene
     mesher.SetSeed(spec.get("seed", 0))
+    mesher.SetPerturb(spec.get("perturb", True))
+    mesher.SetExude(spec.get("exude", True))
+    if "interface_sliver_angle" in spec:
+        mesher.SetInterfaceSliverAngle(spec["interface_sliver_angle"])
     if "maximum_number_of_vertices" in spec:
         mesher.SetMaximumNumberOfVertices(spec["maximum_number_of_vertices"])
     return mesher

@@ -46,7 +46,8 @@ DOMAIN_KEYS = {
     "cylinder": {"center", "axis", "radius", "height"},
 }
 TOP_KEYS = {"description", "comment", "space", "domains", "mesh", "outputs"}
-MESH_KEYS = {"strategy", "criteria", "materials", "features", "seed", "maximum_number_of_vertices", "comment"}
+MESH_KEYS = {"strategy", "criteria", "materials", "features", "seed", "maximum_number_of_vertices", "comment",
+             "perturb", "exude", "interface_sliver_angle"}
 FEATURE_KEYS = {"from_surface", "feature_angle", "files", "comment"}
 OUTPUT_KEYS = {"mesh", "report", "histogram", "comment"}
 
@@ -234,6 +235,17 @@ def _mesh_block(problems, spec, scene):
             continue
         mesh["materials"][material] = _criteria(problems, value, f"$.mesh.materials.{key}")
     mesh["seed"] = _number(problems, spec, "$.mesh", "seed", required=False, default=0, integer=True) or 0
+    for flag in ("perturb", "exude"):
+        if flag in spec and not isinstance(spec[flag], bool):
+            problems.add(f"$.mesh.{flag}", f"must be true or false, got {spec[flag]!r}")
+        else:
+            mesh[flag] = spec.get(flag, True)
+    angle = _number(problems, spec, "$.mesh", "interface_sliver_angle", required=False)
+    if angle is not None:
+        if not 0 <= angle <= 30:
+            problems.add("$.mesh.interface_sliver_angle", f"must be between 0 and 30 degrees, got {angle}")
+        else:
+            mesh["interface_sliver_angle"] = angle
     limit = _number(problems, spec, "$.mesh", "maximum_number_of_vertices", positive=True, required=False,
                     integer=True)
     if limit is not None:
