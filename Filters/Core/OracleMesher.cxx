@@ -696,6 +696,8 @@ TetMesh meshOracle(const HierarchicalOracle& oracle, const FeatureSegments& feat
   st["time.total"] = seconds(started);
   for (const auto& [m, v] : materialVolumes(mesh))
     st["volume.material_" + std::to_string(m)] = v;
+  for (int m : mesh.tetMaterial)
+    st["tetrahedra.material_" + std::to_string(m)] += 1.0;
   mesh.warnings = std::move(warnings);
   report(1.0, "done");
   return mesh;

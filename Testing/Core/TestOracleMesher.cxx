@@ -199,6 +199,7 @@ TEST(OracleMesher, ConformingKeepsTheCubeEdgesBeforeAndAfterOptimisation)
   const TetMesh after = meshOracle(o, edges, {}, options(FeatureStrategy::Conforming, 0.2));
   EXPECT_NEAR(featureCoverage(after.segments, edges), 1.0, 1e-12);
   EXPECT_NEAR(materialVolumes(after).at(1), 1.0, 0.01);
+  EXPECT_EQ(after.statistics.at("tetrahedra.material_1"), static_cast<double>(after.tets.size()));
   EXPECT_GT(after.statistics.at("min_dihedral_angle"), 5.0);
   EXPECT_GT(after.statistics.at("min_dihedral_angle"), before.statistics.at("min_dihedral_angle"));
   EXPECT_FALSE(hasWarning(after, "exudation undone")) << "the exuder broke a cube edge";
