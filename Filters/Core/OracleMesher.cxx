@@ -103,12 +103,12 @@ protected:
       if (sqRadius > bound)
         worst = std::min(worst, bound / sqRadius);
     }
-    // A flat tetrahedron whose four vertices lie on interfaces or feature lines: the perturber and
-    // the exuder cannot fix it (those vertices only slide on their interface), its circumcentre
-    // refines it (usually through the restricted facet it encroaches). Not next to protecting balls
+    // A flat tetrahedron with at least three vertices on interfaces or feature lines: the perturber
+    // and the exuder cannot fix it (those vertices only slide on their interface or stay on their
+    // line; seen: three points of a feature line and one free vertex), its circumcentre refines it (usually through the restricted facet it encroaches). Not next to protecting balls
     // (weighted vertices): there the refinement point falls in a ball and refinement never ends.
     auto onInterface = [&](int i) { return c->vertex(i)->in_dimension() < 3 && tr.point(c, i).weight() == 0; };
-    if (sliverAngle_ > 0 && worst >= 1.0 && onInterface(0) && onInterface(1) && onInterface(2) && onInterface(3))
+    if (sliverAngle_ > 0 && worst >= 1.0 && onInterface(0) + onInterface(1) + onInterface(2) + onInterface(3) >= 3)
     {
       const double a = minDihedralAngle(toVec(p), toVec(q), toVec(r), toVec(s));
       if (a < sliverAngle_)
