@@ -99,7 +99,11 @@ def save_histogram(q, png_path, names=None, title=None):
     FigureCanvasAgg(figure)
     axes = figure.add_subplot()
     ids = list(q["materials"])
+    # the colours of the rendered mesh (render.py: ParaView's "Brewer Qualitative Set1", in id order)
+    from matplotlib import colormaps
+    set1 = colormaps["Set1"].colors
     axes.hist([q["angles"][q["material"] == m] for m in ids], bins=np.arange(0, 72, 1.0), stacked=True,
+              color=[set1[i % len(set1)] for i in range(len(ids))],
               label=[f"{m}: {names[m]}" if m in names else str(m) for m in ids])
     axes.set_xlabel("minimal dihedral angle of the tetrahedron [°]")
     axes.set_ylabel("tetrahedra")
