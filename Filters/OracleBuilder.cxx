@@ -266,36 +266,32 @@ std::shared_ptr<omesh::Domain> OracleBuilder::BuildDomain(vtkDataObject* data, c
   return d;
 }
 
-std::map<int, std::array<double, 6>> OracleBuilder::DomainCriteria(vtkDataObject* data)
+std::map<int, std::array<double, 6>> OracleBuilder::DomainCriteria(
+  vtkDataObject* data, const omesh::HierarchicalOracle& oracle)
 {
+  std::vector<vtkDataObject*> blocks; // in BuildOracle's order: block i is domain i
+  if (auto* mb = vtkMultiBlockDataSet::SafeDownCast(data))
+    for (unsigned int i = 0; i < mb->GetNumberOfBlocks(); ++i)
+      blocks.push_back(mb->GetBlock(i));
+  else
+    blocks.push_back(data);
   std::map<int, std::array<double, 6>> out;
-  auto add = [&](vtkDataObject* block, const std::string& where) {
-    const OracleDomainMetadata md = ReadDomain(block, where);
-    if (md.Cut)
-      return;
-    std::vector<int> materials;
-    if (md.Kind == "LabelMap")
-      materials = BuildDomain(block, where)->materials();
-    else
-      materials = { md.MaterialId };
-    for (int m : materials)
+  for (size_t i = 0; i < blocks.size() && i < oracle.domains().size(); ++i)
+  {
+    const omesh::Domain& domain = *oracle.domains()[i];
+    if (domain.isCut())
+      continue;
+    const OracleDomainMetadata md = ReadDomain(blocks[i], "domain " + std::to_string(i));
+    if (std::all_of(md.Criteria.begin(), md.Criteria.end(), [](double v) { return v < 0; }))
+      continue;
+    for (int m : domain.materials())
     {
       auto& c = out.try_emplace(m, std::array<double, 6>{ -1, -1, -1, -1, -1, -1 }).first->second;
       for (int k = 0; k < 6; ++k)
         if (c[k] < 0) // a higher-priority domain's value stays
           c[k] = md.Criteria[k];
     }
-  };
-  if (auto* mb = vtkMultiBlockDataSet::SafeDownCast(data))
-  {
-    for (unsigned int i = 0; i < mb->GetNumberOfBlocks(); ++i)
-      if (vtkDataObject* block = mb->GetBlock(i))
-        add(block, "domain " + std::to_string(i));
   }
-  else if (data)
-    add(data, "input");
-  for (auto it = out.begin(); it != out.end();)
-    it = std::all_of(it->second.begin(), it->second.end(), [](double v) { return v < 0; }) ? out.erase(it) : std::next(it);
   return out;
 }
 

@@ -34,7 +34,9 @@ public:
   /// The criteria the domains of an oracle (the output of vtkHierarchicalOracle, or one domain)
   /// set for their materials, per material id (6 values, negative = not set); the
   /// higher-priority domain's value counts where two differ. Cut domains set nothing.
-  static std::map<int, std::array<double, 6>> DomainCriteria(vtkDataObject* data);
+  /// `oracle` is BuildOracle(data): it tells each domain's materials.
+  static std::map<int, std::array<double, 6>> DomainCriteria(
+    vtkDataObject* data, const omesh::HierarchicalOracle& oracle);
 
   /// Reads the domain metadata of `data` and checks the dataset type fits the kind.
   static OracleDomainMetadata ReadDomain(vtkDataObject* data, const std::string& where);

@@ -143,25 +143,6 @@ int vtkFeaturePreservingTetrahedralizer::RequestData(
                                                         : omesh::FeatureStrategy::ProtectingBalls;
   options.criteria.global = { this->FacetAngle, this->FacetSize, this->FacetDistance, this->CellSize,
     this->CellRadiusEdgeRatio, this->EdgeSize };
-  // per material: the domains' criteria, then this filter's SetMaterialCriteria over them
-  auto overrideWith = [&](int m, const std::array<double, 6>& c) {
-    omesh::MeshCriteria& o = options.criteria.perMaterial.try_emplace(m, omesh::MeshCriteria::inheritAll()).first->second;
-    double* fields[6] = { &o.facetAngle, &o.facetSize, &o.facetDistance, &o.cellSize, &o.cellRadiusEdgeRatio, &o.edgeSize };
-    for (int k = 0; k < 6; ++k)
-      if (c[k] >= 0)
-        *fields[k] = c[k];
-  };
-  try
-  {
-    for (const auto& [m, c] : OracleBuilder::DomainCriteria(oracleData))
-      overrideWith(m, c);
-  }
-  catch (const omesh::InputError&)
-  {
-    // reported below, where the oracle is built
-  }
-  for (const auto& [m, c] : this->MaterialCriteria)
-    overrideWith(m, { c[0], c[1], c[2], c[3], c[4], c[5] });
   options.interfaceSliverAngle = this->InterfaceSliverAngle;
   options.perturb = this->Perturb;
   options.exude = this->Exude;
@@ -177,6 +158,19 @@ int vtkFeaturePreservingTetrahedralizer::RequestData(
   try
   {
     auto oracle = OracleBuilder::BuildOracle(oracleData);
+    // per material: the domains' criteria, then this filter's SetMaterialCriteria over them
+    auto overrideWith = [&](int m, const std::array<double, 6>& c) {
+      omesh::MeshCriteria& o =
+        options.criteria.perMaterial.try_emplace(m, omesh::MeshCriteria::inheritAll()).first->second;
+      double* fields[6] = { &o.facetAngle, &o.facetSize, &o.facetDistance, &o.cellSize, &o.cellRadiusEdgeRatio, &o.edgeSize };
+      for (int k = 0; k < 6; ++k)
+        if (c[k] >= 0)
+          *fields[k] = c[k];
+    };
+    for (const auto& [m, c] : OracleBuilder::DomainCriteria(oracleData, *oracle))
+      overrideWith(m, c);
+    for (const auto& [m, c] : this->MaterialCriteria)
+      overrideWith(m, { c[0], c[1], c[2], c[3], c[4], c[5] });
     features = OracleBuilder::ToFeatureSegments(lines);
     std::vector<omesh::Vec3> seedPoints;
     for (vtkIdType i = 0; seeds && i < seeds->GetNumberOfPoints(); ++i)
