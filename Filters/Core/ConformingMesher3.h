@@ -57,8 +57,7 @@ public:
   using CellsVisitor = CGAL::Null_mesh_visitor_level<FacetsVisitor>;
 
   ConformingMesher3(C3t3& c3t3, const MeshDomain& domain, const Criteria& criteria, Segments& segments, int topology)
-    : c3t3_(c3t3)
-    , segments_(segments)
+    : segments_(segments)
     , facets_(segments, c3t3.triangulation(), criteria.facet_criteria_object(), domain, segments, c3t3, topology,
         std::size_t(0), nullptr)
     , cells_(c3t3.triangulation(), criteria.cell_criteria_object(), domain, facets_, c3t3, std::size_t(0), nullptr)
@@ -138,7 +137,6 @@ private:
     FacetsEdgesAndVertices,
     All
   };
-  C3t3& c3t3_;
   Segments& segments_;
   Facets facets_;
   Cells cells_;
