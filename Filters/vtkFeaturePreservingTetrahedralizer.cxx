@@ -24,6 +24,7 @@
 #include <vtkUnstructuredGrid.h>
 
 #include <cmath>
+#include <exception>
 #include <sstream>
 
 vtkStandardNewMacro(vtkFeaturePreservingTetrahedralizer);
@@ -190,6 +191,12 @@ int vtkFeaturePreservingTetrahedralizer::RequestData(
   {
     vtkWarningMacro(<< "meshing aborted");
     return 1;
+  }
+  catch (const std::exception& e)
+  {
+    // a CGAL precondition or assertion (CGAL::Failure_exception), or memory: an error, not a crash
+    vtkErrorMacro(<< "meshing failed: " << e.what());
+    return 0;
   }
   for (const auto& w : mesh.warnings)
     vtkWarningMacro(<< w);
