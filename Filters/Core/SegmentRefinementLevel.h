@@ -212,7 +212,8 @@ private:
   bool split(int s, V& visitor)
   {
     const int a = segs_.subs[s][0];
-    const Vec3 mid = 0.5 * (segs_.points[a] + segs_.points[segs_.subs[s][1]]);
+    // exactly the point SegmentSet::split stores: the exuder check finds segment points by exact location
+    const Vec3 mid = lerp(segs_.points[a], segs_.points[segs_.subs[s][1]], 0.5);
     const Weighted_point wp(toPoint(mid));
     Zone zone;
     zone.cell = tr_.locate(wp, zone.locate_type, zone.i, zone.j, vertexOf_[a]->cell());
