@@ -171,7 +171,7 @@ int vtkFeaturePreservingTetrahedralizer::RequestData(
     for (const auto& [m, c] : OracleBuilder::DomainCriteria(oracleData, *oracle))
       overrideWith(m, c);
     for (const auto& [m, c] : this->MaterialCriteria)
-      overrideWith(m, { c[0], c[1], c[2], c[3], c[4], c[5] });
+      overrideWith(m, c);
     features = OracleBuilder::ToFeatureSegments(lines);
     std::vector<omesh::Vec3> seedPoints;
     for (vtkIdType i = 0; seeds && i < seeds->GetNumberOfPoints(); ++i)

@@ -132,8 +132,7 @@ void LabelMapDomain::crossings(const Vec3& a, const Vec3& b, std::vector<double>
       continue;
     const double tm = 0.5 * (faces[f] + faces[f + 1]);
     const Vec3 um = ua + tm * d;
-    const Vec3 uc{ std::clamp(um.x, 0.0, dimsD_[0]), std::clamp(um.y, 0.0, dimsD_[1]),
-      std::clamp(um.z, 0.0, dimsD_[2]) };
+    const Vec3 uc = clampToGrid(um);
     const int label = index_[voxelOf(uc)];
     if (previous != -2 && label != previous)
       ts.push_back(faces[f]);
@@ -219,7 +218,7 @@ void LabelMapDomain::trilinearCrossings(
   std::sort(planes.begin(), planes.end());
   auto labelAt = [&](double t) {
     const Vec3 u = ua + t * d;
-    return trilinearIndex({ std::clamp(u.x, 0.0, dimsD_[0]), std::clamp(u.y, 0.0, dimsD_[1]), std::clamp(u.z, 0.0, dimsD_[2]) });
+    return trilinearIndex(clampToGrid(u));
   };
   constexpr int kSamples = 4;
   double previousT = t0;
@@ -234,7 +233,7 @@ void LabelMapDomain::trilinearCrossings(
       const Vec3 um = ua + (0.5 * (a + b)) * d;
       uint16_t idx[8];
       double w[8];
-      gather({ std::clamp(um.x, 0.0, dimsD_[0]), std::clamp(um.y, 0.0, dimsD_[1]), std::clamp(um.z, 0.0, dimsD_[2]) }, idx, w);
+      gather(clampToGrid(um), idx, w);
       if (std::all_of(idx, idx + 8, [&](uint16_t i) { return i == previous; }))
       {
         previousT = b;

@@ -4,6 +4,7 @@
 #include "AffineMap.h"
 #include "Domain.h"
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <map>
@@ -71,6 +72,11 @@ private:
     return static_cast<size_t>(i) + static_cast<size_t>(dims_[0]) * (static_cast<size_t>(j) + static_cast<size_t>(dims_[1]) * k);
   }
 
+  /// Voxel coordinates moved onto the grid [0, dims] (for points on the grid's faces).
+  Vec3 clampToGrid(const Vec3& u) const
+  {
+    return { std::clamp(u.x, 0.0, dimsD_[0]), std::clamp(u.y, 0.0, dimsD_[1]), std::clamp(u.z, 0.0, dimsD_[2]) };
+  }
   /// Compact label index of the largest trilinear indicator at voxel coordinates u (in the grid).
   uint16_t trilinearIndex(const Vec3& u) const;
   /// Compact label indices and trilinear weights of the 8 voxel centres around u.
