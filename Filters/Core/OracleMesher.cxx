@@ -401,6 +401,17 @@ TetMesh meshOracle(const HierarchicalOracle& oracle, const FeatureSegments& feat
   criteria.add_facet_criterion(new MaterialFacetCriterion(options.criteria));
   criteria.add_cell_criterion(new MaterialCellCriterion(options.criteria, options.interfaceSliverAngle));
 
+  // Conforming: rule T1 on the segments alone first; the domain's initial points keep away from
+  // their points (a near-coincident pair seeds a cluster of micro tetrahedra).
+  const bool conforming = options.strategy == FeatureStrategy::Conforming && !features.empty();
+  SegmentSet segs;
+  if (conforming)
+  {
+    const size_t budget = options.maximumNumberOfVertices ? options.maximumNumberOfVertices : 1000000;
+    segs = conformSegments(features, g.edgeSize, budget, warnings);
+    domain.avoidInitialPointsNear(segs.points);
+  }
+
   CGAL::get_default_random() = CGAL::Random(options.seed);
   C3t3 c3t3;
   const auto initStart = Clock::now();
@@ -469,16 +480,12 @@ TetMesh meshOracle(const HierarchicalOracle& oracle, const FeatureSegments& feat
   // are mesh vertices of dimension 0 (input points) or 1 (on a segment), which CGAL's perturber
   // never moves. Refinement then keeps every sub-segment's diametral ball empty (T1.2) and refuses
   // refinement points inside them (T2.1, T3.1): see SegmentRefinementLevel.
-  const bool conforming = options.strategy == FeatureStrategy::Conforming && !features.empty();
   using Segments = SegmentRefinementLevel<C3t3>;
-  SegmentSet segs;
   std::vector<Tr::Vertex_handle> segVertex;
   typename Segments::Counters segCount;
   double minSubSegment = 0.0;
   if (conforming)
   {
-    const size_t budget = options.maximumNumberOfVertices ? options.maximumNumberOfVertices : 1000000;
-    segs = conformSegments(features, g.edgeSize, budget, warnings);
     segVertex.resize(segs.points.size());
     for (size_t p = 0; p < segs.points.size(); ++p)
     {
