@@ -7,12 +7,15 @@
 #include "HierarchicalOracle.h"
 #include "InputError.h"
 #include "MeshQuality.h"
+#include "MeshValidity.h"
 #include "ConformingMesher3.h"
 #include "OracleMeshDomain.h"
 #include "SegmentConformation.h"
 
 #include <CGAL/Mesh_complex_3_in_triangulation_3.h>
 #include <CGAL/Mesh_criteria_3.h>
+#include <CGAL/Mesh_3/Dump_c3t3.h>
+#include <CGAL/assertions_behaviour.h>
 #include <CGAL/Mesh_domain_with_polyline_features_3.h>
 #include <CGAL/Mesh_triangulation_3.h>
 #include <CGAL/exude_mesh_3.h>
@@ -57,6 +60,51 @@ using CellCriteria = Criteria::Cell_criteria;
 using EdgeCriteria = Criteria::Edge_criteria;
 using Mesher = CGAL::Mesh_3::Mesher_3<C3t3, Criteria, MeshDomain>;
 using Clock = std::chrono::steady_clock;
+}
+}
+
+namespace CGAL
+{
+// Before some errors CGAL dumps the complex into the working directory (dump-bug.mesh,
+// dump-bug.binary.cgal): never into a user's.
+template <>
+struct Dump_c3t3<omesh::C3t3, true>
+{
+  void dump_c3t3(const omesh::C3t3&, std::string) const {}
+};
+template <>
+struct Dump_c3t3<omesh::C3t3, false>
+{
+  void dump_c3t3(const omesh::C3t3&, std::string) const {}
+};
+}
+
+namespace omesh
+{
+namespace
+{
+/// CGAL reports a failed assertion by printing its text to stderr, then throwing. For the time of
+/// one meshing call it only throws; meshOracle turns the exception into its own message.
+class QuietCgalErrors
+{
+public:
+  QuietCgalErrors()
+    : error_(CGAL::set_error_handler(&quiet))
+    , warning_(CGAL::set_warning_handler(&quiet))
+  {
+  }
+  ~QuietCgalErrors()
+  {
+    CGAL::set_error_handler(error_);
+    CGAL::set_warning_handler(warning_);
+  }
+  QuietCgalErrors(const QuietCgalErrors&) = delete;
+  QuietCgalErrors& operator=(const QuietCgalErrors&) = delete;
+
+private:
+  static void quiet(const char*, const char*, const char*, int, const char*) {}
+  CGAL::Failure_function error_, warning_;
+};
 
 double seconds(Clock::time_point since)
 {
@@ -353,7 +401,9 @@ TetMesh toTetMesh(const C3t3& c3t3)
 }
 }
 
-TetMesh meshOracle(const HierarchicalOracle& oracle, const FeatureSegments& features,
+namespace
+{
+TetMesh meshOracleUnguarded(const HierarchicalOracle& oracle, const FeatureSegments& features,
   const std::vector<Vec3>& seedPoints, const MesherOptions& options)
 {
   const auto started = Clock::now();
@@ -682,7 +732,13 @@ TetMesh meshOracle(const HierarchicalOracle& oracle, const FeatureSegments& feat
     minAngle = std::min(minAngle, a);
     sumAngle += a;
   }
+  // Independent of how the mesh was made: what a finite-element code would reject.
+  const MeshValidity validity = checkMeshValidity(mesh, [&oracle](const Vec3& p) { return oracle.material(p); });
+  if (!validity.valid())
+    warnings.push_back("mesh validity: " + validity.describe());
   auto& st = mesh.statistics;
+  for (const auto& [name, value] : validity.asStatistics())
+    st[name] = value;
   st["tetrahedra"] = static_cast<double>(mesh.tets.size());
   st["vertices"] = static_cast<double>(mesh.points.size());
   st["min_dihedral_angle"] = mesh.tets.empty() ? 0.0 : minAngle;
@@ -708,5 +764,26 @@ TetMesh meshOracle(const HierarchicalOracle& oracle, const FeatureSegments& feat
   mesh.warnings = std::move(warnings);
   report(1.0, "done");
   return mesh;
+}
+}
+
+TetMesh meshOracle(const HierarchicalOracle& oracle, const FeatureSegments& features,
+  const std::vector<Vec3>& seedPoints, const MesherOptions& options)
+{
+  QuietCgalErrors quiet;
+  try
+  {
+    return meshOracleUnguarded(oracle, features, seedPoints, options);
+  }
+  catch (const CGAL::Failure_exception& e)
+  {
+    std::string where = e.filename();
+    where = where.substr(where.find_last_of('/') + 1) + ":" + std::to_string(e.line_number());
+    std::string why;
+    if (e.message().find("already inserted") != std::string::npos)
+      why = ": a refinement point repeats an existing vertex";
+    throw MeshingFailed("meshing failed inside CGAL Mesh_3 (" + where + ")" + why +
+      "; please report it with the scene (the seed reproduces it)");
+  }
 }
 }

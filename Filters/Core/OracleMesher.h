@@ -52,6 +52,12 @@ struct MeshingAborted : std::runtime_error
   }
 };
 
+/// Thrown when CGAL fails inside the mesher (an internal error, not the input's fault).
+struct MeshingFailed : std::runtime_error
+{
+  using std::runtime_error::runtime_error;
+};
+
 /// Tetrahedralizes the domain of `oracle`, preserving `features` (see FeatureStrategy) and
 /// inserting `seedPoints` first (the paper's a-priori points). Throws InputError for bad input
 /// (empty oracle, bad feature lines, bad criteria).

@@ -1,0 +1,194 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "MeshValidity.h"
+
+#include "MeshQuality.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <sstream>
+#include <unordered_map>
+
+namespace omesh
+{
+namespace
+{
+struct CellKey
+{
+  std::int64_t i, j, k;
+  bool operator==(const CellKey& o) const { return i == o.i && j == o.j && k == o.k; }
+};
+struct CellKeyHash
+{
+  std::size_t operator()(const CellKey& c) const
+  {
+    return static_cast<std::size_t>(c.i * 73856093 ^ c.j * 19349663 ^ c.k * 83492791);
+  }
+};
+
+/// Used vertices with another used vertex closer than `tol`: a hash grid of cell size `cell`
+/// (>= tol), each vertex compared with the 27 cells around it.
+std::size_t countDuplicates(const std::vector<Vec3>& points, const std::vector<char>& used, double tol, double cell)
+{
+  std::unordered_map<CellKey, std::vector<int>, CellKeyHash> grid;
+  auto keyOf = [cell](const Vec3& p) {
+    return CellKey{ static_cast<std::int64_t>(std::floor(p.x / cell)), static_cast<std::int64_t>(std::floor(p.y / cell)),
+      static_cast<std::int64_t>(std::floor(p.z / cell)) };
+  };
+  for (std::size_t v = 0; v < points.size(); ++v)
+    if (used[v] && isFinite(points[v]))
+      grid[keyOf(points[v])].push_back(static_cast<int>(v));
+  std::size_t count = 0;
+  for (std::size_t v = 0; v < points.size(); ++v)
+  {
+    if (!used[v] || !isFinite(points[v]))
+      continue;
+    const CellKey k = keyOf(points[v]);
+    bool dup = false;
+    for (std::int64_t di = -1; di <= 1 && !dup; ++di)
+      for (std::int64_t dj = -1; dj <= 1 && !dup; ++dj)
+        for (std::int64_t dk = -1; dk <= 1 && !dup; ++dk)
+        {
+          const auto it = grid.find({ k.i + di, k.j + dj, k.k + dk });
+          if (it == grid.end())
+            continue;
+          for (int w : it->second)
+            if (w != static_cast<int>(v) && norm(points[w] - points[v]) < tol)
+            {
+              dup = true;
+              break;
+            }
+        }
+    count += dup;
+  }
+  return count;
+}
+
+std::size_t countNonManifoldFaces(const std::vector<std::array<int, 4>>& tets)
+{
+  std::vector<std::array<int, 3>> faces;
+  faces.reserve(4 * tets.size());
+  for (const auto& t : tets)
+    for (int skip = 0; skip < 4; ++skip)
+    {
+      std::array<int, 3> f;
+      for (int i = 0, n = 0; i < 4; ++i)
+        if (i != skip)
+          f[n++] = t[i];
+      std::sort(f.begin(), f.end());
+      faces.push_back(f);
+    }
+  std::sort(faces.begin(), faces.end());
+  std::size_t count = 0;
+  for (std::size_t i = 0; i < faces.size();)
+  {
+    std::size_t j = i;
+    while (j < faces.size() && faces[j] == faces[i])
+      ++j;
+    count += j - i > 2;
+    i = j;
+  }
+  return count;
+}
+}
+
+std::string MeshValidity::describe() const
+{
+  std::ostringstream o;
+  const std::pair<std::size_t, const char*> items[] = { { duplicateVertices, "duplicate vertices" },
+    { microTetrahedra, "micro tetrahedra" }, { flatTetrahedra, "flat tetrahedra" },
+    { invertedTetrahedra, "inverted tetrahedra" }, { nonManifoldFaces, "faces shared by more than two tetrahedra" },
+    { badIndices, "tetrahedra with bad vertex indices" },
+    { materialMismatches, "tetrahedra whose material differs from the oracle's inside them" },
+    { missingSegmentPieces, "constrained segment pieces missing from the mesh edges" } };
+  const char* sep = "";
+  for (const auto& [n, what] : items)
+    if (n)
+    {
+      o << sep << n << ' ' << what;
+      sep = ", ";
+    }
+  return o.str();
+}
+
+std::vector<std::pair<std::string, double>> MeshValidity::asStatistics() const
+{
+  auto d = [](std::size_t n) { return static_cast<double>(n); };
+  return { { "validity.defects", d(defects()) }, { "validity.duplicate_vertices", d(duplicateVertices) },
+    { "validity.micro_tetrahedra", d(microTetrahedra) }, { "validity.flat_tetrahedra", d(flatTetrahedra) },
+    { "validity.inverted_tetrahedra", d(invertedTetrahedra) }, { "validity.non_manifold_faces", d(nonManifoldFaces) },
+    { "validity.bad_vertex_indices", d(badIndices) }, { "validity.material_mismatches", d(materialMismatches) },
+    { "validity.missing_segment_pieces", d(missingSegmentPieces) }, { "validity.median_edge", medianEdge },
+    { "validity.shortest_edge", shortestEdge }, { "validity.unused_vertices", d(unusedVertices) } };
+}
+
+MeshValidity checkMeshValidity(
+  const TetMesh& mesh, const std::function<int(const Vec3&)>& materialAt, const ValidityThresholds& th)
+{
+  MeshValidity r;
+  const int n = static_cast<int>(mesh.points.size());
+  std::vector<char> used(mesh.points.size(), 0);
+  std::vector<std::size_t> good; // tetrahedra with valid indices
+  good.reserve(mesh.tets.size());
+  std::vector<double> edges;
+  edges.reserve(6 * mesh.tets.size());
+  for (std::size_t t = 0; t < mesh.tets.size(); ++t)
+  {
+    const auto& k = mesh.tets[t];
+    bool ok = true;
+    for (int i = 0; i < 4; ++i)
+    {
+      ok = ok && k[i] >= 0 && k[i] < n;
+      for (int j = 0; ok && j < i; ++j)
+        ok = k[i] != k[j];
+    }
+    if (!ok)
+    {
+      ++r.badIndices;
+      continue;
+    }
+    good.push_back(t);
+    for (int i = 0; i < 4; ++i)
+    {
+      used[k[i]] = 1;
+      for (int j = i + 1; j < 4; ++j)
+        edges.push_back(norm(mesh.points[k[i]] - mesh.points[k[j]]));
+    }
+  }
+  for (char u : used)
+    r.unusedVertices += !u;
+  if (edges.empty())
+    return r;
+  r.shortestEdge = *std::min_element(edges.begin(), edges.end());
+  std::nth_element(edges.begin(), edges.begin() + edges.size() / 2, edges.end());
+  r.medianEdge = edges[edges.size() / 2];
+  const double L = r.medianEdge;
+
+  for (std::size_t t : good)
+  {
+    const auto& k = mesh.tets[t];
+    const Vec3 &a = mesh.points[k[0]], &b = mesh.points[k[1]], &c = mesh.points[k[2]], &d = mesh.points[k[3]];
+    const double longest =
+      std::max({ norm(b - a), norm(c - a), norm(d - a), norm(c - b), norm(d - b), norm(d - c) });
+    const double v = signedVolume(a, b, c, d);
+    r.microTetrahedra += longest < th.micro * L;
+    r.flatTetrahedra += !(std::abs(v) >= th.flat * longest * longest * longest);
+    r.invertedTetrahedra += v < 0;
+    if (materialAt && t < mesh.tetMaterial.size() && mesh.pointDimension.size() == mesh.points.size())
+    {
+      bool inside = true;
+      for (int i = 0; i < 4; ++i)
+        inside = inside && mesh.pointDimension[k[i]] == 3;
+      if (inside && materialAt(0.25 * (a + b + c + d)) != mesh.tetMaterial[t])
+        ++r.materialMismatches;
+    }
+  }
+  const double tol = th.duplicate * L;
+  r.duplicateVertices = tol > 0 ? countDuplicates(mesh.points, used, tol, std::max(L, tol)) : 0;
+  r.nonManifoldFaces = countNonManifoldFaces(mesh.tets);
+  for (const auto& s : mesh.segments)
+    r.missingSegmentPieces += !s.present;
+  return r;
+}
+}

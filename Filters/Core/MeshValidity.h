@@ -1,0 +1,60 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// What a finite-element code rejects in a tetrahedral mesh, counted independently of how the mesh
+// was made. Run by the mesher on every mesh it returns, and on demand on any mesh.
+#pragma once
+
+#include "TetMesh.h"
+
+#include <cstddef>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace omesh
+{
+/// Thresholds relative to the median edge length L of the mesh.
+struct ValidityThresholds
+{
+  double duplicate = 1e-9; ///< two used vertices closer than this x L are duplicates
+  double micro = 1e-4;     ///< a tetrahedron whose longest edge is below this x L is micro
+  double flat = 1e-8;      ///< a tetrahedron with |volume| below this x (longest edge)^3 is flat
+};
+
+/// Defect counts of one mesh; every count is a defect except where noted.
+struct MeshValidity
+{
+  std::size_t duplicateVertices = 0;  ///< used vertices with another used vertex closer than duplicate x L
+  std::size_t microTetrahedra = 0;    ///< longest edge < micro x L
+  std::size_t flatTetrahedra = 0;     ///< |volume| < flat x longest edge^3 (includes zero volume)
+  std::size_t invertedTetrahedra = 0; ///< negative signed volume (VTK's and CGAL's orientation)
+  std::size_t nonManifoldFaces = 0;   ///< triangles shared by more than two tetrahedra
+  std::size_t badIndices = 0;         ///< tetrahedra with an out-of-range or repeated vertex index
+  /// Tetrahedra whose four vertices all lie inside a material (dimension 3) but whose centroid the
+  /// oracle puts in another material: an interface passes through them unsampled (a missed thin
+  /// layer) or they carry the wrong material. Needs the oracle; tetrahedra touching an interface
+  /// are not counted (their centroid may lie across a curved interface within the facet distance).
+  std::size_t materialMismatches = 0;
+  /// Pieces of the constrained segments (TetMesh::segments) that are not mesh edges.
+  std::size_t missingSegmentPieces = 0;
+
+  double medianEdge = 0.0;     ///< L (not a defect)
+  double shortestEdge = 0.0;   ///< not a defect
+  std::size_t unusedVertices = 0; ///< points no tetrahedron uses (not a defect)
+
+  std::size_t defects() const
+  {
+    return duplicateVertices + microTetrahedra + flatTetrahedra + invertedTetrahedra + nonManifoldFaces +
+      badIndices + materialMismatches + missingSegmentPieces;
+  }
+  bool valid() const { return defects() == 0; }
+  /// "3 duplicate vertices, 12 micro tetrahedra" (empty when valid).
+  std::string describe() const;
+  /// (statistic name, value) pairs, names "validity.<defect>", for TetMesh::statistics.
+  std::vector<std::pair<std::string, double>> asStatistics() const;
+};
+
+/// Checks `mesh` (tets, tetMaterial, points, segments). `materialAt` (may be empty) is the
+/// oracle's material at a point, for the material check; `pointDimension` is used when present.
+MeshValidity checkMeshValidity(const TetMesh& mesh, const std::function<int(const Vec3&)>& materialAt = {},
+  const ValidityThresholds& thresholds = {});
+}
