@@ -12,6 +12,7 @@
 #include <vtkCellData.h>
 #include <vtkDoubleArray.h>
 #include <vtkFieldData.h>
+#include <vtkUnsignedCharArray.h>
 #include <vtkInformation.h>
 #include <vtkInformationVector.h>
 #include <vtkIntArray.h>
@@ -224,6 +225,15 @@ int vtkFeaturePreservingTetrahedralizer::RequestData(
     ratio->InsertNextValue(omesh::radiusEdgeRatio(P[k[0]], P[k[1]], P[k[2]], P[k[3]]));
   }
   grid->SetCells(VTK_TETRA, tets);
+  if (mesh.tetDefects.size() == mesh.tets.size())
+  {
+    vtkNew<vtkUnsignedCharArray> defects; // bits as vtkMeshValidityCheck's
+    defects->SetName("Defects");
+    defects->SetNumberOfTuples(static_cast<vtkIdType>(mesh.tets.size()));
+    for (size_t t = 0; t < mesh.tets.size(); ++t)
+      defects->SetValue(static_cast<vtkIdType>(t), mesh.tetDefects[t]);
+    grid->GetCellData()->AddArray(defects);
+  }
   grid->GetCellData()->AddArray(material);
   grid->GetCellData()->SetScalars(material);
   grid->GetCellData()->AddArray(dihedral);

@@ -29,7 +29,7 @@ struct CellKeyHash
 
 /// Used vertices with another used vertex closer than `tol`: a hash grid of cell size `cell`
 /// (>= tol), each vertex compared with the 27 cells around it.
-std::size_t countDuplicates(const std::vector<Vec3>& points, const std::vector<char>& used, double tol, double cell)
+std::vector<char> findDuplicates(const std::vector<Vec3>& points, const std::vector<char>& used, double tol, double cell)
 {
   std::unordered_map<CellKey, std::vector<int>, CellKeyHash> grid;
   auto keyOf = [cell](const Vec3& p) {
@@ -39,7 +39,7 @@ std::size_t countDuplicates(const std::vector<Vec3>& points, const std::vector<c
   for (std::size_t v = 0; v < points.size(); ++v)
     if (used[v] && isFinite(points[v]))
       grid[keyOf(points[v])].push_back(static_cast<int>(v));
-  std::size_t count = 0;
+  std::vector<char> duplicate(points.size(), 0);
   for (std::size_t v = 0; v < points.size(); ++v)
   {
     if (!used[v] || !isFinite(points[v]))
@@ -60,33 +60,39 @@ std::size_t countDuplicates(const std::vector<Vec3>& points, const std::vector<c
               break;
             }
         }
-    count += dup;
+    duplicate[v] = dup;
   }
-  return count;
+  return duplicate;
 }
 
-std::size_t countNonManifoldFaces(const std::vector<std::array<int, 4>>& tets)
+/// Faces shared by more than two tetrahedra; the tetrahedra holding one are flagged.
+std::size_t countNonManifoldFaces(const std::vector<std::array<int, 4>>& tets, std::vector<unsigned char>& flags)
 {
-  std::vector<std::array<int, 3>> faces;
+  std::vector<std::pair<std::array<int, 3>, std::size_t>> faces; // sorted face, tetrahedron
   faces.reserve(4 * tets.size());
-  for (const auto& t : tets)
+  for (std::size_t t = 0; t < tets.size(); ++t)
     for (int skip = 0; skip < 4; ++skip)
     {
       std::array<int, 3> f;
       for (int i = 0, n = 0; i < 4; ++i)
         if (i != skip)
-          f[n++] = t[i];
+          f[n++] = tets[t][i];
       std::sort(f.begin(), f.end());
-      faces.push_back(f);
+      faces.emplace_back(f, t);
     }
   std::sort(faces.begin(), faces.end());
   std::size_t count = 0;
   for (std::size_t i = 0; i < faces.size();)
   {
     std::size_t j = i;
-    while (j < faces.size() && faces[j] == faces[i])
+    while (j < faces.size() && faces[j].first == faces[i].first)
       ++j;
-    count += j - i > 2;
+    if (j - i > 2)
+    {
+      ++count;
+      for (std::size_t k = i; k < j; ++k)
+        flags[faces[k].second] |= kNonManifoldFace;
+    }
     i = j;
   }
   return count;
@@ -123,10 +129,11 @@ std::vector<std::pair<std::string, double>> MeshValidity::asStatistics() const
     { "validity.shortest_edge", shortestEdge }, { "validity.unused_vertices", d(unusedVertices) } };
 }
 
-MeshValidity checkMeshValidity(
-  const TetMesh& mesh, const std::function<int(const Vec3&)>& materialAt, const ValidityThresholds& th)
+MeshValidity checkMeshValidity(const TetMesh& mesh, const std::function<int(const Vec3&)>& materialAt,
+  const ValidityThresholds& th, std::vector<unsigned char>* tetDefects)
 {
   MeshValidity r;
+  std::vector<unsigned char> flags(mesh.tets.size(), 0);
   const int n = static_cast<int>(mesh.points.size());
   std::vector<char> used(mesh.points.size(), 0);
   std::vector<std::size_t> good; // tetrahedra with valid indices
@@ -146,6 +153,7 @@ MeshValidity checkMeshValidity(
     if (!ok)
     {
       ++r.badIndices;
+      flags[t] |= kBadIndices;
       continue;
     }
     good.push_back(t);
@@ -159,7 +167,11 @@ MeshValidity checkMeshValidity(
   for (char u : used)
     r.unusedVertices += !u;
   if (edges.empty())
+  {
+    if (tetDefects)
+      *tetDefects = std::move(flags);
     return r;
+  }
   r.shortestEdge = *std::min_element(edges.begin(), edges.end());
   std::nth_element(edges.begin(), edges.begin() + edges.size() / 2, edges.end());
   r.medianEdge = edges[edges.size() / 2];
@@ -172,23 +184,39 @@ MeshValidity checkMeshValidity(
     const double longest =
       std::max({ norm(b - a), norm(c - a), norm(d - a), norm(c - b), norm(d - b), norm(d - c) });
     const double v = signedVolume(a, b, c, d);
-    r.microTetrahedra += longest < th.micro * L;
-    r.flatTetrahedra += !(std::abs(v) >= th.flat * longest * longest * longest);
-    r.invertedTetrahedra += v < 0;
+    flags[t] |= (longest < th.micro * L ? kMicro : 0) |
+      (!(std::abs(v) >= th.flat * longest * longest * longest) ? kFlat : 0) | (v < 0 ? kInverted : 0);
     if (materialAt && t < mesh.tetMaterial.size() && mesh.pointDimension.size() == mesh.points.size())
     {
       bool inside = true;
       for (int i = 0; i < 4; ++i)
         inside = inside && mesh.pointDimension[k[i]] == 3;
       if (inside && materialAt(0.25 * (a + b + c + d)) != mesh.tetMaterial[t])
-        ++r.materialMismatches;
+        flags[t] |= kMaterialMismatch;
     }
   }
   const double tol = th.duplicate * L;
-  r.duplicateVertices = tol > 0 ? countDuplicates(mesh.points, used, tol, std::max(L, tol)) : 0;
-  r.nonManifoldFaces = countNonManifoldFaces(mesh.tets);
+  if (tol > 0)
+  {
+    const std::vector<char> duplicate = findDuplicates(mesh.points, used, tol, std::max(L, tol));
+    r.duplicateVertices = static_cast<std::size_t>(std::count(duplicate.begin(), duplicate.end(), 1));
+    for (std::size_t t : good)
+      for (int i = 0; i < 4; ++i)
+        if (duplicate[mesh.tets[t][i]])
+          flags[t] |= kDuplicateVertex;
+  }
+  r.nonManifoldFaces = countNonManifoldFaces(mesh.tets, flags);
+  for (unsigned char f : flags)
+  {
+    r.microTetrahedra += (f & kMicro) != 0;
+    r.flatTetrahedra += (f & kFlat) != 0;
+    r.invertedTetrahedra += (f & kInverted) != 0;
+    r.materialMismatches += (f & kMaterialMismatch) != 0;
+  }
   for (const auto& s : mesh.segments)
     r.missingSegmentPieces += !s.present;
+  if (tetDefects)
+    *tetDefects = std::move(flags);
   return r;
 }
 }

@@ -53,8 +53,21 @@ struct MeshValidity
   std::vector<std::pair<std::string, double>> asStatistics() const;
 };
 
+/// Bits of a tetrahedron's defects (see checkMeshValidity's `tetDefects`).
+enum TetDefect : unsigned char
+{
+  kDuplicateVertex = 1,  ///< one of its vertices is a duplicate
+  kMicro = 2,
+  kFlat = 4,
+  kInverted = 8,
+  kNonManifoldFace = 16, ///< one of its faces is shared by more than two tetrahedra
+  kBadIndices = 32,
+  kMaterialMismatch = 64
+};
+
 /// Checks `mesh` (tets, tetMaterial, points, segments). `materialAt` (may be empty) is the
 /// oracle's material at a point, for the material check; `pointDimension` is used when present.
+/// `tetDefects`, when given, receives a TetDefect bit set per tetrahedron.
 MeshValidity checkMeshValidity(const TetMesh& mesh, const std::function<int(const Vec3&)>& materialAt = {},
-  const ValidityThresholds& thresholds = {});
+  const ValidityThresholds& thresholds = {}, std::vector<unsigned char>* tetDefects = nullptr);
 }

@@ -733,7 +733,10 @@ TetMesh meshOracleUnguarded(const HierarchicalOracle& oracle, const FeatureSegme
     sumAngle += a;
   }
   // Independent of how the mesh was made: what a finite-element code would reject.
-  const MeshValidity validity = checkMeshValidity(mesh, [&oracle](const Vec3& p) { return oracle.material(p); });
+  std::vector<unsigned char> defects;
+  const MeshValidity validity =
+    checkMeshValidity(mesh, [&oracle](const Vec3& p) { return oracle.material(p); }, {}, &defects);
+  mesh.tetDefects = std::move(defects);
   if (!validity.valid())
     warnings.push_back("mesh validity: " + validity.describe());
   auto& st = mesh.statistics;

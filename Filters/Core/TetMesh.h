@@ -18,6 +18,7 @@ struct TetMesh
   std::vector<int> pointDimension; ///< 0 corner, 1 on a segment, 2 on an interface, 3 inside
   std::vector<std::array<int, 4>> tets;
   std::vector<int> tetMaterial;
+  std::vector<unsigned char> tetDefects; ///< TetDefect bits per tetrahedron (MeshValidity.h), when checked
 
   std::vector<std::array<int, 3>> interfaceTriangles;
   std::vector<std::array<int, 2>> interfaceMaterials; ///< material on each side (-1 outside)

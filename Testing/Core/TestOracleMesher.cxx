@@ -390,3 +390,34 @@ TEST(OracleMesher, InterfaceSliversAreRefined)
   EXPECT_GE(with, 15.0);
   EXPECT_LT(without, 15.0) << "the case should have interface slivers to refine";
 }
+
+// Issue 9: a CAD part whose bounding-box centre lies on one of its flat faces. Half of the rays
+// that seed the initial points started on the face and crossed it within rounding of the centre:
+// ten points within 1e-5 mm, then thousands of micro tetrahedra (or a stall) whatever the
+// strategy. Initial points are now kept apart; the mesh must be valid with every strategy.
+TEST(OracleMesher, PartWithBoundingBoxCentreOnAFlatFaceGivesAValidMesh)
+{
+  const TriangleSurface part = test::lPrism(7.0, { 0.37, -1.13, 2.71 });
+  HierarchicalOracle o;
+  o.add(std::make_shared<SurfaceDomain>(part, 3));
+  FeatureSegments edges; // the 18 edges of the prism: every one is sharp
+  edges.points = part.points;
+  for (int i = 0; i < 6; ++i)
+    for (const std::array<int, 2> e : { std::array<int, 2>{ i, (i + 1) % 6 }, { 6 + i, 6 + (i + 1) % 6 }, { i, 6 + i } })
+      edges.segments.push_back(e);
+  for (FeatureStrategy s : { FeatureStrategy::None, FeatureStrategy::Conforming, FeatureStrategy::ProtectingBalls })
+  {
+    MesherOptions opt = options(s, 1.0);
+    opt.criteria.global.facetDistance = 0.1;
+    opt.criteria.global.cellRadiusEdgeRatio = 1.3;
+    opt.criteria.global.edgeSize = 0.5;
+    const TetMesh m = meshOracle(o, s == FeatureStrategy::None ? FeatureSegments{} : edges, {}, opt);
+    SCOPED_TRACE(toString(s));
+    EXPECT_EQ(m.statistics.at("validity.defects"), 0.0);
+    EXPECT_EQ(m.statistics.at("validity.micro_tetrahedra"), 0.0);
+    EXPECT_GT(m.statistics.at("validity.shortest_edge"), 1e-3 * m.statistics.at("validity.median_edge"));
+    EXPECT_NEAR(materialVolumes(m).at(3), 4.0 * 343.0, 0.01 * 4.0 * 343.0);
+    if (s != FeatureStrategy::None)
+      EXPECT_NEAR(m.statistics.at("feature_coverage"), 1.0, 1e-9);
+  }
+}

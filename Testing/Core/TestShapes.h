@@ -22,6 +22,45 @@ inline TriangleSurface cube(double lo, double hi)
   return s;
 }
 
+/// An L-shaped prism (profile (0,0) (3,0) (3,1) (1,1) (1,2) (0,2) in x-z, extruded along y over
+/// [0, 1]), scaled by `s` and moved by `t`: its bounding-box centre lies on its flat face z = 1,
+/// inside it (a CAD part that once seeded micro-tetrahedron clusters). Outward triangles. The
+/// coordinates are rounded to float, as a .vtp/.stl stores them: the centre then lies within
+/// rounding of the face, not exactly on it.
+inline TriangleSurface lPrism(double s, const Vec3& t)
+{
+  const double xz[6][2] = { { 0, 0 }, { 3, 0 }, { 3, 1 }, { 1, 1 }, { 1, 2 }, { 0, 2 } };
+  TriangleSurface m;
+  for (int y = 0; y < 2; ++y)
+    for (const auto& p : xz)
+    {
+      const Vec3 q = t + s * Vec3{ p[0], double(y), p[1] };
+      m.points.push_back({ double(float(q.x)), double(float(q.y)), double(float(q.z)) });
+    }
+  for (int off : { 0, 6 }) // caps: two convex quads each
+    for (const auto& q : { std::array<int, 4>{ 0, 1, 2, 3 }, std::array<int, 4>{ 0, 3, 4, 5 } })
+    {
+      m.triangles.push_back({ off + q[0], off + q[1], off + q[2] });
+      m.triangles.push_back({ off + q[0], off + q[2], off + q[3] });
+    }
+  for (int i = 0; i < 6; ++i)
+  {
+    const int j = (i + 1) % 6;
+    m.triangles.push_back({ i, 6 + j, j });
+    m.triangles.push_back({ i, 6 + i, 6 + j });
+  }
+  // the y = 0 cap points -y ((x, z) counter-clockwise), the y = 1 cap must point +y
+  for (size_t f = 4; f < 8; ++f)
+    std::swap(m.triangles[f][1], m.triangles[f][2]); // y = 1 cap points +y
+  double volume = 0.0;
+  for (const auto& f : m.triangles)
+    volume += dot(m.points[f[0]], cross(m.points[f[1]], m.points[f[2]])) / 6.0;
+  if (volume < 0)
+    for (auto& f : m.triangles)
+      std::swap(f[1], f[2]);
+  return m;
+}
+
 /// Subdivided octahedron projected to a sphere (a closed polyhedron with many degenerate-ray cases).
 inline TriangleSurface icosphere(const Vec3& c, double r, int levels)
 {

@@ -1,0 +1,135 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Each defect of MeshValidity built by hand on a small valid mesh, and seen.
+#include "MeshValidity.h"
+
+#include <gtest/gtest.h>
+
+#include <map>
+
+using namespace omesh;
+
+namespace
+{
+/// Two positively oriented unit-size tetrahedra sharing the face (0, 1, 2), materials 1 and 2.
+TetMesh twoTets()
+{
+  TetMesh m;
+  m.points = { { 0, 0, 0 }, { 1, 0, 0 }, { 0, 1, 0 }, { 0, 0, 1 }, { 0.4, 0.4, -1 } };
+  m.tets = { { 0, 1, 2, 3 }, { 0, 2, 1, 4 } };
+  m.tetMaterial = { 1, 2 };
+  m.pointDimension = { 2, 2, 2, 3, 3 };
+  return m;
+}
+}
+
+TEST(MeshValidity, ValidMeshHasNoDefects)
+{
+  std::vector<unsigned char> flags;
+  const MeshValidity v = checkMeshValidity(twoTets(), {}, {}, &flags);
+  EXPECT_TRUE(v.valid()) << v.describe();
+  EXPECT_EQ(v.describe(), "");
+  EXPECT_EQ(flags, std::vector<unsigned char>(2, 0));
+  EXPECT_GT(v.medianEdge, 0.9);
+}
+
+TEST(MeshValidity, DuplicateVertexIsSeen)
+{
+  TetMesh m = twoTets();
+  m.points.push_back(m.points[3] + Vec3{ 1e-13, 0, 0 }); // a second copy of the apex
+  m.tets.push_back({ 1, 2, 5, 4 });                       // used by a (flat-free) tetrahedron
+  m.tetMaterial.push_back(2);
+  std::vector<unsigned char> flags;
+  const MeshValidity v = checkMeshValidity(m, {}, {}, &flags);
+  EXPECT_EQ(v.duplicateVertices, 2u); // both copies
+  EXPECT_TRUE(flags[0] & kDuplicateVertex);
+  EXPECT_TRUE(flags[2] & kDuplicateVertex);
+  EXPECT_FALSE(flags[1] & kDuplicateVertex);
+}
+
+TEST(MeshValidity, MicroFlatAndInvertedTetrahedraAreSeen)
+{
+  TetMesh m = twoTets();
+  const int base = static_cast<int>(m.points.size());
+  const double e = 1e-6; // a whole tetrahedron far below 1e-4 x the median edge
+  for (const Vec3& p : { Vec3{ 5, 5, 5 }, Vec3{ 5 + e, 5, 5 }, Vec3{ 5, 5 + e, 5 }, Vec3{ 5, 5, 5 + e } })
+    m.points.push_back(p);
+  m.tets.push_back({ base, base + 1, base + 2, base + 3 });
+  // a flat one: the fourth point in the plane of the first three
+  m.points.push_back({ 3, 0, 0 });
+  m.points.push_back({ 4, 0, 0 });
+  m.points.push_back({ 3, 1, 0 });
+  m.points.push_back({ 3.5, 0.5, 0 });
+  m.tets.push_back({ base + 4, base + 5, base + 6, base + 7 });
+  // an inverted one: the first tetrahedron with two vertices swapped
+  m.tets.push_back({ 1, 0, 2, 3 });
+  m.tetMaterial.resize(m.tets.size(), 1);
+  std::vector<unsigned char> flags;
+  const MeshValidity v = checkMeshValidity(m, {}, {}, &flags);
+  EXPECT_EQ(v.microTetrahedra, 1u);
+  EXPECT_TRUE(flags[2] & kMicro);
+  EXPECT_EQ(v.flatTetrahedra, 1u);
+  EXPECT_TRUE(flags[3] & kFlat);
+  EXPECT_EQ(v.invertedTetrahedra, 1u);
+  EXPECT_TRUE(flags[4] & kInverted);
+  EXPECT_FALSE(v.valid());
+}
+
+TEST(MeshValidity, FaceSharedByThreeTetrahedraIsSeen)
+{
+  TetMesh m = twoTets();
+  m.points.push_back({ 0.2, 0.2, 2 });
+  m.tets.push_back({ 0, 1, 2, 5 }); // a second tetrahedron above face (0, 1, 2)
+  m.tetMaterial.push_back(1);
+  std::vector<unsigned char> flags;
+  const MeshValidity v = checkMeshValidity(m, {}, {}, &flags);
+  EXPECT_EQ(v.nonManifoldFaces, 1u);
+  for (unsigned char f : flags)
+    EXPECT_TRUE(f & kNonManifoldFace);
+}
+
+TEST(MeshValidity, BadIndicesAreSeen)
+{
+  TetMesh m = twoTets();
+  m.tets.push_back({ 0, 1, 1, 3 });  // repeated
+  m.tets.push_back({ 0, 1, 2, 99 }); // out of range
+  m.tetMaterial.resize(4, 1);
+  const MeshValidity v = checkMeshValidity(m);
+  EXPECT_EQ(v.badIndices, 2u);
+}
+
+TEST(MeshValidity, MaterialMismatchNeedsFourInteriorVertices)
+{
+  TetMesh m = twoTets();
+  auto oracle = [](const Vec3& p) { return p.z > 0 ? 1 : 3; }; // below z = 0 is material 3, not 2
+  // the lower tetrahedron has three interface vertices: its centroid may lie across the interface
+  EXPECT_EQ(checkMeshValidity(m, oracle).materialMismatches, 0u);
+  m.pointDimension = { 3, 3, 3, 3, 3 }; // all inside: the oracle must agree at the centroid
+  std::vector<unsigned char> flags;
+  const MeshValidity v = checkMeshValidity(m, oracle, {}, &flags);
+  EXPECT_EQ(v.materialMismatches, 1u);
+  EXPECT_TRUE(flags[1] & kMaterialMismatch);
+  EXPECT_FALSE(flags[0] & kMaterialMismatch);
+}
+
+TEST(MeshValidity, MissingSegmentPiecesAreCounted)
+{
+  TetMesh m = twoTets();
+  TetMesh::Segment present, missing;
+  present.present = true;
+  m.segments = { present, missing, missing };
+  const MeshValidity v = checkMeshValidity(m);
+  EXPECT_EQ(v.missingSegmentPieces, 2u);
+  EXPECT_NE(v.describe().find("2 constrained segment pieces missing"), std::string::npos);
+}
+
+TEST(MeshValidity, StatisticsNameEveryCount)
+{
+  TetMesh m = twoTets();
+  m.tets.push_back({ 1, 0, 2, 3 });
+  m.tetMaterial.push_back(1);
+  const MeshValidity v = checkMeshValidity(m);
+  const auto pairs = v.asStatistics();
+  const std::map<std::string, double> st(pairs.begin(), pairs.end());
+  EXPECT_EQ(st.at("validity.inverted_tetrahedra"), 1.0);
+  EXPECT_EQ(st.at("validity.defects"), static_cast<double>(v.defects()));
+}
