@@ -153,6 +153,34 @@ class MeshOutputs(unittest.TestCase):
         self.assertEqual(result.returncode, 2)
         self.assertIn("reads .vtu meshes", result.stderr)
 
+    def test_report_checks_validity_and_strict_fails_on_defects(self):
+        result = run("report", self.files[".vtu"], "--no-png", "--strict")
+        self.assertEqual(result.returncode, 0, result.stderr)
+        self.assertIn("validity: no defects", result.stdout)
+        # the same mesh with one tetrahedron inverted and one point moved onto another
+        from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridWriter
+
+        grid = read_vtu(self.files[".vtu"])
+        ids = vtk_to_numpy(grid.GetCells().GetConnectivityArray())
+        ids[[0, 1]] = ids[[1, 0]]
+        grid.GetCells().Modified()
+        points = vtk_to_numpy(grid.GetPoints().GetData())
+        a, b = ids[4], ids[5]  # two vertices of the second tetrahedron: a flat, duplicated one now
+        points[b] = points[a] * (1 + 1e-14)
+        grid.GetPoints().Modified()
+        broken = os.path.join(self.tmp.name, "broken.vtu")
+        writer = vtkXMLUnstructuredGridWriter()
+        writer.SetInputData(grid)
+        writer.SetFileName(broken)
+        writer.Write()
+        result = run("report", broken, "--no-png")
+        self.assertEqual(result.returncode, 0, result.stderr)  # without --strict: reported only
+        self.assertRegex(result.stdout, r"validity: \d+ DEFECTS: .*2 duplicate vertices.*inverted tetrahedra")
+        result = run("report", broken, "--no-png", "--strict")
+        self.assertEqual(result.returncode, 3)
+        self.assertIn(f"{broken}: ", result.stderr)
+        self.assertIn("validity defects (--strict)", result.stderr)
+
     def test_unknown_output_format_is_refused_before_meshing(self):
         result = run("mesh", self.scene, "-o", os.path.join(self.tmp.name, "x.stl"))
         self.assertEqual(result.returncode, 2)

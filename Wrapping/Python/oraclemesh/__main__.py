@@ -3,7 +3,7 @@
 
   sample SCENE   sample a scene's oracle to a label image and report material volumes
   mesh SCENE     tetrahedralize a scene to .vtu / .inp / .msh / .mesh with a quality report
-  report MESH    quality report of a .vtu mesh: table and dihedral-angle histogram (text and PNG)
+  report MESH    quality report of a .vtu mesh: table, validity check, dihedral-angle histogram
   batch SCENES   mesh many scenes, each in its own process, with a summary CSV
 """
 import argparse
@@ -188,12 +188,24 @@ def _mesh(args):
         save_histogram(q, histogram, names, f"Dihedral angles: {os.path.basename(args.scene)}")
         lines.append(f"wrote {histogram}")
     _publish(lines, args.report or scene.outputs.get("report"))
+    status = _strict_status(args, q, outputs)
     if args.summary:
         stats = statistics(grid)
         with open(args.summary, "w") as f:
             json.dump({"tets": q["tets"], "vertices": q["vertices"], "min_dihedral": q["min_dihedral"],
                        "feature_coverage": stats.get("feature_coverage") if scene.mesh.get("features") else None,
-                       "seconds": seconds, "outputs": outputs}, f)
+                       "seconds": seconds, "outputs": outputs,
+                       "validity_defects": q["validity"]["validity.defects"]}, f)
+    return status
+
+
+def _strict_status(args, q, what):
+    """3 when --strict and the mesh has validity defects (the report names them), else 0."""
+    defects = int(q["validity"]["validity.defects"])
+    if args.strict and defects:
+        print(f"oraclemesh: error: {', '.join(what) if isinstance(what, list) else what}: {defects} validity "
+              "defects (--strict)", file=sys.stderr)
+        return 3
     return 0
 
 
@@ -209,7 +221,7 @@ def _report(args):
         save_histogram(q, png, material_names(grid), f"Dihedral angles: {os.path.basename(args.mesh)}")
         lines.append(f"wrote {png}")
     _publish(lines, args.report)
-    return 0
+    return _strict_status(args, q, args.mesh)
 
 
 def _batch(args):
@@ -240,12 +252,15 @@ def main(argv=None):
     p.add_argument("--progress", action="store_true", help="show the mesher's progress on stderr")
     p.add_argument("--progress-lines", action="store_true", help=argparse.SUPPRESS)
     p.add_argument("--summary", help=argparse.SUPPRESS)  # JSON of the figures batch puts in its CSV
+    p.add_argument("--strict", action="store_true",
+                   help="exit with status 3 when the mesh has validity defects (the files are still written)")
     p.set_defaults(run=_mesh)
     p = sub.add_parser("report", help="quality report of a .vtu mesh written by 'mesh': table and histogram")
     p.add_argument("mesh", help="tetrahedral mesh (.vtu with cell data Material and MinDihedralAngle)")
     p.add_argument("--png", help="histogram picture (default: MESH without .vtu + _dihedral.png)")
     p.add_argument("--no-png", action="store_true", help="do not save the histogram picture")
     p.add_argument("--report", help="also write the report to this text file")
+    p.add_argument("--strict", action="store_true", help="exit with status 3 when the mesh has validity defects")
     p.set_defaults(run=_report)
     p = sub.add_parser("batch", help="mesh several scenes, each in its own process, with a summary CSV")
     p.add_argument("scenes", nargs="+", help="scene files (JSON)")

@@ -13,8 +13,8 @@ from concurrent.futures import ThreadPoolExecutor
 
 from .errors import OracleMeshError
 
-CSV_COLUMNS = ("scene", "status", "tets", "vertices", "min_dihedral", "feature_coverage", "seconds",
-               "outputs", "error")
+CSV_COLUMNS = ("scene", "status", "tets", "vertices", "min_dihedral", "feature_coverage", "validity_defects",
+               "seconds", "outputs", "error")
 
 
 def _stems(scenes):
@@ -95,6 +95,7 @@ def _run_one(job, args, env):
         row.update(status="ok", tets=summary["tets"], vertices=summary["vertices"],
                    min_dihedral=f"{summary['min_dihedral']:.3f}",
                    feature_coverage="" if coverage is None else f"{coverage:.4f}",
+                   validity_defects=int(summary.get("validity_defects", 0)),
                    outputs=";".join(job.outputs), error="")
     else:
         errors = [m[len("oraclemesh: error: "):] for m in messages if m.startswith("oraclemesh: error: ")]

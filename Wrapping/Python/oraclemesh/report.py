@@ -33,6 +33,52 @@ def statistics(grid):
     return {n: values.GetValue(i) for i, n in enumerate(_strings(names))}
 
 
+# Defect counts of the validity check, in report order: (statistic name, words).
+VALIDITY_ITEMS = (
+    ("validity.duplicate_vertices", "duplicate vertices"),
+    ("validity.micro_tetrahedra", "micro tetrahedra"),
+    ("validity.flat_tetrahedra", "flat tetrahedra"),
+    ("validity.inverted_tetrahedra", "inverted tetrahedra"),
+    ("validity.non_manifold_faces", "faces shared by more than two tetrahedra"),
+    ("validity.bad_vertex_indices", "tetrahedra with bad vertex indices"),
+    ("validity.material_mismatches", "tetrahedra whose material differs from the oracle's inside them"),
+    ("validity.missing_segment_pieces", "feature-line pieces missing from the mesh edges"),
+)
+
+
+def validity(grid):
+    """Defect counts {statistic name: count} of a tetrahedral mesh, checked now on the geometry
+    (vtkMeshValidityCheck: duplicates, micro, flat, inverted, non-manifold faces) plus, for meshes
+    made by the tetrahedralizer, the checks that need the oracle or the feature lines (material
+    mismatches, missing feature-line pieces) from its statistics. "validity.defects" is the sum."""
+    from . import vtkMeshValidityCheck
+
+    check = vtkMeshValidityCheck()
+    check.SetInputData(grid)
+    check.Update()
+    fd = check.GetOutput().GetFieldData()
+    names, values = fd.GetAbstractArray("ValidityNames"), fd.GetArray("ValidityValues")
+    counts = {n: values.GetValue(i) for i, n in enumerate(_strings(names))} if names is not None else {}
+    made = statistics(grid)
+    for key in ("validity.material_mismatches", "validity.missing_segment_pieces"):
+        if key in made:
+            counts[key] = made[key]
+    counts["validity.defects"] = sum(counts.get(key, 0) for key, _ in VALIDITY_ITEMS)
+    return counts
+
+
+def validity_line(counts):
+    """One line: "validity: no defects (...)" or "validity: N DEFECTS: ..."."""
+    shortest = counts.get("validity.shortest_edge", 0) / max(counts.get("validity.median_edge", 1), 1e-300)
+    if not counts.get("validity.defects"):
+        return (f"validity: no defects (no duplicate vertices, micro, flat or inverted tetrahedra, non-manifold "
+                f"faces{', material mismatches' if 'validity.material_mismatches' in counts else ''}"
+                f"{', missing feature-line pieces' if 'validity.missing_segment_pieces' in counts else ''}); "
+                f"shortest/median edge {shortest:.2g}")
+    found = ", ".join(f"{int(counts[key])} {words}" for key, words in VALIDITY_ITEMS if counts.get(key))
+    return f"validity: {int(counts['validity.defects'])} DEFECTS: {found}; shortest/median edge {shortest:.2g}"
+
+
 def quality(grid, source="mesh"):
     """Per-material quality of a tetrahedral mesh: {"materials": {id: {"tets", "volume",
     "min_dihedral", "mean_min_dihedral"}}, "tets", "vertices", "volume", "min_dihedral",
@@ -81,8 +127,11 @@ def report_lines(grid, title, names=None, source="mesh"):
     elif "feature_coverage" in stats:
         lines.append(f"feature lines present as mesh edges: {100 * stats['feature_coverage']:.1f}%"
                      + (f" ({segments.GetValue(0)} segments)" if segments is not None else ""))
+    q["validity"] = validity(grid)
+    lines.append(validity_line(q["validity"]))
     for warning in _strings(grid.GetFieldData().GetAbstractArray("Warnings")):
-        lines.append("warning: " + warning)
+        if not warning.startswith("mesh validity:"):  # the line above says it
+            lines.append("warning: " + warning)
     return lines, q
 
 
