@@ -148,6 +148,9 @@ int vtkFeaturePreservingTetrahedralizer::RequestData(
   options.interfaceSliverAngle = this->InterfaceSliverAngle;
   options.perturb = this->Perturb;
   options.exude = this->Exude;
+  options.perturbationStepsPerVertex = this->PerturbationStepsPerVertex;
+  options.exudationStepsPerCell = this->ExudationStepsPerCell;
+  options.optimisationTimeLimit = this->OptimisationTimeLimit;
   options.seed = static_cast<unsigned>(this->Seed);
   options.maximumNumberOfVertices = static_cast<std::size_t>(this->MaximumNumberOfVertices);
   options.progress = [this](double fraction, const char*) {
@@ -313,6 +316,9 @@ void vtkFeaturePreservingTetrahedralizer::PrintSelf(ostream& os, vtkIndent inden
   os << indent << "InterfaceSliverAngle: " << this->InterfaceSliverAngle << "\n";
   os << indent << "Perturb: " << this->Perturb << "\n";
   os << indent << "Exude: " << this->Exude << "\n";
+  os << indent << "PerturbationStepsPerVertex: " << this->PerturbationStepsPerVertex << "\n";
+  os << indent << "ExudationStepsPerCell: " << this->ExudationStepsPerCell << "\n";
+  os << indent << "OptimisationTimeLimit: " << this->OptimisationTimeLimit << "\n";
   os << indent << "Seed: " << this->Seed << "\n";
   os << indent << "MaximumNumberOfVertices: " << this->MaximumNumberOfVertices << "\n";
   for (const auto& [m, c] : this->MaterialCriteria)

@@ -103,6 +103,24 @@ public:
   ///@}
 
   ///@{
+  /// Step budgets of the sliver optimisers (they otherwise may run for hours on large meshes):
+  /// perturbation attempts per mesh vertex (default 2) and cells pumped per cell (default 0.1: the exuder treats the worst first, and on an 890k-tet mesh 0.1 reached the same minimal angle as 1 in a fifth of the time);
+  /// 0 = no budget. A phase that reaches its budget ends there (statistics
+  /// optimisation.perturbation_cut_short / exudation_cut_short, and a line in the report).
+  vtkSetClampMacro(PerturbationStepsPerVertex, double, 0.0, 1e6);
+  vtkGetMacro(PerturbationStepsPerVertex, double);
+  vtkSetClampMacro(ExudationStepsPerCell, double, 0.0, 1e6);
+  vtkGetMacro(ExudationStepsPerCell, double);
+  ///@}
+
+  ///@{
+  /// Seconds for each optimiser: 0 = no limit (default; with a limit the mesh depends on the
+  /// machine's speed), -1 = stock CGAL's default (the refinement's running time).
+  vtkSetClampMacro(OptimisationTimeLimit, double, -1.0, 1e9);
+  vtkGetMacro(OptimisationTimeLimit, double);
+  ///@}
+
+  ///@{
   /// Tetrahedra with at least three vertices on interfaces or feature lines and whose minimal dihedral
   /// angle is below this bound (degrees) are refined: the perturber and exuder cannot fix them
   /// (those vertices only slide on their interface). 0 turns it off. Default 10.
@@ -139,6 +157,9 @@ protected:
   double EdgeSize = 0.0;
   bool Perturb = true;
   bool Exude = true;
+  double PerturbationStepsPerVertex = 2.0;
+  double ExudationStepsPerCell = 0.1;
+  double OptimisationTimeLimit = 0.0;
   int Seed = 0;
   vtkIdType MaximumNumberOfVertices = 2000000;
 

@@ -303,24 +303,45 @@ std::vector<std::vector<K::Point_3>> toPolylines(const FeatureSegments& f)
   return lines;
 }
 
-/// CGAL's optimiser visitors, asking `check` (which may throw MeshingAborted) every 256 visits.
+/// Thrown by OptimiserVisitor when its phase has used its step budget (between two steps, where
+/// the mesh is consistent).
+struct BudgetReached
+{
+};
+
+/// CGAL's optimiser visitors: count the steps (a perturbation attempt on one vertex, or one cell
+/// pumped), stop at `budget` steps (0 = none) and ask `check` (which may throw MeshingAborted)
+/// every 256 steps. Copied by CGAL: the count lives outside.
 struct OptimiserVisitor
 {
   std::function<void()> check;
-  size_t visits = 0;
-  void tick()
+  std::size_t* steps;
+  std::size_t budget;
+  void step()
   {
-    if (++visits % 256 == 0)
+    if (++*steps % 256 == 0)
       check();
+    if (budget && *steps >= budget)
+      throw BudgetReached{};
   }
-  void bound_reached(double) { tick(); }
-  void end_of_perturbation_iteration(std::size_t) { tick(); }
-  void after_cell_pumped(std::size_t) { tick(); }
+  void bound_reached(double) {}
+  void end_of_perturbation_iteration(std::size_t) { step(); }
+  void after_cell_pumped(std::size_t) { step(); }
 };
 
-/// As CGAL::perturb_mesh_3 with its defaults, abortable.
-void perturb(C3t3& c3t3, const MeshDomain& domain, double timeLimit, std::function<void()> check)
+/// How one optimiser ended.
+struct OptimiserRun
 {
+  std::size_t steps = 0;
+  bool cutShort = false; ///< stopped by its step budget or time limit, not by its own bound
+  double seconds = 0.0;
+};
+
+/// As CGAL::perturb_mesh_3 with its defaults, abortable, stopped after `budget` steps (0 = none)
+/// or `timeLimit` seconds (0 = none).
+OptimiserRun perturb(C3t3& c3t3, const MeshDomain& domain, double timeLimit, std::size_t budget, std::function<void()> check)
+{
+  const auto started = Clock::now();
   const auto criterion = CGAL::parameters::default_values_for_mesh_3::default_sliver_criterion(
     c3t3, CGAL::parameters::default_values_for_mesh_3::perturb_sliver_bound);
   using Criterion = std::remove_const_t<decltype(criterion)>;
@@ -328,17 +349,43 @@ void perturb(C3t3& c3t3, const MeshDomain& domain, double timeLimit, std::functi
   for (auto* p : CGAL::default_perturbation_vector(c3t3, domain, criterion))
     perturber.add_perturbation(p);
   perturber.set_time_limit(timeLimit);
-  perturber(OptimiserVisitor{ std::move(check) });
+  OptimiserRun run;
+  try
+  {
+    run.cutShort = perturber(OptimiserVisitor{ std::move(check), &run.steps, budget }) == CGAL::TIME_LIMIT_REACHED;
+  }
+  catch (const BudgetReached&)
+  {
+    run.cutShort = true;
+    // the perturber caches sliver values in the cells and clears them when it ends normally
+    for (auto c = c3t3.triangulation().finite_cells_begin(); c != c3t3.triangulation().finite_cells_end(); ++c)
+      c->reset_cache_validity();
+  }
+  run.seconds = seconds(started);
+  return run;
 }
 
-/// As CGAL::exude_mesh_3 with its defaults, abortable.
-void exude(C3t3& c3t3, double timeLimit, std::function<void()> check)
+/// As CGAL::exude_mesh_3 with its defaults, abortable, stopped as perturb().
+OptimiserRun exude(C3t3& c3t3, double timeLimit, std::size_t budget, std::function<void()> check)
 {
+  const auto started = Clock::now();
   using Criterion = CGAL::Mesh_3::Min_dihedral_angle_criterion<Tr>;
   Criterion criterion(CGAL::parameters::default_values_for_mesh_3::exude_sliver_bound, c3t3.triangulation());
   CGAL::Mesh_3::Slivers_exuder<C3t3, Criterion, OptimiserVisitor> exuder(c3t3, criterion);
   exuder.set_time_limit(timeLimit);
-  exuder(OptimiserVisitor{ std::move(check) });
+  OptimiserRun run;
+  try
+  {
+    run.cutShort = exuder(OptimiserVisitor{ std::move(check), &run.steps, budget }) == CGAL::TIME_LIMIT_REACHED;
+  }
+  catch (const BudgetReached&)
+  {
+    run.cutShort = true;
+    for (auto c = c3t3.triangulation().finite_cells_begin(); c != c3t3.triangulation().finite_cells_end(); ++c)
+      c->reset_cache_validity();
+  }
+  run.seconds = seconds(started);
+  return run;
 }
 
 /// Sub-segments of `segs` that are not edges of the triangulation, minus `missingBefore`; the
@@ -652,15 +699,25 @@ TetMesh meshOracleUnguarded(const HierarchicalOracle& oracle, const FeatureSegme
   const double refineTime = seconds(refineStart);
 
   const auto optStart = Clock::now();
-  // No time limit by default: a limit makes the result depend on the machine's speed (the same
-  // seed must give the same mesh); the optimisers stop on their own sliver bounds.
-  const double optLimit = std::max(0.0, options.optimisationTimeLimit);
+  // Bounded by step budgets that scale with the mesh (deterministic: the same seed gives the same
+  // mesh on any machine); a time limit is optional (< 0: stock CGAL's, the refinement's time).
+  const double optLimit = options.optimisationTimeLimit < 0 ? refineTime : options.optimisationTimeLimit;
   size_t repaired = 0;
+  OptimiserRun perturbed, exuded;
+  auto budget = [](double perUnit, size_t units) {
+    return perUnit > 0 ? static_cast<size_t>(std::ceil(perUnit * static_cast<double>(units))) + 1000 : 0;
+  };
+  // progress within a phase: the share of its budget, or a creep toward its end without one
+  auto phaseProgress = [](size_t steps, size_t max) {
+    return max ? static_cast<double>(steps) / static_cast<double>(max) : 1.0 - 1.0 / (1.0 + 1e-3 * steps / 256.0);
+  };
   if (options.perturb)
   {
     report(0.45, "perturbation");
-    size_t visits = 0; // the optimisers do not know their own progress: creep toward the phase's end
-    perturb(c3t3, domain, optLimit, [&] { report(0.45 + 0.35 * (1.0 - 1.0 / (1.0 + 1e-3 * ++visits)), "perturbation"); });
+    const size_t max = budget(options.perturbationStepsPerVertex, c3t3.triangulation().number_of_vertices());
+    size_t checks = 0;
+    perturbed = perturb(c3t3, domain, optLimit, max,
+      [&] { report(0.45 + 0.35 * phaseProgress(256 * ++checks, max), "perturbation"); });
     // The perturber never moves segment vertices, but a moved neighbour can land in a diametral
     // ball and so break a sub-segment: refine again (the segment level splits what was
     // encroached; weights are still zero here, after the exuder they are not).
@@ -683,26 +740,11 @@ TetMesh meshOracleUnguarded(const HierarchicalOracle& oracle, const FeatureSegme
     const size_t missingBefore = conforming ? missingSubSegments() : 0;
     if (conforming)
       kept = std::make_unique<C3t3>(c3t3);
-    // CGAL's exuder can cycle (seen next to protecting balls): it is stopped, with a warning, after
-    // 10 pumping attempts per cell. It stops between two cells, where the mesh is consistent.
-    struct ExuderCycles
-    {
-    };
-    const double limit = 10.0 * static_cast<double>(c3t3.number_of_cells_in_complex()) + 5e4;
+    // The budget also ends CGAL's exuder where it cycles (seen next to protecting balls); it stops
+    // between two cells, where the mesh is consistent.
+    const size_t max = budget(options.exudationStepsPerCell, c3t3.number_of_cells_in_complex());
     size_t checks = 0;
-    try
-    {
-      exude(c3t3, optLimit, [&] {
-        if (256.0 * ++checks > limit)
-          throw ExuderCycles{};
-        report(0.8 + 0.18 * (1.0 - 1.0 / (1.0 + 1e-3 * checks)), "exudation");
-      });
-    }
-    catch (const ExuderCycles&)
-    {
-      warnings.push_back("exudation stopped after " + std::to_string(256 * checks) +
-        " pumping attempts (CGAL's exuder cycles on this mesh): some slivers may remain");
-    }
+    exuded = exude(c3t3, optLimit, max, [&] { report(0.8 + 0.18 * phaseProgress(256 * ++checks, max), "exudation"); });
     if (conforming)
     {
       segVertex.clear(); // the exuder re-creates vertices: find the segment points again
@@ -756,6 +798,12 @@ TetMesh meshOracleUnguarded(const HierarchicalOracle& oracle, const FeatureSegme
   st["refinement_points_refused_T2.1_T3.1"] = static_cast<double>(segCount.vetoes);
   st["refinement_points_dropped_at_short_segments"] = static_cast<double>(segCount.dropped);
   st["segment_splits_after_optimisation"] = static_cast<double>(repaired);
+  st["optimisation.perturbation_steps"] = static_cast<double>(perturbed.steps);
+  st["optimisation.perturbation_cut_short"] = perturbed.cutShort;
+  st["optimisation.exudation_steps"] = static_cast<double>(exuded.steps);
+  st["optimisation.exudation_cut_short"] = exuded.cutShort;
+  st["time.perturbation"] = perturbed.seconds;
+  st["time.exudation"] = exuded.seconds;
   st["time.initialisation"] = initTime;
   st["time.refinement"] = refineTime;
   st["time.optimisation"] = optTime;

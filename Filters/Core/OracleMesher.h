@@ -35,7 +35,14 @@ struct MesherOptions
   double interfaceSliverAngle = 10.0;
   bool perturb = true;
   bool exude = true;
-  double optimisationTimeLimit = 0.0; ///< seconds for each of perturb and exude; 0 = no limit (deterministic)
+  /// Step budgets of the sliver optimisers, which otherwise may run for hours on large meshes:
+  /// perturbation attempts per mesh vertex, cells pumped per cell of the complex; 0 = no budget.
+  /// Reaching one ends the phase (statistics optimisation.*_cut_short). Deterministic.
+  double perturbationStepsPerVertex = 2.0;
+  double exudationStepsPerCell = 0.1;
+  /// Seconds for each of perturb and exude: 0 = no limit (the default: a limit makes the mesh
+  /// depend on the machine's speed), < 0 = stock CGAL's default (the refinement's running time).
+  double optimisationTimeLimit = 0.0;
   unsigned seed = 0;                  ///< same input + same seed = identical mesh
   std::size_t maximumNumberOfVertices = 0; ///< 0 = unlimited; reaching it ends refinement with a warning
   /// Called during the work with a fraction in [0, 1] and the phase name; return false to abort

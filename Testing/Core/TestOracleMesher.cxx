@@ -421,3 +421,23 @@ TEST(OracleMesher, PartWithBoundingBoxCentreOnAFlatFaceGivesAValidMesh)
       EXPECT_NEAR(m.statistics.at("feature_coverage"), 1.0, 1e-9);
   }
 }
+
+// Issue 9: the optimisers have step budgets that scale with the mesh; reaching one ends the phase
+// cleanly (a valid mesh) and the statistics say so.
+TEST(OracleMesher, OptimiserBudgetsEndThePhasesAndSaySo)
+{
+  HierarchicalOracle o;
+  o.add(std::make_shared<SphereDomain>(Vec3{ 0, 0, 0 }, 1.0, 1));
+  MesherOptions opt = options(FeatureStrategy::None, 0.1);
+  opt.exudationStepsPerCell = 1e-9; // the floor of 1000 steps only
+  const TetMesh cut = meshOracle(o, {}, {}, opt);
+  ASSERT_GT(cut.tets.size(), 5000u);
+  EXPECT_EQ(cut.statistics.at("optimisation.exudation_cut_short"), 1.0);
+  EXPECT_EQ(cut.statistics.at("optimisation.exudation_steps"), 1001.0);
+  EXPECT_EQ(cut.statistics.at("validity.defects"), 0.0);
+  opt.exudationStepsPerCell = 0; // no budget: the exuder ends on its own
+  const TetMesh full = meshOracle(o, {}, {}, opt);
+  EXPECT_EQ(full.statistics.at("optimisation.exudation_cut_short"), 0.0);
+  EXPECT_GT(full.statistics.at("optimisation.exudation_steps"), 1001.0);
+  EXPECT_EQ(full.statistics.at("optimisation.perturbation_cut_short"), 0.0);
+}

@@ -9,6 +9,7 @@
 import argparse
 import json
 import os
+import resource
 import sys
 import time
 
@@ -101,6 +102,11 @@ def mesher_for(scene, strategy=None):
     mesher.SetSeed(spec.get("seed", 0))
     mesher.SetPerturb(spec.get("perturb", True))
     mesher.SetExude(spec.get("exude", True))
+    for key, setter in (("perturbation_steps_per_vertex", "SetPerturbationStepsPerVertex"),
+                        ("exudation_steps_per_cell", "SetExudationStepsPerCell"),
+                        ("optimisation_time_limit", "SetOptimisationTimeLimit")):
+        if key in spec:
+            getattr(mesher, setter)(spec[key])
     if "interface_sliver_angle" in spec:
         mesher.SetInterfaceSliverAngle(spec["interface_sliver_angle"])
     if "maximum_number_of_vertices" in spec:
@@ -195,7 +201,8 @@ def _mesh(args):
             json.dump({"tets": q["tets"], "vertices": q["vertices"], "min_dihedral": q["min_dihedral"],
                        "feature_coverage": stats.get("feature_coverage") if scene.mesh.get("features") else None,
                        "seconds": seconds, "outputs": outputs,
-                       "validity_defects": q["validity"]["validity.defects"]}, f)
+                       "validity_defects": q["validity"]["validity.defects"],
+                       "peak_rss_mib": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0}, f)
     return status
 
 

@@ -129,6 +129,10 @@ def report_lines(grid, title, names=None, source="mesh"):
                      + (f" ({segments.GetValue(0)} segments)" if segments is not None else ""))
     q["validity"] = validity(grid)
     lines.append(validity_line(q["validity"]))
+    for phase in ("perturbation", "exudation"):
+        if stats.get(f"optimisation.{phase}_cut_short"):
+            lines.append(f"optimisation: {phase} ended at its budget after {int(stats[f'optimisation.{phase}_steps'])} "
+                         f"steps ({stats.get(f'time.{phase}', 0):.1f} s): slivers it had not reached remain")
     for warning in _strings(grid.GetFieldData().GetAbstractArray("Warnings")):
         if not warning.startswith("mesh validity:"):  # the line above says it
             lines.append("warning: " + warning)

@@ -47,7 +47,8 @@ DOMAIN_KEYS = {
 }
 TOP_KEYS = {"description", "comment", "space", "domains", "mesh", "outputs"}
 MESH_KEYS = {"strategy", "criteria", "materials", "features", "seed", "maximum_number_of_vertices", "comment",
-             "perturb", "exude", "interface_sliver_angle"}
+             "perturb", "exude", "interface_sliver_angle", "perturbation_steps_per_vertex",
+             "exudation_steps_per_cell", "optimisation_time_limit"}
 FEATURE_KEYS = {"from_surface", "feature_angle", "files", "comment"}
 OUTPUT_KEYS = {"mesh", "report", "histogram", "comment"}
 
@@ -246,6 +247,14 @@ def _mesh_block(problems, spec, scene):
             problems.add("$.mesh.interface_sliver_angle", f"must be between 0 and 30 degrees, got {angle}")
         else:
             mesh["interface_sliver_angle"] = angle
+    for key, low in (("perturbation_steps_per_vertex", 0), ("exudation_steps_per_cell", 0),
+                     ("optimisation_time_limit", -1)):
+        value = _number(problems, spec, "$.mesh", key, required=False)
+        if value is not None:
+            if not low <= value <= 1e6:
+                problems.add(f"$.mesh.{key}", f"must be between {low} and 1e6, got {value}")
+            else:
+                mesh[key] = value
     limit = _number(problems, spec, "$.mesh", "maximum_number_of_vertices", positive=True, required=False,
                     integer=True)
     if limit is not None:

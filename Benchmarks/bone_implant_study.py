@@ -1,0 +1,246 @@
+#!/usr/bin/python3
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""Generated bone/implant study: cases from fixed seeds (oraclemesh.cases: a long-bone label map, a
+CAD-like implant with flat faces and sharp edges placed at random partly inside the bone, a tilted
+resection cut), each meshed with the feature strategies side by side, every mesh checked on its own.
+
+Per case and strategy it prints tetrahedra, vertices, min/max dihedral angle (from the written mesh),
+validity defects (oraclemesh.report.validity), feature coverage, wall time, peak memory, and the
+volume error of the implant (against its exact volume) and of the bone (against the oracle sampled
+on a fine grid). The summary gives the Conforming/None tetrahedron ratio (the paper: 0.49x at
+radius-edge 1.1) and whether Conforming was valid on every case.
+
+    /usr/bin/python3 Benchmarks/bone_implant_study.py [--cases 20] [--radius-edge 1.3] [--jobs 2]
+        [--strategies Conforming None ProtectingBalls] [--work DIR] [--check]
+
+Needs PYTHONPATH=<build>/lib/python3.11/site-packages and the `oraclemesh` command (ORACLEMESH_COMMAND,
+else `python3 -m oraclemesh`). --check (the ctest version) exits 1 unless every Conforming mesh is
+valid, keeps 100% of its feature lines, and has implant volume within 1% and bone within 3%.
+"""
+import argparse
+import json
+import os
+import subprocess
+import sys
+import tempfile
+import time
+from concurrent.futures import ThreadPoolExecutor
+
+import numpy as np
+
+from oraclemesh import cases
+from oraclemesh.report import statistics, validity
+
+SPECIAL = ("bbox_centre_on_face", "face_on_cut_plane", "face_on_voxel_boundary", "inside", "outside")
+BONE = (1, 2)
+IMPLANT = 3
+
+
+def command():
+    cmd = os.environ.get("ORACLEMESH_COMMAND")
+    return [cmd] if cmd else [sys.executable, "-m", "oraclemesh"]
+
+
+def run_measured(args, timeout):
+    """Runs a command; returns (exit code, wall seconds, last line of stderr)."""
+    started = time.perf_counter()
+    proc = subprocess.Popen(args, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, encoding="utf-8")
+    try:
+        _, err = proc.communicate(timeout=timeout)
+    except subprocess.TimeoutExpired:
+        proc.kill()
+        proc.communicate()
+        return -9, time.perf_counter() - started, f"timeout after {timeout:.0f} s"
+    lines = (err or "").strip().splitlines()
+    return proc.returncode, time.perf_counter() - started, lines[-1] if lines else ""
+
+
+def dihedral_range(points, tets):
+    """Per-tetrahedron minimal and maximal dihedral angles (degrees), computed here, not by the mesher."""
+    p = points[tets]
+    lo = np.full(len(p), 180.0)
+    hi = np.zeros(len(p))
+    for i, j in ((0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)):
+        k, m = [x for x in range(4) if x not in (i, j)]
+        e = p[:, j] - p[:, i]
+        n1 = np.cross(e, p[:, k] - p[:, i])
+        n2 = np.cross(e, p[:, m] - p[:, i])
+        c = np.einsum("ij,ij->i", n1, n2) / (np.linalg.norm(n1, axis=1) * np.linalg.norm(n2, axis=1) + 1e-300)
+        a = np.degrees(np.arccos(np.clip(c, -1, 1)))
+        lo, hi = np.minimum(lo, a), np.maximum(hi, a)
+    return lo, hi
+
+
+def read_mesh(path):
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader
+
+    reader = vtkXMLUnstructuredGridReader()
+    reader.SetFileName(path)
+    reader.Update()
+    grid = reader.GetOutput()
+    points = vtk_to_numpy(grid.GetPoints().GetData()).astype(float)
+    tets = vtk_to_numpy(grid.GetCells().GetConnectivityArray()).reshape(-1, 4)
+    material = vtk_to_numpy(grid.GetCellData().GetArray("Material"))
+    return grid, points, tets, material
+
+
+def sampled_volumes(scene, dims, timeout):
+    """{material: volume} of the oracle sampled on dims^3 points (oraclemesh sample)."""
+    out = os.path.join(os.path.dirname(scene), "sample.txt")
+    subprocess.run(command() + ["sample", scene, "--dims", str(dims), str(dims), str(dims), "--report", out],
+                   check=True, stdout=subprocess.DEVNULL, timeout=timeout)
+    volumes = {}
+    with open(out) as f:
+        for line in f:
+            parts = line.split()
+            if len(parts) >= 3 and parts[0].isdigit():
+                volumes[int(parts[0])] = float(parts[-2])
+    return volumes
+
+
+def mesh_case(case, strategy, timeout):
+    """Meshes one case with one strategy; returns the row of the table."""
+    out = os.path.join(case["dir"], f"mesh_{strategy}.vtu")
+    summary = os.path.join(case["dir"], f"summary_{strategy}.json")
+    for stale in (out, summary):
+        if os.path.exists(stale):
+            os.remove(stale)
+    rc, seconds, tail = run_measured(
+        command() + ["mesh", case["scene"], "--strategy", strategy, "-o", out, "--summary", summary], timeout)
+    row = {"case": case["name"], "strategy": strategy, "rc": rc, "seconds": seconds, "error": ""}
+    if rc != 0 or not os.path.exists(out):
+        row["error"] = tail or f"exit {rc}"
+        return row
+    with open(summary) as f:
+        s = json.load(f)
+    grid, points, tets, material = read_mesh(out)
+    lo, hi = dihedral_range(points, tets)
+    p = points[tets]
+    vol = np.abs(np.einsum("ij,ij->i", p[:, 1] - p[:, 0], np.cross(p[:, 2] - p[:, 0], p[:, 3] - p[:, 0]))) / 6
+    stats = statistics(grid)
+    v = validity(grid)
+    implant = float(vol[material == IMPLANT].sum())
+    bone = float(vol[np.isin(material, BONE)].sum())
+    row.update(tets=len(tets), vertices=int(len(np.unique(tets))), min_dihedral=float(lo.min()),
+               max_dihedral=float(hi.max()), defects=int(v["validity.defects"]),
+               coverage=s.get("feature_coverage"), peak_mib=s.get("peak_rss_mib", 0.0),
+               implant_error=implant / case["implant_volume"] - 1 if case["implant_volume"] else None,
+               bone_error=bone / case["bone_volume"] - 1 if case["bone_volume"] else None,
+               cut_short=int(stats.get("optimisation.perturbation_cut_short", 0)
+                             + stats.get("optimisation.exudation_cut_short", 0)))
+    return row
+
+
+def make_cases(work, count, radius_edge, special, sample_dims, timeout):
+    specs = [(f"random_{seed:02d}", seed, "random") for seed in range(count)]
+    if special:
+        specs += [(f"{variant}", 100 + k, variant) for k, variant in enumerate(SPECIAL)]
+    made = []
+    for name, seed, variant in specs:
+        folder = os.path.join(work, name)
+        scene = cases.make_case(folder, seed, variant=variant, radius_edge=radius_edge)
+        with open(os.path.join(folder, "case.json")) as f:
+            info = json.load(f)
+        sampled = sampled_volumes(scene, sample_dims, timeout)
+        made.append({"name": name, "dir": folder, "scene": scene,
+                     "implant_volume": info["expected_volumes"].get(str(IMPLANT)),
+                     "bone_volume": sum(sampled.get(m, 0.0) for m in BONE)})
+    return made
+
+
+def fmt(x, spec, empty="-"):
+    return empty if x is None else format(x, spec)
+
+
+def print_table(rows):
+    print(f"{'case':<24} {'strategy':<15} {'tets':>8} {'verts':>7} {'min°':>6} {'max°':>6} {'defects':>7} "
+          f"{'cover':>6} {'time s':>7} {'MiB':>6} {'implant':>8} {'bone':>7}  note")
+    for r in rows:
+        if r["error"]:
+            print(f"{r['case']:<24} {r['strategy']:<15} {'failed: ' + r['error'][:90]}")
+            continue
+        cover = fmt(None if r["coverage"] is None else 100 * r["coverage"], ".1f")
+        print(f"{r['case']:<24} {r['strategy']:<15} {r['tets']:>8} {r['vertices']:>7} {r['min_dihedral']:>6.2f} "
+              f"{r['max_dihedral']:>6.1f} {r['defects']:>7} {cover:>6} {r['seconds']:>7.1f} {r['peak_mib']:>6.0f} "
+              f"{fmt(100 * r['implant_error'], '+.2f'):>7}% {fmt(100 * r['bone_error'], '+.2f'):>6}%"
+              f"  {'optimiser cut short' if r['cut_short'] else ''}")
+
+
+def summarise(rows, strategies):
+    by = {(r["case"], r["strategy"]): r for r in rows}
+    names = sorted({r["case"] for r in rows})
+    lines = []
+    for s in strategies:
+        ok = [by[(n, s)] for n in names if (n, s) in by and not by[(n, s)]["error"]]
+        valid = [r for r in ok if r["defects"] == 0]
+        lines.append(f"{s}: {len(ok)}/{len(names)} meshed, {len(valid)} valid, min dihedral "
+                     f"{min((r['min_dihedral'] for r in ok), default=float('nan')):.2f}°, time "
+                     f"{sum(r['seconds'] for r in ok):.0f} s")
+    if "Conforming" in strategies and "None" in strategies:
+        ratios = [by[(n, "Conforming")]["tets"] / by[(n, "None")]["tets"] for n in names
+                  if not by.get((n, "Conforming"), {"error": 1})["error"] and not by.get((n, "None"), {"error": 1})["error"]]
+        if ratios:
+            lines.append(f"Conforming/None tetrahedra: median {np.median(ratios):.2f}x, mean {np.mean(ratios):.2f}x, "
+                         f"range {min(ratios):.2f}-{max(ratios):.2f}x over {len(ratios)} cases (paper: 0.49x at B=1.1)")
+    return lines
+
+
+def check(rows):
+    """The ctest assertions on the Conforming meshes; returns the list of failures."""
+    failures = []
+    for r in rows:
+        if r["strategy"] != "Conforming":
+            continue
+        name = r["case"]
+        if r["error"]:
+            failures.append(f"{name}: meshing failed: {r['error']}")
+            continue
+        if r["defects"]:
+            failures.append(f"{name}: {r['defects']} validity defects")
+        if r["coverage"] is not None and r["coverage"] < 1 - 1e-9:
+            failures.append(f"{name}: feature coverage {100 * r['coverage']:.2f}% < 100%")
+        if r["implant_error"] is None or abs(r["implant_error"]) > 0.01:
+            failures.append(f"{name}: implant volume error {r['implant_error']}")
+        if r["bone_error"] is None or abs(r["bone_error"]) > 0.03:
+            failures.append(f"{name}: bone volume error {r['bone_error']}")
+        if r["min_dihedral"] < 5.0:
+            failures.append(f"{name}: min dihedral {r['min_dihedral']:.2f}° < 5°")
+    return failures
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--cases", type=int, default=20, help="random cases (seeds 0..N-1; default 20)")
+    parser.add_argument("--no-special", action="store_true", help="skip the 5 special variants")
+    parser.add_argument("--radius-edge", type=float, default=1.3)
+    parser.add_argument("--strategies", nargs="+", default=["Conforming", "None", "ProtectingBalls"])
+    parser.add_argument("--jobs", type=int, default=2)
+    parser.add_argument("--timeout", type=float, default=900)
+    parser.add_argument("--sample-dims", type=int, default=160)
+    parser.add_argument("--work", help="folder for cases and meshes (default: a temporary one)")
+    parser.add_argument("--check", action="store_true", help="assert validity, coverage and volumes (ctest)")
+    args = parser.parse_args()
+    tmp = None if args.work else tempfile.TemporaryDirectory()
+    work = args.work or tmp.name
+    started = time.perf_counter()
+    made = make_cases(work, args.cases, args.radius_edge, not args.no_special, args.sample_dims, args.timeout)
+    jobs = [(c, s) for c in made for s in args.strategies]
+    with ThreadPoolExecutor(max_workers=max(1, args.jobs)) as pool:
+        rows = list(pool.map(lambda job: mesh_case(job[0], job[1], args.timeout), jobs))
+    print(f"Bone/implant study: {len(made)} cases, radius-edge {args.radius_edge}, implant cell 1 / facet distance "
+          f"0.1 / edge 0.5, bone cell 3 / facet distance 2, facet angle 25; {args.jobs} jobs at once "
+          f"({time.perf_counter() - started:.0f} s in all)")
+    print_table(rows)
+    for line in summarise(rows, args.strategies):
+        print(line)
+    if args.check:
+        failures = check(rows)
+        for f in failures:
+            print("FAILED:", f)
+        return 1 if failures else 0
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
