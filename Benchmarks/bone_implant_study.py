@@ -127,8 +127,7 @@ def mesh_case(case, strategy, timeout):
                coverage=s.get("feature_coverage"), peak_mib=s.get("peak_rss_mib", 0.0),
                implant_error=implant / case["implant_volume"] - 1 if case["implant_volume"] else None,
                bone_error=bone / case["bone_volume"] - 1 if case["bone_volume"] else None,
-               cut_short=int(stats.get("optimisation.perturbation_cut_short", 0)
-                             + stats.get("optimisation.exudation_cut_short", 0)))
+               cut_short=int(stats.get("optimisation.perturbation_cut_short", 0)))
     return row
 
 
@@ -163,7 +162,7 @@ def print_table(rows):
         print(f"{r['case']:<24} {r['strategy']:<15} {r['tets']:>8} {r['vertices']:>7} {r['min_dihedral']:>6.2f} "
               f"{r['max_dihedral']:>6.1f} {r['defects']:>7} {cover:>6} {r['seconds']:>7.1f} {r['peak_mib']:>6.0f} "
               f"{fmt(100 * r['implant_error'], '+.2f'):>7}% {fmt(100 * r['bone_error'], '+.2f'):>6}%"
-              f"  {'optimiser cut short' if r['cut_short'] else ''}")
+              f"  {'perturbation cut short' if r['cut_short'] else ''}")
 
 
 def summarise(rows, strategies):

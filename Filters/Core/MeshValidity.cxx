@@ -214,7 +214,7 @@ MeshValidity checkMeshValidity(const TetMesh& mesh, const std::function<int(cons
     r.materialMismatches += (f & kMaterialMismatch) != 0;
   }
   for (const auto& s : mesh.segments)
-    r.missingSegmentPieces += !s.present;
+    r.missingSegmentPieces += th.segmentsRequired && !s.present;
   if (tetDefects)
     *tetDefects = std::move(flags);
   return r;

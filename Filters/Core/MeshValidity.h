@@ -18,6 +18,7 @@ struct ValidityThresholds
   double duplicate = 1e-9; ///< two used vertices closer than this x L are duplicates
   double micro = 1e-4;     ///< a tetrahedron whose longest edge is below this x L is micro
   double flat = 1e-8;      ///< a tetrahedron with |volume| below this x (longest edge)^3 is flat
+  bool segmentsRequired = true; ///< count TetMesh::segments pieces that are not mesh edges
 };
 
 /// Defect counts of one mesh; every count is a defect except where noted.

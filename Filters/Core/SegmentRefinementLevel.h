@@ -53,6 +53,7 @@ public:
     size_t vetoes = 0;           ///< T2.1/T3.1: refinement points refused
     size_t dropped = 0;          ///< refinement points refused at sub-segments too short to split
     size_t unsplittable = 0;     ///< encroached sub-segments left alone (too short, or degenerate)
+    size_t missingSplits = 0;    ///< splits of sub-segments that were no mesh edge (paper section 5)
   };
 
   /// `vertexOf[p]` is the mesh vertex of segments.points[p] (all already in the triangulation);
@@ -95,6 +96,40 @@ public:
     size_t n = 0;
     for (size_t s = 0; s < segs_.subs.size(); ++s)
       n += encroached(static_cast<int>(s));
+    return n;
+  }
+
+  /// The paper's section 5 rule: a sub-segment is also bad when it is no edge of the mesh (no
+  /// incident cell in the complex, as on a convex crease of the outer boundary where every
+  /// incident circumcentre lies outside). Queues such sub-segments for splitting, where
+  /// `wanted(a, b)` (material on at least one side) holds; returns how many were queued.
+  size_t queueMissingFromComplex(const std::function<bool(const Vec3&, const Vec3&)>& wanted)
+  {
+    size_t queued = 0;
+    for (size_t s = 0; s < segs_.subs.size(); ++s)
+    {
+      const int a = segs_.subs[s][0], b = segs_.subs[s][1];
+      if (refused_[s] || !splittable(static_cast<int>(s)) || inComplex(vertexOf_[a], vertexOf_[b]))
+        continue;
+      if (!wanted(segs_.points[a], segs_.points[b]))
+        continue;
+      mustSplit_[s] = 1;
+      enqueue(static_cast<int>(s));
+      ++queued;
+    }
+    count_.missingSplits += queued;
+    return queued;
+  }
+
+  /// Number of splittable sub-segments that are no mesh edge where `wanted` (see above).
+  size_t countMissingFromComplex(const std::function<bool(const Vec3&, const Vec3&)>& wanted) const
+  {
+    size_t n = 0;
+    for (size_t s = 0; s < segs_.subs.size(); ++s)
+    {
+      const int a = segs_.subs[s][0], b = segs_.subs[s][1];
+      n += splittable(static_cast<int>(s)) && !inComplex(vertexOf_[a], vertexOf_[b]) && wanted(segs_.points[a], segs_.points[b]);
+    }
     return n;
   }
 
@@ -184,6 +219,22 @@ private:
   }
 
   bool splittable(int s) const { return segs_.length(s) > 2.0 * minLength_; }
+
+  /// Edge ab exists and one of its incident cells is in the complex.
+  bool inComplex(Vertex_handle a, Vertex_handle b) const
+  {
+    Cell_handle c;
+    int i, j;
+    if (!tr_.is_edge(a, b, c, i, j))
+      return false;
+    auto first = tr_.incident_cells(c, i, j), cell = first;
+    do
+    {
+      if (c3t3_.is_in_complex(cell))
+        return true;
+    } while (++cell != first);
+    return false;
+  }
 
   /// A vertex other than its ends in the diametral ball: then the nearest vertex to the midpoint
   /// is such a vertex (the ends lie on the ball's boundary).

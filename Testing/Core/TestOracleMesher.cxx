@@ -441,3 +441,60 @@ TEST(OracleMesher, OptimiserBudgetsEndThePhasesAndSaySo)
   EXPECT_GT(full.statistics.at("optimisation.exudation_steps"), 1001.0);
   EXPECT_EQ(full.statistics.at("optimisation.perturbation_cut_short"), 0.0);
 }
+
+// Issue 9 / the paper's section 5: a corner tetrahedron (face angles 45, 60 and 90 degrees, all six
+// edges sharp, all on the outer boundary's convex creases). Some sub-segments were Delaunay edges
+// whose incident circumcentres all lay outside, so no tetrahedron held them (97.3% coverage); a
+// sub-segment missing from the mesh is now split like an encroached one.
+TEST(OracleMesher, ConformingKeepsEveryEdgeOfACornerTetrahedron)
+{
+  TriangleSurface corner;
+  corner.points = { { 0, 0, 0 }, { 10, 0, 0 }, { 0, 10, 0 }, { 0, 0, 10 } };
+  corner.triangles = { { 0, 2, 1 }, { 0, 1, 3 }, { 0, 3, 2 }, { 1, 2, 3 } };
+  HierarchicalOracle o;
+  o.add(std::make_shared<SurfaceDomain>(corner, 1));
+  FeatureSegments edges;
+  edges.points = corner.points;
+  edges.segments = { { 0, 1 }, { 0, 2 }, { 0, 3 }, { 1, 2 }, { 1, 3 }, { 2, 3 } };
+  MesherOptions opt = options(FeatureStrategy::Conforming, 0.6);
+  opt.criteria.global.facetDistance = 0.05;
+  opt.criteria.global.cellRadiusEdgeRatio = 2;
+  const TetMesh m = meshOracle(o, edges, {}, opt);
+  EXPECT_EQ(m.statistics.at("validity.defects"), 0.0);
+  for (const auto& piece : m.segments)
+    ASSERT_TRUE(piece.present) << "input edge " << piece.input << " at (" << piece.a.x << ", " << piece.a.y << ", "
+                               << piece.a.z << ")";
+  EXPECT_NEAR(m.statistics.at("feature_coverage"), 1.0, 1e-12);
+  EXPECT_NEAR(materialVolumes(m).at(1), 1000.0 / 6.0, 0.01 * 1000.0 / 6.0);
+}
+
+// Issue 9: small input angles and short segments. Two segments meeting at 20 degrees (below the
+// paper's 60-degree guarantee) and a segment shorter than the edge size: the run ends, the mesh is
+// valid and every piece is a mesh edge, before and after optimisation. (At 5 degrees one piece
+// next to the apex is still missing: splitting stops at 1/64 of the shortest piece; concentric
+// shells are the known cure, not done yet.)
+TEST(OracleMesher, ConformingKeepsSegmentsAtSmallAnglesAndShortSegments)
+{
+  HierarchicalOracle o;
+  o.add(std::make_shared<SphereDomain>(Vec3{ 0, 0, 0 }, 1.0, 1));
+  const double deg = M_PI / 180.0;
+  const std::vector<std::pair<const char*, FeatureSegments>> cases = {
+    { "20 degrees", star({ 0.05, 0.02, -0.03 }, { { 1, 0, 0 }, { std::cos(20 * deg), std::sin(20 * deg), 0 } }, 0.6) },
+    { "a segment of 0.01 beside edge size 0.1", star({ 0.05, 0.02, -0.03 }, { { 1, 0, 0 }, { 0, 1, 0 } }, 0.01) },
+  };
+  for (const auto& [name, f] : cases)
+  {
+    SCOPED_TRACE(name);
+    MesherOptions opt = options(FeatureStrategy::Conforming, 0.25);
+    opt.criteria.global.edgeSize = 0.1;
+    opt.maximumNumberOfVertices = 200000; // a stall would show as reaching it
+    for (bool optimise : { false, true })
+    {
+      opt.perturb = opt.exude = optimise;
+      const TetMesh m = meshOracle(o, f, {}, opt);
+      EXPECT_EQ(m.statistics.at("validity.defects"), 0.0) << (optimise ? "after" : "before") << " optimisation";
+      EXPECT_NEAR(featureCoverage(m.segments, f), 1.0, 1e-12);
+      EXPECT_LT(m.points.size(), 100000u);
+    }
+  }
+}

@@ -129,10 +129,13 @@ def report_lines(grid, title, names=None, source="mesh"):
                      + (f" ({segments.GetValue(0)} segments)" if segments is not None else ""))
     q["validity"] = validity(grid)
     lines.append(validity_line(q["validity"]))
-    for phase in ("perturbation", "exudation"):
-        if stats.get(f"optimisation.{phase}_cut_short"):
-            lines.append(f"optimisation: {phase} ended at its budget after {int(stats[f'optimisation.{phase}_steps'])} "
-                         f"steps ({stats.get(f'time.{phase}', 0):.1f} s): slivers it had not reached remain")
+    phases = [(phase, stats[f"optimisation.{phase}_steps"], stats.get(f"optimisation.{phase}_cut_short"),
+               stats.get(f"time.{phase}", 0.0)) for phase in ("perturbation", "exudation")
+              if f"optimisation.{phase}_steps" in stats]
+    if phases:
+        lines.append("optimisation: " + "; ".join(
+            f"{phase} {int(steps)} steps in {seconds:.1f} s, " + ("ended at its budget" if cut else "done")
+            for phase, steps, cut, seconds in phases))
     for warning in _strings(grid.GetFieldData().GetAbstractArray("Warnings")):
         if not warning.startswith("mesh validity:"):  # the line above says it
             lines.append("warning: " + warning)
