@@ -99,15 +99,28 @@ def sampled_volumes(scene, dims, timeout):
     return volumes
 
 
+STOCK_OPTIMISERS = ":stock-optimisers"  # strategy suffix: CGAL's default optimiser time limits
+
+
 def mesh_case(case, strategy, timeout):
-    """Meshes one case with one strategy; returns the row of the table."""
-    out = os.path.join(case["dir"], f"mesh_{strategy}.vtu")
-    summary = os.path.join(case["dir"], f"summary_{strategy}.json")
+    """Meshes one case with one strategy (with STOCK_OPTIMISERS: perturbation and exudation limited
+    as stock CGAL limits them, each to the refinement's running time); returns the table row."""
+    tag = strategy.replace(":", "_")
+    out = os.path.join(case["dir"], f"mesh_{tag}.vtu")
+    summary = os.path.join(case["dir"], f"summary_{tag}.json")
     for stale in (out, summary):
         if os.path.exists(stale):
             os.remove(stale)
-    rc, seconds, tail = run_measured(
-        command() + ["mesh", case["scene"], "--strategy", strategy, "-o", out, "--summary", summary], timeout)
+    scene = case["scene"]
+    if strategy.endswith(STOCK_OPTIMISERS):
+        with open(scene) as f:
+            description = json.load(f)
+        description["mesh"]["optimisation_time_limit"] = -1
+        scene = os.path.join(case["dir"], f"scene_{tag}.json")
+        with open(scene, "w") as f:
+            json.dump(description, f)
+    rc, seconds, tail = run_measured(command() + ["mesh", scene, "--strategy", strategy.split(":")[0], "-o", out,
+                                                  "--summary", summary], timeout)
     row = {"case": case["name"], "strategy": strategy, "rc": rc, "seconds": seconds, "error": ""}
     if rc != 0 or not os.path.exists(out):
         row["error"] = tail or f"exit {rc}"
@@ -127,17 +140,24 @@ def mesh_case(case, strategy, timeout):
                coverage=s.get("feature_coverage"), peak_mib=s.get("peak_rss_mib", 0.0),
                implant_error=implant / case["implant_volume"] - 1 if case["implant_volume"] else None,
                bone_error=bone / case["bone_volume"] - 1 if case["bone_volume"] else None,
-               cut_short=int(stats.get("optimisation.perturbation_cut_short", 0)))
+               cut_short=int(stats.get("optimisation.perturbation_cut_short", 0)),
+               refine_s=stats.get("time.refinement", 0.0), optimise_s=stats.get("time.optimisation", 0.0))
     return row
 
 
-def make_cases(work, count, radius_edge, special, sample_dims, timeout):
+def make_cases(work, count, radius_edge, special, sample_dims, timeout, optimise=True):
     specs = [(f"random_{seed:02d}", seed, "random") for seed in range(count)]
     specs += [(f"{variant}", 100 + SPECIAL.index(variant), variant) for variant in special]
     made = []
     for name, seed, variant in specs:
         folder = os.path.join(work, name)
         scene = cases.make_case(folder, seed, variant=variant, radius_edge=radius_edge)
+        if not optimise:
+            with open(scene) as f:
+                description = json.load(f)
+            description["mesh"].update(perturb=False, exude=False)
+            with open(scene, "w") as f:
+                json.dump(description, f, indent=1)
         with open(os.path.join(folder, "case.json")) as f:
             info = json.load(f)
         sampled = sampled_volumes(scene, sample_dims, timeout)
@@ -152,15 +172,16 @@ def fmt(x, spec, empty="-"):
 
 
 def print_table(rows):
-    print(f"{'case':<24} {'strategy':<15} {'tets':>8} {'verts':>7} {'min°':>6} {'max°':>6} {'defects':>7} "
-          f"{'cover':>6} {'time s':>7} {'MiB':>6} {'implant':>8} {'bone':>7}  note")
+    print(f"{'case':<24} {'strategy':<22} {'tets':>8} {'verts':>7} {'min°':>6} {'max°':>6} {'defects':>7} "
+          f"{'cover':>6} {'time s':>7} {'refine':>7} {'optim.':>7} {'MiB':>6} {'implant':>8} {'bone':>7}  note")
     for r in rows:
         if r["error"]:
-            print(f"{r['case']:<24} {r['strategy']:<15} {'failed: ' + r['error'][:90]}")
+            print(f"{r['case']:<24} {r['strategy']:<22} {'failed: ' + r['error'][:90]}")
             continue
         cover = fmt(None if r["coverage"] is None else 100 * r["coverage"], ".1f")
-        print(f"{r['case']:<24} {r['strategy']:<15} {r['tets']:>8} {r['vertices']:>7} {r['min_dihedral']:>6.2f} "
-              f"{r['max_dihedral']:>6.1f} {r['defects']:>7} {cover:>6} {r['seconds']:>7.1f} {r['peak_mib']:>6.0f} "
+        print(f"{r['case']:<24} {r['strategy']:<22} {r['tets']:>8} {r['vertices']:>7} {r['min_dihedral']:>6.2f} "
+              f"{r['max_dihedral']:>6.1f} {r['defects']:>7} {cover:>6} {r['seconds']:>7.1f} {r['refine_s']:>7.1f} "
+              f"{r['optimise_s']:>7.1f} {r['peak_mib']:>6.0f} "
               f"{fmt(100 * r['implant_error'], '+.2f'):>7}% {fmt(100 * r['bone_error'], '+.2f'):>6}%"
               f"  {'perturbation cut short' if r['cut_short'] else ''}")
 
@@ -175,6 +196,15 @@ def summarise(rows, strategies):
         lines.append(f"{s}: {len(ok)}/{len(names)} meshed, {len(valid)} valid, min dihedral "
                      f"{min((r['min_dihedral'] for r in ok), default=float('nan')):.2f}°, time "
                      f"{sum(r['seconds'] for r in ok):.0f} s")
+    for s in strategies:
+        peer = s + STOCK_OPTIMISERS
+        pairs = [(by[(n, s)], by[(n, peer)]) for n in names if (n, s) in by and (n, peer) in by
+                 and not by[(n, s)]["error"] and not by[(n, peer)]["error"]]
+        if pairs:
+            ratios = [a["optimise_s"] / max(b["optimise_s"], 1e-9) for a, b in pairs]
+            lines.append(f"{s} optimisation time / stock CGAL's default limits on the same refined mesh: median "
+                         f"{np.median(ratios):.2f}x, max {max(ratios):.2f}x; min dihedral {min(a['min_dihedral'] for a, _ in pairs):.2f}° "
+                         f"vs {min(b['min_dihedral'] for _, b in pairs):.2f}°")
     if "Conforming" in strategies and "None" in strategies:
         ratios = [by[(n, "Conforming")]["tets"] / by[(n, "None")]["tets"] for n in names
                   if not by.get((n, "Conforming"), {"error": 1})["error"] and not by.get((n, "None"), {"error": 1})["error"]]
@@ -215,6 +245,7 @@ def main():
                         help="special variants to add (default: all five; none: --special)")
     parser.add_argument("--radius-edge", type=float, default=1.3)
     parser.add_argument("--strategies", nargs="+", default=["Conforming", "None", "ProtectingBalls"])
+    parser.add_argument("--no-optimise", action="store_true", help="no perturbation and exudation")
     parser.add_argument("--jobs", type=int, default=2)
     parser.add_argument("--timeout", type=float, default=900)
     parser.add_argument("--sample-dims", type=int, default=160)
@@ -224,11 +255,13 @@ def main():
     tmp = None if args.work else tempfile.TemporaryDirectory()
     work = args.work or tmp.name
     started = time.perf_counter()
-    made = make_cases(work, args.cases, args.radius_edge, args.special, args.sample_dims, args.timeout)
+    made = make_cases(work, args.cases, args.radius_edge, args.special, args.sample_dims, args.timeout,
+                      not args.no_optimise)
     jobs = [(c, s) for c in made for s in args.strategies]
     with ThreadPoolExecutor(max_workers=max(1, args.jobs)) as pool:
         rows = list(pool.map(lambda job: mesh_case(job[0], job[1], args.timeout), jobs))
-    print(f"Bone/implant study: {len(made)} cases, radius-edge {args.radius_edge}, implant cell 1 / facet distance "
+    print(f"Bone/implant study: {len(made)} cases, radius-edge {args.radius_edge}"
+          f"{', no optimisation' if args.no_optimise else ''}, implant cell 1 / facet distance "
           f"0.1 / edge 0.5, bone cell 3 / facet distance 2, facet angle 25; {args.jobs} jobs at once "
           f"({time.perf_counter() - started:.0f} s in all)")
     print_table(rows)

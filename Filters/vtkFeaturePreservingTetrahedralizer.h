@@ -121,7 +121,7 @@ public:
   ///@}
 
   ///@{
-  /// Tetrahedra with at least two vertices on interfaces or feature lines and whose minimal dihedral
+  /// Tetrahedra with at least three vertices on interfaces or feature lines and whose minimal dihedral
   /// angle is below this bound (degrees) are refined: the perturber and exuder cannot fix them
   /// (those vertices only slide on their interface). 0 turns it off. Default 10.
   vtkSetClampMacro(InterfaceSliverAngle, double, 0.0, 30.0);

@@ -29,7 +29,7 @@ struct MesherOptions
 {
   FeatureStrategy strategy = FeatureStrategy::Conforming;
   MaterialCriteria criteria;
-  /// Tetrahedra with at least two vertices on interfaces or feature lines and a minimal dihedral angle
+  /// Tetrahedra with at least three vertices on interfaces or feature lines and a minimal dihedral angle
   /// below this (degrees) are refined like bad cells: the optimisers cannot fix them. 0 = off.
   /// Not covered by CGAL's termination guarantee: refinement also stops at the vertex budget.
   double interfaceSliverAngle = 10.0;
