@@ -23,10 +23,12 @@
 #include <CGAL/perturb_mesh_3.h>
 #include <CGAL/refine_mesh_3.h>
 
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <future>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <memory>
 #include <sstream>
@@ -113,6 +115,45 @@ double seconds(Clock::time_point since)
 
 double squared(double x) { return x * x; }
 
+/// How a facet or cell touches protecting balls (vertices of positive weight), measured as CGAL's
+/// criteria visitors with features measure it. Next to a ball CGAL does not apply a criterion to a
+/// simplex that is small against the ball: there the refinement point lies on the power diagram
+/// at about the ball's surface, every insertion makes a smaller simplex of the same kind, and
+/// refinement converges onto one point of the sphere until a point repeats a vertex.
+struct BallContact
+{
+  int balls = 0;          ///< vertices with a protecting ball
+  bool ballsMeet = false; ///< two or more such balls with a common point
+  /// Largest squared radius of the smallest sphere orthogonal to a ball and another vertex,
+  /// relative to that ball's squared radius (0 when every vertex has a ball).
+  double ratio = 0.0;
+  /// True when a criterion with this bound on `ratio` is not applied (CGAL's rule).
+  bool exempt(double bound) const { return (balls == 1 || ballsMeet) && ratio < bound; }
+};
+
+template <size_t N>
+BallContact ballContact(const Tr& tr, const std::array<const Tr::Weighted_point*, N>& v)
+{
+  const auto sqRadius = tr.geom_traits().compute_squared_radius_smallest_orthogonal_sphere_3_object();
+  const auto compare = tr.geom_traits().compare_weighted_squared_radius_3_object();
+  std::array<const Tr::Weighted_point*, N> ball{}, other{};
+  size_t nb = 0, no = 0;
+  for (const Tr::Weighted_point* p : v)
+    (p->weight() > 0 ? ball[nb++] : other[no++]) = p;
+  BallContact b;
+  b.balls = static_cast<int>(nb);
+  for (size_t i = 0; i < nb; ++i)
+    for (size_t j = 0; j < no; ++j)
+      b.ratio = std::max(b.ratio, CGAL::to_double(sqRadius(*ball[i], *other[j])) / ball[i]->weight());
+  if (nb == 2)
+    b.ballsMeet = compare(*ball[0], *ball[1], 0.0) != CGAL::LARGER;
+  else if (nb == 3)
+    b.ballsMeet = compare(*ball[0], *ball[1], *ball[2], 0.0) != CGAL::LARGER;
+  else if (nb == 4)
+    b.ballsMeet = compare(*ball[0], *ball[1], *ball[2], *ball[3], 0.0) != CGAL::LARGER;
+  return b;
+}
+
 /// Per-material cell criteria: radius-edge ratio and circumradius bound of the cell's material
 /// (the material of its circumcentre, set by Mesh_3 before the criteria are asked).
 class MaterialCellCriterion : public CGAL::Mesh_3::Abstract_criterion<Tr, CellCriteria::Visitor>
@@ -134,15 +175,17 @@ protected:
   Is_bad do_is_bad(const Tr& tr, const Tr::Cell_handle& c) const override
   {
     const MeshCriteria m = criteria_.of(materialOf(c->subdomain_index()));
-    const auto& p = tr.point(c, 0).point();
-    const auto& q = tr.point(c, 1).point();
-    const auto& r = tr.point(c, 2).point();
-    const auto& s = tr.point(c, 3).point();
+    const Tr::Weighted_point &wp = tr.point(c, 0), &wq = tr.point(c, 1), &wr = tr.point(c, 2), &ws = tr.point(c, 3);
+    const auto &p = wp.point(), &q = wq.point(), &r = wr.point(), &s = ws.point();
+    // CGAL's rules next to protecting balls (Cell_criteria_visitor_with_features): no shape
+    // criterion on a cell with one ball or with balls that meet, no size bound on a small one.
+    const BallContact near = ballContact<4>(tr, { &wp, &wq, &wr, &ws });
+    const bool shapeExempt = near.exempt(std::numeric_limits<double>::infinity());
     const double sqRadius = CGAL::squared_radius(p, q, r, s);
     double worst = 1.0; // quality: bound / value, below 1 is bad
-    if (m.cellSize > 0 && sqRadius > squared(m.cellSize))
+    if (m.cellSize > 0 && sqRadius > squared(m.cellSize) && !near.exempt(1.0))
       worst = std::min(worst, squared(m.cellSize) / sqRadius);
-    if (m.cellRadiusEdgeRatio > 0)
+    if (m.cellRadiusEdgeRatio > 0 && !shapeExempt)
     {
       const double sqEdge = std::min({ CGAL::squared_distance(p, q), CGAL::squared_distance(p, r),
         CGAL::squared_distance(p, s), CGAL::squared_distance(q, r), CGAL::squared_distance(q, s),
@@ -211,8 +254,10 @@ protected:
     const K::Point_3& p2 = w2.point();
     const K::Point_3& p3 = w3.point();
     const K::Point_3& centre = f.first->get_facet_surface_center(f.second);
+    // CGAL's bounds on the ratio (Facet_criterion_visitor_with_features): angle, size, distance.
+    const BallContact near = ballContact<3>(tr, { &w1, &w2, &w3 });
     double worst = 1.0;
-    if (angle > 0)
+    if (angle > 0 && !near.exempt(1.0))
     {
       // sin^2 of the smallest angle: 4 area^2 min(d^2) / (d12^2 d13^2 d23^2)
       const double d12 = CGAL::squared_distance(p1, p2), d13 = CGAL::squared_distance(p1, p3),
@@ -222,13 +267,13 @@ protected:
       if (sqSin < bound)
         worst = std::min(worst, sqSin / bound);
     }
-    if (size > 0)
+    if (size > 0 && !near.exempt(0.64))
     {
       const double sqRadius = tr.min_squared_distance(p1, centre);
       if (sqRadius > squared(size))
         worst = std::min(worst, squared(size) / sqRadius);
     }
-    if (distance > 0)
+    if (distance > 0 && !near.exempt(0.04))
     {
       const K::Point_3 c = tr.geom_traits().construct_weighted_circumcenter_3_object()(w1, w2, w3);
       const double sqDist = tr.min_squared_distance(c, centre);
@@ -447,6 +492,7 @@ TetMesh toTetMesh(const C3t3& c3t3)
   return out;
 }
 }
+
 
 namespace
 {

@@ -3,11 +3,14 @@
 #pragma once
 
 #include "Domain.h"
+#include "FeatureSegments.h"
 #include "HierarchicalOracle.h"
 #include "TriangleSurface.h"
 
+#include <array>
 #include <cmath>
 #include <map>
+#include <utility>
 
 namespace omesh::test
 {
@@ -95,6 +98,60 @@ inline TriangleSurface icosphere(const Vec3& c, double r, int levels)
   for (auto& p : s.points)
     p = c + r * p;
   return s;
+}
+
+/// Closed solid through axis-aligned rectangles (half sizes x, y at height z, bottom to top), as
+/// oraclemesh.cases lofts its implants: planar quads, so every face is flat; two rectangles at one
+/// height make a flat annulus (a collar's underside, with concave edges where the stem meets it).
+inline TriangleSurface loftedRectangles(const std::vector<std::pair<std::array<double, 2>, double>>& rects)
+{
+  TriangleSurface s;
+  for (const auto& [half, z] : rects)
+    for (const auto& [sx, sy] : { std::pair{ -1, -1 }, { 1, -1 }, { 1, 1 }, { -1, 1 } })
+      s.points.push_back({ sx * half[0], sy * half[1], z });
+  const int top = 4 * (static_cast<int>(rects.size()) - 1);
+  for (int lo = 0; lo < top; lo += 4)
+    for (int i = 0; i < 4; ++i)
+    {
+      const int j = (i + 1) % 4;
+      s.triangles.push_back({ lo + i, lo + j, lo + 4 + j });
+      s.triangles.push_back({ lo + i, lo + 4 + j, lo + 4 + i });
+    }
+  s.triangles.insert(s.triangles.end(), { { 0, 2, 1 }, { 0, 3, 2 }, { top, top + 1, top + 2 }, { top, top + 2, top + 3 } });
+  return s;
+}
+
+/// `s` turned by the unit quaternion (w, x, y, z).
+inline TriangleSurface rotated(TriangleSurface s, const std::array<double, 4>& q)
+{
+  const double w = q[0], x = q[1], y = q[2], z = q[3];
+  const double r[3][3] = { { 1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w) },
+    { 2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w) },
+    { 2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y) } };
+  for (Vec3& p : s.points)
+    p = { r[0][0] * p.x + r[0][1] * p.y + r[0][2] * p.z, r[1][0] * p.x + r[1][1] * p.y + r[1][2] * p.z,
+      r[2][0] * p.x + r[2][1] * p.y + r[2][2] * p.z };
+  return s;
+}
+
+/// Edges of a closed surface whose two triangles' normals differ by more than `angle` degrees (as
+/// vtkFeatureEdges with that feature angle).
+inline FeatureSegments sharpEdges(const TriangleSurface& s, double angle)
+{
+  std::map<std::pair<int, int>, std::vector<Vec3>> normals;
+  for (const auto& t : s.triangles)
+  {
+    const Vec3 u = s.points[t[1]] - s.points[t[0]], v = s.points[t[2]] - s.points[t[0]];
+    const Vec3 n{ u.y * v.z - u.z * v.y, u.z * v.x - u.x * v.z, u.x * v.y - u.y * v.x };
+    for (int i = 0; i < 3; ++i)
+      normals[std::minmax(t[i], t[(i + 1) % 3])].push_back((1.0 / norm(n)) * n);
+  }
+  FeatureSegments f;
+  f.points = s.points;
+  for (const auto& [edge, n] : normals)
+    if (n.size() == 2 && dot(n[0], n[1]) < std::cos(angle * M_PI / 180.0))
+      f.segments.push_back({ edge.first, edge.second });
+  return f;
 }
 
 /// Volume per material of `f` sampled at the centres of an n^3 grid over `box`.
