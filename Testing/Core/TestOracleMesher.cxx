@@ -547,3 +547,22 @@ TEST(OracleMesher, ProtectingBallsMeshAFlatFacedPartInsideAnotherMaterial)
   EXPECT_EQ(m.statistics.at("validity.defects"), 0.0);
   EXPECT_NEAR(materialVolumes(m).at(3), part.signedVolume(), 0.02 * part.signedVolume());
 }
+
+// CGAL keeps a floating-point weighted circumcentre once it lies inside the power sphere; for a
+// nearly flat cell of four ball centres on one flat face it was 27 mm off, a facet's surface centre
+// on the wrong dual fell inside two balls, and CGAL failed ("A facet is not in conflict with its
+// refinement point", Refine_facets_3.h:1498). The part alone, in another position.
+TEST(OracleMesher, ProtectingBallsMeshAFlatFacedPart)
+{
+  const TriangleSurface part = steppedPart({ -0.022438626280776142, -0.83465126016053259, 0.54238573224163578, -0.0931208860770293 });
+  HierarchicalOracle o;
+  o.add(std::make_shared<SurfaceDomain>(part, 3));
+  const FeatureSegments edges = test::sharpEdges(part, 60.0);
+  TetMesh m;
+  ASSERT_NO_THROW(m = meshOracle(o, edges, {}, implantOptions()));
+  const MeshValidity v = checkMeshValidity(m, [&o](const Vec3& p) { return o.material(p); });
+  EXPECT_TRUE(v.valid()) << v.describe();
+  EXPECT_EQ(m.statistics.at("validity.defects"), 0.0);
+  EXPECT_NEAR(featureCoverage(m.segments, edges), 1.0, 1e-12);
+  EXPECT_NEAR(materialVolumes(m).at(3), part.signedVolume(), 0.02 * part.signedVolume());
+}
