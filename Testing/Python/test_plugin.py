@@ -43,6 +43,14 @@ class PluginXML(unittest.TestCase):
                     if prop.tag not in ("InputProperty", "ProxyProperty"):
                         self.assertIn(prop.get("name"), grouped, "in no property group")
 
+    def test_validity_check_proxy_matches_the_class(self):
+        check = proxies()["OracleMeshValidityCheck"]
+        self.assertEqual(check.get("class"), "vtkMeshValidityCheck")
+        instance = om.vtkMeshValidityCheck()
+        for prop in check.findall("DoubleVectorProperty"):
+            with self.subTest(property=prop.get("name")):
+                self.assertAlmostEqual(float(prop.get("default_values")), getattr(instance, "Get" + prop.get("name"))())
+
     def test_tetrahedralizer_groups_defaults_and_display_hints(self):
         mesher = proxies()["OracleMeshTetrahedralizer"]
         groups = [g.get("label") for g in mesher.findall("PropertyGroup")]
