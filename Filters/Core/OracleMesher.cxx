@@ -367,7 +367,12 @@ void checkCriteria(const MaterialCriteria& c, std::vector<std::string>& warnings
   }
 }
 
-/// Maximal polylines through the segments: chains broken at points of degree != 2.
+/// Maximal polylines through the segments, broken at points of degree != 2 and at bends sharper
+/// than kPolylineCorner: CGAL protects a polyline as one smooth curve, and through a sharp bend
+/// (the 38-degree bends of a chamfered stem's edges) its balls left 8 pieces out of every
+/// generated bone/implant mesh; as a polyline's end the bend becomes a protected corner.
+constexpr double kPolylineCorner = 20.0; // degrees of turn
+
 std::vector<std::vector<K::Point_3>> toPolylines(const FeatureSegments& f)
 {
   std::vector<std::vector<size_t>> inc(f.points.size());
@@ -375,6 +380,19 @@ std::vector<std::vector<K::Point_3>> toPolylines(const FeatureSegments& f)
   {
     inc[f.segments[s][0]].push_back(s);
     inc[f.segments[s][1]].push_back(s);
+  }
+  auto other = [&](size_t s, size_t p) { return f.segments[s][0] == static_cast<int>(p) ? f.segments[s][1] : f.segments[s][0]; };
+  std::vector<char> breaks(f.points.size(), 0);
+  const double cosCorner = std::cos(kPolylineCorner * M_PI / 180.0);
+  for (size_t p = 0; p < f.points.size(); ++p)
+  {
+    if (inc[p].size() != 2)
+    {
+      breaks[p] = 1;
+      continue;
+    }
+    const Vec3 in = f.points[p] - f.points[other(inc[p][0], p)], out = f.points[other(inc[p][1], p)] - f.points[p];
+    breaks[p] = dot(in, out) < cosCorner * norm(in) * norm(out);
   }
   std::vector<char> used(f.segments.size(), 0);
   std::vector<std::vector<K::Point_3>> lines;
@@ -385,9 +403,9 @@ std::vector<std::vector<K::Point_3>> toPolylines(const FeatureSegments& f)
     while (true)
     {
       used[s] = 1;
-      at = f.segments[s][0] == at ? f.segments[s][1] : f.segments[s][0];
+      at = other(s, static_cast<size_t>(at));
       line.push_back(toPoint(f.points[at]));
-      if (inc[at].size() != 2)
+      if (breaks[at])
         break;
       const size_t next = inc[at][0] == s ? inc[at][1] : inc[at][0];
       if (used[next])
@@ -397,11 +415,11 @@ std::vector<std::vector<K::Point_3>> toPolylines(const FeatureSegments& f)
     lines.push_back(std::move(line));
   };
   for (size_t p = 0; p < f.points.size(); ++p)
-    if (inc[p].size() != 2)
+    if (breaks[p])
       for (size_t s : inc[p])
         if (!used[s])
           walk(static_cast<int>(p), s);
-  for (size_t s = 0; s < f.segments.size(); ++s) // closed loops
+  for (size_t s = 0; s < f.segments.size(); ++s) // closed loops without a break
     if (!used[s])
       walk(f.segments[s][0], s);
   return lines;
