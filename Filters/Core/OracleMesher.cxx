@@ -342,21 +342,23 @@ private:
 
 void checkCriteria(const MaterialCriteria& c, std::vector<std::string>& warnings)
 {
-  auto check = [&](const MeshCriteria& m, const std::string& who) {
+  // A material's termination warnings only where its value is its own (not the global one again).
+  auto check = [&](const MeshCriteria& m, const std::string& who, const MeshCriteria* global) {
     const double values[] = { m.facetAngle, m.facetSize, m.facetDistance, m.cellSize, m.cellRadiusEdgeRatio, m.edgeSize };
     for (double v : values)
       if (std::isnan(v) || std::isinf(v))
         throw InputError(who + ": criteria must be finite numbers");
-    if (m.facetAngle > 30.0)
+    if (m.facetAngle > 30.0 && !(global && global->facetAngle == m.facetAngle))
       warnings.push_back(who + ": FacetAngle " + std::to_string(m.facetAngle) +
         " > 30 degrees: refinement is not guaranteed to terminate");
-    if (m.cellRadiusEdgeRatio > 0 && m.cellRadiusEdgeRatio < 2.0)
+    if (m.cellRadiusEdgeRatio > 0 && m.cellRadiusEdgeRatio < 2.0 &&
+      !(global && global->cellRadiusEdgeRatio == m.cellRadiusEdgeRatio))
       warnings.push_back(who + ": CellRadiusEdgeRatio " + std::to_string(m.cellRadiusEdgeRatio) +
         " < 2: termination is not guaranteed (the run stops at MaximumNumberOfVertices)");
   };
-  check(c.global, "global criteria");
+  check(c.global, "global criteria", nullptr);
   for (const auto& [material, m] : c.perMaterial)
-    check(m.over(c.global), "criteria of material " + std::to_string(material));
+    check(m.over(c.global), "criteria of material " + std::to_string(material), &c.global);
   if (c.global.cellSize <= 0 && c.global.facetSize <= 0 && c.global.facetDistance <= 0)
   {
     bool sized = !c.perMaterial.empty();
