@@ -878,8 +878,10 @@ TetMesh meshOracleUnguarded(const HierarchicalOracle& oracle, const FeatureSegme
     if (conforming)
       kept = std::make_unique<C3t3>(c3t3);
     // The budget also ends CGAL's exuder where it cycles (seen next to protecting balls); it stops
-    // between two cells, where the mesh is consistent.
-    const size_t max = budget(options.exudationStepsPerCell, c3t3.number_of_cells_in_complex());
+    // between two cells, where the mesh is consistent. Without a budget, 10 pumps per cell still
+    // end a cycle.
+    const size_t max = budget(options.exudationStepsPerCell > 0 ? options.exudationStepsPerCell : 10.0,
+      c3t3.number_of_cells_in_complex());
     size_t checks = 0;
     exuded = exude(c3t3, optLimit, max, [&] { report(0.8 + 0.18 * phaseProgress(256 * ++checks, max), "exudation"); });
     if (conforming)

@@ -36,7 +36,8 @@ struct MesherOptions
   bool perturb = true;
   bool exude = true;
   /// Step budgets of the sliver optimisers, which otherwise may run for hours on large meshes:
-  /// perturbation attempts per mesh vertex, cells pumped per cell of the complex; 0 = no budget.
+  /// perturbation attempts per mesh vertex, cells pumped per cell of the complex; 0 = no budget
+  /// (for the exuder, which can cycle, 10 per cell).
   /// Reaching one ends the phase (statistics optimisation.*_cut_short). Deterministic.
   double perturbationStepsPerVertex = 2.0;
   double exudationStepsPerCell = 0.1;

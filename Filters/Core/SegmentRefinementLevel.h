@@ -107,16 +107,12 @@ public:
   {
     size_t queued = 0;
     for (size_t s = 0; s < segs_.subs.size(); ++s)
-    {
-      const int a = segs_.subs[s][0], b = segs_.subs[s][1];
-      if (refused_[s] || !splittable(static_cast<int>(s)) || inComplex(vertexOf_[a], vertexOf_[b]))
-        continue;
-      if (!wanted(segs_.points[a], segs_.points[b]))
-        continue;
-      mustSplit_[s] = 1;
-      enqueue(static_cast<int>(s));
-      ++queued;
-    }
+      if (!refused_[s] && missingFromComplex(static_cast<int>(s), wanted))
+      {
+        mustSplit_[s] = 1;
+        enqueue(static_cast<int>(s));
+        ++queued;
+      }
     count_.missingSplits += queued;
     return queued;
   }
@@ -126,10 +122,7 @@ public:
   {
     size_t n = 0;
     for (size_t s = 0; s < segs_.subs.size(); ++s)
-    {
-      const int a = segs_.subs[s][0], b = segs_.subs[s][1];
-      n += splittable(static_cast<int>(s)) && !inComplex(vertexOf_[a], vertexOf_[b]) && wanted(segs_.points[a], segs_.points[b]);
-    }
+      n += missingFromComplex(static_cast<int>(s), wanted);
     return n;
   }
 
@@ -219,6 +212,13 @@ private:
   }
 
   bool splittable(int s) const { return segs_.length(s) > 2.0 * minLength_; }
+
+  /// Sub-segment s is splittable, no cell of the complex holds it, and `wanted` it.
+  bool missingFromComplex(int s, const std::function<bool(const Vec3&, const Vec3&)>& wanted) const
+  {
+    const int a = segs_.subs[s][0], b = segs_.subs[s][1];
+    return splittable(s) && !inComplex(vertexOf_[a], vertexOf_[b]) && wanted(segs_.points[a], segs_.points[b]);
+  }
 
   /// Edge ab exists and one of its incident cells is in the complex.
   bool inComplex(Vertex_handle a, Vertex_handle b) const

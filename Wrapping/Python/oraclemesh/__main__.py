@@ -185,7 +185,8 @@ def _mesh(args):
         write_mesh(grid, out, names)
     seconds = time.perf_counter() - started
     strategy = args.strategy or scene.mesh.get("strategy", "Conforming")
-    lines, q = report_lines(grid, f"Mesh of {args.scene} ({seconds:.1f} s, strategy {strategy})", names)
+    lines, q = report_lines(grid, f"Mesh of {args.scene} ({seconds:.1f} s, strategy {strategy})", names,
+                            recheck=False)
     lines.append(f"wrote {', '.join(outputs)}"
                  + (" (.vtu: cell data Material, MinDihedralAngle, RadiusEdgeRatio; open it in ParaView)"
                     if any(o.lower().endswith(".vtu") for o in outputs) else ""))

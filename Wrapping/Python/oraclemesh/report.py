@@ -46,20 +46,24 @@ VALIDITY_ITEMS = (
 )
 
 
-def validity(grid):
+def validity(grid, recheck=True):
     """Defect counts {statistic name: count} of a tetrahedral mesh, checked now on the geometry
     (vtkMeshValidityCheck: duplicates, micro, flat, inverted, non-manifold faces) plus, for meshes
     made by the tetrahedralizer, the checks that need the oracle or the feature lines (material
-    mismatches, missing feature-line pieces) from its statistics. "validity.defects" is the sum."""
+    mismatches, missing feature-line pieces) from its statistics. "validity.defects" is the sum.
+    With recheck=False the mesher's own counts are taken where the grid carries them (a mesh just
+    made, not read from a file: the same check has run on it)."""
     from . import vtkMeshValidityCheck
 
+    made = statistics(grid)
+    if not recheck and "validity.defects" in made:
+        return {k: v for k, v in made.items() if k.startswith("validity.")}
     check = vtkMeshValidityCheck()
     check.SetInputData(grid)
     check.Update()
     fd = check.GetOutput().GetFieldData()
     names, values = fd.GetAbstractArray("ValidityNames"), fd.GetArray("ValidityValues")
     counts = {n: values.GetValue(i) for i, n in enumerate(_strings(names))} if names is not None else {}
-    made = statistics(grid)
     for key in ("validity.material_mismatches", "validity.missing_segment_pieces"):
         if key in made:
             counts[key] = made[key]
@@ -104,7 +108,7 @@ def quality(grid, source="mesh"):
             "material": material}
 
 
-def report_lines(grid, title, names=None, source="mesh"):
+def report_lines(grid, title, names=None, source="mesh", recheck=True):
     """The quality report as lines of text (and the quality dict it was made from)."""
     import numpy as np
 
@@ -127,7 +131,7 @@ def report_lines(grid, title, names=None, source="mesh"):
     elif "feature_coverage" in stats:
         lines.append(f"feature lines present as mesh edges: {100 * stats['feature_coverage']:.1f}%"
                      + (f" ({segments.GetValue(0)} segments)" if segments is not None else ""))
-    q["validity"] = validity(grid)
+    q["validity"] = validity(grid, recheck)
     lines.append(validity_line(q["validity"]))
     phases = [(phase, stats[f"optimisation.{phase}_steps"], stats.get(f"optimisation.{phase}_cut_short"),
                stats.get(f"time.{phase}", 0.0)) for phase in ("perturbation", "exudation")
