@@ -145,6 +145,7 @@ int vtkFeaturePreservingTetrahedralizer::RequestData(
                                                         : omesh::FeatureStrategy::ProtectingBalls;
   options.criteria.global = { this->FacetAngle, this->FacetSize, this->FacetDistance, this->CellSize,
     this->CellRadiusEdgeRatio, this->EdgeSize };
+  options.sliverAngle = this->SliverAngle;
   options.interfaceSliverAngle = this->InterfaceSliverAngle;
   options.perturb = this->Perturb;
   options.exude = this->Exude;
@@ -313,6 +314,7 @@ void vtkFeaturePreservingTetrahedralizer::PrintSelf(ostream& os, vtkIndent inden
   os << indent << "CellSize: " << this->CellSize << "\n";
   os << indent << "CellRadiusEdgeRatio: " << this->CellRadiusEdgeRatio << "\n";
   os << indent << "EdgeSize: " << this->EdgeSize << "\n";
+  os << indent << "SliverAngle: " << this->SliverAngle << "\n";
   os << indent << "InterfaceSliverAngle: " << this->InterfaceSliverAngle << "\n";
   os << indent << "Perturb: " << this->Perturb << "\n";
   os << indent << "Exude: " << this->Exude << "\n";

@@ -121,6 +121,15 @@ public:
   ///@}
 
   ///@{
+  /// Tetrahedra of any material whose minimal dihedral angle is below this bound (degrees) are
+  /// refined: removes the flat tetrahedra radius-edge refinement leaves; higher values bound the
+  /// angles before optimisation at a price in tetrahedra (no termination guarantee: the vertex
+  /// budget applies). 0 turns it off. Default 1.
+  vtkSetClampMacro(SliverAngle, double, 0.0, 30.0);
+  vtkGetMacro(SliverAngle, double);
+  ///@}
+
+  ///@{
   /// Tetrahedra with at least three vertices on interfaces or feature lines and whose minimal dihedral
   /// angle is below this bound (degrees) are refined: the perturber and exuder cannot fix them
   /// (those vertices only slide on their interface). 0 turns it off. Default 10.
@@ -148,6 +157,7 @@ protected:
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
   int FeatureStrategy = CONFORMING;
+  double SliverAngle = 1.0;
   double InterfaceSliverAngle = 10.0;
   double FacetAngle = 25.0;
   double FacetSize = 0.0;

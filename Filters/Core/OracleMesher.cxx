@@ -216,9 +216,10 @@ class MaterialCellCriterion : public CGAL::Mesh_3::Abstract_criterion<Tr, CellCr
   using Is_bad = Base::Is_bad;
 
 public:
-  MaterialCellCriterion(const MaterialCriteria& c, double interfaceSliverAngle)
+  MaterialCellCriterion(const MaterialCriteria& c, double sliverAngle, double interfaceSliverAngle)
     : criteria_(c)
-    , sliverAngle_(interfaceSliverAngle)
+    , anySliverAngle_(sliverAngle)
+    , interfaceSliverAngle_(interfaceSliverAngle)
   {
   }
 
@@ -247,29 +248,35 @@ protected:
       if (sqRadius > bound)
         worst = std::min(worst, bound / sqRadius);
     }
-    // A flat tetrahedron with at least three vertices on interfaces or feature lines: the perturber
-    // and the exuder cannot fix it (those vertices only slide on their interface or stay on their
-    // line; seen: three points of a feature line and one free vertex); its circumcentre refines it.
-    // Two would be better for the angles (worst of 25 generated bone/implant cases at radius-edge
-    // 1.3: 10.9 instead of 6.6 deg, +9% tets), but then the paper's radius-edge 1.1 no longer
-    // ends (three cases ran into a 300k-vertex budget that they met at 72k-180k with three).
-    // Not next to protecting balls (weighted vertices): there the refinement point falls in a
-    // ball and refinement never ends.
+    // Slivers: radius-edge refinement leaves them (even flat ones: four cocircular points have a
+    // small circumradius), the optimisers remove most of them afterwards. Two rules refine them
+    // here instead, not next to protecting balls (weighted vertices: the refinement point falls
+    // in a ball and refinement never ends):
+    // - any tetrahedron below `sliverAngle` (small by default: at radius-edge 1.3 a bound of 9
+    //   degrees costs about 13% more tetrahedra; at 1.1 even 1 degree changes the counts a lot);
+    // - with at least three vertices on interfaces or feature lines, below `interfaceSliverAngle`:
+    //   the perturber and the exuder cannot fix these (those vertices only slide on their interface
+    //   or stay on their line; seen: three points of a feature line and one free vertex). Two would
+    //   be better for the angles (worst of 25 generated bone/implant cases at radius-edge 1.3: 10.9
+    //   instead of 6.6 deg, +9% tets), but then radius-edge 1.1 no longer ends (three cases ran
+    //   into a 300k-vertex budget that they met at 72k-180k with three).
     auto onInterface = [&](int i) { return c->vertex(i)->in_dimension() < 3; };
     auto weighted = [&](int i) { return tr.point(c, i).weight() != 0; };
-    if (sliverAngle_ > 0 && worst >= 1.0 && !(weighted(0) || weighted(1) || weighted(2) || weighted(3)) &&
-      onInterface(0) + onInterface(1) + onInterface(2) + onInterface(3) >= 3)
+    const int interfaceVertices = onInterface(0) + onInterface(1) + onInterface(2) + onInterface(3);
+    const double sliverBound = std::max(anySliverAngle_, interfaceVertices >= 3 ? interfaceSliverAngle_ : 0.0);
+    if (sliverBound > 0 && worst >= 1.0 && !(weighted(0) || weighted(1) || weighted(2) || weighted(3)))
     {
       const double a = minDihedralAngle(toVec(p), toVec(q), toVec(r), toVec(s));
-      if (a < sliverAngle_)
-        worst = 0.99 * a / sliverAngle_;
+      if (a < sliverBound)
+        worst = 0.99 * a / sliverBound;
     }
     return worst < 1.0 ? Is_bad(Quality(worst)) : Is_bad();
   }
 
 private:
   MaterialCriteria criteria_;
-  double sliverAngle_;
+  double anySliverAngle_;
+  double interfaceSliverAngle_;
 };
 
 /// Per-material facet criteria (angle, surface Delaunay ball radius, centre-to-surface distance).
@@ -615,7 +622,7 @@ TetMesh meshOracleUnguarded(const HierarchicalOracle& oracle, const FeatureSegme
   CellCriteria cellCriteria(0.0, 0.0);
   Criteria criteria(EdgeCriteria(edgeSize > 0 ? edgeSize : 1.0), facetCriteria, cellCriteria);
   criteria.add_facet_criterion(new MaterialFacetCriterion(options.criteria));
-  criteria.add_cell_criterion(new MaterialCellCriterion(options.criteria, options.interfaceSliverAngle));
+  criteria.add_cell_criterion(new MaterialCellCriterion(options.criteria, options.sliverAngle, options.interfaceSliverAngle));
 
   // Conforming: rule T1 on the segments alone first; the domain's initial points keep away from
   // their points (a near-coincident pair seeds a cluster of micro tetrahedra).

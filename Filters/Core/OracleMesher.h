@@ -29,6 +29,11 @@ struct MesherOptions
 {
   FeatureStrategy strategy = FeatureStrategy::Conforming;
   MaterialCriteria criteria;
+  /// Tetrahedra of any material with a minimal dihedral angle below this (degrees) are refined like
+  /// bad cells: removes the flat tetrahedra (four cocircular points) that radius-edge refinement
+  /// leaves. Raising it bounds the angles before optimisation, at a price in tetrahedra; not covered
+  /// by CGAL's termination guarantee (refinement also stops at the vertex budget). 0 = off.
+  double sliverAngle = 1.0;
   /// Tetrahedra with at least three vertices on interfaces or feature lines and a minimal dihedral angle
   /// below this (degrees) are refined like bad cells: the optimisers cannot fix them. 0 = off.
   /// Not covered by CGAL's termination guarantee: refinement also stops at the vertex budget.

@@ -415,6 +415,31 @@ TEST(OracleMesher, InterfaceSliversAreRefined)
   EXPECT_LT(without, 15.0) << "the case should have interface slivers to refine";
 }
 
+// Radius-edge refinement bounds no dihedral angle: slivers (even flat ones, four cocircular
+// points) pass it. With the sliver rule every tetrahedron, interface or not, ends above the bound
+// before any optimisation.
+TEST(OracleMesher, SliversAreRefinedBeforeOptimisation)
+{
+  HierarchicalOracle o;
+  o.add(std::make_shared<SphereDomain>(Vec3{ 0, 0, 0 }, 1.0, 1));
+  o.add(std::make_shared<BoxDomain>(Vec3{ -0.5, -0.5, -2 }, Vec3{ 0.5, 0.5, -0.5 }, 2));
+  auto worstTet = [](const TetMesh& m) {
+    double worst = 180.0;
+    for (const auto& t : m.tets)
+      worst = std::min(worst, minDihedralAngle(m.points[t[0]], m.points[t[1]], m.points[t[2]], m.points[t[3]]));
+    return worst;
+  };
+  MesherOptions opt = options(FeatureStrategy::Conforming, 0.2);
+  opt.perturb = opt.exude = false;
+  opt.sliverAngle = 0.0;
+  const double without = worstTet(meshOracle(o, {}, {}, opt));
+  opt.sliverAngle = 8.0;
+  const TetMesh refined = meshOracle(o, {}, {}, opt);
+  EXPECT_GE(worstTet(refined), 8.0);
+  EXPECT_LT(without, 8.0) << "the case should have slivers to refine";
+  EXPECT_EQ(refined.statistics.at("validity.defects"), 0.0);
+}
+
 // Issue 9: a CAD part whose bounding-box centre lies on one of its flat faces. Half of the rays
 // that seed the initial points started on the face and crossed it within rounding of the centre:
 // ten points within 1e-5 mm, then thousands of micro tetrahedra (or a stall) whatever the

@@ -107,6 +107,8 @@ def mesher_for(scene, strategy=None):
                         ("optimisation_time_limit", "SetOptimisationTimeLimit")):
         if key in spec:
             getattr(mesher, setter)(spec[key])
+    if "sliver_angle" in spec:
+        mesher.SetSliverAngle(spec["sliver_angle"])
     if "interface_sliver_angle" in spec:
         mesher.SetInterfaceSliverAngle(spec["interface_sliver_angle"])
     if "maximum_number_of_vertices" in spec:

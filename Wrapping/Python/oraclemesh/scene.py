@@ -47,7 +47,7 @@ DOMAIN_KEYS = {
 }
 TOP_KEYS = {"description", "comment", "space", "domains", "mesh", "outputs"}
 MESH_KEYS = {"strategy", "criteria", "materials", "features", "seed", "maximum_number_of_vertices", "comment",
-             "perturb", "exude", "interface_sliver_angle", "perturbation_steps_per_vertex",
+             "perturb", "exude", "sliver_angle", "interface_sliver_angle", "perturbation_steps_per_vertex",
              "exudation_steps_per_cell", "optimisation_time_limit"}
 FEATURE_KEYS = {"from_surface", "feature_angle", "files", "comment"}
 OUTPUT_KEYS = {"mesh", "report", "histogram", "comment"}
@@ -241,12 +241,13 @@ def _mesh_block(problems, spec, scene):
             problems.add(f"$.mesh.{flag}", f"must be true or false, got {spec[flag]!r}")
         else:
             mesh[flag] = spec.get(flag, True)
-    angle = _number(problems, spec, "$.mesh", "interface_sliver_angle", required=False)
-    if angle is not None:
-        if not 0 <= angle <= 30:
-            problems.add("$.mesh.interface_sliver_angle", f"must be between 0 and 30 degrees, got {angle}")
-        else:
-            mesh["interface_sliver_angle"] = angle
+    for key in ("sliver_angle", "interface_sliver_angle"):
+        angle = _number(problems, spec, "$.mesh", key, required=False)
+        if angle is not None:
+            if not 0 <= angle <= 30:
+                problems.add(f"$.mesh.{key}", f"must be between 0 and 30 degrees, got {angle}")
+            else:
+                mesh[key] = angle
     for key, low in (("perturbation_steps_per_vertex", 0), ("exudation_steps_per_cell", 0),
                      ("optimisation_time_limit", -1)):
         value = _number(problems, spec, "$.mesh", key, required=False)
