@@ -368,7 +368,7 @@ class SceneFormat(unittest.TestCase):
                           "$.domains[0].criteria.cell_size", str(ctx.exception))
 
     def test_finer_domain_criteria_give_more_tetrahedra_in_that_material(self):
-        from oraclemesh.__main__ import mesher_for
+        from oraclemesh.meshing import mesher_for
 
         counts = []
         for criteria in ({}, {"cell_size": 0.7}):
@@ -384,7 +384,7 @@ class SceneFormat(unittest.TestCase):
         from vtkmodules.vtkFiltersSources import vtkCubeSource
         from vtkmodules.vtkIOXML import vtkXMLPolyDataWriter
 
-        from oraclemesh.__main__ import mesher_for
+        from oraclemesh.meshing import mesher_for
 
         with tempfile.TemporaryDirectory() as tmp:
             cube = vtkCubeSource()
