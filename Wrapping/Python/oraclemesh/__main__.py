@@ -2,8 +2,10 @@
 """Command line: ``oraclemesh <command> ...`` or ``python3 -m oraclemesh <command> ...`` (see ``--help``).
 
   sample SCENE   sample a scene's oracle to a label image and report material volumes
-  mesh SCENE     tetrahedralize a scene to .vtu / .inp / .msh / .mesh with a quality report
-  report MESH    quality report of a .vtu mesh: table, validity check, dihedral-angle histogram
+  mesh SCENE     tetrahedralize a scene to .vtu / .inp / .msh / .mesh (with boundary and interface sets)
+                 and print a quality report
+  report MESH    quality report of a mesh written by 'mesh' (any of its formats): table, validity check,
+                 dihedral-angle histogram
   batch SCENES   mesh many scenes, each in its own process, with a summary CSV
 """
 import argparse
@@ -184,9 +186,9 @@ def main(argv=None):
     p.add_argument("--strict", action="store_true",
                    help="exit with status 3 when the mesh has validity defects (the files are still written)")
     p.set_defaults(run=_mesh)
-    p = sub.add_parser("report", help="quality report of a .vtu mesh written by 'mesh': table and histogram")
-    p.add_argument("mesh", help="tetrahedral mesh (.vtu with cell data Material and MinDihedralAngle)")
-    p.add_argument("--png", help="histogram picture (default: MESH without .vtu + _dihedral.png)")
+    p = sub.add_parser("report", help="quality report of a mesh written by 'mesh' (.vtu .inp .msh .mesh): table and histogram")
+    p.add_argument("mesh", help="tetrahedral mesh written by 'mesh' (.vtu, .inp, .msh or .mesh)")
+    p.add_argument("--png", help="histogram picture (default: MESH without its extension + _dihedral.png)")
     p.add_argument("--no-png", action="store_true", help="do not save the histogram picture")
     p.add_argument("--report", help="also write the report to this text file")
     p.add_argument("--strict", action="store_true", help="exit with status 3 when the mesh has validity defects")
