@@ -64,7 +64,9 @@ def write_vtk_xml(data, path, writer_class):
         finally:
             writer.RemoveObserver(tag)
         if not ok or messages or writer.GetErrorCode():
-            reason = messages[0] if messages else f"VTK error code {writer.GetErrorCode()}"
+            code = writer.GetErrorCode()
+            reason = messages[0] if messages else (f"{writer.GetClassName()} failed (VTK error code {code})" if code
+                                                   else f"{writer.GetClassName()} failed")
             raise OracleMeshError(f"{path}: could not be written: {reason.replace(temporary, path)}")
 
 
