@@ -17,7 +17,7 @@ import time
 
 from .atomic import write_text
 from .errors import OracleMeshError, update
-from .meshing import mesh, mesher_for  # noqa: F401  (mesher_for: used by tests and scripts through here)
+from .meshing import mesh
 from .scene import STRATEGIES, load_scene
 from .writers import MESH_FORMATS, write_vtk_xml
 

@@ -111,7 +111,7 @@ def read_mesh(path):
     """Reads a mesh written by ``oraclemesh mesh`` (.vtu, .inp, .msh or .mesh) into a tetrahedral
     vtkUnstructuredGrid with cell data Material and MinDihedralAngle; OracleMeshError naming the file
     when it is missing, of another format or unreadable."""
-    from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
+    from vtkmodules.util.numpy_support import numpy_to_vtk
 
     from .writers import tetrahedra
 
