@@ -108,13 +108,13 @@ class MeshOutputs(unittest.TestCase):
 
     def test_gmsh_physical_tags_are_the_materials(self):
         mesh = self.read(".msh")
-        physical = mesh.cell_data["gmsh:physical"][0]
+        physical = mesh.cell_data_dict["gmsh:physical"]["tetra"]
         np.testing.assert_array_equal(physical, self.material)
-        self.assertEqual({name: int(v[0]) for name, v in mesh.field_data.items()}, {"ball": 2, "block": 1})
+        self.assertEqual({name: int(v[0]) for name, v in mesh.field_data.items() if v[1] == 3}, {"ball": 2, "block": 1})
 
     def test_medit_references_are_the_materials(self):
         mesh = self.read(".mesh")
-        np.testing.assert_array_equal(mesh.cell_data["medit:ref"][0], self.material)
+        np.testing.assert_array_equal(mesh.cell_data_dict["medit:ref"]["tetra"], self.material)
 
     def test_report_gives_the_per_material_counts_and_a_png(self):
         png = os.path.join(self.tmp.name, "report.png")
@@ -149,9 +149,12 @@ class MeshOutputs(unittest.TestCase):
         result = run("report", missing)
         self.assertEqual(result.returncode, 2)
         self.assertIn(f"{missing}: file not found", result.stderr)
-        result = run("report", self.files[".inp"])
+        other = os.path.join(self.tmp.name, "mesh.stl")
+        with open(other, "w") as f:
+            f.write("solid x\nendsolid x\n")
+        result = run("report", other)
         self.assertEqual(result.returncode, 2)
-        self.assertIn("reads .vtu meshes", result.stderr)
+        self.assertIn(f"{other}: the report reads meshes written by 'oraclemesh mesh'", result.stderr)
 
     def test_report_checks_validity_and_strict_fails_on_defects(self):
         result = run("report", self.files[".vtu"], "--no-png", "--strict")
@@ -365,7 +368,7 @@ class SceneFormat(unittest.TestCase):
                           "$.domains[0].criteria.cell_size", str(ctx.exception))
 
     def test_finer_domain_criteria_give_more_tetrahedra_in_that_material(self):
-        from oraclemesh.__main__ import mesher_for
+        from oraclemesh.meshing import mesher_for
 
         counts = []
         for criteria in ({}, {"cell_size": 0.7}):
@@ -381,7 +384,7 @@ class SceneFormat(unittest.TestCase):
         from vtkmodules.vtkFiltersSources import vtkCubeSource
         from vtkmodules.vtkIOXML import vtkXMLPolyDataWriter
 
-        from oraclemesh.__main__ import mesher_for
+        from oraclemesh.meshing import mesher_for
 
         with tempfile.TemporaryDirectory() as tmp:
             cube = vtkCubeSource()

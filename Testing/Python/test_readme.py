@@ -1,29 +1,54 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""The README's examples work as printed: the Python block runs, the C++ block is the tested file."""
+"""The README's examples work as printed: the Python blocks run, the C++ block is the tested file."""
 import os
 import re
+import tempfile
 import unittest
 
 ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..")
 
 
-def readme_block(language):
+def readme_blocks(language):
     with open(os.path.join(ROOT, "README.md"), encoding="utf-8") as f:
         text = f.read()
-    match = re.search(r"```" + language + r"\n(.*?)```", text, re.S)
-    if not match:
+    blocks = re.findall(r"```" + language + r"\n(.*?)```", text, re.S)
+    if not blocks:
         raise AssertionError(f"README has no ```{language} block")
-    return match.group(1)
+    return blocks
+
+
+def readme_block(language):
+    return readme_blocks(language)[0]
+
+
+def run_block(source, name):
+    """Runs a README block in a temporary working folder (it may write files); returns its namespace."""
+    namespace, here = {}, os.getcwd()
+    with tempfile.TemporaryDirectory() as tmp:
+        os.chdir(tmp)
+        try:
+            exec(compile(source, f"README.md ({name})", "exec"), namespace)  # noqa: S102
+            namespace["_files"] = sorted(os.listdir(tmp))
+        finally:
+            os.chdir(here)
+    return namespace
 
 
 class Readme(unittest.TestCase):
     def test_the_python_example_meshes(self):
-        namespace = {}
-        exec(compile(readme_block("python"), "README.md (python)", "exec"), namespace)  # noqa: S102
-        mesh = namespace["mesh"]
+        mesh = run_block(readme_blocks("python")[0], "python, first block")["mesh"]
         materials = mesh.GetCellData().GetArray("Material")
         self.assertGreater(mesh.GetNumberOfCells(), 100)
         self.assertEqual({int(materials.GetValue(i)) for i in range(materials.GetNumberOfValues())}, {1, 2})
+
+    def test_the_one_call_example_meshes_and_saves_with_its_sets(self):
+        namespace = run_block(readme_blocks("python")[1], "python, oraclemesh.mesh")
+        result = namespace["result"]
+        self.assertIs(namespace["grid"], result.grid)
+        self.assertIn(f"{result.grid.GetNumberOfCells()} tetrahedra", result.report)
+        self.assertEqual(set(result.quality["materials"]), {1, 2})
+        self.assertEqual(result.surface_sets.names, ["BONE__IMPLANT", "BONE__EXTERIOR", "IMPLANT__EXTERIOR"])
+        self.assertEqual(namespace["_files"], ["bone.inp", "bone.vtu", "bone_surfaces.vtu"])
 
     def test_the_cxx_example_is_the_tested_file(self):
         with open(os.path.join(ROOT, "Testing", "VTK", "ReadmeExample.cxx"), encoding="utf-8") as f:

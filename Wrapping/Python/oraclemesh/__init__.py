@@ -12,6 +12,12 @@ VTK errors into a Python exception (``OracleMeshError``)::
     sampler = om.vtkOracleSampler()
     sampler.SetInputConnection(oracle.GetOutputPort())
     image = om.update(sampler)   # raises om.OracleMeshError on bad input
+
+``mesh`` meshes a whole scene (a JSON scene file or the same as a dict) in one call::
+
+    result = om.mesh("scene.json")
+    print(result.report)
+    result.save("mesh.inp")      # .vtu .inp .msh .mesh, with boundary and interface sets
 """
 # The wrapped module's base classes live in these VTK modules: import them first.
 from vtkmodules import vtkCommonCore, vtkCommonDataModel, vtkCommonExecutionModel  # noqa: F401
@@ -27,9 +33,12 @@ from .OracleMeshFilters import (  # noqa: F401
     vtkSurfaceDomain,
 )
 from .errors import OracleMeshError, update  # noqa: F401
+from .meshing import MeshResult, mesh  # noqa: F401
 
 __all__ = [
+    "MeshResult",
     "OracleMeshError",
+    "mesh",
     "update",
     "vtkFeaturePreservingTetrahedralizer",
     "vtkHierarchicalOracle",

@@ -2,8 +2,10 @@
 """Command line: ``oraclemesh <command> ...`` or ``python3 -m oraclemesh <command> ...`` (see ``--help``).
 
   sample SCENE   sample a scene's oracle to a label image and report material volumes
-  mesh SCENE     tetrahedralize a scene to .vtu / .inp / .msh / .mesh with a quality report
-  report MESH    quality report of a .vtu mesh: table, validity check, dihedral-angle histogram
+  mesh SCENE     tetrahedralize a scene to .vtu / .inp / .msh / .mesh (with boundary and interface sets)
+                 and print a quality report
+  report MESH    quality report of a mesh written by 'mesh' (any of its formats): table, validity check,
+                 dihedral-angle histogram
   batch SCENES   mesh many scenes, each in its own process, with a summary CSV
 """
 import argparse
@@ -13,9 +15,11 @@ import resource
 import sys
 import time
 
+from .atomic import write_text
 from .errors import OracleMeshError, update
-from .scene import CRITERIA_KEYS, STRATEGIES, load_scene
-from .writers import MESH_FORMATS, write_mesh, write_vtk_xml
+from .meshing import mesh
+from .scene import STRATEGIES, load_scene
+from .writers import MESH_FORMATS, write_vtk_xml
 
 PROGRESS_PREFIX = "oraclemesh-progress "  # machine-readable progress lines (batch reads them)
 
@@ -25,9 +29,7 @@ def _publish(lines, report_path):
     report = "\n".join(lines)
     print(report)
     if report_path:
-        os.makedirs(os.path.dirname(os.path.abspath(report_path)), exist_ok=True)
-        with open(report_path, "w", encoding="utf-8") as f:
-            f.write(report + "\n")
+        write_text(report_path, report + "\n")
 
 
 def _sample(args):
@@ -60,62 +62,6 @@ def _sample(args):
     return 0
 
 
-def mesher_for(scene, strategy=None):
-    """The tetrahedralizer set up from the scene's validated "mesh" block (criteria, per-material
-    criteria from the domains and "mesh.materials", feature lines, strategy, seed); `strategy`
-    overrides the scene's."""
-    from vtkmodules.vtkFiltersCore import vtkAppendPolyData, vtkFeatureEdges
-
-    from . import vtkFeaturePreservingTetrahedralizer
-
-    spec = scene.mesh
-    mesher = vtkFeaturePreservingTetrahedralizer()
-    mesher.SetInputConnection(0, scene.oracle.GetOutputPort())
-    getattr(mesher, "SetFeatureStrategyTo" + (strategy or spec.get("strategy", "Conforming")))()
-    for key, value in spec.get("criteria", {}).items():
-        getattr(mesher, "Set" + CRITERIA_KEYS[key])(value)
-    for material, overrides in scene.material_criteria().items():
-        values = [-1.0] * len(CRITERIA_KEYS)  # < 0: inherit the global value
-        for key, value in overrides.items():
-            values[list(CRITERIA_KEYS).index(key)] = value
-        mesher.SetMaterialCriteria(material, *values)
-    features = spec.get("features")
-    if features:
-        parts = []
-        for index in features["from_surface"]:
-            edges = vtkFeatureEdges()
-            edges.SetInputConnection(scene.domains[index].GetInputConnection(0, 0))
-            edges.BoundaryEdgesOff()
-            edges.NonManifoldEdgesOff()
-            edges.ManifoldEdgesOff()
-            edges.SetFeatureAngle(features["feature_angle"])
-            parts.append(edges)
-        parts.extend(scene.feature_readers)
-        if len(parts) == 1:
-            lines = parts[0]
-        else:
-            lines = vtkAppendPolyData()
-            for part in parts:
-                lines.AddInputConnection(part.GetOutputPort())
-        mesher.SetInputConnection(1, lines.GetOutputPort())
-        scene.feature_lines = lines  # keeps the Python objects alive with the scene
-    mesher.SetSeed(spec.get("seed", 0))
-    mesher.SetPerturb(spec.get("perturb", True))
-    mesher.SetExude(spec.get("exude", True))
-    for key, setter in (("perturbation_steps_per_vertex", "SetPerturbationStepsPerVertex"),
-                        ("exudation_steps_per_cell", "SetExudationStepsPerCell"),
-                        ("optimisation_time_limit", "SetOptimisationTimeLimit")):
-        if key in spec:
-            getattr(mesher, setter)(spec[key])
-    if "sliver_angle" in spec:
-        mesher.SetSliverAngle(spec["sliver_angle"])
-    if "interface_sliver_angle" in spec:
-        mesher.SetInterfaceSliverAngle(spec["interface_sliver_angle"])
-    if "maximum_number_of_vertices" in spec:
-        mesher.SetMaximumNumberOfVertices(spec["maximum_number_of_vertices"])
-    return mesher
-
-
 class _Progress:
     """Reports a filter's ProgressEvent: a bar redrawn in place on a terminal, else a line every 10 %,
     or machine-readable lines (``--progress-lines``, read by ``batch``)."""
@@ -125,8 +71,7 @@ class _Progress:
         self.tty = not machine and stream.isatty()
         self.last, self.last_time = -1.0, 0.0
 
-    def __call__(self, algorithm, event):
-        fraction = algorithm.GetProgress()
+    def __call__(self, fraction):
         now = time.monotonic()
         if self.machine or self.tty:
             if fraction - self.last < 0.01 and now - self.last_time < 1.0 and fraction < 1.0:
@@ -145,29 +90,9 @@ class _Progress:
         self.last, self.last_time = fraction, now
 
 
-def _describe(grid, names, feature_segments):
-    """Stores {material id: name} (MaterialIds, MaterialNames) and the number of feature-line
-    segments given (FeatureSegments) in the mesh's field data, for the report."""
-    from vtkmodules.vtkCommonCore import vtkIntArray, vtkStringArray
-
-    count = vtkIntArray()
-    count.SetName("FeatureSegments")
-    count.InsertNextValue(feature_segments)
-    grid.GetFieldData().AddArray(count)
-    ids, strings = vtkIntArray(), vtkStringArray()
-    ids.SetName("MaterialIds")
-    strings.SetName("MaterialNames")
-    for m, name in sorted(names.items()):
-        ids.InsertNextValue(m)
-        strings.InsertNextValue(name)
-    grid.GetFieldData().AddArray(ids)
-    grid.GetFieldData().AddArray(strings)
-
-
 def _mesh(args):
-    from .report import report_lines, save_histogram, statistics
+    from .report import save_histogram, statistics
 
-    started = time.perf_counter()
     scene = load_scene(args.scene)
     outputs = args.output or scene.outputs.get("mesh")
     if not outputs:
@@ -176,36 +101,32 @@ def _mesh(args):
         ext = os.path.splitext(out)[1].lower()
         if ext not in MESH_FORMATS:
             raise OracleMeshError(f"{out}: unknown mesh format '{ext}' (use one of {', '.join(MESH_FORMATS)})")
-    mesher = mesher_for(scene, args.strategy)
-    if args.progress or args.progress_lines:
-        mesher.AddObserver("ProgressEvent", _Progress(sys.stderr, machine=args.progress_lines))
-    grid = update(mesher)
-    names = scene.material_names()
-    segments = mesher.GetOutputDataObject(2)
-    _describe(grid, names, segments.GetNumberOfCells() if segments is not None else 0)
-    for out in outputs:
-        write_mesh(grid, out, names)
-    seconds = time.perf_counter() - started
-    strategy = args.strategy or scene.mesh.get("strategy", "Conforming")
-    lines, q = report_lines(grid, f"Mesh of {args.scene} ({seconds:.1f} s, strategy {strategy})", names,
-                            recheck=False)
-    lines.append(f"wrote {', '.join(outputs)}"
+    progress = _Progress(sys.stderr, machine=args.progress_lines) if args.progress or args.progress_lines else None
+    result = mesh(scene, args.strategy, progress)
+    started = time.perf_counter()
+    written = result.save(*outputs)
+    lines = result.report.split("\n")
+    sets = result.surface_sets
+    lines.append("boundary and interface sets (triangles): "
+                 + ", ".join(f"{name} ({int(sets.select(i).sum())})" for i, name in enumerate(sets.names)))
+    lines.append(f"wrote {', '.join(written)} ({time.perf_counter() - started:.1f} s)"
                  + (" (.vtu: cell data Material, MinDihedralAngle, RadiusEdgeRatio; open it in ParaView)"
                     if any(o.lower().endswith(".vtu") for o in outputs) else ""))
+    q = result.quality
     histogram = args.histogram or scene.outputs.get("histogram")
     if histogram:
-        save_histogram(q, histogram, names, f"Dihedral angles: {os.path.basename(args.scene)}")
+        save_histogram(q, histogram, result.material_names, f"Dihedral angles: {os.path.basename(args.scene)}")
         lines.append(f"wrote {histogram}")
     _publish(lines, args.report or scene.outputs.get("report"))
     status = _strict_status(args, q, outputs)
     if args.summary:
-        stats = statistics(grid)
-        with open(args.summary, "w") as f:
-            json.dump({"tets": q["tets"], "vertices": q["vertices"], "min_dihedral": q["min_dihedral"],
-                       "feature_coverage": stats.get("feature_coverage") if scene.mesh.get("features") else None,
-                       "seconds": seconds, "outputs": outputs,
-                       "validity_defects": q["validity"]["validity.defects"],
-                       "peak_rss_mib": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0}, f)
+        stats = statistics(result.grid)
+        summary = {"tets": q["tets"], "vertices": q["vertices"], "min_dihedral": q["min_dihedral"],
+                   "feature_coverage": stats.get("feature_coverage") if scene.mesh.get("features") else None,
+                   "seconds": result.seconds, "outputs": outputs,
+                   "validity_defects": q["validity"]["validity.defects"],
+                   "peak_rss_mib": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0}
+        write_text(args.summary, json.dumps(summary))
     return status
 
 
@@ -265,9 +186,9 @@ def main(argv=None):
     p.add_argument("--strict", action="store_true",
                    help="exit with status 3 when the mesh has validity defects (the files are still written)")
     p.set_defaults(run=_mesh)
-    p = sub.add_parser("report", help="quality report of a .vtu mesh written by 'mesh': table and histogram")
-    p.add_argument("mesh", help="tetrahedral mesh (.vtu with cell data Material and MinDihedralAngle)")
-    p.add_argument("--png", help="histogram picture (default: MESH without .vtu + _dihedral.png)")
+    p = sub.add_parser("report", help="quality report of a mesh written by 'mesh' (.vtu .inp .msh .mesh): table and histogram")
+    p.add_argument("mesh", help="tetrahedral mesh written by 'mesh' (.vtu, .inp, .msh or .mesh)")
+    p.add_argument("--png", help="histogram picture (default: MESH without its extension + _dihedral.png)")
     p.add_argument("--no-png", action="store_true", help="do not save the histogram picture")
     p.add_argument("--report", help="also write the report to this text file")
     p.add_argument("--strict", action="store_true", help="exit with status 3 when the mesh has validity defects")

@@ -4,6 +4,8 @@ MinDihedralAngle; field data StatisticNames/StatisticValues, Warnings and Materi
 when present): per material tetrahedra, volume and minimal dihedral angle, a dihedral-angle
 histogram as text and as a PNG (matplotlib, Agg: no display needed)."""
 from .errors import OracleMeshError
+from .fielddata import labelled, strings
+from .meshfiles import read_mesh  # noqa: F401  (the report's reader; kept here for its users)
 from .writers import tetrahedra
 
 # Text histogram bins [degrees]: a tetrahedron's minimal dihedral angle is at most 70.53 degrees.
@@ -16,21 +18,12 @@ def _strings(array):
 
 def material_names(grid):
     """{material id: name} stored in the mesh's field data by ``oraclemesh mesh`` (may be empty)."""
-    fd = grid.GetFieldData()
-    ids, names = fd.GetArray("MaterialIds"), fd.GetAbstractArray("MaterialNames")
-    if ids is None or names is None:
-        return {}
-    return {int(ids.GetValue(i)): names.GetValue(i) for i in range(min(ids.GetNumberOfValues(),
-                                                                       names.GetNumberOfValues()))}
+    return {int(m): name for name, m in labelled(grid.GetFieldData(), "MaterialIds")}
 
 
 def statistics(grid):
     """The mesher's statistics {name: value} from the field data (empty for other meshes)."""
-    fd = grid.GetFieldData()
-    names, values = fd.GetAbstractArray("StatisticNames"), fd.GetArray("StatisticValues")
-    if names is None or values is None:
-        return {}
-    return {n: values.GetValue(i) for i, n in enumerate(_strings(names))}
+    return dict(labelled(grid.GetFieldData(), "StatisticValues"))
 
 
 # Defect counts of the validity check, in report order: (statistic name, words).
@@ -140,7 +133,7 @@ def report_lines(grid, title, names=None, source="mesh", recheck=True):
         lines.append("optimisation: " + "; ".join(
             f"{phase} {int(steps)} steps in {seconds:.1f} s, " + ("ended at its budget" if cut else "done")
             for phase, steps, cut, seconds in phases))
-    for warning in _strings(grid.GetFieldData().GetAbstractArray("Warnings")):
+    for warning in strings(grid.GetFieldData(), "Warnings"):
         if not warning.startswith("mesh validity:"):  # the line above says it
             lines.append("warning: " + warning)
     return lines, q
@@ -148,8 +141,6 @@ def report_lines(grid, title, names=None, source="mesh", recheck=True):
 
 def save_histogram(q, png_path, names=None, title=None):
     """Saves the histogram of the per-tetrahedron minimal dihedral angles, stacked by material, as PNG."""
-    import os
-
     import numpy as np
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
@@ -171,29 +162,7 @@ def save_histogram(q, png_path, names=None, title=None):
     axes.set_title(title or "Dihedral angles")
     axes.legend(title="Material")
     figure.tight_layout()
-    os.makedirs(os.path.dirname(os.path.abspath(png_path)), exist_ok=True)
-    try:
-        figure.savefig(png_path)
-    except OSError as e:
-        raise OracleMeshError(f"{png_path}: could not be written: {e.strerror}") from None
+    from .atomic import atomic_output
 
-
-def read_mesh(path):
-    """Reads a .vtu mesh; raises OracleMeshError naming the file when it is missing or unreadable."""
-    import os
-
-    from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader
-
-    if not path.lower().endswith(".vtu"):
-        raise OracleMeshError(f"{path}: the report reads .vtu meshes written by 'oraclemesh mesh'")
-    if not os.path.isfile(path):
-        raise OracleMeshError(f"{path}: file not found")
-    from .errors import update
-
-    reader = vtkXMLUnstructuredGridReader()
-    reader.SetFileName(path)
-    try:
-        grid = update(reader)
-    except OracleMeshError as e:
-        raise OracleMeshError(f"{path}: not a readable .vtu file ({e})") from None
-    return grid
+    with atomic_output(png_path) as temporary:
+        figure.savefig(temporary, format="png")

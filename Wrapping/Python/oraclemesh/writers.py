@@ -1,40 +1,73 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""Mesh and image writers chosen by file extension.
+"""Mesh and image writers chosen by file extension, each with the mesh's boundary and interface
+surfaces (``surfaces.py``: one set per material pair, ``CORTICAL_BONE__IMPLANT``,
+``CORTICAL_BONE__EXTERIOR``; the faces sit on the first-named material's side).
 
-``.vtu`` (and ``.vti`` for sampled images) go through VTK's XML writers; the finite-element formats
-through meshio (Debian package ``python3-meshio``):
+- ``.vtu``  VTK XML (zlib): the tetrahedra with cell data Material, ...; the text of the field data
+  as component names (``fielddata.py``), so meshio reads it too. Next to it ``<name>_surfaces.vtu``:
+  the surface triangles with cell data ``Surface`` (the surface tag, below) and ``Materials`` (the
+  owner material and the other one, -1 = exterior), field data ``SurfaceTags`` whose components are
+  named after the surfaces.
+- ``.inp``  Abaqus: nodes, C3D4 elements, one ``*ELSET`` per material named after it (``cortical
+  bone`` -> ``CORTICAL_BONE``, ``MATERIAL_<id>`` without a name); per surface an element-face
+  ``*SURFACE`` (faces S1..S4 of the owner's elements) and an ``*NSET`` of its nodes, both under the
+  surface's name; ``** OracleMesh material`` comments give each element set's material id.
+- ``.msh``  Gmsh 2.2 (ASCII): tetrahedra tagged with their material id (physical and elementary
+  tag), triangles with their surface tag; ``$PhysicalNames`` name both (dimension 3 and 2).
+- ``.mesh`` Medit: tetrahedron references are the material ids, triangle references the surface
+  tags; ``#`` comments name both.
 
-- ``.inp``  Abaqus: nodes, C3D4 elements, one ``*ELSET`` per material, named after the material
-  (``cortical bone`` -> ``CORTICAL_BONE``) or ``MATERIAL_<id>`` when the scene gives no name;
-- ``.msh``  Gmsh 2.2 (ASCII): the material id is each tetrahedron's physical tag, the names are
-  ``$PhysicalNames``;
-- ``.mesh`` Medit: the material id is each tetrahedron's reference.
+Surface tags are the largest material id + 1, + 2, ... in the surfaces' order (sorted by material
+pair, the exterior last), the same in every format. Every file is written atomically (``atomic.py``).
 """
 import os
-import re
 
+from .atomic import atomic_output
 from .errors import OracleMeshError
+from .surfaces import abaqus_set_name, material_set_names, surface_sets  # noqa: F401  (abaqus_set_name: API)
 
 MESH_FORMATS = (".vtu", ".inp", ".msh", ".mesh")
+SURFACES_SUFFIX = "_surfaces.vtu"
 
 
 def _extension(path):
     return os.path.splitext(path)[1].lower()
 
 
-def _make_folder(path):
-    os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
+def surfaces_path(vtu_path):
+    """The companion file holding the surfaces of a .vtu mesh: ``x.vtu`` -> ``x_surfaces.vtu``."""
+    return os.path.splitext(vtu_path)[0] + SURFACES_SUFFIX
 
 
 def write_vtk_xml(data, path, writer_class):
-    """Writes `data` with a VTK XML writer (zlib-compressed), creating the folder."""
-    _make_folder(path)
-    writer = writer_class()
-    writer.SetFileName(path)
-    writer.SetInputData(data)
-    writer.SetCompressorTypeToZLib()
-    if not writer.Write():
-        raise OracleMeshError(f"{path}: could not be written")
+    """Writes `data` with a VTK XML writer (zlib-compressed) atomically; raises OracleMeshError
+    naming `path` and VTK's reason when the writer fails."""
+    from vtkmodules.util.misc import calldata_type
+    from vtkmodules.util.vtkConstants import VTK_STRING
+
+    from .errors import _clean
+
+    messages = []
+
+    @calldata_type(VTK_STRING)
+    def on_error(obj, event, calldata):
+        messages.append(_clean(calldata))
+
+    with atomic_output(path) as temporary:
+        writer = writer_class()
+        writer.SetFileName(temporary)
+        writer.SetInputData(data)
+        writer.SetCompressorTypeToZLib()
+        tag = writer.AddObserver("ErrorEvent", on_error)
+        try:
+            ok = writer.Write()
+        finally:
+            writer.RemoveObserver(tag)
+        if not ok or messages or writer.GetErrorCode():
+            code = writer.GetErrorCode()
+            reason = messages[0] if messages else (f"{writer.GetClassName()} failed (VTK error code {code})" if code
+                                                   else f"{writer.GetClassName()} failed")
+            raise OracleMeshError(f"{path}: could not be written: {reason.replace(temporary, path)}")
 
 
 def tetrahedra(grid, source="mesh"):
@@ -57,68 +90,159 @@ def tetrahedra(grid, source="mesh"):
     return points, cells, vtk_to_numpy(material).astype(np.int64)
 
 
-def abaqus_set_name(material, name=None):
-    """An Abaqus-safe element set name: letters, digits and '_', starting with a letter, <= 80 chars."""
-    if name:
-        clean = re.sub(r"[^A-Za-z0-9_]+", "_", name).strip("_").upper()
-        if clean and not clean[0].isalpha():
-            clean = "M_" + clean
-        if clean:
-            return clean[:80]
-    return f"MATERIAL_{material}"
+class MeshArrays:
+    """What every format needs, computed once per mesh: points, cells, material, {id: name}, the
+    SurfaceSets and each surface's tag."""
+
+    def __init__(self, grid, names=None, source="mesh"):
+        self.points, self.cells, self.material = tetrahedra(grid, source)
+        self.names = dict(names or {})
+        self.ids = sorted(set(self.material.tolist()))
+        self.sets = surface_sets(self.points, self.cells, self.material, self.names)
+        first = max(self.ids) + 1
+        self.tags = [first + i for i in range(len(self.sets))]
+
+    def surface_tag(self):
+        """The surface tag of each face of ``sets``."""
+        import numpy as np
+
+        return np.asarray(self.tags, dtype=np.int64)[self.sets.surface] if len(self.tags) else \
+            np.zeros(0, np.int64)
 
 
-def _meshio_mesh(grid, ext, names, source):
+def _write_vtu(grid, path, arrays):
+    import numpy as np
+    from vtkmodules.util.numpy_support import numpy_to_vtk
+    from vtkmodules.util.vtkConstants import VTK_TRIANGLE
+    from vtkmodules.vtkCommonCore import vtkIntArray, vtkPoints
+    from vtkmodules.vtkCommonDataModel import vtkCellArray, vtkUnstructuredGrid
+    from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridWriter
+
+    from .fielddata import _escape, without_strings
+
+    write_vtk_xml(without_strings(grid), path, vtkXMLUnstructuredGridWriter)
+    sets = arrays.sets
+    used, local = np.unique(sets.faces, return_inverse=True)  # only the surfaces' points
+    surfaces = vtkUnstructuredGrid()
+    points = vtkPoints()
+    points.SetData(numpy_to_vtk(arrays.points[used], deep=True))
+    surfaces.SetPoints(points)
+    triangles = vtkCellArray()
+    offsets = np.arange(0, 3 * len(sets.faces) + 1, 3, dtype=np.int64)
+    triangles.SetData(numpy_to_vtk(offsets, deep=True), numpy_to_vtk(local.ravel().astype(np.int64), deep=True))
+    surfaces.SetCells(VTK_TRIANGLE, triangles)
+    tag = numpy_to_vtk(arrays.surface_tag().astype(np.int32), deep=True)
+    tag.SetName("Surface")
+    surfaces.GetCellData().AddArray(tag)
+    pair = numpy_to_vtk(sets.pairs.astype(np.int32), deep=True)
+    pair.SetName("Materials")
+    pair.SetComponentName(0, "owner")
+    pair.SetComponentName(1, "other")
+    surfaces.GetCellData().AddArray(pair)
+    names = vtkIntArray()
+    names.SetName("SurfaceTags")
+    names.SetNumberOfComponents(max(len(sets), 1))
+    names.SetNumberOfTuples(1 if len(sets) else 0)
+    for i, (t, name) in enumerate(zip(arrays.tags, sets.names)):
+        names.SetComponent(0, i, t)
+        names.SetComponentName(i, _escape(name))
+    surfaces.GetFieldData().AddArray(names)
+    companion = surfaces_path(path)
+    write_vtk_xml(surfaces, companion, vtkXMLUnstructuredGridWriter)
+    return [path, companion]
+
+
+def _abaqus_surfaces(arrays):
+    """The *SURFACE sections and the material-id comments appended to meshio's Abaqus file."""
+    sets, set_names = arrays.sets, material_set_names(arrays.ids, arrays.names)
+    lines = ["** OracleMesh: element sets per material (id, set, name); per surface *SURFACE (faces of "
+             "the first-named material's elements) and *NSET of the same name"]
+    lines += [f"** OracleMesh material {m} {set_names[m]} {arrays.names.get(m, '')}".rstrip().replace("\n", " ")
+              for m in arrays.ids]
+    for i, name in enumerate(sets.names):
+        rows = sets.select(i)
+        lines.append(f"*SURFACE, NAME={name}, TYPE=ELEMENT")
+        lines += [f"{e + 1}, S{s}" for e, s in zip(sets.owner[rows].tolist(), sets.side[rows].tolist())]
+    return "\n".join(lines) + "\n"
+
+
+def _write_inp(path, arrays):
     import meshio
     import numpy as np
 
-    points, cells, material = tetrahedra(grid, source)
-    ids = sorted(set(material.tolist()))
-    if ext == ".inp":
-        sets, used = {}, set()
-        for m in ids:
-            name = abaqus_set_name(m, names.get(m))
-            if name in used:  # two materials with the same name: keep them apart
-                name = f"{name}_{m}"
-            used.add(name)
-            sets[name] = [np.flatnonzero(material == m)]
-        return meshio.Mesh(points, [("tetra", cells)], cell_sets=sets), {}
-    if ext == ".msh":
-        if ids[0] <= 0:
-            raise OracleMeshError(f"{source}: material {ids[0]} cannot be a Gmsh physical tag (they are "
-                                  f"positive); renumber it in the scene to write .msh")
-        tags = material.astype(np.int32)
-        field_data = {names.get(m) or f"material_{m}": np.array([m, 3]) for m in ids}
-        mesh = meshio.Mesh(points, [("tetra", cells)],
-                           cell_data={"gmsh:physical": [tags], "gmsh:geometrical": [tags]},
-                           field_data=field_data)
-        return mesh, {"file_format": "gmsh22", "binary": False}
-    return meshio.Mesh(points, [("tetra", cells)], cell_data={"medit:ref": [material.astype(np.int32)]}), \
-        {"file_format": "medit"}
+    set_names = material_set_names(arrays.ids, arrays.names)
+    cell_sets = {set_names[m]: [np.flatnonzero(arrays.material == m)] for m in arrays.ids}
+    point_sets = {name: np.unique(arrays.sets.faces[arrays.sets.select(i)])
+                  for i, name in enumerate(arrays.sets.names)}
+    mesh = meshio.Mesh(arrays.points, [("tetra", arrays.cells)], cell_sets=cell_sets, point_sets=point_sets)
+    with atomic_output(path) as temporary:
+        meshio.abaqus.write(temporary, mesh)
+        with open(temporary, "a", encoding="utf-8") as f:
+            f.write(_abaqus_surfaces(arrays))
+    return [path]
 
 
-def write_mesh(grid, path, material_names=None):
-    """Writes a tetrahedral mesh (vtkUnstructuredGrid with cell array Material) to `path`, the format
-    chosen by the extension (one of MESH_FORMATS). `material_names`: {material id: name}."""
+def _write_msh(path, arrays):
+    import meshio
+    import numpy as np
+
+    if arrays.ids[0] <= 0:
+        raise OracleMeshError(f"{path}: material {arrays.ids[0]} cannot be a Gmsh physical tag (they are "
+                              f"positive); renumber it in the scene to write .msh")
+    field_data = {}
+    for m in arrays.ids:
+        # $PhysicalNames are quoted, one per line
+        name = (arrays.names.get(m) or f"material_{m}").replace('"', "'").replace("\n", " ")
+        field_data[name if name not in field_data else f"{name}_{m}"] = np.array([m, 3])
+    for tag, name in zip(arrays.tags, arrays.sets.names):
+        field_data[name if name not in field_data else f"{name}_{tag}"] = np.array([tag, 2])
+    tets, tris = arrays.material.astype(np.int32), arrays.surface_tag().astype(np.int32)
+    mesh = meshio.Mesh(arrays.points, [("tetra", arrays.cells), ("triangle", arrays.sets.faces)],
+                       cell_data={"gmsh:physical": [tets, tris], "gmsh:geometrical": [tets, tris]},
+                       field_data=field_data)
+    with atomic_output(path) as temporary:
+        meshio.write(temporary, mesh, file_format="gmsh22", binary=False)
+    return [path]
+
+
+def _write_medit(path, arrays):
+    import numpy as np
+
+    def block(f, keyword, rows, fmt):
+        f.write(f"{keyword}\n{len(rows)}\n")
+        np.savetxt(f, rows, fmt=fmt)
+
+    with atomic_output(path) as temporary, open(temporary, "w", encoding="utf-8") as f:
+        f.write("# OracleMesh: tetrahedron references are material ids, triangle references surface tags\n")
+        for m in arrays.ids:
+            f.write(f"# material {m} {arrays.names.get(m, '')}".rstrip().replace("\n", " ") + "\n")
+        for tag, name in zip(arrays.tags, arrays.sets.names):
+            f.write(f"# surface {tag} {name}\n")
+        f.write("MeshVersionFormatted 2\nDimension 3\n")
+        block(f, "Vertices", np.column_stack([arrays.points, np.zeros(len(arrays.points))]),
+              ["%.17g"] * 3 + ["%d"])
+        block(f, "Triangles", np.column_stack([arrays.sets.faces + 1, arrays.surface_tag()]), "%d")
+        block(f, "Tetrahedra", np.column_stack([arrays.cells + 1, arrays.material]), "%d")
+        f.write("End\n")
+    return [path]
+
+
+def write_mesh(grid, path, material_names=None, arrays=None):
+    """Writes a tetrahedral mesh (vtkUnstructuredGrid with cell array Material) with its boundary and
+    interface surfaces to `path`, the format chosen by the extension (one of MESH_FORMATS), and
+    returns the files written (a .vtu has its ``_surfaces.vtu``). `material_names`: {material id:
+    name}; `arrays`: a MeshArrays of the grid, to share the work between several formats."""
     ext = _extension(path)
     if ext not in MESH_FORMATS:
         raise OracleMeshError(f"{path}: unknown mesh format '{ext}' (use one of {', '.join(MESH_FORMATS)})")
+    arrays = arrays or MeshArrays(grid, material_names, path)
     if ext == ".vtu":
-        from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridWriter
-
-        write_vtk_xml(grid, path, vtkXMLUnstructuredGridWriter)
-        return
+        return _write_vtu(grid, path, arrays)
+    if ext == ".mesh":
+        return _write_medit(path, arrays)
     try:
-        import meshio
+        import meshio  # noqa: F401
     except ImportError:
         raise OracleMeshError(f"{path}: writing '{ext}' needs meshio (Debian: apt-get install python3-meshio)") \
             from None
-    mesh, options = _meshio_mesh(grid, ext, material_names or {}, path)
-    _make_folder(path)
-    try:
-        if ext == ".inp":
-            meshio.abaqus.write(path, mesh)
-        else:
-            meshio.write(path, mesh, **options)
-    except OSError as e:
-        raise OracleMeshError(f"{path}: could not be written: {e.strerror}") from None
+    return _write_inp(path, arrays) if ext == ".inp" else _write_msh(path, arrays)

@@ -1,0 +1,175 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""Meshing a scene in one call, shared by the command line and Python::
+
+    import oraclemesh as om
+    result = om.mesh("scene.json")       # or a dict in the scene format, or a loaded Scene
+    print(result.report)                 # the quality report `oraclemesh mesh` prints
+    result.save("out.inp", "out.vtu")    # any of MESH_FORMATS, with the boundary and interface sets
+    grid = result.grid                   # the vtkUnstructuredGrid
+"""
+import os
+import time
+
+from .errors import OracleMeshError, update
+from .scene import CRITERIA_KEYS, Scene, build_scene, load_scene
+
+
+def mesher_for(scene, strategy=None):
+    """The tetrahedralizer set up from the scene's validated "mesh" block (criteria, per-material
+    criteria from the domains and "mesh.materials", feature lines, strategy, seed); `strategy`
+    overrides the scene's."""
+    from vtkmodules.vtkFiltersCore import vtkAppendPolyData, vtkFeatureEdges
+
+    from . import vtkFeaturePreservingTetrahedralizer
+
+    spec = scene.mesh
+    mesher = vtkFeaturePreservingTetrahedralizer()
+    mesher.SetInputConnection(0, scene.oracle.GetOutputPort())
+    getattr(mesher, "SetFeatureStrategyTo" + (strategy or spec.get("strategy", "Conforming")))()
+    for key, value in spec.get("criteria", {}).items():
+        getattr(mesher, "Set" + CRITERIA_KEYS[key])(value)
+    for material, overrides in scene.material_criteria().items():
+        values = [-1.0] * len(CRITERIA_KEYS)  # < 0: inherit the global value
+        for key, value in overrides.items():
+            values[list(CRITERIA_KEYS).index(key)] = value
+        mesher.SetMaterialCriteria(material, *values)
+    features = spec.get("features")
+    if features:
+        parts = []
+        for index in features["from_surface"]:
+            edges = vtkFeatureEdges()
+            edges.SetInputConnection(scene.domains[index].GetInputConnection(0, 0))
+            edges.BoundaryEdgesOff()
+            edges.NonManifoldEdgesOff()
+            edges.ManifoldEdgesOff()
+            edges.SetFeatureAngle(features["feature_angle"])
+            parts.append(edges)
+        parts.extend(scene.feature_readers)
+        if len(parts) == 1:
+            lines = parts[0]
+        else:
+            lines = vtkAppendPolyData()
+            for part in parts:
+                lines.AddInputConnection(part.GetOutputPort())
+        mesher.SetInputConnection(1, lines.GetOutputPort())
+        scene.feature_lines = lines  # keeps the Python objects alive with the scene
+    mesher.SetSeed(spec.get("seed", 0))
+    mesher.SetPerturb(spec.get("perturb", True))
+    mesher.SetExude(spec.get("exude", True))
+    for key, setter in (("perturbation_steps_per_vertex", "SetPerturbationStepsPerVertex"),
+                        ("exudation_steps_per_cell", "SetExudationStepsPerCell"),
+                        ("optimisation_time_limit", "SetOptimisationTimeLimit")):
+        if key in spec:
+            getattr(mesher, setter)(spec[key])
+    if "sliver_angle" in spec:
+        mesher.SetSliverAngle(spec["sliver_angle"])
+    if "interface_sliver_angle" in spec:
+        mesher.SetInterfaceSliverAngle(spec["interface_sliver_angle"])
+    if "maximum_number_of_vertices" in spec:
+        mesher.SetMaximumNumberOfVertices(spec["maximum_number_of_vertices"])
+    return mesher
+
+
+def describe(grid, names, feature_segments):
+    """Stores {material id: name} (MaterialIds, MaterialNames) and the number of feature-line
+    segments given (FeatureSegments) in the mesh's field data, for the report and the writers."""
+    from vtkmodules.vtkCommonCore import vtkIntArray, vtkStringArray
+
+    count = vtkIntArray()
+    count.SetName("FeatureSegments")
+    count.InsertNextValue(feature_segments)
+    grid.GetFieldData().AddArray(count)
+    ids, strings = vtkIntArray(), vtkStringArray()
+    ids.SetName("MaterialIds")
+    strings.SetName("MaterialNames")
+    for m, name in sorted(names.items()):
+        ids.InsertNextValue(m)
+        strings.InsertNextValue(name)
+    grid.GetFieldData().AddArray(ids)
+    grid.GetFieldData().AddArray(strings)
+
+
+def as_scene(scene, base_dir=None):
+    """A Scene from a JSON scene path, a scene dict (relative paths against `base_dir`, default the
+    working folder) or a Scene."""
+    if isinstance(scene, Scene):
+        return scene
+    if isinstance(scene, (str, os.PathLike)):
+        return load_scene(os.fspath(scene))
+    if isinstance(scene, dict):
+        return build_scene(scene, base_dir or os.getcwd(), source="scene")
+    raise OracleMeshError(f"scene: expected a scene file path, a dict in the scene format or a Scene, "
+                          f"got {type(scene).__name__}")
+
+
+class MeshResult:
+    """A meshed scene.
+
+    ``grid``: the vtkUnstructuredGrid (cell data Material, MinDihedralAngle, RadiusEdgeRatio,
+    Defects; field data: statistics, warnings, material names); ``scene``; ``material_names``
+    {id: name}; ``strategy``; ``seconds`` (meshing time); ``statistics`` {name: value} (the mesher's:
+    volumes, validity counts, timings, ...); ``quality`` (per-material table, see report.quality);
+    ``report`` (the quality report as text); ``surface_sets``; ``save(path, ...)``."""
+
+    def __init__(self, grid, scene, strategy, seconds, title):
+        from .report import report_lines, statistics
+
+        self.grid, self.scene, self.strategy, self.seconds = grid, scene, strategy, seconds
+        self.material_names = scene.material_names()
+        self.statistics = statistics(grid)
+        lines, self.quality = report_lines(grid, title, self.material_names, recheck=False)
+        self.report = "\n".join(lines)
+        self._arrays = None
+
+    def save(self, *paths):
+        """Writes the mesh to each path, the format by extension (.vtu, .inp, .msh, .mesh; see
+        writers.py), with its boundary and interface sets; returns the files written (a .vtu also
+        writes ``<name>_surfaces.vtu``). Raises OracleMeshError naming a path that fails."""
+        from .writers import MESH_FORMATS, write_mesh
+
+        for path in paths:  # refuse a bad name before writing anything
+            ext = os.path.splitext(os.fspath(path))[1].lower()
+            if ext not in MESH_FORMATS:
+                raise OracleMeshError(f"{path}: unknown mesh format '{ext}' (use one of {', '.join(MESH_FORMATS)})")
+        written = []
+        for path in paths:
+            written += write_mesh(self.grid, os.fspath(path), self.material_names, self._mesh_arrays())
+        return written
+
+    def _mesh_arrays(self):
+        from .writers import MeshArrays
+
+        if self._arrays is None:  # computed once for every save and surface_sets
+            self._arrays = MeshArrays(self.grid, self.material_names)
+        return self._arrays
+
+    @property
+    def surface_sets(self):
+        """The boundary and interface sets (surfaces.SurfaceSets: ``names``, ``faces``, ...) the files get."""
+        return self._mesh_arrays().sets
+
+    def __repr__(self):
+        return (f"<MeshResult: {self.quality['tets']} tetrahedra, {len(self.quality['materials'])} materials, "
+                f"min dihedral {self.quality['min_dihedral']:.1f} deg>")
+
+
+def mesh(scene, strategy=None, progress=None, base_dir=None):
+    """Meshes a scene and returns a MeshResult (``.grid``, ``.report``, ``.statistics``, ``.save()``).
+
+    `scene`: a JSON scene file path, a dict in the same format (see the README's "Scene files";
+    relative file paths resolve against `base_dir`, default the working folder) or a loaded Scene.
+    `strategy` overrides the scene's feature strategy ("Conforming", "None", "ProtectingBalls");
+    `progress`, if given, is called with the mesher's progress (0..1). Bad scenes and failed meshing
+    raise OracleMeshError naming the problem."""
+    started = time.perf_counter()
+    scene = as_scene(scene, base_dir)
+    mesher = mesher_for(scene, strategy)
+    if progress is not None:
+        mesher.AddObserver("ProgressEvent", lambda algorithm, event: progress(algorithm.GetProgress()))
+    grid = update(mesher)
+    segments = mesher.GetOutputDataObject(2)
+    describe(grid, scene.material_names(), segments.GetNumberOfCells() if segments is not None else 0)
+    strategy = strategy or scene.mesh.get("strategy", "Conforming")
+    seconds = time.perf_counter() - started
+    return MeshResult(grid, scene, strategy, seconds,
+                      f"Mesh of {scene.source} ({seconds:.1f} s, strategy {strategy})")

@@ -1,0 +1,130 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""Boundary and interface surfaces of a multi-material tetrahedral mesh, for the finite-element writers.
+
+Every triangle shared by tetrahedra of two different materials, or belonging to one tetrahedron only
+(the mesh's outer boundary), goes into the set of its material pair: ``A__B`` for materials A < B
+(by id), ``A__EXTERIOR`` for the boundary of A. A and B are the Abaqus-safe material names
+(``cortical bone`` -> ``CORTICAL_BONE``, ``MATERIAL_<id>`` without a name), so the sets are named
+alike in every format and the same scene always gives the same names.
+
+Each face is kept on the side of its first-named material (its "owner"): Abaqus surfaces are faces
+of the owner's elements, and triangles are ordered so that their normals point out of the owner,
+into B or to the exterior.
+"""
+import re
+
+import numpy as np
+
+EXTERIOR = -1  # the "material" on the other side of a boundary face
+EXTERIOR_NAME = "EXTERIOR"
+
+# Abaqus C3D4 faces (S1..S4), 0-based: S1 = nodes 1-2-3, S2 = 1-4-2, S3 = 2-4-3, S4 = 3-4-1. With VTK's
+# positive orientation each is ordered with its normal pointing into the tetrahedron.
+TET_FACES = np.array([[0, 1, 2], [0, 3, 1], [1, 3, 2], [2, 3, 0]])
+_OPPOSITE = np.array([3, 2, 0, 1])  # the vertex not on each face
+
+
+def abaqus_set_name(material, name=None):
+    """An Abaqus-safe set name: letters, digits and '_', starting with a letter, <= 80 chars."""
+    if name:
+        clean = re.sub(r"[^A-Za-z0-9_]+", "_", name).strip("_").upper()
+        if clean and not clean[0].isalpha():
+            clean = "M_" + clean
+        if clean:
+            return clean[:80]
+    return f"MATERIAL_{material}"
+
+
+def material_set_names(ids, names=None):
+    """{material id: distinct Abaqus-safe name} for the sorted ids; a clash (two materials called
+    alike, or one called "exterior") keeps them apart with the id as suffix."""
+    names = names or {}
+    result, used = {}, {EXTERIOR_NAME}
+    for m in sorted(ids):
+        name = abaqus_set_name(m, names.get(m))
+        if name in used:
+            name = f"{name[:70]}_{m}"
+        used.add(name)
+        result[m] = name
+    return result
+
+
+class SurfaceSets:
+    """The boundary and interface faces of a mesh, grouped by material pair.
+
+    ``faces`` [k x 3] point ids, oriented out of the owner tetrahedron; ``owner`` [k] its index;
+    ``side`` [k] the face's Abaqus number (1..4 for S1..S4); ``pairs`` [k x 2] (owner material, other
+    material or EXTERIOR); ``surface`` [k] index into ``names`` and ``materials`` (one per pair,
+    sorted: by the first material, then the second, EXTERIOR last)."""
+
+    def __init__(self, faces, owner, side, pairs, surface, names, materials):
+        self.faces, self.owner, self.side, self.pairs, self.surface = faces, owner, side, pairs, surface
+        self.names, self.materials = names, materials
+
+    def __len__(self):
+        return len(self.names)
+
+    def select(self, index):
+        """Row mask of the faces of surface `index`."""
+        return self.surface == index
+
+
+def _face_keys(faces, n_points):
+    """An integer key per face (any vertex order), equal for equal faces."""
+    s = np.sort(faces, axis=1).astype(np.int64)
+    if n_points < 2 ** 21:  # three 21-bit ids fit one int64: a single fast sort
+        return (s[:, 0] << 42) | (s[:, 1] << 21) | s[:, 2]
+    return np.unique(s, axis=0, return_inverse=True)[1].ravel()
+
+
+def surface_sets(points, cells, material, names=None):
+    """SurfaceSets of tetrahedra `cells` [m x 4] (ids into `points` [n x 3]) with `material` [m] and
+    {material id: name}.
+
+    Faces shared by more than two tetrahedra (a broken mesh; the validity check reports them) are
+    left out."""
+    points = np.asarray(points, dtype=np.float64)
+    cells = np.asarray(cells, dtype=np.int64)
+    material = np.asarray(material, dtype=np.int64)
+    faces = cells[:, TET_FACES].reshape(-1, 3)  # face f of tet t is row 4 t + f
+    keys = _face_keys(faces, len(points))
+    order = np.argsort(keys, kind="stable")
+    sorted_keys = keys[order]
+    starts = np.flatnonzero(np.r_[True, sorted_keys[1:] != sorted_keys[:-1]])
+    counts = np.diff(np.r_[starts, len(keys)])
+
+    single = order[starts[counts == 1]]
+    first, second = order[starts[counts == 2]], order[starts[counts == 2] + 1]
+    mat_first, mat_second = material[first // 4], material[second // 4]
+    differ = mat_first != mat_second
+    first, second, mat_first, mat_second = first[differ], second[differ], mat_first[differ], mat_second[differ]
+    swap = mat_first > mat_second  # the owner is the lower material id
+    owner_rows = np.where(swap, second, first)
+    other_mat = np.where(swap, mat_first, mat_second)
+
+    rows = np.concatenate([owner_rows, single])
+    other = np.concatenate([other_mat, np.full(len(single), EXTERIOR, dtype=np.int64)])
+    owner = rows // 4
+    pairs = np.stack([material[owner], other], axis=1)
+    # sort faces by pair (EXTERIOR last), then by owner and side: a deterministic order for any input order
+    second_key = np.where(pairs[:, 1] == EXTERIOR, np.iinfo(np.int64).max, pairs[:, 1])
+    order = np.lexsort((rows % 4, owner, second_key, pairs[:, 0]))
+    rows, owner, pairs = rows[order], owner[order], pairs[order]
+    change = np.r_[True, (pairs[1:] != pairs[:-1]).any(axis=1)] if len(pairs) else np.zeros(0, bool)
+    surface = np.cumsum(change) - 1  # faces are sorted by pair: a new surface where the pair changes
+    unique_pairs = pairs[change]
+
+    set_names = material_set_names(np.unique(material).tolist(), names)
+    labels = []
+    for i, (a, b) in enumerate(unique_pairs.tolist()):
+        label = f"{set_names[a]}__{set_names[b] if b != EXTERIOR else EXTERIOR_NAME}"
+        labels.append(label if len(label) <= 80 else f"{label[:70]}_{i}")  # Abaqus' limit, kept distinct
+    faces = faces[rows]
+    # Oriented by the geometry (an inverted tetrahedron must not flip its face): normal away from the
+    # owner's fourth vertex.
+    fourth = cells[owner, _OPPOSITE[rows % 4]]
+    a, b, c = points[faces[:, 0]], points[faces[:, 1]], points[faces[:, 2]]
+    inward = np.einsum("ij,ij->i", np.cross(b - a, c - a), points[fourth] - a) > 0
+    faces[inward] = faces[inward][:, ::-1]
+    return SurfaceSets(faces, owner, rows % 4 + 1, pairs, surface, labels,
+                       [tuple(p) for p in unique_pairs.tolist()])
