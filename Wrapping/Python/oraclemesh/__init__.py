@@ -26,9 +26,10 @@ from .OracleMeshFilters import (  # noqa: F401
     vtkSphereDomain,
     vtkSurfaceDomain,
 )
-from .errors import OracleMeshError, update  # noqa: F401
+from .errors import MeshingError, OracleMeshError, update  # noqa: F401
 
 __all__ = [
+    "MeshingError",
     "OracleMeshError",
     "update",
     "vtkFeaturePreservingTetrahedralizer",
