@@ -22,13 +22,20 @@
 #include <vtkMatrix3x3.h>
 #include <vtkMultiBlockDataSet.h>
 #include <vtkPointData.h>
+#include <vtkPoints.h>
 #include <vtkPolyData.h>
 #include <vtkSmartPointer.h>
 
 #include <cmath>
+#include <cstdio>
+#include <fstream>
 #include <limits>
+#include <set>
 #include <sstream>
 #include <unordered_map>
+
+#include <sys/resource.h>
+#include <unistd.h>
 
 using omesh::InputError;
 
@@ -37,6 +44,42 @@ namespace
 std::string describe(const OracleDomainMetadata& md, const std::string& where)
 {
   return md.Name.empty() ? where : where + " '" + md.Name + "'";
+}
+
+std::string bytes(double b)
+{
+  const char* units[] = { "bytes", "KB", "MB", "GB", "TB", "PB", "EB" };
+  int u = 0;
+  while (b >= 1024.0 && u < 6)
+  {
+    b /= 1024.0;
+    ++u;
+  }
+  char text[64];
+  std::snprintf(text, sizeof text, u ? "%.1f %s" : "%.0f %s", b, units[u]);
+  return text;
+}
+
+bool absurd(double v)
+{
+  return !std::isfinite(v) || std::abs(v) > OracleBuilder::LargestCoordinate;
+}
+
+std::string coordinates(const double x[3])
+{
+  std::ostringstream o;
+  o << "(" << x[0] << ", " << x[1] << ", " << x[2] << ")";
+  return o.str();
+}
+
+void checkPoint(const double x[3], vtkIdType id, const std::string& who, const std::string& what)
+{
+  if (!std::isfinite(x[0]) || !std::isfinite(x[1]) || !std::isfinite(x[2]))
+    throw InputError(who + ": " + (what.empty() ? "" : what + " ") + "point " + std::to_string(id) + " " +
+      coordinates(x) + " has a NaN or infinite coordinate");
+  if (absurd(x[0]) || absurd(x[1]) || absurd(x[2]))
+    throw InputError(who + ": " + (what.empty() ? "" : what + " ") + "point " + std::to_string(id) + " " +
+      coordinates(x) + " has a coordinate beyond 1e15 in magnitude (absurd; check the units)");
 }
 
 void expectParameters(const OracleDomainMetadata& md, size_t n, const std::string& who)
@@ -71,6 +114,17 @@ std::shared_ptr<omesh::Domain> OracleBuilder::BuildImplicit(const OracleDomainMe
 {
   const std::string who = md.Name.empty() ? md.Kind : md.Name;
   const auto& p = md.Parameters;
+  for (size_t i = 0; i < p.size(); ++i)
+    if (!std::isnan(p[i]) && absurd(p[i])) // NaN: the shape names it
+    {
+      std::ostringstream o;
+      o << who << ": " << md.Kind << " parameter " << i << " is " << p[i]
+        << " (parameters must be at most 1e15 in magnitude: absurd; check the units)";
+      throw InputError(o.str());
+    }
+  for (double v : md.Transform)
+    if (!std::isfinite(v))
+      throw InputError(who + ": the shape's transform has a NaN or infinite entry");
   std::shared_ptr<omesh::ImplicitShapeDomain> d;
   if (md.Kind == "Sphere")
   {
@@ -120,6 +174,7 @@ omesh::TriangleSurface OracleBuilder::ToTriangleSurface(vtkPolyData* pd, const s
   omesh::TriangleSurface s;
   if (!pd || pd->GetNumberOfPoints() == 0)
     throw InputError(who + ": surface is empty (no points)");
+  CheckCoordinates(pd->GetPoints(), who, "surface");
   if (pd->GetNumberOfStrips() > 0)
     throw InputError(who + ": surface has " + std::to_string(pd->GetNumberOfStrips()) +
       " triangle strips; only triangles are accepted (apply vtkTriangleFilter first)");
@@ -155,6 +210,12 @@ omesh::FeatureSegments OracleBuilder::ToFeatureSegments(vtkPolyData* lines)
   omesh::FeatureSegments f;
   if (!lines)
     return f;
+  const std::string who = "feature lines (input port 1)";
+  if (lines->GetNumberOfPolys() > 0 || lines->GetNumberOfStrips() > 0 || lines->GetNumberOfVerts() > 0)
+    throw InputError(who + ": " + std::to_string(lines->GetNumberOfPolys()) + " polygon(s), " +
+      std::to_string(lines->GetNumberOfStrips()) + " strip(s) and " + std::to_string(lines->GetNumberOfVerts()) +
+      " vertex cell(s) besides " + std::to_string(lines->GetNumberOfLines()) +
+      " line(s); feature lines must be line cells only (lines or polylines, e.g. vtkFeatureEdges' output)");
   std::unordered_map<vtkIdType, int> index;
   auto vertex = [&](vtkIdType id) {
     auto [it, inserted] = index.emplace(id, static_cast<int>(f.points.size()));
@@ -162,6 +223,7 @@ omesh::FeatureSegments OracleBuilder::ToFeatureSegments(vtkPolyData* lines)
     {
       double x[3];
       lines->GetPoint(id, x);
+      checkPoint(x, id, who, "");
       f.points.push_back({ x[0], x[1], x[2] });
     }
     return it->second;
@@ -208,6 +270,28 @@ std::shared_ptr<omesh::LabelMapDomain> OracleBuilder::ToLabelMap(
   const vtkIdType n = array->GetNumberOfTuples();
   if (n == 0)
     throw InputError(who + ": label map is empty (no voxels)");
+  {
+    double spacing[3], corner[2][3];
+    image->GetSpacing(spacing);
+    image->TransformIndexToPhysicalPoint(ext[0], ext[2], ext[4], corner[0]);
+    image->TransformIndexToPhysicalPoint(ext[1], ext[3], ext[5], corner[1]);
+    const double* dm = image->GetDirectionMatrix()->GetData();
+    for (int i = 0; i < 9; ++i)
+      if (!std::isfinite(dm[i]))
+        throw InputError(who + ": the label map's direction matrix has a NaN or infinite entry");
+    for (int i = 0; i < 3; ++i)
+      if (absurd(spacing[i]) || !(spacing[i] > 0))
+        throw InputError(who + ": label map spacing " + coordinates(spacing) +
+          " must be positive, finite and at most 1e15");
+    for (const double* c : corner)
+      if (absurd(c[0]) || absurd(c[1]) || absurd(c[2]))
+        throw InputError(who + ": label map corner " + coordinates(c) +
+          " (from its origin and spacing) has a NaN, infinite or absurd coordinate (beyond 1e15)");
+  }
+  // labels as int while converting (4 bytes) and the compact index the domain keeps (2 bytes)
+  CheckMemory(who, "a label map of " + std::to_string(dims[0]) + " x " + std::to_string(dims[1]) + " x " +
+      std::to_string(dims[2]) + " voxels",
+    static_cast<double>(n), 6.0);
   const bool integral = array->GetDataType() != VTK_FLOAT && array->GetDataType() != VTK_DOUBLE;
   std::vector<int> labels(n);
   for (vtkIdType i = 0; i < n; ++i)
@@ -293,6 +377,96 @@ std::map<int, std::array<double, 6>> OracleBuilder::DomainCriteria(
     }
   }
   return out;
+}
+
+void OracleBuilder::CheckCoordinates(vtkPoints* points, const std::string& who, const std::string& what)
+{
+  if (!points)
+    return;
+  double x[3];
+  for (vtkIdType i = 0; i < points->GetNumberOfPoints(); ++i)
+  {
+    points->GetPoint(i, x);
+    checkPoint(x, i, who, what);
+  }
+}
+
+double OracleBuilder::AvailableMemory()
+{
+  double available = -1;
+  std::ifstream meminfo("/proc/meminfo");
+  std::string key;
+  double value;
+  std::string unit;
+  while (meminfo >> key >> value >> unit)
+    if (key == "MemAvailable:")
+    {
+      available = value * 1024.0;
+      break;
+    }
+  if (available < 0)
+  {
+    const long pages = sysconf(_SC_AVPHYS_PAGES), size = sysconf(_SC_PAGESIZE);
+    available = (pages > 0 && size > 0) ? static_cast<double>(pages) * size : 1e18;
+  }
+  struct rlimit limit;
+  if (getrlimit(RLIMIT_AS, &limit) == 0 && limit.rlim_cur != RLIM_INFINITY)
+    available = std::min(available, static_cast<double>(limit.rlim_cur));
+  return available;
+}
+
+void OracleBuilder::CheckMemory(const std::string& who, const std::string& what, double count, double bytesEach)
+{
+  const double needed = count * bytesEach, available = AvailableMemory();
+  if (needed <= available)
+    return;
+  std::ostringstream o;
+  o << who << ": " << what << " (" << count << ") would need " << bytes(needed) << " of memory (" << bytesEach
+    << " bytes each); " << bytes(available) << " available";
+  throw InputError(o.str());
+}
+
+std::vector<std::string> OracleBuilder::HiddenDomainWarnings(const omesh::HierarchicalOracle& oracle)
+{
+  std::vector<std::string> warnings;
+  const auto& domains = oracle.domains();
+  constexpr int N = 20;
+  for (size_t i = 1; i < domains.size(); ++i)
+  {
+    const omesh::Domain& d = *domains[i];
+    if (!d.bounded())
+      continue;
+    const omesh::BoundingBox box = d.bounds();
+    const omesh::Vec3 size = box.size();
+    size_t inside = 0, claimed = 0;
+    std::set<size_t> by;
+    for (int a = 0; a < N; ++a)
+      for (int b = 0; b < N; ++b)
+        for (int c = 0; c < N; ++c)
+        {
+          const omesh::Vec3 p{ box.min.x + (a + 0.5) / N * size.x, box.min.y + (b + 0.5) / N * size.y,
+            box.min.z + (c + 0.5) / N * size.z };
+          if (d.material(p) == omesh::kOutside)
+            continue;
+          ++inside;
+          for (size_t j = 0; j < i; ++j)
+            if (domains[j]->material(p) != omesh::kOutside)
+            {
+              ++claimed;
+              by.insert(j);
+              break;
+            }
+        }
+    if (inside < 8 || claimed < inside) // too thin to judge, or visible
+      continue;
+    std::string names;
+    for (size_t j : by)
+      names += (names.empty() ? "" : ", ") + domains[j]->name();
+    warnings.push_back(d.name() + " is hidden: all " +
+      std::to_string(inside) + " points sampled inside it belong to higher-priority domain(s) " + names +
+      (d.isCut() ? "; the cut has no effect" : "; its material will not appear in the mesh"));
+  }
+  return warnings;
 }
 
 std::shared_ptr<omesh::HierarchicalOracle> OracleBuilder::BuildOracle(vtkDataObject* data)

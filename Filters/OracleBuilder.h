@@ -9,8 +9,11 @@
 #include <memory>
 #include <string>
 
+#include <vector>
+
 class vtkDataObject;
 class vtkImageData;
+class vtkPoints;
 class vtkPolyData;
 
 namespace omesh
@@ -57,4 +60,24 @@ public:
   /// The label map of `image` as described by `md` (array, association, background).
   static std::shared_ptr<omesh::LabelMapDomain> ToLabelMap(
     vtkImageData* image, const OracleDomainMetadata& md, const std::string& who);
+
+  /// Coordinates beyond this magnitude are refused as absurd (no model is that large; squared
+  /// distances there lose every digit).
+  static constexpr double LargestCoordinate = 1e15;
+
+  /// Throws when a point of `points` has a NaN, infinite or absurd (|x| > LargestCoordinate)
+  /// coordinate, naming `who`, `what` ("surface", "feature lines") and the point.
+  static void CheckCoordinates(vtkPoints* points, const std::string& who, const std::string& what);
+
+  /// Bytes this process can still allocate: the system's available memory (MemAvailable), capped by
+  /// the address-space limit (ulimit -v) when one is set.
+  static double AvailableMemory();
+
+  /// Throws before allocating `count` items of `bytesEach` bytes when they would need more than the
+  /// available memory: "who: what (count) need X GB (B bytes each); Y GB available".
+  static void CheckMemory(const std::string& who, const std::string& what, double count, double bytesEach);
+
+  /// Warnings for the domains no point of which reaches the mesh: every point sampled inside the
+  /// domain's bounds (20 x 20 x 20) that the domain contains belongs to a higher-priority domain.
+  static std::vector<std::string> HiddenDomainWarnings(const omesh::HierarchicalOracle& oracle);
 };

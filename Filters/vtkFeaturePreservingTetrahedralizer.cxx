@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "vtkFeaturePreservingTetrahedralizer.h"
 
+#include "FeatureMerge.h"
 #include "HierarchicalOracle.h"
 #include "InputError.h"
 #include "MeshQuality.h"
@@ -19,6 +20,7 @@
 #include <vtkNew.h>
 #include <vtkObjectFactory.h>
 #include <vtkPointData.h>
+#include <vtkPointSet.h>
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
 #include <vtkStringArray.h>
@@ -32,6 +34,33 @@ vtkStandardNewMacro(vtkFeaturePreservingTetrahedralizer);
 
 namespace
 {
+const char* const kCriteriaNames[6] = { "FacetAngle", "FacetSize", "FacetDistance", "CellSize",
+  "CellRadiusEdgeRatio", "EdgeSize" };
+
+/// Throws when a property lies outside [low, high] (or is NaN), naming it.
+void checkRange(const char* property, double value, double low, double high, const char* meaning = "")
+{
+  if (value >= low && value <= high)
+    return;
+  std::ostringstream o;
+  o << "vtkFeaturePreservingTetrahedralizer: " << property << " " << value << " is out of range (" << low << " to "
+    << high << meaning << ")";
+  throw omesh::InputError(o.str());
+}
+
+/// Throws when one of six criteria is NaN or infinite, naming it and `where`.
+void checkCriteria(const std::array<double, 6>& c, const std::string& where)
+{
+  for (int k = 0; k < 6; ++k)
+    if (!std::isfinite(c[k]))
+    {
+      std::ostringstream o;
+      o << where << ": " << kCriteriaNames[k] << " is " << c[k]
+        << " (a number is needed: <= 0 means no bound; in per-material criteria < 0 keeps the global value)";
+      throw omesh::InputError(o.str());
+    }
+}
+
 vtkSmartPointer<vtkPoints> toPoints(const std::vector<omesh::Vec3>& pts)
 {
   auto points = vtkSmartPointer<vtkPoints>::New();
@@ -51,15 +80,12 @@ vtkFeaturePreservingTetrahedralizer::vtkFeaturePreservingTetrahedralizer()
 
 vtkFeaturePreservingTetrahedralizer::~vtkFeaturePreservingTetrahedralizer() = default;
 
-int vtkFeaturePreservingTetrahedralizer::FillInputPortInformation(int port, vtkInformation* info)
+int vtkFeaturePreservingTetrahedralizer::FillInputPortInformation(int, vtkInformation* info)
 {
-  if (port == 0)
-    info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkDataObject");
-  else
-  {
-    info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkPolyData");
-    info->Set(vtkAlgorithm::INPUT_IS_OPTIONAL(), 1);
-  }
+  // Any data object on every port, all optional to the pipeline: RequestData checks the types and
+  // the oracle's presence itself, so that a wrong input gets an error naming the port.
+  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkDataObject");
+  info->Set(vtkAlgorithm::INPUT_IS_OPTIONAL(), 1);
   return 1;
 }
 
@@ -128,8 +154,10 @@ int vtkFeaturePreservingTetrahedralizer::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
   vtkDataObject* oracleData = vtkDataObject::GetData(inputVector[0]);
-  vtkPolyData* lines = vtkPolyData::GetData(inputVector[1]);
-  vtkPolyData* seeds = vtkPolyData::GetData(inputVector[2]);
+  vtkDataObject* linesData = vtkDataObject::GetData(inputVector[1]);
+  vtkDataObject* seedsData = vtkDataObject::GetData(inputVector[2]);
+  vtkPolyData* lines = vtkPolyData::SafeDownCast(linesData);
+  vtkPointSet* seeds = vtkPointSet::SafeDownCast(seedsData);
   vtkUnstructuredGrid* grid = vtkUnstructuredGrid::GetData(outputVector, 0);
   vtkPolyData* interfaces = vtkPolyData::GetData(outputVector, 1);
   vtkPolyData* segmentsOut = vtkPolyData::GetData(outputVector, 2);
@@ -161,9 +189,45 @@ int vtkFeaturePreservingTetrahedralizer::RequestData(
 
   omesh::TetMesh mesh;
   omesh::FeatureSegments features;
+  std::vector<std::string> notes; // this adapter's warnings, listed before the mesher's
   try
   {
+    // Properties and inputs first, before any heavy work.
+    checkRange("FeatureStrategy", this->FeatureStrategy, CONFORMING, PROTECTING_BALLS,
+      ": 0 Conforming, 1 None, 2 ProtectingBalls");
+    checkRange("SliverAngle", this->SliverAngle, 0.0, 30.0, " degrees; 0 = off");
+    checkRange("InterfaceSliverAngle", this->InterfaceSliverAngle, 0.0, 30.0, " degrees; 0 = off");
+    if (this->MaximumNumberOfVertices < 0)
+      throw omesh::InputError("vtkFeaturePreservingTetrahedralizer: MaximumNumberOfVertices " +
+        std::to_string(this->MaximumNumberOfVertices) + " is out of range (>= 0; 0 = unlimited)");
+    checkRange("PerturbationStepsPerVertex", this->PerturbationStepsPerVertex, 0.0, 1e6, "; 0 = no budget");
+    checkRange("ExudationStepsPerCell", this->ExudationStepsPerCell, 0.0, 1e6, "; 0 = no budget");
+    checkRange("OptimisationTimeLimit", this->OptimisationTimeLimit, -1.0, 1e9, " seconds; 0 = none, -1 = CGAL's");
+    checkCriteria({ this->FacetAngle, this->FacetSize, this->FacetDistance, this->CellSize,
+                    this->CellRadiusEdgeRatio, this->EdgeSize },
+      "vtkFeaturePreservingTetrahedralizer");
+    for (const auto& [m, c] : this->MaterialCriteria)
+      checkCriteria(c, "vtkFeaturePreservingTetrahedralizer: material criteria for material " + std::to_string(m));
+    if (!oracleData)
+      throw omesh::InputError("vtkFeaturePreservingTetrahedralizer: no input on port 0: connect a "
+                              "vtkHierarchicalOracle (or one domain)");
+    if (linesData && !lines)
+      throw omesh::InputError(std::string("feature lines (input port 1): need vtkPolyData lines, got ") +
+        linesData->GetClassName());
+    if (seedsData && !seeds)
+      throw omesh::InputError(std::string("seed points (input port 2): need points (vtkPolyData), got ") +
+        seedsData->GetClassName());
+    features = OracleBuilder::ToFeatureSegments(lines);
+    const omesh::FeatureMergeCounts merged = omesh::mergeFeatureSegments(features);
+    if (merged.changed())
+      notes.push_back("feature lines: merged " + std::to_string(merged.duplicates) + " duplicate segment(s), " +
+        std::to_string(merged.overlapping) + " overlapping collinear segment(s) in " +
+        std::to_string(merged.overlapGroups) + " group(s) and " + std::to_string(merged.mergedPoints) +
+        " repeated point(s); " + std::to_string(features.segments.size()) + " segments remain");
+
     auto oracle = OracleBuilder::BuildOracle(oracleData);
+    for (const std::string& w : OracleBuilder::HiddenDomainWarnings(*oracle))
+      notes.push_back(w);
     // per material: the domains' criteria, then this filter's SetMaterialCriteria over them
     auto overrideWith = [&](int m, const std::array<double, 6>& c) {
       omesh::MeshCriteria& o =
@@ -174,11 +238,15 @@ int vtkFeaturePreservingTetrahedralizer::RequestData(
           *fields[k] = c[k];
     };
     for (const auto& [m, c] : OracleBuilder::DomainCriteria(oracleData, *oracle))
+    {
+      checkCriteria(c, "domain criteria for material " + std::to_string(m));
       overrideWith(m, c);
+    }
     for (const auto& [m, c] : this->MaterialCriteria)
       overrideWith(m, c);
-    features = OracleBuilder::ToFeatureSegments(lines);
     std::vector<omesh::Vec3> seedPoints;
+    if (seeds)
+      OracleBuilder::CheckCoordinates(seeds->GetPoints(), "seed points (input port 2)", "");
     for (vtkIdType i = 0; seeds && i < seeds->GetNumberOfPoints(); ++i)
     {
       double x[3];
@@ -194,8 +262,9 @@ int vtkFeaturePreservingTetrahedralizer::RequestData(
   }
   catch (const omesh::MeshingAborted&)
   {
-    vtkWarningMacro(<< "meshing aborted");
-    return 1;
+    // an error, not an empty mesh as success: every caller (Update's status, Python, the CLI) sees it
+    vtkErrorMacro(<< "meshing aborted (AbortExecute): no mesh");
+    return 0;
   }
   catch (const std::exception& e)
   {
@@ -203,6 +272,7 @@ int vtkFeaturePreservingTetrahedralizer::RequestData(
     vtkErrorMacro(<< "meshing failed: " << e.what());
     return 0;
   }
+  mesh.warnings.insert(mesh.warnings.begin(), notes.begin(), notes.end());
   for (const auto& w : mesh.warnings)
     vtkWarningMacro(<< w);
 

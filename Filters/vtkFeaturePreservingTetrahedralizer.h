@@ -13,6 +13,12 @@
  * edges), None (stock Mesh_3, Pons et al.), ProtectingBalls (CGAL's protecting balls, Dey et al.).
  * Criteria are global and can be overridden per material.
  *
+ * Port 0 takes any data object and port 1 any vtkPolyData so that a wrong input gets an error naming
+ * the port (an image as feature lines, triangles or vertices as feature lines, no oracle); duplicate
+ * and overlapping collinear feature segments are merged (with a warning), not refused. A domain that
+ * higher-priority domains hide completely is reported as a warning. An abort (AbortExecute) or a
+ * failure ends the update with an error and an empty output, never an empty mesh as success.
+ *
  * Outputs: port 0, vtkUnstructuredGrid of tetrahedra with cell data Material, MinDihedralAngle
  * (degrees) and RadiusEdgeRatio, point data Dimension (0 corner, 1 segment, 2 interface,
  * 3 volume), field data StatisticNames/StatisticValues and Warnings; port 1, the interface
@@ -46,8 +52,9 @@ public:
   };
 
   ///@{
-  /// How constrained segments are kept. Default PROTECTING_BALLS.
-  vtkSetClampMacro(FeatureStrategy, int, CONFORMING, PROTECTING_BALLS);
+  /// How constrained segments are kept. Default CONFORMING. Out-of-range values (here and for every
+  /// bounded property below) are not clamped: the next update fails with an error naming the property.
+  vtkSetMacro(FeatureStrategy, int);
   vtkGetMacro(FeatureStrategy, int);
   void SetFeatureStrategyToConforming() { this->SetFeatureStrategy(CONFORMING); }
   void SetFeatureStrategyToNone() { this->SetFeatureStrategy(NONE); }
@@ -107,16 +114,16 @@ public:
   /// perturbation attempts per mesh vertex (default 2) and cells pumped per cell (default 0.1: the exuder treats the worst first, and on an 890k-tet mesh 0.1 reached the same minimal angle as 1 in a fifth of the time);
   /// 0 = no budget. A phase that reaches its budget ends there (statistics
   /// optimisation.perturbation_cut_short / exudation_cut_short, and a line in the report).
-  vtkSetClampMacro(PerturbationStepsPerVertex, double, 0.0, 1e6);
+  vtkSetMacro(PerturbationStepsPerVertex, double); // 0 to 1e6
   vtkGetMacro(PerturbationStepsPerVertex, double);
-  vtkSetClampMacro(ExudationStepsPerCell, double, 0.0, 1e6);
+  vtkSetMacro(ExudationStepsPerCell, double); // 0 to 1e6
   vtkGetMacro(ExudationStepsPerCell, double);
   ///@}
 
   ///@{
   /// Seconds for each optimiser: 0 = no limit (default; with a limit the mesh depends on the
   /// machine's speed), -1 = stock CGAL's default (the refinement's running time).
-  vtkSetClampMacro(OptimisationTimeLimit, double, -1.0, 1e9);
+  vtkSetMacro(OptimisationTimeLimit, double); // -1 to 1e9
   vtkGetMacro(OptimisationTimeLimit, double);
   ///@}
 
@@ -125,7 +132,7 @@ public:
   /// refined: removes the flat tetrahedra radius-edge refinement leaves; higher values bound the
   /// angles before optimisation at a price in tetrahedra (no termination guarantee: the vertex
   /// budget applies). 0 turns it off. Default 1.
-  vtkSetClampMacro(SliverAngle, double, 0.0, 30.0);
+  vtkSetMacro(SliverAngle, double); // 0 to 30
   vtkGetMacro(SliverAngle, double);
   ///@}
 
@@ -133,7 +140,7 @@ public:
   /// Tetrahedra with at least three vertices on interfaces or feature lines and whose minimal dihedral
   /// angle is below this bound (degrees) are refined: the perturber and exuder cannot fix them
   /// (those vertices only slide on their interface). 0 turns it off. Default 10.
-  vtkSetClampMacro(InterfaceSliverAngle, double, 0.0, 30.0);
+  vtkSetMacro(InterfaceSliverAngle, double); // 0 to 30
   vtkGetMacro(InterfaceSliverAngle, double);
   ///@}
 
@@ -145,7 +152,7 @@ public:
 
   ///@{
   /// Refinement stops (with a warning) at this many vertices; 0 = unlimited. Default 2,000,000.
-  vtkSetClampMacro(MaximumNumberOfVertices, vtkIdType, 0, VTK_ID_MAX);
+  vtkSetMacro(MaximumNumberOfVertices, vtkIdType); // >= 0
   vtkGetMacro(MaximumNumberOfVertices, vtkIdType);
   ///@}
 

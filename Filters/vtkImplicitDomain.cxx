@@ -22,6 +22,7 @@
 #include <vtkSphere.h>
 
 #include <cmath>
+#include <sstream>
 
 vtkStandardNewMacro(vtkImplicitDomain);
 vtkCxxSetObjectMacro(vtkImplicitDomain, ImplicitFunction, vtkImplicitFunction);
@@ -115,6 +116,12 @@ int vtkImplicitDomain::RequestData(vtkInformation*, vtkInformationVector**, vtkI
   bool bounded = false;
   try
   {
+    if (!(this->Height >= 0) || !std::isfinite(this->Height))
+    {
+      std::ostringstream o;
+      o << who << ": Height " << this->Height << " must be >= 0 and finite (0 = an infinite cylinder)";
+      throw omesh::InputError(o.str());
+    }
     describeFunction(this->ImplicitFunction, this->Height, md, who);
     OracleDomainMetadata named = md;
     named.Name = who;

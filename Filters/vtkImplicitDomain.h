@@ -36,7 +36,8 @@ public:
 
   ///@{
   /// Cylinders only: length along the axis, centred on the cylinder's Center; 0 = infinite.
-  vtkSetClampMacro(Height, double, 0.0, VTK_DOUBLE_MAX);
+  /// Negative or not finite: an error at the next update.
+  vtkSetMacro(Height, double);
   vtkGetMacro(Height, double);
   ///@}
 

@@ -14,6 +14,7 @@
 #include <vtkInformationVector.h>
 #include <vtkObjectFactory.h>
 #include <vtkPointData.h>
+#include <vtkStreamingDemandDrivenPipeline.h>
 
 vtkStandardNewMacro(vtkLabelMapDomain);
 
@@ -55,13 +56,61 @@ void vtkLabelMapDomain::ClearLabelNames()
   }
 }
 
+int vtkLabelMapDomain::FillInputPortInformation(int, vtkInformation* info)
+{
+  // Any data object: a wrong type gets this filter's error naming the port, not an empty output.
+  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkDataObject");
+  return 1;
+}
+
+int vtkLabelMapDomain::RequestInformation(
+  vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  vtkInformation* inInfo = inputVector[0]->GetInformationObject(0);
+  if (!inInfo || !inInfo->Has(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()))
+    return 1; // not an image: RequestData says so
+  return this->Superclass::RequestInformation(request, inputVector, outputVector);
+}
+
+int vtkLabelMapDomain::RequestUpdateExtent(
+  vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  vtkInformation* inInfo = inputVector[0]->GetInformationObject(0);
+  if (!inInfo || !inInfo->Has(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()))
+    return 1;
+  return this->Superclass::RequestUpdateExtent(request, inputVector, outputVector);
+}
+
+namespace
+{
+std::string arrayNames(vtkDataSetAttributes* attributes)
+{
+  std::string names;
+  for (int i = 0; i < attributes->GetNumberOfArrays(); ++i)
+  {
+    const char* n = attributes->GetArrayName(i);
+    names += (names.empty() ? "'" : ", '") + std::string(n ? n : "") + "'";
+  }
+  return names.empty() ? "none" : names;
+}
+}
+
 int vtkLabelMapDomain::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
-  vtkImageData* input = vtkImageData::GetData(inputVector[0]);
+  vtkDataObject* data = vtkDataObject::GetData(inputVector[0]);
+  vtkImageData* input = vtkImageData::SafeDownCast(data);
   vtkImageData* output = vtkImageData::GetData(outputVector);
   const std::string name = this->DomainName ? this->DomainName : "";
   const std::string who = "vtkLabelMapDomain '" + name + "'";
+  if (!input)
+  {
+    vtkErrorMacro(<< who << ": "
+                  << (data ? "input port 0 needs a label image (vtkImageData), got " + std::string(data->GetClassName()) +
+                        (data->IsA("vtkPolyData") ? "; a surface goes to vtkSurfaceDomain" : "")
+                           : std::string("no input on port 0 (connect a label image, vtkImageData)")));
+    return 0;
+  }
 
   OracleDomainMetadata md;
   md.Kind = "LabelMap";
@@ -87,11 +136,25 @@ int vtkLabelMapDomain::RequestData(
   }
   try
   {
-    if (!input)
-      throw omesh::InputError(who + ": no input image");
+    if (this->Interpolation != NEAREST && this->Interpolation != TRILINEAR)
+      throw omesh::InputError(who + ": Interpolation " + std::to_string(this->Interpolation) +
+        " is not 0 (Nearest) or 1 (Trilinear)");
     if (!array)
-      throw omesh::InputError(who + ": the image has no label array (no point or cell scalars, "
-                                    "or the selected array does not exist)");
+    {
+      vtkInformation* selected = this->GetInputArrayInformation(0);
+      const char* wanted = selected && selected->Has(vtkDataObject::FIELD_NAME())
+        ? selected->Get(vtkDataObject::FIELD_NAME())
+        : nullptr;
+      const bool cells = selected && selected->Has(vtkDataObject::FIELD_ASSOCIATION()) &&
+        selected->Get(vtkDataObject::FIELD_ASSOCIATION()) == vtkDataObject::FIELD_ASSOCIATION_CELLS;
+      const std::string arrays = "point arrays: " + arrayNames(input->GetPointData()) +
+        "; cell arrays: " + arrayNames(input->GetCellData());
+      if (wanted && *wanted)
+        throw omesh::InputError(who + ": the image has no " + (cells ? "cell" : "point") + " array '" + wanted +
+          "' (" + arrays + ")");
+      throw omesh::InputError(who + ": the image has no label array: no point or cell scalars (" + arrays +
+        "); select the label array");
+    }
     if (md.LabelArray.empty())
       throw omesh::InputError(who + ": the label array has no name; name it so the oracle can find it again");
     OracleBuilder::ToLabelMap(input, md, who); // full validation: integer, non-empty, labels >= 0

@@ -41,7 +41,7 @@ public:
   ///@{
   /// How labels are read between voxel centres. Default TRILINEAR: staircase boundaries force
   /// flat tetrahedra on the interfaces.
-  vtkSetClampMacro(Interpolation, int, NEAREST, TRILINEAR);
+  vtkSetMacro(Interpolation, int); // not NEAREST or TRILINEAR: an error at the next update
   vtkGetMacro(Interpolation, int);
   void SetInterpolationToNearest() { this->SetInterpolation(NEAREST); }
   void SetInterpolationToTrilinear() { this->SetInterpolation(TRILINEAR); }
@@ -89,6 +89,9 @@ public:
 protected:
   vtkLabelMapDomain();
   ~vtkLabelMapDomain() override;
+  int FillInputPortInformation(int port, vtkInformation* info) override;
+  int RequestInformation(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
   int BackgroundLabel = 0;

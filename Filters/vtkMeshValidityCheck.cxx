@@ -13,6 +13,8 @@
 #include <vtkObjectFactory.h>
 #include <vtkPointData.h>
 #include <vtkStringArray.h>
+
+#include <utility>
 #include <vtkUnsignedCharArray.h>
 #include <vtkUnstructuredGrid.h>
 
@@ -77,6 +79,13 @@ int vtkMeshValidityCheck::RequestData(vtkInformation*, vtkInformationVector** in
     vtkErrorMacro(<< "no input mesh");
     return 0;
   }
+  for (const auto& [name, value] : { std::make_pair("DuplicateTolerance", this->DuplicateTolerance),
+         std::make_pair("MicroTolerance", this->MicroTolerance), std::make_pair("FlatTolerance", this->FlatTolerance) })
+    if (!(value >= 0.0 && value <= 1.0))
+    {
+      vtkErrorMacro(<< "vtkMeshValidityCheck: " << name << " " << value << " must be between 0 and 1");
+      return 0;
+    }
   output->ShallowCopy(input);
   std::vector<vtkIdType> tetCell;
   const omesh::TetMesh mesh = toTetMesh(input, tetCell, this->NonTetrahedra);

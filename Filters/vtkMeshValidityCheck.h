@@ -30,12 +30,13 @@ public:
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   ///@{
-  /// Thresholds relative to the median edge length (defaults 1e-9, 1e-4, 1e-8).
-  vtkSetClampMacro(DuplicateTolerance, double, 0.0, 1.0);
+  /// Thresholds relative to the median edge length (defaults 1e-9, 1e-4, 1e-8); each in [0, 1],
+  /// else the next update fails with an error naming it.
+  vtkSetMacro(DuplicateTolerance, double);
   vtkGetMacro(DuplicateTolerance, double);
-  vtkSetClampMacro(MicroTolerance, double, 0.0, 1.0);
+  vtkSetMacro(MicroTolerance, double);
   vtkGetMacro(MicroTolerance, double);
-  vtkSetClampMacro(FlatTolerance, double, 0.0, 1.0);
+  vtkSetMacro(FlatTolerance, double);
   vtkGetMacro(FlatTolerance, double);
   ///@}
 

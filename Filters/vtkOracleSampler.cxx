@@ -18,6 +18,7 @@
 #include <vtkSMPTools.h>
 #include <vtkStreamingDemandDrivenPipeline.h>
 
+#include <cmath>
 #include <map>
 
 vtkStandardNewMacro(vtkOracleSampler);
@@ -30,6 +31,7 @@ vtkOracleSampler::vtkOracleSampler()
 int vtkOracleSampler::FillInputPortInformation(int, vtkInformation* info)
 {
   info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkDataObject");
+  info->Set(vtkAlgorithm::INPUT_IS_OPTIONAL(), 1); // so "no input" gets this filter's message
   return 1;
 }
 
@@ -61,10 +63,22 @@ int vtkOracleSampler::RequestData(
   omesh::BoundingBox box;
   try
   {
-    if (this->Dimensions[0] < 1 || this->Dimensions[1] < 1 || this->Dimensions[2] < 1)
+    const int* dims = this->Dimensions;
+    if (dims[0] < 1 || dims[1] < 1 || dims[2] < 1)
       throw omesh::InputError("vtkOracleSampler: Dimensions must be >= 1 on every axis");
-    oracle = OracleBuilder::BuildOracle(input);
+    // before any work: the Material array (4 bytes a point)
+    OracleBuilder::CheckMemory("vtkOracleSampler", "Dimensions " + std::to_string(dims[0]) + " x " +
+        std::to_string(dims[1]) + " x " + std::to_string(dims[2]) + " points",
+      static_cast<double>(dims[0]) * dims[1] * dims[2], 4.0);
     const double* b = this->Bounds;
+    for (int i = 0; i < 6; ++i)
+      if (!std::isfinite(b[i]) || std::abs(b[i]) > OracleBuilder::LargestCoordinate)
+        throw omesh::InputError("vtkOracleSampler: Bounds must be finite and at most 1e15 in magnitude");
+    if (!input)
+      throw omesh::InputError("vtkOracleSampler: no input on port 0 (connect a vtkHierarchicalOracle)");
+    oracle = OracleBuilder::BuildOracle(input);
+    for (const std::string& w : OracleBuilder::HiddenDomainWarnings(*oracle))
+      vtkWarningMacro(<< w);
     if (b[0] <= b[1] && b[2] <= b[3] && b[4] <= b[5])
     {
       box.add({ b[0], b[2], b[4] });
@@ -106,6 +120,12 @@ int vtkOracleSampler::RequestData(
         }
     });
     this->UpdateProgress(static_cast<double>(k + 1) / d[2]);
+  }
+  if (this->GetAbortExecute())
+  {
+    vtkErrorMacro(<< "sampling aborted (AbortExecute): no output");
+    output->Initialize();
+    return 0;
   }
   output->GetPointData()->SetScalars(material);
 

@@ -5,37 +5,116 @@
 #include "OracleBuilder.h"
 #include "TriangleSurface.h"
 
+#include <vtkAlgorithm.h>
+#include <vtkCellArray.h>
+#include <vtkCellArrayIterator.h>
+#include <vtkCellData.h>
+#include <vtkFieldData.h>
 #include <vtkInformation.h>
 #include <vtkInformationVector.h>
+#include <vtkNew.h>
 #include <vtkObjectFactory.h>
+#include <vtkPointData.h>
 #include <vtkPolyData.h>
+#include <vtkStaticCleanPolyData.h>
+#include <vtkTriangleFilter.h>
+
+#include <cmath>
+#include <sstream>
 
 vtkStandardNewMacro(vtkSurfaceDomain);
+
+namespace
+{
+bool onlyTriangles(vtkPolyData* pd)
+{
+  if (pd->GetNumberOfStrips() > 0)
+    return false;
+  auto it = vtk::TakeSmartPointer(pd->GetPolys()->NewIterator());
+  for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell())
+  {
+    vtkIdType n;
+    const vtkIdType* ids;
+    it->GetCurrentCell(n, ids);
+    if (n != 3)
+      return false;
+  }
+  return true;
+}
+}
 
 vtkSurfaceDomain::vtkSurfaceDomain()
 {
   this->SetMaterialName("Surface");
 }
 
+int vtkSurfaceDomain::FillInputPortInformation(int, vtkInformation* info)
+{
+  // Any data object: a wrong type gets this filter's error naming the port, not an empty output.
+  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkDataObject");
+  return 1;
+}
+
 int vtkSurfaceDomain::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
-  vtkPolyData* input = vtkPolyData::GetData(inputVector[0]);
+  vtkDataObject* data = vtkDataObject::GetData(inputVector[0]);
+  vtkPolyData* input = vtkPolyData::SafeDownCast(data);
   vtkPolyData* output = vtkPolyData::GetData(outputVector);
   const std::string who = this->Describe();
+  vtkSmartPointer<vtkPolyData> surface = input;
   try
   {
+    if (!data)
+      throw omesh::InputError(who + ": no input on port 0 (connect a closed surface, vtkPolyData)");
+    if (!input)
+      throw omesh::InputError(who + ": input port 0 needs a surface (vtkPolyData), got " +
+        std::string(data->GetClassName()) +
+        (data->IsA("vtkImageData") ? "; a label image goes to vtkLabelMapDomain" : ""));
     if (this->MaterialId < 0)
       throw omesh::InputError(who + ": MaterialId " + std::to_string(this->MaterialId) + " is negative");
+    if (!(this->MergeTolerance >= 0 && this->MergeTolerance <= 1))
+    {
+      std::ostringstream o;
+      o << who << ": MergeTolerance " << this->MergeTolerance
+        << " must be between 0 and 1 (a fraction of the bounding-box diagonal)";
+      throw omesh::InputError(o.str());
+    }
+    if (input->GetNumberOfPoints() == 0)
+      throw omesh::InputError(who + ": surface is empty (no points)");
+    // Refuse NaN and absurd coordinates before any filter computes bounds or tolerances from them.
+    OracleBuilder::CheckCoordinates(input->GetPoints(), who, "surface");
+    if (!onlyTriangles(input))
+    {
+      vtkNew<vtkTriangleFilter> triangulate; // polygons, quads and strips -> triangles
+      triangulate->SetInputData(input);
+      triangulate->PassVertsOff();
+      triangulate->PassLinesOff();
+      triangulate->Update();
+      surface = triangulate->GetOutput();
+    }
+    vtkNew<vtkStaticCleanPolyData> merge; // unwelded corners -> shared points
+    merge->SetInputData(surface);
+    merge->ToleranceIsAbsoluteOff();
+    merge->SetTolerance(this->MergeTolerance);
+    merge->ConvertPolysToLinesOff(); // triangles collapsed by the merge are dropped, not kept as lines
+    merge->ConvertLinesToPointsOff();
+    merge->ConvertStripsToPolysOff();
+    merge->RemoveUnusedPointsOn();
+    merge->Update();
+    surface = merge->GetOutput();
     // Validate here, where the user connected the surface, not later inside the mesher.
-    OracleBuilder::ToTriangleSurface(input, who).validateClosed(who);
+    OracleBuilder::ToTriangleSurface(surface, who).validateClosed(who);
   }
   catch (const omesh::InputError& e)
   {
     vtkErrorMacro(<< e.what());
     return 0;
   }
-  output->ShallowCopy(input);
+  output->CopyStructure(surface);
+  output->GetPointData()->PassData(surface->GetPointData());
+  output->GetCellData()->PassData(surface->GetCellData());
+  output->GetFieldData()->PassData(input->GetFieldData());
   OracleDomainMetadata md;
   this->FillMetadata("Surface", md);
   md.WriteTo(output->GetFieldData());

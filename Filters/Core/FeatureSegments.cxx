@@ -7,6 +7,7 @@
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/box_intersection_d.h>
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -82,6 +83,14 @@ std::vector<std::string> FeatureSegments::validate(const HierarchicalOracle& ora
   {
     if (!isFinite(points[i]))
       throw InputError("feature lines: point " + std::to_string(i) + " has a NaN or infinite coordinate");
+    const Vec3& p = points[i];
+    if (std::max({ std::abs(p.x), std::abs(p.y), std::abs(p.z) }) > 1e15)
+    {
+      std::ostringstream o;
+      o << "feature lines: point " << i << " (" << p.x << ", " << p.y << ", " << p.z
+        << ") has a coordinate beyond 1e15 in magnitude (absurd; check the units)";
+      throw InputError(o.str());
+    }
   }
   for (size_t s = 0; s < segments.size(); ++s)
   {

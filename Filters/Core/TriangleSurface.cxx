@@ -4,6 +4,7 @@
 #include "InputError.h"
 
 #include <algorithm>
+#include <cmath>
 #include <sstream>
 #include <unordered_map>
 
@@ -11,6 +12,10 @@ namespace omesh
 {
 namespace
 {
+/// Coordinates beyond this magnitude are refused: no model is that large, and squared distances
+/// near it lose every significant digit (1e300 overflowed the surface's grid).
+constexpr double kLargestCoordinate = 1e15;
+
 std::string describePoint(const std::vector<Vec3>& pts, int i)
 {
   std::ostringstream s;
@@ -28,6 +33,10 @@ void TriangleSurface::validateClosed(const std::string& who) const
   {
     if (!isFinite(points[i]))
       throw InputError(who + ": surface point " + std::to_string(i) + " has a NaN or infinite coordinate");
+    const Vec3& p = points[i];
+    if (std::max({ std::abs(p.x), std::abs(p.y), std::abs(p.z) }) > kLargestCoordinate)
+      throw InputError(who + ": surface point " + describePoint(points, i) +
+        " has a coordinate beyond 1e15 in magnitude (absurd; check the file's units)");
   }
   std::unordered_map<uint64_t, int> edgeUse;
   edgeUse.reserve(triangles.size() * 2);

@@ -297,10 +297,12 @@ TEST(OracleFilters, BadInputGivesClearErrors)
   openDomain->SetMaterialName("implant");
   expectError(openDomain, "vtkSurfaceDomain 'implant': surface is not closed: 3 open edge(s)");
 
-  vtkNew<vtkCubeSource> cube; // quads
+  vtkNew<vtkCubeSource> cube; // quads, each face with its own 4 corners: triangulated and welded
   vtkNew<vtkSurfaceDomain> quads;
   quads->SetInputConnection(cube->GetOutputPort());
-  expectError(quads, "has 4 points; only triangles are accepted", { cube });
+  EXPECT_EQ(UpdateAndCatch(quads, { cube }), "");
+  EXPECT_EQ(quads->GetOutput()->GetNumberOfPolys(), 12);
+  EXPECT_EQ(quads->GetOutput()->GetNumberOfPoints(), 8);
 
   vtkNew<vtkTriangleFilter> tri;
   tri->SetInputConnection(cube->GetOutputPort());
@@ -310,7 +312,7 @@ TEST(OracleFilters, BadInputGivesClearErrors)
   nan->GetPoints()->SetPoint(3, std::nan(""), 0, 0);
   vtkNew<vtkSurfaceDomain> nanDomain;
   nanDomain->SetInputData(nan);
-  expectError(nanDomain, "point 3 has a NaN");
+  expectError(nanDomain, "surface point 3 (nan, 0, 0) has a NaN");
 
   vtkNew<vtkImageData> empty;
   vtkNew<vtkLabelMapDomain> emptyLabels;

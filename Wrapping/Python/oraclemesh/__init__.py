@@ -32,11 +32,12 @@ from .OracleMeshFilters import (  # noqa: F401
     vtkSphereDomain,
     vtkSurfaceDomain,
 )
-from .errors import OracleMeshError, update  # noqa: F401
+from .errors import MeshingError, OracleMeshError, update  # noqa: F401
 from .meshing import MeshResult, mesh  # noqa: F401
 
 __all__ = [
     "MeshResult",
+    "MeshingError",
     "OracleMeshError",
     "mesh",
     "update",

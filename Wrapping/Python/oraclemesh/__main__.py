@@ -7,21 +7,86 @@
   report MESH    quality report of a mesh written by 'mesh' (any of its formats): table, validity check,
                  dihedral-angle histogram
   batch SCENES   mesh many scenes, each in its own process, with a summary CSV
+
+Exit codes: 0 done, 2 bad input (the message names it), 3 meshing failed (or --strict found
+defects), 130 interrupted (SIGINT or SIGTERM), 1 an internal error (a bug; ORACLEMESH_TRACEBACK=1
+shows where).
 """
 import argparse
 import json
 import os
 import resource
+import signal
 import sys
 import time
 
 from .atomic import write_text
-from .errors import OracleMeshError, update
+from .errors import MeshingError, OracleMeshError, update
 from .meshing import mesh
 from .scene import STRATEGIES, load_scene
 from .writers import MESH_FORMATS, write_vtk_xml
 
 PROGRESS_PREFIX = "oraclemesh-progress "  # machine-readable progress lines (batch reads them)
+
+
+class Interrupted(Exception):
+    """SIGINT or SIGTERM arrived outside a filter's update."""
+
+
+class _Signals:
+    """SIGINT and SIGTERM end the command with one line and exit code 130. Inside a filter's update
+    (Python's handlers run in the progress callbacks) they abort the filter, which stops at its next
+    progress report; elsewhere they raise Interrupted."""
+
+    def __init__(self):
+        self.received = None
+        self.running = []
+
+    def install(self):
+        for number in (signal.SIGINT, signal.SIGTERM):
+            try:
+                signal.signal(number, self.handle)
+            except (ValueError, OSError):  # not the main thread
+                pass
+
+    def handle(self, number, frame):
+        self.received = signal.Signals(number).name
+        if self.running:
+            for algorithm in self.running:
+                algorithm.SetAbortExecute(1)
+            return
+        raise Interrupted(self.received)
+
+    def update(self, algorithm):
+        """om.update(algorithm), abortable by the signals: the filter reports progress to Python."""
+        tag = algorithm.AddObserver("ProgressEvent", lambda *unused: None)
+        self.running.append(algorithm)
+        try:
+            output = update(algorithm)
+        finally:
+            self.running.remove(algorithm)
+            algorithm.RemoveObserver(tag)
+        if self.received:  # arrived after the filter's last progress report
+            raise Interrupted(self.received)
+        return output
+
+
+SIGNALS = _Signals()
+
+
+def check_output_path(path, what="output"):
+    """Refuses, before any heavy work, an output whose folder cannot be made (a file in the way) or
+    that is itself a folder."""
+    full = os.path.abspath(path)
+    if os.path.isdir(full):
+        raise OracleMeshError(f"{path}: cannot write the {what}: it is a folder")
+    folder = os.path.dirname(full)
+    while not os.path.exists(folder):
+        folder = os.path.dirname(folder)
+    if not os.path.isdir(folder):
+        raise OracleMeshError(f"{path}: cannot write the {what}: {folder} is a file, not a folder")
+    if not os.access(folder, os.W_OK):
+        raise OracleMeshError(f"{path}: cannot write the {what}: no permission to write in {folder}")
 
 
 def _publish(lines, report_path):
@@ -38,11 +103,16 @@ def _sample(args):
     from . import vtkOracleSampler
 
     started = time.perf_counter()
+    for path, what in ((args.output, "image"), (args.report, "report")):
+        if path:
+            check_output_path(path, what)
+    if any(d < 1 or d > 2**31 - 1 for d in args.dims):
+        raise OracleMeshError(f"--dims {' '.join(map(str, args.dims))}: each must be an integer from 1 to {2**31 - 1}")
     scene = load_scene(args.scene)
     sampler = vtkOracleSampler()
     sampler.SetInputConnection(scene.oracle.GetOutputPort())
     sampler.SetDimensions(*args.dims)
-    image = update(sampler)
+    image = SIGNALS.update(sampler)
     if args.output:
         write_vtk_xml(image, args.output, vtkXMLImageDataWriter)
     names = scene.material_names()
@@ -101,8 +171,14 @@ def _mesh(args):
         ext = os.path.splitext(out)[1].lower()
         if ext not in MESH_FORMATS:
             raise OracleMeshError(f"{out}: unknown mesh format '{ext}' (use one of {', '.join(MESH_FORMATS)})")
+        check_output_path(out, "mesh")
+    for path, what in ((args.report or scene.outputs.get("report"), "report"),
+                       (args.histogram or scene.outputs.get("histogram"), "histogram"),
+                       (args.summary, "summary")):
+        if path:
+            check_output_path(path, what)
     progress = _Progress(sys.stderr, machine=args.progress_lines) if args.progress or args.progress_lines else None
-    result = mesh(scene, args.strategy, progress)
+    result = mesh(scene, args.strategy, progress, updater=SIGNALS.update)
     started = time.perf_counter()
     written = result.save(*outputs)
     lines = result.report.split("\n")
@@ -143,6 +219,9 @@ def _strict_status(args, q, what):
 def _report(args):
     from .report import read_mesh, report_lines, save_histogram
 
+    for path, what in ((args.png, "histogram"), (args.report, "report")):
+        if path:
+            check_output_path(path, what)
     grid = read_mesh(args.mesh)
     lines, q = report_lines(grid, f"Mesh {args.mesh}", source=args.mesh)
     png = None if args.no_png else (args.png or os.path.splitext(args.mesh)[0] + "_dihedral.png")
@@ -205,11 +284,39 @@ def main(argv=None):
     p.add_argument("--timeout", type=float, help="seconds after which a scene's process is stopped")
     p.set_defaults(run=_batch)
     args = parser.parse_args(argv)
+    SIGNALS.install()
     try:
         return args.run(args)
+    except (Interrupted, KeyboardInterrupt):
+        return _interrupted()
+    except MeshingError as e:
+        if e.aborted and SIGNALS.received:
+            return _interrupted()
+        print(f"oraclemesh: error: {e}", file=sys.stderr)
+        return 3
     except OracleMeshError as e:
+        if SIGNALS.received:
+            return _interrupted()
         print(f"oraclemesh: error: {e}", file=sys.stderr)
         return 2
+    except MemoryError:
+        print("oraclemesh: error: out of memory", file=sys.stderr)
+        return 3
+    except OSError as e:  # a file that cannot be read or written, named by the system
+        where = e.filename or "oraclemesh"
+        print(f"oraclemesh: error: {where}: {e.strerror or e}", file=sys.stderr)
+        return 2
+    except Exception as e:  # a bug: one line unless asked for the traceback
+        if os.environ.get("ORACLEMESH_TRACEBACK"):
+            raise
+        print(f"oraclemesh: internal error: {type(e).__name__}: {e} (ORACLEMESH_TRACEBACK=1 shows where; "
+              "please report it)", file=sys.stderr)
+        return 1
+
+
+def _interrupted():
+    print(f"oraclemesh: interrupted ({SIGNALS.received or 'SIGINT'})", file=sys.stderr)
+    return 130
 
 
 if __name__ == "__main__":

@@ -1,12 +1,21 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """VTK reports filter errors through vtkErrorMacro (an ErrorEvent and a line on stderr) and a
 failed update; Python users want an exception. ``update`` gives them one."""
+import re
+
 from vtkmodules.util.misc import calldata_type
 from vtkmodules.util.vtkConstants import VTK_STRING
 
 
 class OracleMeshError(RuntimeError):
     """Bad input or a failed pipeline stage; the message names the input and what is wrong."""
+
+
+class MeshingError(OracleMeshError):
+    """The input was accepted but meshing did not finish: a failure inside CGAL, memory, or an abort
+    (``aborted`` is then True). The command line exits with 3 (130 when a signal aborted it)."""
+
+    aborted = False
 
 
 def _pipeline(algorithm):
@@ -25,22 +34,43 @@ def _pipeline(algorithm):
 
 
 def _clean(text):
-    """'ERROR: In file, line N\\nvtkClass (0x...): message' -> 'message'."""
+    """'ERROR: In file, line N\\nvtkClass (0x...): message' -> 'message'; drops object addresses."""
     text = str(text).strip()
     head, sep, tail = text.partition("): ")
-    return tail.strip() if sep and "\n" in head else text
+    text = tail.strip() if sep and "\n" in head else text
+    return re.sub(r" ?\(0x[0-9a-fA-F]+\)", "", text)
+
+
+def _named(obj, message):
+    """A reader's message with its file name in front, when the reader did not name it."""
+    get = getattr(obj, "GetFileName", None)
+    name = get() if callable(get) else None
+    if name and name not in message:
+        return f"{name}: {message}"
+    return message
+
+
+def _error_for(message):
+    """The exception class for a filter's message: MeshingError for the mesher's own failures."""
+    if message.startswith("meshing failed") or message.startswith("meshing aborted"):
+        error = MeshingError(message)
+        error.aborted = message.startswith("meshing aborted")
+        return error
+    return OracleMeshError(message)
 
 
 def update(algorithm, port=0):
     """Update ``algorithm`` and return its output data object on ``port``.
 
     Raises OracleMeshError with the first error message of the algorithm or of anything upstream
-    (all messages are in the exception's ``messages`` attribute)."""
+    (all messages are in the exception's ``messages`` attribute); MeshingError when the input was
+    accepted but meshing failed or was aborted. A failed update without a message (a wrong data type
+    on a port, a port left unconnected) raises too: never an empty output as success."""
     messages, executive_messages = [], []
 
     @calldata_type(VTK_STRING)
     def on_error(obj, event, calldata):
-        messages.append(_clean(calldata))
+        messages.append(_named(obj, _clean(calldata)))
 
     @calldata_type(VTK_STRING)
     def on_executive_error(obj, event, calldata):
@@ -52,15 +82,17 @@ def update(algorithm, port=0):
         executive = alg.GetExecutive()
         observed.append((executive, executive.AddObserver("ErrorEvent", on_executive_error)))
     try:
-        ok = algorithm.Update(port) if port else algorithm.Update()
+        ok = algorithm.GetExecutive().Update(port)  # vtkAlgorithm.Update() returns nothing
     finally:
         for alg, tag in observed:
             alg.RemoveObserver(tag)
     if messages:
-        error = OracleMeshError(messages[0])
+        error = _error_for(messages[0])
         error.messages = messages
         raise error
-    if ok == 0:
-        raise OracleMeshError(
+    if not ok:
+        error = OracleMeshError(
             executive_messages[0] if executive_messages else f"{algorithm.GetClassName()} failed to update")
+        error.messages = executive_messages
+        raise error
     return algorithm.GetOutputDataObject(port)

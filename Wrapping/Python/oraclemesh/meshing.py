@@ -153,20 +153,21 @@ class MeshResult:
                 f"min dihedral {self.quality['min_dihedral']:.1f} deg>")
 
 
-def mesh(scene, strategy=None, progress=None, base_dir=None):
+def mesh(scene, strategy=None, progress=None, base_dir=None, updater=update):
     """Meshes a scene and returns a MeshResult (``.grid``, ``.report``, ``.statistics``, ``.save()``).
 
     `scene`: a JSON scene file path, a dict in the same format (see the README's "Scene files";
     relative file paths resolve against `base_dir`, default the working folder) or a loaded Scene.
     `strategy` overrides the scene's feature strategy ("Conforming", "None", "ProtectingBalls");
-    `progress`, if given, is called with the mesher's progress (0..1). Bad scenes and failed meshing
+    `progress`, if given, is called with the mesher's progress (0..1); `updater` runs the mesher
+    (default errors.update; the command line passes one that signals can abort). Bad scenes and failed meshing
     raise OracleMeshError naming the problem."""
     started = time.perf_counter()
     scene = as_scene(scene, base_dir)
     mesher = mesher_for(scene, strategy)
     if progress is not None:
         mesher.AddObserver("ProgressEvent", lambda algorithm, event: progress(algorithm.GetProgress()))
-    grid = update(mesher)
+    grid = updater(mesher)
     segments = mesher.GetOutputDataObject(2)
     describe(grid, scene.material_names(), segments.GetNumberOfCells() if segments is not None else 0)
     strategy = strategy or scene.mesh.get("strategy", "Conforming")

@@ -18,6 +18,7 @@ in the scene with their origin, spacing and direction, and converted to the scen
 """
 import functools
 import os
+import struct
 
 from .errors import OracleMeshError
 
@@ -50,6 +51,7 @@ def surface_reader(path):
     else:
         raise OracleMeshError(f"{path}: unknown surface format '{ext}' (use one of {', '.join(SURFACE_EXTENSIONS)})")
     _check_exists(path)
+    _check_surface_file(path, ext)
     reader = Reader()
     reader.SetFileName(path)
     if ext == ".stl":
@@ -66,6 +68,7 @@ def label_map_reader(path, space="LPS"):
     if space not in SPACES:
         raise OracleMeshError(f"{path}: unknown space {space!r} (use LPS or RAS)")
     _check_exists(path)
+    _check_label_map_file(path, ext)
     if ext == ".vti":
         from vtkmodules.vtkIOXML import vtkXMLImageDataReader
 
@@ -91,8 +94,222 @@ def label_map_reader(path, space="LPS"):
 
 
 def _check_exists(path):
+    if os.path.isdir(path):
+        raise OracleMeshError(f"{path}: is a folder, not a file")
     if not os.path.isfile(path):
         raise OracleMeshError(f"{path}: file not found")
+    if os.path.getsize(path) == 0:
+        raise OracleMeshError(f"{path}: the file is empty (0 bytes)")
+
+
+# ---------------------------------------------------------------------------------------------------
+# Checks before a reader runs: VTK's readers crash on some truncated files (PLY), read others
+# silently short (binary STL, MetaImage) or allocate what a header asks for (1e14 voxels).
+
+def available_memory():
+    """Bytes this process can still allocate: MemAvailable, capped by the address-space limit."""
+    import resource
+
+    available = None
+    try:
+        with open("/proc/meminfo") as f:
+            for line in f:
+                if line.startswith("MemAvailable:"):
+                    available = float(line.split()[1]) * 1024
+                    break
+    except OSError:
+        pass
+    if available is None:
+        try:
+            available = float(os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE"))
+        except (ValueError, OSError):
+            available = 1e18
+    soft = resource.getrlimit(resource.RLIMIT_AS)[0]
+    if soft != resource.RLIM_INFINITY:
+        available = min(available, float(soft))
+    return available
+
+
+def _size_text(count):
+    for unit in ("bytes", "KB", "MB", "GB", "TB", "PB", "EB"):
+        if count < 1024 or unit == "EB":
+            return f"{count:.0f} {unit}" if unit == "bytes" else f"{count:.1f} {unit}"
+        count /= 1024.0
+
+
+def check_memory(path, what, voxels, bytes_each):
+    """Refuses a label map whose voxels would not fit: the image (bytes_each - 6) and the oracle's
+    copy and index (6 bytes a voxel)."""
+    needed, available = float(voxels) * bytes_each, available_memory()
+    if needed > available:
+        raise OracleMeshError(f"{path}: {what} = {float(voxels):.3g} voxels would need {_size_text(needed)} of "
+                              f"memory ({bytes_each} bytes each, with the oracle's copy); "
+                              f"{_size_text(available)} available")
+
+
+def _truncated(path, detail):
+    return OracleMeshError(f"{path}: the file is truncated: {detail}")
+
+
+def _check_surface_file(path, ext):
+    size = os.path.getsize(path)
+    if ext == ".stl":
+        with open(path, "rb") as f:
+            head = f.read(84)
+            f.seek(max(0, size - 512))
+            tail = f.read()
+        binary_size = 84 + 50 * struct.unpack("<I", head[80:84])[0] if len(head) == 84 else None
+        if binary_size == size:
+            return
+        if head.lstrip().lower().startswith(b"solid") and b"facet" in head + tail:
+            if b"endsolid" not in tail.lower():
+                raise _truncated(path, "an ASCII STL without 'endsolid' at the end")
+            return
+        if binary_size is None:
+            raise _truncated(path, f"{size} bytes, less than a binary STL's 84-byte header")
+        if size < binary_size:
+            raise _truncated(path, f"{size} bytes; the binary STL header's {(binary_size - 84) // 50} triangles "
+                                   f"need {binary_size}")
+    elif ext == ".ply":
+        _check_ply(path, size)
+    elif ext == ".vtp":
+        _check_xml(path, size)
+
+
+_PLY_SIZES = {"char": 1, "uchar": 1, "int8": 1, "uint8": 1, "short": 2, "ushort": 2, "int16": 2, "uint16": 2,
+              "int": 4, "uint": 4, "int32": 4, "uint32": 4, "float": 4, "float32": 4, "double": 8, "float64": 8}
+
+
+def _check_ply(path, size):
+    with open(path, "rb") as f:
+        head = f.read(65536)
+    if not head.startswith(b"ply"):
+        raise OracleMeshError(f"{path}: not a PLY file (no 'ply' magic)")
+    end = head.find(b"end_header")
+    if end < 0:
+        raise _truncated(path, "the PLY header has no 'end_header'")
+    body_start = head.find(b"\n", end) + 1 or len(head)
+    elements, fmt = [], "ascii"
+    for line in head[:end].decode("latin-1").splitlines():
+        words = line.split()
+        if not words:
+            continue
+        if words[0] == "format" and len(words) > 1:
+            fmt = words[1]
+        elif words[0] == "element" and len(words) == 3:
+            try:
+                elements.append([words[1], int(words[2]), 0])
+            except ValueError:
+                raise OracleMeshError(f"{path}: bad PLY header line {line!r}") from None
+        elif words[0] == "property" and elements:
+            # minimal bytes per item: a list counts its length field and 3 entries (a triangle)
+            if len(words) >= 5 and words[1] == "list":
+                elements[-1][2] += _PLY_SIZES.get(words[2], 1) + 3 * _PLY_SIZES.get(words[3], 4)
+            else:
+                elements[-1][2] += _PLY_SIZES.get(words[1], 1)
+    if fmt == "ascii":
+        with open(path, "rb") as f:
+            f.seek(body_start)
+            lines = sum(1 for line in f if line.strip())
+        needed = sum(count for _, count, _ in elements)
+        if lines < needed:
+            raise _truncated(path, f"{lines} data lines after the PLY header, which announces {needed}")
+    else:
+        needed = sum(count * each for _, count, each in elements)
+        if size - body_start < needed:
+            described = ", ".join(f"{count} {name}" for name, count, _ in elements)
+            raise _truncated(path, f"{size - body_start} bytes after the PLY header, which announces "
+                                   f"{described} (at least {needed} bytes)")
+
+
+def _check_xml(path, size):
+    with open(path, "rb") as f:
+        head = f.read(4096)
+        f.seek(max(0, size - 1024))
+        tail = f.read()
+    if b"<VTKFile" not in head:
+        raise OracleMeshError(f"{path}: not a VTK XML file (no <VTKFile> element)")
+    if b"</VTKFile>" not in tail:
+        raise _truncated(path, "the VTK XML file does not end with </VTKFile>")
+    return head
+
+
+_META_SIZES = {"MET_CHAR": 1, "MET_UCHAR": 1, "MET_SHORT": 2, "MET_USHORT": 2, "MET_INT": 4, "MET_UINT": 4,
+               "MET_LONG": 4, "MET_ULONG": 4, "MET_LONG_LONG": 8, "MET_ULONG_LONG": 8, "MET_FLOAT": 4,
+               "MET_DOUBLE": 8}
+_NIFTI_SIZES = {2: 1, 4: 2, 8: 4, 16: 4, 64: 8, 256: 1, 512: 2, 768: 4, 1024: 8, 1280: 8}
+
+
+def _check_label_map_file(path, ext):
+    import gzip
+    import re
+
+    size = os.path.getsize(path)
+    if ext == ".vti":
+        head = _check_xml(path, size)
+        match = re.search(rb'WholeExtent="([^"]*)"', head)
+        if match:
+            try:
+                e = [int(v) for v in match.group(1).split()]
+                voxels = (e[1] - e[0] + 1) * (e[3] - e[2] + 1) * (e[5] - e[4] + 1)
+            except (ValueError, IndexError):
+                raise OracleMeshError(f"{path}: bad WholeExtent {match.group(1).decode('latin-1')!r}") from None
+            check_memory(path, f"WholeExtent {match.group(1).decode('latin-1')}", voxels, 1 + 6)
+    elif ext in (".mha", ".mhd"):
+        header = _metaimage_header(path)
+        try:
+            dims = [int(v) for v in header.get("DimSize", "").split()]
+        except ValueError:
+            dims = []
+        if not dims:
+            raise OracleMeshError(f"{path}: MetaImage header has no valid DimSize")
+        each = _META_SIZES.get(header.get("ElementType", "MET_UCHAR"), 1) * int(header.get("ElementNumberOfChannels", "1"))
+        voxels = 1
+        for d in dims:
+            voxels *= d
+        check_memory(path, f"DimSize {' x '.join(map(str, dims))}", voxels, each + 6)
+        data_file = header.get("ElementDataFile", "LOCAL")
+        compressed = header.get("CompressedData", "False").lower() == "true"
+        if data_file == "LOCAL":
+            with open(path, "rb") as f:
+                blob = f.read(65536)
+            at = blob.find(b"ElementDataFile")
+            start = blob.find(b"\n", at) + 1 if at >= 0 else size
+            available = size - start
+        elif os.path.isfile(os.path.join(os.path.dirname(path), data_file)):
+            available = os.path.getsize(os.path.join(os.path.dirname(path), data_file))
+        else:
+            raise OracleMeshError(f"{path}: its data file {data_file} is missing")
+        expected = int(header["CompressedDataSize"]) if compressed and "CompressedDataSize" in header else \
+            (None if compressed else voxels * each)
+        if expected is not None and available < expected:
+            raise _truncated(path, f"{available} bytes of voxel data, DimSize and ElementType need {expected}")
+    elif ext in (".nii", ".nii.gz"):
+        try:
+            with (gzip.open(path, "rb") if ext == ".nii.gz" else open(path, "rb")) as f:
+                header = f.read(352)
+        except (OSError, EOFError) as e:
+            raise _truncated(path, f"the compressed NIfTI header cannot be read ({e})") from None
+        if len(header) < 348:
+            raise _truncated(path, f"{len(header)} bytes, less than the 348-byte NIfTI header")
+        for order in "<>":
+            if struct.unpack(order + "i", header[:4])[0] == 348:
+                break
+        else:
+            raise OracleMeshError(f"{path}: not a NIfTI-1 file (sizeof_hdr is not 348)")
+        dim = struct.unpack(order + "8h", header[40:56])
+        datatype = struct.unpack(order + "h", header[70:72])[0]
+        offset = struct.unpack(order + "f", header[108:112])[0]
+        if not 1 <= dim[0] <= 7 or any(d < 0 for d in dim[1:dim[0] + 1]):
+            raise OracleMeshError(f"{path}: bad NIfTI dim {list(dim)}")
+        voxels = 1
+        for d in dim[1:dim[0] + 1]:
+            voxels *= max(d, 1)
+        each = _NIFTI_SIZES.get(datatype, 8)
+        check_memory(path, f"dim {' x '.join(map(str, dim[1:dim[0] + 1]))}", voxels, each + 6)
+        if ext == ".nii" and size < int(offset) + voxels * each:
+            raise _truncated(path, f"{size} bytes; the NIfTI header's dim and datatype need "
+                                   f"{int(offset) + voxels * each}")
 
 
 # ---------------------------------------------------------------------------------------------------
@@ -291,6 +508,7 @@ def read_nrrd(path):
     except (OSError, EOFError, ValueError) as e:
         raise OracleMeshError(f"{path}: the {encoding} data cannot be decompressed ({e})") from None
     count = sizes[0] * sizes[1] * sizes[2]
+    check_memory(path, f"sizes {' x '.join(map(str, sizes))}", count, 2 * dtype.itemsize + 6)
     if encoding in ("ascii", "text", "txt"):
         values = np.array(payload.split(), dtype=np.float64)
     else:
@@ -298,7 +516,8 @@ def read_nrrd(path):
         payload = payload[-count * dtype.itemsize:] if skip == -1 else payload[skip:]
         values = np.frombuffer(payload, dtype=dtype, count=min(count, len(payload) // dtype.itemsize))
     if values.size != count:
-        raise OracleMeshError(f"{path}: {values.size} values for sizes {' x '.join(map(str, sizes))} ({count})")
+        raise OracleMeshError(f"{path}: the file is truncated or too long: {values.size} values for sizes "
+                              f"{' x '.join(map(str, sizes))} ({count})")
     frame = None
     if "space" in fields:
         frame = _NRRD_SPACES.get(fields["space"].lower())
@@ -421,10 +640,11 @@ def read_inrimage(path):
         big = fields.get("CPU", "decm").lower() in ("sun", "sgi")
         dtype = dtype.newbyteorder(">" if big else "<")
     count = sizes[0] * sizes[1] * sizes[2]
+    check_memory(path, f"XDIM YDIM ZDIM {' x '.join(map(str, sizes))}", count, 2 * dtype.itemsize + 6)
     payload = blob[header_size:]
     if len(payload) < count * dtype.itemsize:
-        raise OracleMeshError(f"{path}: {len(payload)} bytes of data for {' x '.join(map(str, sizes))} voxels "
-                              f"of {dtype.itemsize} byte(s)")
+        raise OracleMeshError(f"{path}: the file is truncated: {len(payload)} bytes of data for "
+                              f"{' x '.join(map(str, sizes))} voxels of {dtype.itemsize} byte(s)")
     values = np.frombuffer(payload, dtype=dtype, count=count)
     spacing = np.array([float(fields.get(k, "1")) for k in ("VX", "VY", "VZ")])
     origin = np.array([float(fields.get(k, "0")) for k in ("TX", "TY", "TZ")])  # CGAL's Image_3 translation

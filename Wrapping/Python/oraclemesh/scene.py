@@ -51,6 +51,8 @@ MESH_KEYS = {"strategy", "criteria", "materials", "features", "seed", "maximum_n
              "exudation_steps_per_cell", "optimisation_time_limit"}
 FEATURE_KEYS = {"from_surface", "feature_angle", "files", "comment"}
 OUTPUT_KEYS = {"mesh", "report", "histogram", "comment"}
+INT_MIN, INT_MAX = -2**31, 2**31 - 1  # the C int of material ids, labels and the seed
+ID_MAX = 2**63 - 1  # vtkIdType: the vertex budget
 
 
 class Scene:
@@ -150,7 +152,10 @@ def _vector(problems, spec, path, key, n, required=True, default=None):
     return [float(v) for v in value]
 
 
-def _number(problems, spec, path, key, positive=False, required=True, default=None, integer=False):
+def _number(problems, spec, path, key, positive=False, required=True, default=None, integer=False,
+            low=INT_MIN, high=INT_MAX):
+    """A validated number (None when missing or bad); integers must lie in [low, high]: the C types
+    the values go to (int, or vtkIdType for the vertex budget)."""
     value = spec.get(key, default)
     if value is None:
         if required:
@@ -164,19 +169,46 @@ def _number(problems, spec, path, key, positive=False, required=True, default=No
         article = "a positive" if positive else ("an" if integer else "a")
         problems.add(f"{path}.{key}", f"must be {article} {kind}, got {value!r}")
         return None
+    if integer and not low <= value <= high:
+        problems.add(f"{path}.{key}", f"{int(value)} is out of range (an integer from {low} to {high})")
+        return None
     return int(value) if integer else float(value)
+
+
+def _integer_key(problems, key, path, low=0, high=INT_MAX, what="material id"):
+    """An object key that must be an integer in [low, high] (material ids, labels), or None."""
+    try:
+        value = int(key)
+    except ValueError:
+        problems.add(path, f"key must be an integer {what}")
+        return None
+    if not low <= value <= high:
+        problems.add(path, f"{what} {value} is out of range (an integer from {low} to {high})")
+        return None
+    return value
 
 
 def load_scene(path):
     """Reads and validates a scene file; returns a Scene whose pipeline is built but not run.
     Raises OracleMeshError listing every problem with its JSON path."""
     try:
-        with open(path) as f:
+        with open(path, encoding="utf-8") as f:
             description = json.load(f)
     except FileNotFoundError:
         raise OracleMeshError(f"{path}: scene file not found") from None
+    except IsADirectoryError:
+        raise OracleMeshError(f"{path}: is a folder, not a scene file (JSON)") from None
+    except PermissionError:
+        raise OracleMeshError(f"{path}: the scene file cannot be read (permission denied)") from None
+    except UnicodeDecodeError as e:
+        raise OracleMeshError(f"{path}: not a scene file: a binary file, not UTF-8 JSON text "
+                              f"(byte 0x{e.object[e.start]:02x} at offset {e.start})") from None
     except json.JSONDecodeError as e:
         raise OracleMeshError(f"{path}: not valid JSON: {e}") from None
+    except RecursionError:
+        raise OracleMeshError(f"{path}: not a scene file: JSON nested too deeply") from None
+    except OSError as e:
+        raise OracleMeshError(f"{path}: the scene file cannot be read ({e.strerror or e})") from None
     return build_scene(description, os.path.dirname(os.path.abspath(path)), source=path)
 
 
@@ -229,10 +261,8 @@ def _mesh_block(problems, spec, scene):
         problems.add("$.mesh.materials", "must be an object {material id: {criterion: number}}")
         materials = {}
     for key, value in materials.items():
-        try:
-            material = int(key)
-        except ValueError:
-            problems.add(f"$.mesh.materials.{key}", "key must be an integer material id")
+        material = _integer_key(problems, key, f"$.mesh.materials.{key}")
+        if material is None:
             continue
         mesh["materials"][material] = _criteria(problems, value, f"$.mesh.materials.{key}")
     mesh["seed"] = _number(problems, spec, "$.mesh", "seed", required=False, default=0, integer=True) or 0
@@ -257,7 +287,7 @@ def _mesh_block(problems, spec, scene):
             else:
                 mesh[key] = value
     limit = _number(problems, spec, "$.mesh", "maximum_number_of_vertices", positive=True, required=False,
-                    integer=True)
+                    integer=True, low=1, high=ID_MAX)
     if limit is not None:
         mesh["maximum_number_of_vertices"] = limit
     features = spec.get("features")
@@ -404,10 +434,9 @@ def build_scene(description, base_dir=".", source="scene"):
                     problems.add(f"{where}.label_names", "must be an object {label: name}")
                     names = {}
                 for label, label_name in names.items():
-                    try:
-                        domain.SetLabelName(int(label), str(label_name))
-                    except ValueError:
-                        problems.add(f"{where}.label_names.{label}", "key must be an integer label")
+                    value = _integer_key(problems, label, f"{where}.label_names.{label}", low=INT_MIN, what="label")
+                    if value is not None:
+                        domain.SetLabelName(value, str(label_name))
             domain.SetInputConnection(reader.GetOutputPort())
         elif kind == "sphere":
             center = _vector(problems, spec, where, "center", 3)
