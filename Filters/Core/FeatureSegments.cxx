@@ -13,6 +13,13 @@
 
 namespace omesh
 {
+double angleAt(const Vec3& v, const Vec3& p, const Vec3& q)
+{
+  const Vec3 a = p - v, b = q - v;
+  const double c = dot(a, b) / (norm(a) * norm(b));
+  return std::acos(std::clamp(c, -1.0, 1.0)) * 180.0 / M_PI;
+}
+
 namespace
 {
 using K = CGAL::Exact_predicates_inexact_constructions_kernel;
@@ -26,13 +33,6 @@ std::string describeSegment(const FeatureSegments& f, size_t s)
   o << "segment " << s << " (" << a.x << ", " << a.y << ", " << a.z << ") - (" << b.x << ", " << b.y
     << ", " << b.z << ")";
   return o.str();
-}
-
-double angleAt(const Vec3& v, const Vec3& p, const Vec3& q)
-{
-  const Vec3 a = p - v, b = q - v;
-  const double c = dot(a, b) / (norm(a) * norm(b));
-  return std::acos(std::clamp(c, -1.0, 1.0)) * 180.0 / M_PI;
 }
 
 /// For each point, the segments incident to it.

@@ -34,4 +34,7 @@ struct FeatureSegments
   /// Smallest angle (degrees) between two segments sharing a vertex; 180 if none share one.
   double smallestAngle() const;
 };
+
+/// Angle (degrees) at v between the directions to p and to q.
+double angleAt(const Vec3& v, const Vec3& p, const Vec3& q);
 }

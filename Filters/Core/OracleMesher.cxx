@@ -865,6 +865,11 @@ TetMesh meshOracleUnguarded(const HierarchicalOracle& oracle, const FeatureSegme
     // encroached; weights are still zero here, after the exuder they are not).
     const bool encroached = conforming && !budgetHit && !stalled && [&] {
       Segments level(c3t3, segs, segVertex, domain.index_from_curve_index(1), minSubSegment, segCount);
+      if (level.removeEncroachersOfShortSubSegments() > 0)
+      {
+        c3t3.rescan_after_load_of_triangulation(); // the removals deleted cells of the complex
+        return true;
+      }
       return level.countEncroached() > 0 || level.countMissingFromComplex(touchesMaterial) > 0;
     }();
     if (encroached)
@@ -947,7 +952,9 @@ TetMesh meshOracleUnguarded(const HierarchicalOracle& oracle, const FeatureSegme
   st["refinement_points_refused_T2.1_T3.1"] = static_cast<double>(segCount.vetoes);
   st["refinement_points_dropped_at_short_segments"] = static_cast<double>(segCount.dropped);
   st["segment_splits_missing_from_mesh"] = static_cast<double>(segCount.missingSplits);
+  st["segment_splits_mirrored_in_small_angle_clusters"] = static_cast<double>(segs.mirrored + segCount.mirrored);
   st["segment_splits_after_optimisation"] = static_cast<double>(repaired);
+  st["vertices_removed_from_segment_balls_after_perturbation"] = static_cast<double>(segCount.removedEncroachers);
   st["optimisation.perturbation_steps"] = static_cast<double>(perturbed.steps);
   st["optimisation.perturbation_cut_short"] = perturbed.cutShort;
   st["optimisation.exudation_steps"] = static_cast<double>(exuded.steps);

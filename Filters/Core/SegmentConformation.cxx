@@ -2,10 +2,69 @@
 #include "SegmentConformation.h"
 
 #include <algorithm>
+#include <cmath>
+#include <cstdint>
 #include <limits>
+#include <numeric>
+#include <unordered_map>
 
 namespace omesh
 {
+SegmentSet::SegmentSet(const FeatureSegments& f)
+  : points(f.points)
+  , corner(f.points.size(), 1)
+  , inputEnds_(f.segments.size())
+  , cluster_(f.segments.size())
+  , subsOfInput_(f.segments.size())
+  , scale_(f.segments.size(), { 1.0, 1.0 })
+{
+  std::vector<std::vector<int>> incident(f.points.size());
+  for (size_t s = 0; s < f.segments.size(); ++s)
+  {
+    subs.push_back({ f.segments[s][0], f.segments[s][1], static_cast<int>(s) });
+    subsOfInput_[s] = { static_cast<int>(s) };
+    inputEnds_[s] = f.segments[s];
+    incident[f.segments[s][0]].push_back(static_cast<int>(s));
+    incident[f.segments[s][1]].push_back(static_cast<int>(s));
+  }
+  // Clusters at each vertex: the segments there joined, transitively, by angles below kClusterAngle.
+  for (size_t v = 0; v < incident.size(); ++v)
+  {
+    const std::vector<int>& at = incident[v];
+    if (at.size() < 2)
+      continue;
+    std::vector<size_t> root(at.size());
+    std::iota(root.begin(), root.end(), size_t{ 0 });
+    auto find = [&root](size_t i) {
+      while (root[i] != i)
+        i = root[i] = root[root[i]];
+      return i;
+    };
+    auto far = [&](int seg) { return points[inputEnds_[seg][0] == static_cast<int>(v) ? inputEnds_[seg][1] : inputEnds_[seg][0]]; };
+    for (size_t i = 0; i < at.size(); ++i)
+      for (size_t j = i + 1; j < at.size(); ++j)
+        if (angleAt(points[v], far(at[i]), far(at[j])) < kClusterAngle)
+          root[find(i)] = find(j);
+    for (size_t i = 0; i < at.size(); ++i)
+    {
+      const int end = inputEnds_[at[i]][0] == static_cast<int>(v) ? 0 : 1;
+      int rank = 0;
+      for (size_t j = 0; j < at.size(); ++j)
+        if (i != j && find(i) == find(j))
+        {
+          cluster_[at[i]][end].push_back(at[j]);
+          rank += j < i;
+        }
+      scale_[at[i]][end] = 1.0 + 1e-9 * rank;
+    }
+  }
+}
+
+double SegmentSet::shellDistance(int input, int at, double cut) const
+{
+  return cut * scale_[input][inputEnds_[input][0] == at ? 0 : 1];
+}
+
 int SegmentSet::add(const Vec3& p)
 {
   points.push_back(p);
@@ -19,16 +78,113 @@ int SegmentSet::split(size_t s, double t)
   const int m = add(lerp(points[a], points[b], t));
   subs[s] = { a, m, input };
   subs.push_back({ m, b, input });
+  if (static_cast<size_t>(input) < subsOfInput_.size())
+    subsOfInput_[input].push_back(static_cast<int>(subs.size()) - 1);
   return m;
+}
+
+std::vector<std::pair<int, double>> SegmentSet::mirrorSplits(size_t s, double t) const
+{
+  std::vector<std::pair<int, double>> out;
+  const auto [a, b, input] = subs[s];
+  if (static_cast<size_t>(input) >= inputEnds_.size())
+    return out;
+  const Vec3 m = lerp(points[a], points[b], t);
+  const double r0 = norm(m - points[inputEnds_[input][0]]), r1 = norm(m - points[inputEnds_[input][1]]);
+  const int side = r0 <= r1 ? 0 : 1;
+  const int apex = inputEnds_[input][side];
+  const double shell = std::min(r0, r1) / scale_[input][side];
+  for (int j : cluster_[input][side])
+  {
+    const int jSide = inputEnds_[j][0] == apex ? 0 : 1;
+    const int other = inputEnds_[j][1 - jSide];
+    const double rho = shell * scale_[j][jSide];
+    const double len = norm(points[other] - points[apex]);
+    if (rho > 0.5 * len)
+      continue; // beyond the segment's half near the apex: its other end's business
+    const double tol = 1e-9 * len;
+    for (int x : subsOfInput_[j])
+    {
+      const double da = norm(points[subs[x][0]] - points[apex]), db = norm(points[subs[x][1]] - points[apex]);
+      if (rho > std::min(da, db) + tol && rho < std::max(da, db) - tol)
+      {
+        if (std::min(std::abs(rho - da), std::abs(rho - db)) >= 0.25 * length(s))
+          out.emplace_back(x, (rho - da) / (db - da));
+        break;
+      }
+    }
+  }
+  return out;
+}
+
+namespace
+{
+/// Segment points in a uniform hash grid: "is there a point in this ball" without looking at
+/// every point (dense feature lines have tens of thousands).
+class PointGrid
+{
+public:
+  PointGrid(const std::vector<Vec3>& points, double cell)
+    : points_(points)
+    , cell_(cell > 0 && std::isfinite(cell) ? cell : 1.0)
+  {
+    for (size_t p = 0; p < points.size(); ++p)
+      add(static_cast<int>(p));
+  }
+  void add(int p) { cells_[key(coord(points_[p]))].push_back(p); }
+
+  /// A point other than `skipA`, `skipB` strictly inside the ball (centre, squared radius r2).
+  bool anyInside(const Vec3& centre, double r2, int skipA, int skipB) const
+  {
+    auto inside = [&](int p) {
+      if (p == skipA || p == skipB)
+        return false;
+      const Vec3 d = points_[p] - centre;
+      return dot(d, d) < r2 * (1.0 - 1e-12);
+    };
+    const double r = std::sqrt(r2);
+    const std::array<long long, 3> lo = coord(centre - Vec3{ r, r, r }), hi = coord(centre + Vec3{ r, r, r });
+    const double cells = double(hi[0] - lo[0] + 1) * double(hi[1] - lo[1] + 1) * double(hi[2] - lo[2] + 1);
+    if (cells > static_cast<double>(points_.size()))
+    {
+      for (size_t p = 0; p < points_.size(); ++p)
+        if (inside(static_cast<int>(p)))
+          return true;
+      return false;
+    }
+    for (long long i = lo[0]; i <= hi[0]; ++i)
+      for (long long j = lo[1]; j <= hi[1]; ++j)
+        for (long long k = lo[2]; k <= hi[2]; ++k)
+        {
+          const auto it = cells_.find(key({ i, j, k }));
+          if (it != cells_.end())
+            for (int p : it->second)
+              if (inside(p))
+                return true;
+        }
+    return false;
+  }
+
+private:
+  std::array<long long, 3> coord(const Vec3& p) const
+  {
+    return { static_cast<long long>(std::floor(p.x / cell_)), static_cast<long long>(std::floor(p.y / cell_)),
+      static_cast<long long>(std::floor(p.z / cell_)) };
+  }
+  static std::uint64_t key(const std::array<long long, 3>& c)
+  {
+    return (static_cast<std::uint64_t>(c[0]) * 73856093ULL) ^ (static_cast<std::uint64_t>(c[1]) * 19349663ULL) ^
+      (static_cast<std::uint64_t>(c[2]) * 83492791ULL);
+  }
+  const std::vector<Vec3>& points_;
+  double cell_;
+  std::unordered_map<std::uint64_t, std::vector<int>> cells_;
+};
 }
 
 SegmentSet conformSegments(const FeatureSegments& f, double edgeSize, size_t maxPoints, std::vector<std::string>& warnings)
 {
-  SegmentSet set;
-  set.points = f.points;
-  set.corner.assign(f.points.size(), 1);
-  for (size_t s = 0; s < f.segments.size(); ++s)
-    set.subs.push_back({ f.segments[s][0], f.segments[s][1], static_cast<int>(s) });
+  SegmentSet set(f);
   const std::vector<bool> star = f.starVertices();
   std::vector<double> lmin(f.points.size(), std::numeric_limits<double>::infinity());
   for (size_t s = 0; s < f.segments.size(); ++s)
@@ -43,7 +199,7 @@ SegmentSet conformSegments(const FeatureSegments& f, double edgeSize, size_t max
       const int at = side == 0 ? a : b;
       if (at >= static_cast<int>(star.size()) || !star[at])
         continue;
-      const double len = set.length(s), cut = lmin[at] / 3.0;
+      const double len = set.length(s), cut = set.shellDistance(set.subs[s][2], at, lmin[at] / 3.0);
       if (len <= cut * (1.0 + 1e-9))
         continue;
       // split so that the piece touching `at` has length cut; keep sub-segment s as the piece
@@ -60,6 +216,15 @@ SegmentSet conformSegments(const FeatureSegments& f, double edgeSize, size_t max
     }
   }
   // T1.2: midpoint splits until no sub-segment is encroached by a segment point (or too long).
+  std::vector<double> lengths;
+  for (size_t s = 0; s < set.subs.size(); ++s)
+    lengths.push_back(set.length(s));
+  std::nth_element(lengths.begin(), lengths.begin() + lengths.size() / 2, lengths.end());
+  PointGrid grid(set.points, lengths.empty() ? 1.0 : lengths[lengths.size() / 2]);
+  auto splitAt = [&](size_t s, double t) {
+    grid.add(set.split(s, t));
+    ++set.splits;
+  };
   bool changed = true;
   while (changed)
   {
@@ -67,16 +232,9 @@ SegmentSet conformSegments(const FeatureSegments& f, double edgeSize, size_t max
     for (size_t s = 0; s < set.subs.size(); ++s)
     {
       const Vec3 a = set.points[set.subs[s][0]], b = set.points[set.subs[s][1]];
-      const Vec3 mid = 0.5 * (a + b);
       const double r2 = 0.25 * dot(b - a, b - a);
-      bool bad = edgeSize > 0 && 4.0 * r2 > edgeSize * edgeSize;
-      for (size_t p = 0; !bad && p < set.points.size(); ++p)
-      {
-        if (static_cast<int>(p) == set.subs[s][0] || static_cast<int>(p) == set.subs[s][1])
-          continue;
-        const Vec3 d = set.points[p] - mid;
-        bad = dot(d, d) < r2 * (1.0 - 1e-12);
-      }
+      const bool bad = (edgeSize > 0 && 4.0 * r2 > edgeSize * edgeSize) ||
+        grid.anyInside(0.5 * (a + b), r2, set.subs[s][0], set.subs[s][1]);
       if (bad)
       {
         if (set.points.size() >= maxPoints)
@@ -85,8 +243,13 @@ SegmentSet conformSegments(const FeatureSegments& f, double edgeSize, size_t max
             " points (segments meeting at small angles keep encroaching each other)");
           return set;
         }
-        set.split(s, 0.5);
-        ++set.splits;
+        const auto mirrors = set.mirrorSplits(s, 0.5);
+        splitAt(s, 0.5);
+        for (const auto& [x, t] : mirrors)
+        {
+          splitAt(static_cast<size_t>(x), t);
+          ++set.mirrored;
+        }
         changed = true;
       }
     }

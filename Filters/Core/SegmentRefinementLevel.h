@@ -54,6 +54,8 @@ public:
     size_t dropped = 0;          ///< refinement points refused at sub-segments too short to split
     size_t unsplittable = 0;     ///< encroached sub-segments left alone (too short, or degenerate)
     size_t missingSplits = 0;    ///< splits of sub-segments that were no mesh edge (paper section 5)
+    size_t mirrored = 0;         ///< splits that keep the shells of a small-angle cluster
+    size_t removedEncroachers = 0; ///< perturbed vertices removed from balls of unsplittable sub-segments
   };
 
   /// `vertexOf[p]` is the mesh vertex of segments.points[p] (all already in the triangulation);
@@ -124,6 +126,30 @@ public:
     for (size_t s = 0; s < segs_.subs.size(); ++s)
       n += missingFromComplex(static_cast<int>(s), wanted);
     return n;
+  }
+
+  /// After the perturber: a vertex off the segments that it moved into the diametral ball of a
+  /// sub-segment too short to split breaks that sub-segment for good (seen at apexes of 1 degree).
+  /// Removes such vertices; a refinement pass then fills their holes, refusing points inside the
+  /// balls. Returns how many were removed (the complex needs a rescan then).
+  size_t removeEncroachersOfShortSubSegments()
+  {
+    size_t removed = 0;
+    for (size_t s = 0; s < segs_.subs.size(); ++s)
+    {
+      if (splittable(static_cast<int>(s)))
+        continue;
+      for (int guard = 0; guard < 16; ++guard)
+      {
+        const Vertex_handle v = encroacher(static_cast<int>(s));
+        if (v == Vertex_handle() || pointOf_.count(v) || v->in_dimension() < 2)
+          break;
+        tr_.remove(v);
+        ++removed;
+      }
+    }
+    count_.removedEncroachers += removed;
+    return removed;
   }
 
   // --- the Mesher_level protocol -------------------------------------------------------------
@@ -238,14 +264,17 @@ private:
 
   /// A vertex other than its ends in the diametral ball: then the nearest vertex to the midpoint
   /// is such a vertex (the ends lie on the ball's boundary).
-  bool encroached(int s) const
+  bool encroached(int s) const { return encroacher(s) != Vertex_handle(); }
+
+  /// That vertex, or a null handle.
+  Vertex_handle encroacher(int s) const
   {
     const int a = segs_.subs[s][0], b = segs_.subs[s][1];
     const Vec3 mid = 0.5 * (segs_.points[a] + segs_.points[b]);
     const Vertex_handle v = tr_.nearest_power_vertex(toPoint(mid), vertexOf_[a]->cell());
-    if (v == vertexOf_[a] || v == vertexOf_[b] || tr_.is_infinite(v))
-      return false;
-    return inDiametralBall(s, tr_.point(v).point());
+    if (v == vertexOf_[a] || v == vertexOf_[b] || tr_.is_infinite(v) || !inDiametralBall(s, tr_.point(v).point()))
+      return Vertex_handle();
+    return v;
   }
 
   void enqueue(int s)
@@ -257,14 +286,27 @@ private:
     }
   }
 
-  /// Inserts the midpoint of sub-segment s, as Mesh_3's levels insert their points: conflict zone,
-  /// the upper levels told before and after.
+  /// Splits sub-segment s at its midpoint and keeps the shells of its small-angle cluster (the
+  /// same distance from the apex on the cluster's other segments, see SegmentSet).
   template <class V>
   bool split(int s, V& visitor)
   {
+    const auto mirrors = segs_.mirrorSplits(static_cast<size_t>(s), 0.5);
+    if (!insertSplit(s, 0.5, visitor))
+      return false;
+    for (const auto& [x, t] : mirrors)
+      count_.mirrored += insertSplit(x, t, visitor);
+    return true;
+  }
+
+  /// Inserts the point at parameter t of sub-segment s, as Mesh_3's levels insert their points:
+  /// conflict zone, the upper levels told before and after.
+  template <class V>
+  bool insertSplit(int s, double t, V& visitor)
+  {
     const int a = segs_.subs[s][0];
     // exactly the point SegmentSet::split stores: the exuder check finds segment points by exact location
-    const Vec3 mid = lerp(segs_.points[a], segs_.points[segs_.subs[s][1]], 0.5);
+    const Vec3 mid = lerp(segs_.points[a], segs_.points[segs_.subs[s][1]], t);
     const Weighted_point wp(toPoint(mid));
     Zone zone;
     zone.cell = tr_.locate(wp, zone.locate_type, zone.i, zone.j, vertexOf_[a]->cell());
@@ -290,22 +332,23 @@ private:
     c3t3_.set_index(v, curveIndex_);
 
     const int b = segs_.subs[s][1];
-    const int m = segs_.split(static_cast<size_t>(s), 0.5);
-    const int t = static_cast<int>(segs_.subs.size()) - 1; // (m, b)
+    const int m = segs_.split(static_cast<size_t>(s), t);
+    const int n = static_cast<int>(segs_.subs.size()) - 1; // (m, b)
     vertexOf_.resize(segs_.points.size());
     vertexOf_[m] = v;
     pointOf_[v] = m;
     subsAt_.resize(segs_.points.size());
-    subsAt_[m] = { s, t };
+    subsAt_[m] = { s, n };
     for (int& x : subsAt_[b])
       if (x == s)
-        x = t;
+        x = n;
     inQueue_.resize(segs_.subs.size(), 0);
     refused_.resize(segs_.subs.size(), 0);
     mustSplit_.resize(segs_.subs.size(), 0);
+    refused_[s] = 0; // a shorter piece now: judged again
     visitor.after(v);
     enqueue(s);
-    enqueue(t);
+    enqueue(n);
     for (int p : near)
       for (int x : subsAt_[p])
         enqueue(x);

@@ -1,0 +1,105 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Rule T1 on the segments alone (SegmentConformation.h): the claims of T1.1, T1.2 and the
+// concentric shells of small-angle clusters, checked on the segment set itself.
+#include "SegmentConformation.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+using namespace omesh;
+
+namespace
+{
+/// `n` segments from one apex, `angle` degrees apart in one plane, of the given lengths.
+FeatureSegments fan(int n, double angle, const std::vector<double>& lengths)
+{
+  FeatureSegments f;
+  const Vec3 apex{ 0.1, -0.2, 0.3 };
+  f.points.push_back(apex);
+  for (int i = 0; i < n; ++i)
+  {
+    const double a = i * angle * M_PI / 180.0;
+    f.points.push_back(apex + lengths[i % lengths.size()] * Vec3{ std::cos(a), std::sin(a), 0.0 });
+    f.segments.push_back({ 0, i + 1 });
+  }
+  return f;
+}
+
+/// Sub-segments whose diametral ball holds a segment point other than their ends.
+size_t encroached(const SegmentSet& s)
+{
+  size_t n = 0;
+  for (size_t i = 0; i < s.subs.size(); ++i)
+  {
+    const Vec3 a = s.points[s.subs[i][0]], b = s.points[s.subs[i][1]], mid = 0.5 * (a + b);
+    const double r2 = 0.25 * dot(b - a, b - a);
+    for (size_t p = 0; p < s.points.size(); ++p)
+      if (static_cast<int>(p) != s.subs[i][0] && static_cast<int>(p) != s.subs[i][1] &&
+        dot(s.points[p] - mid, s.points[p] - mid) < r2 * (1 - 1e-12))
+      {
+        ++n;
+        break;
+      }
+  }
+  return n;
+}
+}
+
+// T1.2's claim: after conformation no sub-segment is encroached by a segment point, and none is
+// longer than the edge size. Down to 1 degree the splitting ends without the point budget.
+TEST(SegmentConformation, NoSubSegmentIsEncroachedOrTooLong)
+{
+  for (double angle : { 30.0, 5.0, 1.0 })
+  {
+    SCOPED_TRACE(angle);
+    std::vector<std::string> warnings;
+    const SegmentSet s = conformSegments(fan(4, angle, { 1.0, 0.6, 0.85, 0.3 }), 0.2, 100000, warnings);
+    EXPECT_TRUE(warnings.empty());
+    EXPECT_EQ(encroached(s), 0u);
+    for (size_t i = 0; i < s.subs.size(); ++i)
+      EXPECT_LE(s.length(i), 0.2 * (1 + 1e-12));
+    EXPECT_LT(s.points.size(), 2000u);
+  }
+}
+
+// Concentric shells: within the part of each segment next to the apex, the segments of a
+// small-angle cluster carry their points at the same distances from the apex (up to the 1e-9
+// tie-break); a segment at a wide angle is no member and keeps its own points.
+TEST(SegmentConformation, SmallAngleClustersShareTheirShells)
+{
+  FeatureSegments f = fan(3, 2.0, { 1.0, 0.7, 0.9 });
+  f.points.push_back(f.points[0] + Vec3{ 0.0, -0.8, 0.0 }); // 90 degrees from the fan
+  f.segments.push_back({ 0, 4 });
+  std::vector<std::string> warnings;
+  const SegmentSet s = conformSegments(f, 0.05, 100000, warnings);
+  EXPECT_GT(s.mirrored, 0u);
+  auto distances = [&](int input, double within) {
+    std::vector<double> d;
+    for (size_t p = 0; p < s.points.size(); ++p)
+      for (const auto& sub : s.subs)
+        if (sub[2] == input && (sub[0] == static_cast<int>(p) || sub[1] == static_cast<int>(p)))
+        {
+          const double r = norm(s.points[p] - f.points[0]);
+          if (r > 0 && r <= within)
+            d.push_back(r);
+          break;
+        }
+    std::sort(d.begin(), d.end());
+    return d;
+  };
+  // within the shortest member's half, away from its middle (where its other end's splits, which
+  // are not mirrored, take over)
+  const double half = 0.8 * 0.5 * 0.7;
+  const std::vector<double> shells = distances(0, half);
+  ASSERT_GT(shells.size(), 2u);
+  for (int input : { 1, 2 })
+  {
+    const std::vector<double> other = distances(input, half);
+    ASSERT_EQ(other.size(), shells.size()) << "segment " << input;
+    for (size_t i = 0; i < shells.size(); ++i)
+      EXPECT_NEAR(other[i], shells[i], 1e-8 * shells[i]) << "segment " << input;
+  }
+  EXPECT_NE(distances(3, 0.4), distances(0, 0.4)); // the wide one is on its own
+}
