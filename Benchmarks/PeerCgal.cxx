@@ -77,6 +77,7 @@ int run(const peer::Args& a, const Domain& domain, const Criteria& criteria, dou
 {
   CGAL::get_default_random() = CGAL::Random(a.seed);
   const auto t0 = peer::Clock::now();
+  const double cpu0 = peer::cpuSeconds();
   C3t3 c3t3 = CGAL::make_mesh_3<C3t3>(domain, criteria, params::no_perturb(), params::no_exude());
   const double refine = peer::since(t0);
   double perturb = 0, exude = 0;
@@ -93,8 +94,9 @@ int run(const peer::Args& a, const Domain& domain, const Criteria& criteria, dou
   const double optimise = perturb + exude;
   const omesh::TetMesh mesh = toTetMesh(c3t3);
   const double call = peer::since(t0);
+  const double cpu = peer::cpuSeconds() - cpu0;
   const double rss = peer::peakRssBytes();
-  peer::report("CGAL", a, mesh, setupSeconds, refine, perturb, exude, optimise, call, rss, features);
+  peer::report("CGAL", a, mesh, setupSeconds, refine, perturb, exude, optimise, call, rss, cpu, features);
   return 0;
 }
 }

@@ -19,6 +19,7 @@
 #include <sys/resource.h>
 
 #include <chrono>
+#include <ctime>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -165,6 +166,15 @@ inline Args parseArgs(int argc, char* argv[])
 using Clock = std::chrono::steady_clock;
 inline double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
+/// CPU seconds of this process (both tools mesh on one thread): unlike wall time, hardly changed
+/// by other work on a shared machine.
+inline double cpuSeconds()
+{
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
 /// Peak resident set of this process image: VmHWM from /proc/self/status. getrusage's ru_maxrss
 /// is kept across execve on Linux, so a child started by a large parent (Python with VTK loaded)
 /// would report the parent's peak; getrusage is the fallback where /proc is missing.
@@ -184,7 +194,7 @@ inline double peakRssBytes()
 /// `peakRss` is taken by the caller when the mesh is complete (before these checks).
 inline void report(const char* tool, const Args& a, const omesh::TetMesh& mesh, double initSeconds,
   double refineSeconds, double perturbSeconds, double exudeSeconds, double optimiseSeconds, double callSeconds,
-  double peakRss, const omesh::FeatureSegments& features, const std::string& extra = "")
+  double peakRss, double callCpuSeconds, const omesh::FeatureSegments& features, const std::string& extra = "")
 {
   double minAngle = 180.0, sum = 0.0;
   size_t below10 = 0;
@@ -206,7 +216,7 @@ inline void report(const char* tool, const Args& a, const omesh::TetMesh& mesh, 
   o << "{\"tool\": \"" << tool << "\", \"kind\": \"" << a.kind << "\", \"opt\": \"" << a.opt << "\", \"limit\": " << a.limit
     << ", \"tets\": " << mesh.tets.size() << ", \"vertices\": " << mesh.points.size()
     << ", \"setup\": " << initSeconds << ", \"refine\": " << refineSeconds << ", \"perturb\": " << perturbSeconds
-    << ", \"exude\": " << exudeSeconds << ", \"optimise\": " << optimiseSeconds << ", \"call\": " << callSeconds
+    << ", \"exude\": " << exudeSeconds << ", \"optimise\": " << optimiseSeconds << ", \"call\": " << callSeconds << ", \"call_cpu\": " << callCpuSeconds
     << ", \"peak_rss\": " << peakRss << ", \"min_dihedral\": " << (mesh.tets.empty() ? 0.0 : minAngle)
     << ", \"mean_min_dihedral\": " << (mesh.tets.empty() ? 0.0 : sum / mesh.tets.size())
     << ", \"tets_below_10\": " << below10 << ", \"defects\": " << v.defects()

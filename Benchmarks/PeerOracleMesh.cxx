@@ -62,8 +62,10 @@ int main(int argc, char* argv[])
       o.exudationStepsPerCell = 0;
     }
     const auto t0 = peer::Clock::now();
+    const double cpu0 = peer::cpuSeconds();
     const omesh::TetMesh mesh = omesh::meshOracle(oracle, features, {}, o);
     const double call = peer::since(t0);
+    const double cpu = peer::cpuSeconds() - cpu0;
     const double rss = peer::peakRssBytes();
     const auto& st = mesh.statistics;
     auto stat = [&](const char* k) {
@@ -76,7 +78,7 @@ int main(int argc, char* argv[])
           << ", \"after_mesh\": " << (call - stat("time.initialisation") - stat("time.refinement") - stat("time.optimisation"))
           << ", \"warnings\": " << mesh.warnings.size();
     peer::report("OracleMesh", a, mesh, setup, stat("time.initialisation") + stat("time.refinement"),
-      stat("time.perturbation"), stat("time.exudation"), stat("time.optimisation"), call, rss, features, extra.str());
+      stat("time.perturbation"), stat("time.exudation"), stat("time.optimisation"), call, rss, cpu, features, extra.str());
     return 0;
   }
   catch (const std::exception& e)

@@ -35,7 +35,7 @@ SIZES = {
     "cad": [2.0, 1.0, 0.5, 0.4],
 }
 QUICK_SIZES = {"labels": [4.0], "surface": [3.5], "cad": [2.0]}
-TIME_KEYS = ("setup", "refine", "perturb", "exude", "optimise", "call", "peak_rss")
+TIME_KEYS = ("setup", "refine", "perturb", "exude", "optimise", "call", "call_cpu", "peak_rss")
 
 
 def prepare(data, work):
@@ -139,18 +139,20 @@ def table(rows):
         return r[key] / max(r["tets"], 1)
 
     out = ["| case | h | optimisation | tets OM / CGAL | refine s OM / CGAL (per-tet ratio) | optimise s OM / CGAL "
-           "| total per-tet ratio | peak RSS MiB OM / CGAL | bytes/tet OM / CGAL (ratio) | min dihedral OM / CGAL "
+           "| total per-tet ratio | CPU s OM / CGAL (per-tet ratio) | peak RSS MiB OM / CGAL | bytes/tet OM / CGAL (ratio) | min dihedral OM / CGAL "
            "| defects OM / CGAL | coverage OM / CGAL |",
-           "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+           "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for case, h, label, om, cg in rows:
         rr = per_tet(om, "refine") / per_tet(cg, "refine")
         tot = lambda r: (r["refine"] + r["optimise"]) / max(r["tets"], 1)  # noqa: E731
         bpt = lambda r: r["peak_rss"] / max(r["tets"], 1)  # noqa: E731
+        cpu = lambda r: r.get("call_cpu", float("nan"))  # noqa: E731
+        cpus = "%.2f / %.2f (%.2fx)" % (cpu(om), cpu(cg), (cpu(om) / max(om["tets"], 1)) / (cpu(cg) / max(cg["tets"], 1)))
         cov = "–" if om["coverage"] < 0 else "%.0f %% / %.0f %%" % (100 * om["coverage"], 100 * cg["coverage"])
-        out.append("| %s | %g | %s | %s / %s | %.2f / %.2f (%.2fx) | %.2f / %.2f | %.2fx | %.0f / %.0f | %.0f / %.0f "
+        out.append("| %s | %g | %s | %s / %s | %.2f / %.2f (%.2fx) | %.2f / %.2f | %.2fx | %s | %.0f / %.0f | %.0f / %.0f "
                    "(%.2fx) | %.1f° / %.1f° | %d / %d | %s |" % (
                        case, h, label, f"{om['tets']:,}", f"{cg['tets']:,}", om["refine"], cg["refine"], rr,
-                       om["optimise"], cg["optimise"], tot(om) / tot(cg), om["peak_rss"] / 2**20,
+                       om["optimise"], cg["optimise"], tot(om) / tot(cg), cpus, om["peak_rss"] / 2**20,
                        cg["peak_rss"] / 2**20, bpt(om), bpt(cg), bpt(om) / bpt(cg), om["min_dihedral"],
                        cg["min_dihedral"], om["defects"], cg["defects"], cov))
     return "\n".join(out)
