@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <unordered_map>
 
 namespace omesh
@@ -140,11 +141,21 @@ void LabelMapDomain::crossings(const Vec3& a, const Vec3& b, std::vector<double>
   }
 }
 
-void LabelMapDomain::gather(const Vec3& u, uint16_t idx[8], double w[8]) const
+namespace
 {
-  // the 8 voxel centres (i + 0.5) around u, clamped at the grid's border
-  int lo[3];
-  double f[3];
+/// The 8 voxel centres around a point: lower corner `lo` (may lie outside the grid; indices are
+/// clamped at the border) and their compact label indices. Within one cell of voxel centres they
+/// do not change, so a walk along a segment loads them once per cell.
+struct Corners
+{
+  int lo[3] = { std::numeric_limits<int>::min(), 0, 0 };
+  uint16_t idx[8] = {};
+  bool uniform = false;
+};
+
+/// Lower voxel-centre corner and fractions of u (continuous voxel coordinates).
+inline void splitCell(const Vec3& u, int lo[3], double f[3])
+{
   for (int a = 0; a < 3; ++a)
   {
     const double x = u[a] - 0.5;
@@ -152,43 +163,52 @@ void LabelMapDomain::gather(const Vec3& u, uint16_t idx[8], double w[8]) const
     lo[a] = static_cast<int>(fl);
     f[a] = x - fl;
   }
-  for (int c = 0; c < 8; ++c)
-  {
-    size_t offset = 0, stride = 1;
-    double weight = 1.0;
-    for (int a = 0; a < 3; ++a)
-    {
-      const int up = (c >> a) & 1;
-      const int i = std::clamp(lo[a] + up, 0, dims_[a] - 1);
-      offset += stride * static_cast<size_t>(i);
-      stride *= static_cast<size_t>(dims_[a]);
-      weight *= up ? f[a] : 1.0 - f[a];
-    }
-    idx[c] = index_[offset];
-    w[c] = weight;
-  }
 }
 
-uint16_t LabelMapDomain::trilinearIndex(const Vec3& u) const
+inline bool sameCell(const int a[3], const int b[3]) { return a[0] == b[0] && a[1] == b[1] && a[2] == b[2]; }
+
+inline void loadCorners(const std::array<int, 3>& dims, const uint16_t* index, const int lo[3], Corners& k)
 {
-  uint16_t idx[8];
+  size_t off[3][2];
+  size_t stride = 1;
+  for (int a = 0; a < 3; ++a)
+  {
+    k.lo[a] = lo[a];
+    off[a][0] = stride * static_cast<size_t>(std::clamp(lo[a], 0, dims[a] - 1));
+    off[a][1] = stride * static_cast<size_t>(std::clamp(lo[a] + 1, 0, dims[a] - 1));
+    stride *= static_cast<size_t>(dims[a]);
+  }
+  for (int c = 0; c < 8; ++c)
+    k.idx[c] = index[off[0][c & 1] + off[1][(c >> 1) & 1] + off[2][(c >> 2) & 1]];
+  k.uniform = std::all_of(k.idx + 1, k.idx + 8, [&](uint16_t i) { return i == k.idx[0]; });
+}
+
+/// Compact label index with the largest summed trilinear weight; ties go to the smaller index.
+inline uint16_t pickLabel(const Corners& k, const double f[3])
+{
+  if (k.uniform)
+    return k.idx[0]; // inside one label: the common case
   double w[8];
-  gather(u, idx, w);
-  if (std::all_of(idx + 1, idx + 8, [&](uint16_t i) { return i == idx[0]; }))
-    return idx[0]; // inside one label: the common case
-  // largest summed weight; ties go to the smaller index (deterministic)
+  for (int c = 0; c < 8; ++c)
+  {
+    double weight = 1.0;
+    for (int a = 0; a < 3; ++a)
+      weight *= ((c >> a) & 1) ? f[a] : 1.0 - f[a];
+    w[c] = weight;
+  }
+  const uint16_t* idx = k.idx;
   uint16_t best = idx[0];
   double bestWeight = -1.0;
   for (int c = 0; c < 8; ++c)
   {
     bool seen = false;
-    for (int k = 0; k < c && !seen; ++k)
-      seen = idx[k] == idx[c];
+    for (int j = 0; j < c && !seen; ++j)
+      seen = idx[j] == idx[c];
     if (seen)
       continue;
     double sum = 0.0;
-    for (int k = c; k < 8; ++k)
-      sum += idx[k] == idx[c] ? w[k] : 0.0;
+    for (int j = c; j < 8; ++j)
+      sum += idx[j] == idx[c] ? w[j] : 0.0;
     if (sum > bestWeight || (sum == bestWeight && idx[c] < best))
     {
       best = idx[c];
@@ -196,6 +216,17 @@ uint16_t LabelMapDomain::trilinearIndex(const Vec3& u) const
     }
   }
   return best;
+}
+}
+
+uint16_t LabelMapDomain::trilinearIndex(const Vec3& u) const
+{
+  int lo[3];
+  double f[3];
+  splitCell(u, lo, f);
+  Corners k;
+  loadCorners(dims_, index_.data(), lo, k);
+  return pickLabel(k, f);
 }
 
 void LabelMapDomain::trilinearCrossings(
@@ -205,7 +236,10 @@ void LabelMapDomain::trilinearCrossings(
   // segment): sample each such piece four times and bisect every change of label to full
   // precision. Two changes closer than a quarter of a piece may be missed (a sliver of a label
   // thinner than about a quarter voxel along the segment).
-  std::vector<double> planes{ t0, t1 };
+  thread_local std::vector<double> planes; // reused: no allocation per query
+  planes.clear();
+  planes.push_back(t0);
+  planes.push_back(t1);
   for (int i = 0; i < 3; ++i)
   {
     if (d[i] == 0.0)
@@ -216,9 +250,17 @@ void LabelMapDomain::trilinearCrossings(
       planes.push_back((k + 0.5 - ua[i]) / d[i]);
   }
   std::sort(planes.begin(), planes.end());
+  // The 8 labels around the last point looked at: the samples and the bisection inside one piece
+  // only recompute the weights (the answers are those of trilinearIndex at every point).
+  Corners cache;
   auto labelAt = [&](double t) {
-    const Vec3 u = ua + t * d;
-    return trilinearIndex(clampToGrid(u));
+    const Vec3 u = clampToGrid(ua + t * d);
+    int lo[3];
+    double f[3];
+    splitCell(u, lo, f);
+    if (!sameCell(lo, cache.lo))
+      loadCorners(dims_, index_.data(), lo, cache);
+    return pickLabel(cache, f);
   };
   constexpr int kSamples = 4;
   double previousT = t0;
@@ -231,10 +273,12 @@ void LabelMapDomain::trilinearCrossings(
     {
       // a piece whose 8 voxel centres all carry the label we are in cannot change it
       const Vec3 um = ua + (0.5 * (a + b)) * d;
-      uint16_t idx[8];
-      double w[8];
-      gather(clampToGrid(um), idx, w);
-      if (std::all_of(idx, idx + 8, [&](uint16_t i) { return i == previous; }))
+      int lo[3];
+      double f[3];
+      splitCell(clampToGrid(um), lo, f);
+      if (!sameCell(lo, cache.lo))
+        loadCorners(dims_, index_.data(), lo, cache);
+      if (cache.uniform && cache.idx[0] == previous)
       {
         previousT = b;
         continue;

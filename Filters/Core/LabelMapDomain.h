@@ -79,8 +79,6 @@ private:
   }
   /// Compact label index of the largest trilinear indicator at voxel coordinates u (in the grid).
   uint16_t trilinearIndex(const Vec3& u) const;
-  /// Compact label indices and trilinear weights of the 8 voxel centres around u.
-  void gather(const Vec3& u, uint16_t idx[8], double w[8]) const;
   void trilinearCrossings(const Vec3& ua, const Vec3& d, double t0, double t1, std::vector<double>& ts) const;
 
   std::array<int, 3> dims_;

@@ -6,6 +6,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+#include <map>
 #include <random>
 
 using namespace omesh;
@@ -148,4 +151,208 @@ TEST(LabelMapDomain, TrilinearBoundariesAreSmoothAndTheirCrossingsExact)
       EXPECT_LT(hi - lo, 0.5); // within a fraction of a voxel of the plane
     EXPECT_NEAR(0.5 * (lo + hi), 20.5, 0.3);
   }
+}
+
+namespace
+{
+/// The trilinear label map as first written (before the per-cell corner cache of issue 12): every
+/// point gathers its 8 voxel centres and their weights. The domain must answer exactly as this.
+struct ReferenceTrilinear
+{
+  std::array<int, 3> d;
+  std::vector<uint16_t> index; // compact index per voxel: background 0, others by first appearance
+  std::vector<int> material;
+
+  ReferenceTrilinear(const std::array<int, 3>& dims, const std::vector<int>& labels, int background)
+    : d(dims)
+  {
+    std::map<int, uint16_t> compact{ { background, 0 } };
+    material.push_back(kOutside);
+    for (int l : labels)
+    {
+      auto it = compact.find(l);
+      if (it == compact.end())
+      {
+        it = compact.emplace(l, static_cast<uint16_t>(material.size())).first;
+        material.push_back(l);
+      }
+      index.push_back(it->second);
+    }
+  }
+  Vec3 clampToGrid(const Vec3& u) const
+  {
+    return { std::clamp(u.x, 0.0, double(d[0])), std::clamp(u.y, 0.0, double(d[1])), std::clamp(u.z, 0.0, double(d[2])) };
+  }
+  void gather(const Vec3& u, uint16_t idx[8], double w[8]) const
+  {
+    int lo[3];
+    double f[3];
+    for (int a = 0; a < 3; ++a)
+    {
+      const double x = u[a] - 0.5;
+      const double fl = std::floor(x);
+      lo[a] = static_cast<int>(fl);
+      f[a] = x - fl;
+    }
+    for (int c = 0; c < 8; ++c)
+    {
+      size_t offset = 0, stride = 1;
+      double weight = 1.0;
+      for (int a = 0; a < 3; ++a)
+      {
+        const int up = (c >> a) & 1;
+        const int i = std::clamp(lo[a] + up, 0, d[a] - 1);
+        offset += stride * static_cast<size_t>(i);
+        stride *= static_cast<size_t>(d[a]);
+        weight *= up ? f[a] : 1.0 - f[a];
+      }
+      idx[c] = index[offset];
+      w[c] = weight;
+    }
+  }
+  uint16_t trilinearIndex(const Vec3& u) const
+  {
+    uint16_t idx[8];
+    double w[8];
+    gather(u, idx, w);
+    if (std::all_of(idx + 1, idx + 8, [&](uint16_t i) { return i == idx[0]; }))
+      return idx[0];
+    uint16_t best = idx[0];
+    double bestWeight = -1.0;
+    for (int c = 0; c < 8; ++c)
+    {
+      bool seen = false;
+      for (int k = 0; k < c && !seen; ++k)
+        seen = idx[k] == idx[c];
+      if (seen)
+        continue;
+      double sum = 0.0;
+      for (int k = c; k < 8; ++k)
+        sum += idx[k] == idx[c] ? w[k] : 0.0;
+      if (sum > bestWeight || (sum == bestWeight && idx[c] < best))
+      {
+        best = idx[c];
+        bestWeight = sum;
+      }
+    }
+    return best;
+  }
+  int materialAt(const Vec3& u) const
+  {
+    if (!(u.x >= 0.0 && u.y >= 0.0 && u.z >= 0.0 && u.x <= d[0] && u.y <= d[1] && u.z <= d[2]))
+      return kOutside;
+    return material[trilinearIndex(u)];
+  }
+  /// crossings() of a segment given in voxel coordinates (identity world-to-voxel map)
+  std::vector<double> crossings(const Vec3& ua, const Vec3& ub) const
+  {
+    std::vector<double> ts;
+    const Vec3 dd = ub - ua;
+    double t0 = 0.0, t1 = 1.0;
+    for (int i = 0; i < 3; ++i)
+    {
+      if (dd[i] == 0.0)
+      {
+        if (!(ua[i] >= 0.0 && ua[i] <= d[i]))
+          return ts;
+        continue;
+      }
+      double ta = (0.0 - ua[i]) / dd[i], tb = (d[i] - ua[i]) / dd[i];
+      if (ta > tb)
+        std::swap(ta, tb);
+      t0 = std::max(t0, ta);
+      t1 = std::min(t1, tb);
+    }
+    if (!(t0 <= t1))
+      return ts;
+    ts.push_back(t0);
+    ts.push_back(t1);
+    std::vector<double> planes{ t0, t1 };
+    for (int i = 0; i < 3; ++i)
+    {
+      if (dd[i] == 0.0)
+        continue;
+      const double lo = std::min(ua[i] + t0 * dd[i], ua[i] + t1 * dd[i]) - 0.5;
+      const double hi = std::max(ua[i] + t0 * dd[i], ua[i] + t1 * dd[i]) - 0.5;
+      for (double k = std::floor(lo) + 1.0; k < hi; k += 1.0)
+        planes.push_back((k + 0.5 - ua[i]) / dd[i]);
+    }
+    std::sort(planes.begin(), planes.end());
+    auto labelAt = [&](double t) { return trilinearIndex(clampToGrid(ua + t * dd)); };
+    double previousT = t0;
+    uint16_t previous = labelAt(t0);
+    for (size_t p = 0; p + 1 < planes.size(); ++p)
+    {
+      const double a = planes[p], b = planes[p + 1];
+      if (!(b > a))
+        continue;
+      uint16_t idx[8];
+      double w[8];
+      gather(clampToGrid(ua + (0.5 * (a + b)) * dd), idx, w);
+      if (std::all_of(idx, idx + 8, [&](uint16_t i) { return i == previous; }))
+      {
+        previousT = b;
+        continue;
+      }
+      for (int s = 1; s <= 4; ++s)
+      {
+        const double t = a + (b - a) * s / 4;
+        const uint16_t label = labelAt(t);
+        for (int guard = 0; label != previous && guard < 8; ++guard)
+        {
+          double lo = previousT, hi = t;
+          while (hi - lo > 1e-12 * (1.0 + std::abs(hi)))
+          {
+            const double mid = 0.5 * (lo + hi);
+            (labelAt(mid) == previous ? lo : hi) = mid;
+          }
+          ts.push_back(hi);
+          previous = labelAt(hi);
+          previousT = hi;
+        }
+        previous = label;
+        previousT = t;
+      }
+    }
+    return ts;
+  }
+};
+}
+
+TEST(LabelMapDomain, TrilinearAnswersAreThoseOfTheFirstImplementation)
+{
+  // random labels 0..3 in blobs, thin layers and single voxels: every kind of corner set
+  const std::array<int, 3> d{ 17, 13, 11 };
+  std::mt19937 rng(12);
+  std::vector<int> labels(static_cast<size_t>(d[0]) * d[1] * d[2]);
+  for (int k = 0; k < d[2]; ++k)
+    for (int j = 0; j < d[1]; ++j)
+      for (int i = 0; i < d[0]; ++i)
+      {
+        int l = (i - 8) * (i - 8) + (j - 6) * (j - 6) + 2 * (k - 5) * (k - 5) < 30 ? 1 : 0;
+        if (j == 4 || i == 10)
+          l = 2; // one-voxel layers
+        if (rng() % 13 == 0)
+          l = static_cast<int>(rng() % 4); // isolated voxels
+        labels[i + d[0] * (j + d[1] * k)] = 7 * l; // labels 0, 7, 14, 21
+      }
+  const ReferenceTrilinear ref(d, labels, 0);
+  const LabelMapDomain domain(d, labels, AffineMap(), 0, "random", LabelInterpolation::Trilinear);
+  std::uniform_real_distribution<double> u(-1.0, 18.0);
+  size_t crossings = 0;
+  for (int n = 0; n < 20000; ++n)
+  {
+    const Vec3 a{ u(rng), u(rng) * 13.0 / 17.0, u(rng) * 11.0 / 17.0 };
+    ASSERT_EQ(domain.material(a), ref.materialAt(a)) << a.x << " " << a.y << " " << a.z;
+    Vec3 b{ u(rng), u(rng) * 13.0 / 17.0, u(rng) * 11.0 / 17.0 };
+    if (n % 4 == 0)
+      b = a + 0.1 * (b - a); // short segments, as the mesher's
+    if (n % 7 == 0)
+      b.z = a.z; // in a plane of the grid
+    std::vector<double> ts;
+    domain.crossings(a, b, ts);
+    ASSERT_EQ(ts, ref.crossings(a, b)) << "segment " << n; // bit for bit
+    crossings += ts.size();
+  }
+  EXPECT_GT(crossings, 20000u); // the segments did cross labels
 }

@@ -1,0 +1,89 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The OracleMesh side of the peer benchmark (peer_benchmark.py): the core API (no VTK, no Python),
+// the same kind of process as PeerCgal, on the same inputs and criteria.
+//   labels  -> LabelMapDomain (Trilinear, as CGAL's labelled image domain)
+//   surface -> SurfaceDomain
+//   cad     -> SurfaceDomain + the given feature segments (Conforming)
+// Strategy Conforming (the default), the mesher's default sliver rules. --opt default = the
+// mesher's defaults (step budgets, no time limit); none = refinement only; limit:T = perturb and
+// exude each limited to T seconds without step budgets. Prints one JSON line (PeerCommon.h).
+#include "PeerCommon.h"
+
+#include "HierarchicalOracle.h"
+#include "LabelMapDomain.h"
+#include "OracleMesher.h"
+#include "SurfaceDomain.h"
+
+#include <memory>
+
+int main(int argc, char* argv[])
+{
+  try
+  {
+    const peer::Args a = peer::parseArgs(argc, argv);
+    const auto s0 = peer::Clock::now();
+    omesh::HierarchicalOracle oracle;
+    omesh::FeatureSegments features;
+    if (a.kind == "labels")
+    {
+      const peer::LabelImage im = peer::readLabels(a.input);
+      std::vector<int> labels(im.labels.begin(), im.labels.end());
+      const auto toVoxel = omesh::LabelMapDomain::pointCenteredWorldToVoxel(
+        { im.origin[0], im.origin[1], im.origin[2] }, { im.spacing[0], im.spacing[1], im.spacing[2] },
+        { 1, 0, 0, 0, 1, 0, 0, 0, 1 });
+      oracle.add(std::make_shared<omesh::LabelMapDomain>(
+        std::array<int, 3>{ im.dims[0], im.dims[1], im.dims[2] }, labels, toVoxel, 0, "labels",
+        omesh::LabelInterpolation::Trilinear));
+    }
+    else
+    {
+      oracle.add(std::make_shared<omesh::SurfaceDomain>(peer::readOff(a.input), 1, "surface"));
+      if (a.kind == "cad")
+        features = peer::readSegments(a.features);
+    }
+    const double setup = peer::since(s0);
+
+    omesh::MesherOptions o;
+    o.strategy = omesh::FeatureStrategy::Conforming;
+    auto& c = o.criteria.global;
+    c.facetAngle = a.facetAngle;
+    c.facetSize = a.facetSize;
+    c.facetDistance = a.facetDistance;
+    c.cellSize = a.cellSize;
+    c.cellRadiusEdgeRatio = a.radiusEdge;
+    c.edgeSize = a.kind == "cad" ? a.edgeSize : 0.0;
+    o.seed = a.seed;
+    if (a.opt == "none")
+      o.perturb = o.exude = false;
+    else if (a.opt == "limit")
+    {
+      o.optimisationTimeLimit = a.limit;
+      o.perturbationStepsPerVertex = 0;
+      o.exudationStepsPerCell = 0;
+    }
+    const auto t0 = peer::Clock::now();
+    const double cpu0 = peer::cpuSeconds();
+    const omesh::TetMesh mesh = omesh::meshOracle(oracle, features, {}, o);
+    const double call = peer::since(t0);
+    const double cpu = peer::cpuSeconds() - cpu0;
+    const double rss = peer::peakRssBytes();
+    const auto& st = mesh.statistics;
+    auto stat = [&](const char* k) {
+      auto it = st.find(k);
+      return it == st.end() ? 0.0 : it->second;
+    };
+    std::ostringstream extra;
+    extra << ", \"perturb_cut_short\": " << stat("optimisation.perturbation_cut_short")
+          << ", \"exude_cut_short\": " << stat("optimisation.exudation_cut_short")
+          << ", \"after_mesh\": " << (call - stat("time.initialisation") - stat("time.refinement") - stat("time.optimisation"))
+          << ", \"warnings\": " << mesh.warnings.size();
+    peer::report("OracleMesh", a, mesh, setup, stat("time.initialisation") + stat("time.refinement"),
+      stat("time.perturbation"), stat("time.exudation"), stat("time.optimisation"), call, rss, cpu, features, extra.str());
+    return 0;
+  }
+  catch (const std::exception& e)
+  {
+    std::fprintf(stderr, "PeerOracleMesh: %s\n", e.what());
+    return 2;
+  }
+}

@@ -1,0 +1,198 @@
+#!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""OracleMesh side by side with stock CGAL 5.5 Mesh_3 (issue 12, item 1).
+
+Prepares three inputs in --work (the demo's tibia label map; an organic closed surface of 100k
+triangles; the demo's implant with its sharp edges at 60 degrees as given feature segments), then
+for each case and mesh size runs, each in its own process:
+  PeerCgal --opt default          stock CGAL: make_mesh_3's defaults (perturb and exude each limited
+                                  to the refinement's time)
+  PeerOracleMesh --opt default    OracleMesh's defaults (Conforming, step budgets, no time limit)
+  PeerOracleMesh --opt limit:T    the same budget as CGAL: perturb and exude each limited to T =
+                                  CGAL's refinement time of that case, no step budgets
+and prints a Markdown table (raw figures in <work>/results.jsonl). Same criteria for both tools
+(facet angle 25, radius-edge 3, cell size = facet size = h, facet distance h/4, edge size h/2 for
+the CAD part), same seed. Min dihedral angle, validity and coverage are computed from each output
+by the same code (Filters/Core/MeshQuality, MeshValidity).
+
+    cmake --build build --target peer_benchmark        # or peer_benchmark_quick
+    python3 Benchmarks/peer_benchmark.py --cgal build/bin/PeerCgal --oraclemesh build/bin/PeerOracleMesh \
+        --data Data/demo --work build/peer_benchmark [--cases labels surface cad] [--sizes 4 2] [--repeat 3]
+"""
+import argparse
+import json
+import math
+import os
+import statistics
+import subprocess
+import sys
+import time
+
+# Mesh sizes h per case (cell size = facet size = h): about 10k to 2M tetrahedra.
+SIZES = {
+    "labels": [4.0, 2.0, 1.0, 0.65],
+    "surface": [3.5, 2.0, 1.0, 0.8],
+    "cad": [2.0, 1.0, 0.5, 0.4],
+}
+QUICK_SIZES = {"labels": [4.0], "surface": [3.5], "cad": [2.0]}
+TIME_KEYS = ("setup", "refine", "perturb", "exude", "optimise", "call", "call_cpu", "peak_rss")
+
+
+def prepare(data, work):
+    """Writes labels.oml, surface.off, cad.off and cad_features.txt into work (once)."""
+    os.makedirs(work, exist_ok=True)
+    paths = {"labels": os.path.join(work, "labels.oml"), "surface": os.path.join(work, "surface.off"),
+             "cad": os.path.join(work, "cad.off"), "cad_features": os.path.join(work, "cad_features.txt")}
+    if all(os.path.exists(p) for p in paths.values()):
+        return paths
+    import numpy as np
+    from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
+    from vtkmodules.vtkFiltersCore import vtkFeatureEdges, vtkTriangleFilter
+    from vtkmodules.vtkFiltersSources import vtkSphereSource
+    from vtkmodules.vtkIOXML import vtkXMLImageDataReader, vtkXMLPolyDataReader
+
+    r = vtkXMLImageDataReader()
+    r.SetFileName(os.path.join(data, "tibia_labels.vti"))
+    r.Update()
+    im = r.GetOutput()
+    labels = vtk_to_numpy(im.GetPointData().GetArray("labels")).astype(np.uint8)
+    with open(paths["labels"], "wb") as f:
+        f.write(("OMLABELS %d %d %d %r %r %r %r %r %r\n" % (*im.GetDimensions(), *im.GetSpacing(),
+                                                         *im.GetOrigin())).encode())
+        f.write(labels.tobytes())
+
+    def write_off(poly, path):
+        pts = vtk_to_numpy(poly.GetPoints().GetData())
+        tris = vtk_to_numpy(poly.GetPolys().GetConnectivityArray()).reshape(-1, 3)
+        with open(path, "w") as f:
+            f.write("OFF\n%d %d 0\n" % (len(pts), len(tris)))
+            f.writelines("%.17g %.17g %.17g\n" % tuple(p) for p in pts)
+            f.writelines("3 %d %d %d\n" % tuple(t) for t in tris)
+
+    # An organic closed surface: a sphere of radius 30 mm (100,352 triangles) with smooth bumps.
+    s = vtkSphereSource()
+    s.SetRadius(1.0)
+    s.SetThetaResolution(224)
+    s.SetPhiResolution(226)
+    s.Update()
+    poly = s.GetOutput()
+    u = vtk_to_numpy(poly.GetPoints().GetData())
+    u = u / np.linalg.norm(u, axis=1)[:, None]
+    radius = 30.0 * (1.0 + 0.18 * np.sin(3 * u[:, 0] + 1) * np.cos(2 * u[:, 1]) + 0.12 * np.sin(4 * u[:, 2]))
+    poly.GetPoints().SetData(numpy_to_vtk(u * radius[:, None], deep=1))
+    write_off(poly, paths["surface"])
+
+    p = vtkXMLPolyDataReader()
+    p.SetFileName(os.path.join(data, "implant.vtp"))
+    t = vtkTriangleFilter()
+    t.SetInputConnection(p.GetOutputPort())
+    t.Update()
+    write_off(t.GetOutput(), paths["cad"])
+    e = vtkFeatureEdges()
+    e.SetInputConnection(t.GetOutputPort())
+    e.BoundaryEdgesOff()
+    e.NonManifoldEdgesOff()
+    e.ManifoldEdgesOff()
+    e.FeatureEdgesOn()
+    e.SetFeatureAngle(60)
+    e.Update()
+    edges = e.GetOutput()
+    pts = vtk_to_numpy(edges.GetPoints().GetData())
+    lines = vtk_to_numpy(edges.GetLines().GetConnectivityArray()).reshape(-1, 2)
+    with open(paths["cad_features"], "w") as f:
+        for a, b in lines:
+            f.write("2 %.17g %.17g %.17g %.17g %.17g %.17g\n" % (*pts[a], *pts[b]))
+    return paths
+
+
+def criteria(case, h):
+    c = ["--facet-angle", "25", "--radius-edge", "3", "--cell-size", repr(h), "--facet-size", repr(h),
+         "--facet-distance", repr(h / 4)]
+    if case == "cad":
+        c += ["--edge-size", repr(h / 2)]
+    return c
+
+
+def run(exe, case, paths, h, opt, repeat, log):
+    args = [exe, case, paths[case]] + ([paths["cad_features"]] if case == "cad" else []) + criteria(case, h) + \
+        ["--opt", opt, "--seed", "1"]
+    runs = []
+    for _ in range(repeat):
+        p = subprocess.run(args, capture_output=True, text=True, timeout=3600)
+        if p.returncode != 0:
+            sys.exit("failed (%d): %s\n%s" % (p.returncode, " ".join(args), p.stderr[-2000:]))
+        runs.append(json.loads(p.stdout.strip().splitlines()[-1]))
+    r = dict(runs[0])
+    for k in TIME_KEYS:  # medians of the timings and peak memory
+        r[k] = statistics.median(x[k] for x in runs)
+    r.update(case=case, h=h, repeat=repeat, loadavg=os.getloadavg()[0])
+    log.write(json.dumps(r) + "\n")
+    log.flush()
+    print("  %-10s %-9s h=%-5g %9d tets  refine %7.2f s  optimise %7.2f s  %6.0f MiB  min %.1f deg  defects %d"
+          % (r["tool"], opt, h, r["tets"], r["refine"], r["optimise"], r["peak_rss"] / 2**20, r["min_dihedral"],
+             r["defects"]), file=sys.stderr, flush=True)
+    return r
+
+
+def table(rows):
+    def per_tet(r, key):
+        return r[key] / max(r["tets"], 1)
+
+    out = ["| case | h | optimisation | tets OM / CGAL | refine s OM / CGAL (per-tet ratio) | optimise s OM / CGAL "
+           "| total per-tet ratio | CPU s OM / CGAL (per-tet ratio) | peak RSS MiB OM / CGAL | bytes/tet OM / CGAL (ratio) | min dihedral OM / CGAL "
+           "| defects OM / CGAL | coverage OM / CGAL |",
+           "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    for case, h, label, om, cg in rows:
+        rr = per_tet(om, "refine") / per_tet(cg, "refine")
+        tot = lambda r: (r["refine"] + r["optimise"]) / max(r["tets"], 1)  # noqa: E731
+        bpt = lambda r: r["peak_rss"] / max(r["tets"], 1)  # noqa: E731
+        cpu = lambda r: r.get("call_cpu", float("nan"))  # noqa: E731
+        cpus = "%.2f / %.2f (%.2fx)" % (cpu(om), cpu(cg), (cpu(om) / max(om["tets"], 1)) / (cpu(cg) / max(cg["tets"], 1)))
+        cov = "–" if om["coverage"] < 0 else "%.0f %% / %.0f %%" % (100 * om["coverage"], 100 * cg["coverage"])
+        out.append("| %s | %g | %s | %s / %s | %.2f / %.2f (%.2fx) | %.2f / %.2f | %.2fx | %s | %.0f / %.0f | %.0f / %.0f "
+                   "(%.2fx) | %.1f° / %.1f° | %d / %d | %s |" % (
+                       case, h, label, f"{om['tets']:,}", f"{cg['tets']:,}", om["refine"], cg["refine"], rr,
+                       om["optimise"], cg["optimise"], tot(om) / tot(cg), cpus, om["peak_rss"] / 2**20,
+                       cg["peak_rss"] / 2**20, bpt(om), bpt(cg), bpt(om) / bpt(cg), om["min_dihedral"],
+                       cg["min_dihedral"], om["defects"], cg["defects"], cov))
+    return "\n".join(out)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--cgal", required=True)
+    ap.add_argument("--oraclemesh", required=True)
+    ap.add_argument("--data", required=True, help="Data/demo")
+    ap.add_argument("--work", required=True)
+    ap.add_argument("--cases", nargs="+", default=["labels", "surface", "cad"], choices=sorted(SIZES))
+    ap.add_argument("--sizes", nargs="+", type=float, help="mesh sizes h (default: per case, 4 sizes)")
+    ap.add_argument("--repeat", type=int, default=1, help="runs per configuration; medians are printed")
+    ap.add_argument("--quick", action="store_true", help="one small size per case")
+    ap.add_argument("--no-same-budget", action="store_true", help="skip the same-budget OracleMesh runs")
+    a = ap.parse_args()
+    paths = prepare(a.data, a.work)
+    started = time.time()
+    load0 = os.getloadavg()[0]
+    rows = []
+    with open(os.path.join(a.work, "results.jsonl"), "a") as log:
+        # smallest sizes of every case first: an interrupted run still has the small end of the table
+        plan = [(i, case, h) for case in a.cases
+                for i, h in enumerate(a.sizes or (QUICK_SIZES if a.quick else SIZES)[case])]
+        for _, case, h in sorted(plan, key=lambda x: x[0]):
+            cg = run(a.cgal, case, paths, h, "default", a.repeat, log)
+            om = run(a.oraclemesh, case, paths, h, "default", a.repeat, log)
+            rows.append((case, h, "defaults", om, cg))
+            if not a.no_same_budget:
+                limit = max(cg["refine"], 0.01)
+                same = run(a.oraclemesh, case, paths, h, "limit:%.3f" % limit, a.repeat, log)
+                rows.append((case, h, "same budget (%.2f s each)" % limit, same, cg))
+    order = {c: k for k, c in enumerate(a.cases)}
+    rows.sort(key=lambda r: (order[r[0]], -r[1]))  # stable: defaults before same budget
+    print(table(rows))
+    print("\n%d cases, %.0f s; %d run(s) per configuration (medians); load average %.1f at start, %.1f at end "
+          "(the machine's 2 cores are shared: times vary)." % (len(rows), time.time() - started, a.repeat, load0,
+                                                              os.getloadavg()[0]))
+
+
+if __name__ == "__main__":
+    main()
