@@ -44,6 +44,7 @@ struct DemoScenePipeline
     plane->SetOrigin(0, 0, 80);
     plane->SetNormal(0, 0, -1);
     resection->SetImplicitFunction(plane);
+    resection->SetCut(true);
     imageReader->SetFileName((dir + "/tibia_labels.vti").c_str());
     tibia->SetInputConnection(imageReader->GetOutputPort());
     for (vtkAlgorithm* d : std::initializer_list<vtkAlgorithm*>{ implant, screw, resection, tibia })

@@ -17,11 +17,18 @@ import os
 import sys
 
 # Scene keys (the command line's "mesh" block) -> tetrahedralizer properties, in the order of the
-# per-material table's columns; the fallbacks are the VTK class's defaults, as in the command line.
-CRITERIA = [("facet_angle", "FacetAngle", 25.0), ("facet_size", "FacetSize", 0.0),
-            ("facet_distance", "FacetDistance", 0.0), ("cell_size", "CellSize", 0.0),
-            ("cell_radius_edge_ratio", "CellRadiusEdgeRatio", 3.0), ("edge_size", "EdgeSize", 0.0)]
+# per-material table's columns. A key the scene leaves out is not set: the proxy's default (the
+# XML's, checked equal to the C++'s by Testing/Python/test_plugin.py) applies, as in the command line.
+CRITERIA = [("facet_angle", "FacetAngle"), ("facet_size", "FacetSize"), ("facet_distance", "FacetDistance"),
+            ("cell_size", "CellSize"), ("cell_radius_edge_ratio", "CellRadiusEdgeRatio"), ("edge_size", "EdgeSize")]
+MESH_PROPERTIES = {"perturb": "Perturb", "exude": "Exude", "sliver_angle": "SliverAngle",
+                   "interface_sliver_angle": "InterfaceSliverAngle",
+                   "perturbation_steps_per_vertex": "PerturbationStepsPerVertex",
+                   "exudation_steps_per_cell": "ExudationStepsPerCell",
+                   "optimisation_time_limit": "OptimisationTimeLimit", "seed": "Seed",
+                   "maximum_number_of_vertices": "MaximumNumberOfVertices"}
 STRATEGIES = {"Conforming": "Conforming", "None": "None", "ProtectingBalls": "Protecting Balls"}
+UNSET = -1.0  # a criterion not set in a domain or a table row (the core's std::nullopt)
 
 
 def material_criteria_rows(materials):
@@ -30,10 +37,10 @@ def material_criteria_rows(materials):
     rows = []
     for material in sorted(materials, key=int):
         overrides = materials[material]
-        unknown = set(overrides) - {key for key, _, _ in CRITERIA}
+        unknown = set(overrides) - {key for key, _ in CRITERIA}
         if unknown:
             raise ValueError(f"$.mesh.materials.{material}: unknown criteria {sorted(unknown)}")
-        rows += [float(int(material))] + [float(overrides.get(key, -1.0)) for key, _, _ in CRITERIA]
+        rows += [float(int(material))] + [float(overrides.get(key, UNSET)) for key, _ in CRITERIA]
     return rows
 
 
@@ -59,10 +66,15 @@ def build_pipeline(scene_file, file_prefix=None):
             domain = pv.SurfaceDomain(Input=reader)
         elif kind == "labelmap":
             domain = pv.LabelMapDomain(Input=reader)
-            reader.UpdatePipeline()
-            association = "POINTS" if d["array"] in reader.PointData.keys() else "CELLS"
-            domain.LabelArray = [association, d["array"]]
-            domain.BackgroundLabel = int(d.get("background", 0))
+            if "array" in d:
+                association = "CELLS" if d.get("association") == "cell" else "POINTS"
+                domain.LabelArray = [association, d["array"]]
+            else:  # the filter picks the one integer array (and names them when several leave it open)
+                domain.LabelArray = ["POINTS", ""]
+            if "background" in d:
+                domain.BackgroundLabel = int(d["background"])
+            if "interpolation" in d:
+                domain.Interpolation = {"nearest": "Nearest voxel", "trilinear": "Trilinear"}[d["interpolation"]]
             domain.DomainName = name
             domain.LabelNames = [x for label, text in sorted(d.get("label_names", {}).items())
                                  for x in (str(label), text)]
@@ -84,9 +96,14 @@ def build_pipeline(scene_file, file_prefix=None):
         else:
             raise ValueError(f"domain {name!r}: unknown type {kind!r}")
         if kind != "labelmap":
-            domain.MaterialId = int(d.get("material", 1))
+            if "material" in d:
+                domain.MaterialId = int(d["material"])
             domain.MaterialName = name
-        domain.Cut = int(bool(d.get("cut", False)))
+        if "cut" in d:
+            domain.Cut = int(bool(d["cut"]))
+        for key, prop in CRITERIA:  # the domain's own criteria (the core merges them)
+            if key in d.get("criteria", {}):
+                setattr(domain, prop, float(d["criteria"][key]))
         pv.RenameSource(name, domain)
         proxies[name] = domain
         domains.append(domain)
@@ -99,21 +116,27 @@ def build_pipeline(scene_file, file_prefix=None):
     mesher = pv.FeaturePreservingTetrahedralizer(Input=oracle)
     features = spec.get("features")
     if features:
-        edges = pv.FeatureEdges(Input=readers[features["from_surface"]])
+        surfaces = features["from_surface"]
+        surfaces = [surfaces] if isinstance(surfaces, str) else surfaces
+        parts = [readers[s] for s in surfaces]
+        edges = pv.FeatureEdges(Input=parts[0] if len(parts) == 1 else pv.AppendGeometry(Input=parts))
         edges.BoundaryEdges = edges.NonManifoldEdges = edges.ManifoldEdges = 0
         edges.FeatureEdges = 1
         edges.FeatureAngle = float(features.get("feature_angle", 60))
         pv.RenameSource("Feature Edges", edges)
         proxies["Feature Edges"] = edges
         mesher.FeatureLines = edges
-    mesher.FeatureStrategy = STRATEGIES[spec.get("strategy", "Conforming")]
+    if "strategy" in spec:
+        mesher.FeatureStrategy = STRATEGIES[spec["strategy"]]
     criteria = spec.get("criteria", {})
-    for key, prop, fallback in CRITERIA:
-        setattr(mesher, prop, float(criteria.get(key, fallback)))
+    for key, prop in CRITERIA:
+        if key in criteria:
+            setattr(mesher, prop, float(criteria[key]))
     mesher.MaterialCriteria = material_criteria_rows(spec.get("materials", {}))
-    mesher.Seed = int(spec.get("seed", 0))
-    if "maximum_number_of_vertices" in spec:
-        mesher.MaximumNumberOfVertices = int(spec["maximum_number_of_vertices"])
+    for key, prop in MESH_PROPERTIES.items():
+        if key in spec:
+            value = spec[key]
+            setattr(mesher, prop, int(value) if isinstance(value, (bool, int)) else float(value))
     pv.RenameSource("Tetrahedralizer", mesher)
     proxies["Tetrahedralizer"] = mesher
     return proxies, scene

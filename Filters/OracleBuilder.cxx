@@ -350,7 +350,7 @@ std::shared_ptr<omesh::Domain> OracleBuilder::BuildDomain(vtkDataObject* data, c
   return d;
 }
 
-std::map<int, std::array<double, 6>> OracleBuilder::DomainCriteria(
+omesh::CriteriaLevel OracleBuilder::DomainCriteria(
   vtkDataObject* data, const omesh::HierarchicalOracle& oracle)
 {
   std::vector<vtkDataObject*> blocks; // in BuildOracle's order: block i is domain i
@@ -359,22 +359,18 @@ std::map<int, std::array<double, 6>> OracleBuilder::DomainCriteria(
       blocks.push_back(mb->GetBlock(i));
   else
     blocks.push_back(data);
-  std::map<int, std::array<double, 6>> out;
+  omesh::CriteriaLevel out;
   for (size_t i = 0; i < blocks.size() && i < oracle.domains().size(); ++i)
   {
     const omesh::Domain& domain = *oracle.domains()[i];
     if (domain.isCut())
       continue;
     const OracleDomainMetadata md = ReadDomain(blocks[i], "domain " + std::to_string(i));
-    if (std::all_of(md.Criteria.begin(), md.Criteria.end(), [](double v) { return v < 0; }))
-      continue;
+    const omesh::MeshCriteria c = omesh::MeshCriteria::fromVtk(md.Criteria);
+    const std::string source = "domain '" + md.Name + "'";
+    c.checkFinite("criteria of " + source);
     for (int m : domain.materials())
-    {
-      auto& c = out.try_emplace(m, std::array<double, 6>{ -1, -1, -1, -1, -1, -1 }).first->second;
-      for (int k = 0; k < 6; ++k)
-        if (c[k] < 0) // a higher-priority domain's value stays
-          c[k] = md.Criteria[k];
-    }
+      out.add(m, c, source);
   }
   return out;
 }
@@ -490,4 +486,76 @@ std::shared_ptr<omesh::HierarchicalOracle> OracleBuilder::BuildOracle(vtkDataObj
   if (oracle->empty())
     throw InputError("the oracle has no domains: connect at least one domain to vtkHierarchicalOracle");
   return oracle;
+}
+
+std::vector<std::string> OracleBuilder::InputPlacementWarnings(const omesh::HierarchicalOracle& oracle)
+{
+  std::vector<std::string> warnings;
+  std::vector<const omesh::Domain*> placed;
+  for (const auto& d : oracle.domains())
+    if (!d->isCut() && d->bounded() && !d->bounds().empty())
+      placed.push_back(d.get());
+  auto largest = [](const omesh::Vec3& v) { return std::max({ v.x, v.y, v.z }); };
+  for (size_t i = 0; i < placed.size(); ++i)
+    for (size_t j = i + 1; j < placed.size(); ++j)
+    {
+      const omesh::BoundingBox a = placed[i]->bounds(), b = placed[j]->bounds();
+      const double ea = largest(a.size()), eb = largest(b.size());
+      const double ratio = std::max(ea, eb) / std::max(std::min(ea, eb), 1e-300);
+      if (ratio >= ScaleWarningRatio)
+      {
+        std::ostringstream o;
+        o << "inputs: " << placed[i]->name() << " (largest extent " << ea << ") and " << placed[j]->name()
+          << " (largest extent " << eb << ") differ in size by " << std::llround(ratio)
+          << "x: different units (metres and millimetres)?";
+        warnings.push_back(o.str());
+        continue;
+      }
+      // share of the smaller box inside the other, per axis (a flat box counts as overlapping
+      // on its flat axis when it lies within the other's range)
+      double share = 1.0;
+      const double amin[3] = { a.min.x, a.min.y, a.min.z }, amax[3] = { a.max.x, a.max.y, a.max.z };
+      const double bmin[3] = { b.min.x, b.min.y, b.min.z }, bmax[3] = { b.max.x, b.max.y, b.max.z };
+      for (int k = 0; k < 3; ++k)
+      {
+        const double overlap = std::min(amax[k], bmax[k]) - std::max(amin[k], bmin[k]);
+        const double smaller = std::min(amax[k] - amin[k], bmax[k] - bmin[k]);
+        share *= overlap < 0 ? 0.0 : (smaller > 0 ? std::min(1.0, overlap / smaller) : 1.0);
+      }
+      if (share < OverlapWarningShare)
+      {
+        std::ostringstream o;
+        o << "inputs: the bounding boxes of " << placed[i]->name() << " and " << placed[j]->name()
+          << (share == 0.0 ? " do not overlap" : " barely overlap (" + std::to_string(100.0 * share).substr(0, 4) +
+                   "% of the smaller)")
+          << ": placed in different frames (LPS and RAS, a missing transform)?";
+        warnings.push_back(o.str());
+      }
+    }
+  return warnings;
+}
+
+std::vector<std::string> OracleBuilder::VanishedMaterialWarnings(
+  const omesh::HierarchicalOracle& oracle, const std::map<int, std::size_t>& tetsPerMaterial)
+{
+  std::vector<std::string> warnings;
+  std::set<int> reported;
+  for (const auto& d : oracle.domains())
+  {
+    if (d->isCut())
+      continue;
+    const bool labels = std::string(d->kind()) == "LabelMap";
+    for (int m : d->materials())
+    {
+      auto it = tetsPerMaterial.find(m);
+      if ((it != tetsPerMaterial.end() && it->second > 0) || !reported.insert(m).second)
+        continue;
+      warnings.push_back(labels
+          ? "label " + std::to_string(m) + " of " + d->name() +
+            " was dropped: no tetrahedron has it (a label of a few voxels, below the mesh size, or hidden by higher-priority domains?)"
+          : "material " + std::to_string(m) + " of " + d->name() +
+            " has no tetrahedron although its input is not empty (smaller than the mesh size, or hidden by higher-priority domains?)");
+    }
+  }
+  return warnings;
 }

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 
+#include "MeshCriteria.h"
 #include "OracleDomainMetadata.h"
 #include "OracleMeshFiltersModule.h"
 
@@ -35,10 +36,11 @@ public:
   static std::shared_ptr<omesh::HierarchicalOracle> BuildOracle(vtkDataObject* data);
 
   /// The criteria the domains of an oracle (the output of vtkHierarchicalOracle, or one domain)
-  /// set for their materials, per material id (6 values, negative = not set); the
-  /// higher-priority domain's value counts where two differ. Cut domains set nothing.
+  /// set for their materials (each of a label map's labels), as one level of the merge rule.
+  /// Throws InputError where two domains give one material different values, naming both, or a
+  /// value is NaN or infinite. Cut domains set nothing.
   /// `oracle` is BuildOracle(data): it tells each domain's materials.
-  static std::map<int, std::array<double, 6>> DomainCriteria(
+  static omesh::CriteriaLevel DomainCriteria(
     vtkDataObject* data, const omesh::HierarchicalOracle& oracle);
 
   /// Reads the domain metadata of `data` and checks the dataset type fits the kind.
@@ -80,4 +82,17 @@ public:
   /// Warnings for the domains no point of which reaches the mesh: every point sampled inside the
   /// domain's bounds (20 x 20 x 20) that the domain contains belongs to a higher-priority domain.
   static std::vector<std::string> HiddenDomainWarnings(const omesh::HierarchicalOracle& oracle);
+
+  /// Warnings for inputs that look placed in different frames or units: two bounded material
+  /// domains whose bounding boxes differ in size by ScaleWarningRatio or more (metres and
+  /// millimetres), or overlap in less than OverlapWarningShare of the smaller box (apart, or
+  /// touching only: a surface in another frame than the label map).
+  static std::vector<std::string> InputPlacementWarnings(const omesh::HierarchicalOracle& oracle);
+  static constexpr double ScaleWarningRatio = 100.0;
+  static constexpr double OverlapWarningShare = 0.05;
+
+  /// Warnings for the materials of `oracle` (the labels of a label map) that have no tetrahedron in
+  /// the mesh although their input is not empty: `tetsPerMaterial` counts the mesh's tetrahedra.
+  static std::vector<std::string> VanishedMaterialWarnings(
+    const omesh::HierarchicalOracle& oracle, const std::map<int, std::size_t>& tetsPerMaterial);
 };

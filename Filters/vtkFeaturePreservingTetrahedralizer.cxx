@@ -28,6 +28,8 @@
 
 #include <cmath>
 #include <exception>
+#include <map>
+#include <memory>
 #include <sstream>
 
 vtkStandardNewMacro(vtkFeaturePreservingTetrahedralizer);
@@ -76,6 +78,27 @@ vtkFeaturePreservingTetrahedralizer::vtkFeaturePreservingTetrahedralizer()
 {
   this->SetNumberOfInputPorts(3);
   this->SetNumberOfOutputPorts(3);
+  // Every default from the core's, the one source of them.
+  const omesh::MesherOptions defaults;
+  this->FeatureStrategy = defaults.strategy == omesh::FeatureStrategy::Conforming ? CONFORMING
+    : defaults.strategy == omesh::FeatureStrategy::None                          ? NONE
+                                                                                 : PROTECTING_BALLS;
+  const omesh::MeshCriteria::Values c = defaults.criteria.globalValues();
+  this->FacetAngle = c.facetAngle;
+  this->FacetSize = c.facetSize;
+  this->FacetDistance = c.facetDistance;
+  this->CellSize = c.cellSize;
+  this->CellRadiusEdgeRatio = c.cellRadiusEdgeRatio;
+  this->EdgeSize = c.edgeSize;
+  this->SliverAngle = defaults.sliverAngle;
+  this->InterfaceSliverAngle = defaults.interfaceSliverAngle;
+  this->Perturb = defaults.perturb;
+  this->Exude = defaults.exude;
+  this->PerturbationStepsPerVertex = defaults.perturbationStepsPerVertex;
+  this->ExudationStepsPerCell = defaults.exudationStepsPerCell;
+  this->OptimisationTimeLimit = defaults.optimisationTimeLimit;
+  this->Seed = static_cast<int>(defaults.seed);
+  this->MaximumNumberOfVertices = static_cast<vtkIdType>(defaults.maximumNumberOfVertices);
 }
 
 vtkFeaturePreservingTetrahedralizer::~vtkFeaturePreservingTetrahedralizer() = default;
@@ -171,8 +194,6 @@ int vtkFeaturePreservingTetrahedralizer::RequestData(
   options.strategy = this->FeatureStrategy == CONFORMING ? omesh::FeatureStrategy::Conforming
     : this->FeatureStrategy == NONE                    ? omesh::FeatureStrategy::None
                                                         : omesh::FeatureStrategy::ProtectingBalls;
-  options.criteria.global = { this->FacetAngle, this->FacetSize, this->FacetDistance, this->CellSize,
-    this->CellRadiusEdgeRatio, this->EdgeSize };
   options.sliverAngle = this->SliverAngle;
   options.interfaceSliverAngle = this->InterfaceSliverAngle;
   options.perturb = this->Perturb;
@@ -190,6 +211,8 @@ int vtkFeaturePreservingTetrahedralizer::RequestData(
   omesh::TetMesh mesh;
   omesh::FeatureSegments features;
   std::vector<std::string> notes; // this adapter's warnings, listed before the mesher's
+  std::vector<std::string> inputNotes; // of them, those about the inputs (field data InputWarnings)
+  std::shared_ptr<omesh::HierarchicalOracle> oracle;
   try
   {
     // Properties and inputs first, before any heavy work.
@@ -225,25 +248,19 @@ int vtkFeaturePreservingTetrahedralizer::RequestData(
         std::to_string(merged.overlapGroups) + " group(s) and " + std::to_string(merged.mergedPoints) +
         " repeated point(s); " + std::to_string(features.segments.size()) + " segments remain");
 
-    auto oracle = OracleBuilder::BuildOracle(oracleData);
+    oracle = OracleBuilder::BuildOracle(oracleData);
     for (const std::string& w : OracleBuilder::HiddenDomainWarnings(*oracle))
       notes.push_back(w);
-    // per material: the domains' criteria, then this filter's SetMaterialCriteria over them
-    auto overrideWith = [&](int m, const std::array<double, 6>& c) {
-      omesh::MeshCriteria& o =
-        options.criteria.perMaterial.try_emplace(m, omesh::MeshCriteria::inheritAll()).first->second;
-      double* fields[6] = { &o.facetAngle, &o.facetSize, &o.facetDistance, &o.cellSize, &o.cellRadiusEdgeRatio, &o.edgeSize };
-      for (int k = 0; k < 6; ++k)
-        if (c[k] >= 0)
-          *fields[k] = c[k];
-    };
-    for (const auto& [m, c] : OracleBuilder::DomainCriteria(oracleData, *oracle))
-    {
-      checkCriteria(c, "domain criteria for material " + std::to_string(m));
-      overrideWith(m, c);
-    }
+    inputNotes = OracleBuilder::InputPlacementWarnings(*oracle);
+    // The merge rule of MeshCriteria.h: global < the domains' own < this filter's table.
+    const omesh::CriteriaLevel domainLevel = OracleBuilder::DomainCriteria(oracleData, *oracle);
+    omesh::CriteriaLevel tableLevel;
     for (const auto& [m, c] : this->MaterialCriteria)
-      overrideWith(m, c);
+      tableLevel.add(m, omesh::MeshCriteria::fromVtk(c), "the per-material table");
+    options.criteria = omesh::mergeCriteria(omesh::MeshCriteria{ this->FacetAngle, this->FacetSize,
+                                              this->FacetDistance, this->CellSize, this->CellRadiusEdgeRatio,
+                                              this->EdgeSize },
+      { &domainLevel, &tableLevel });
     std::vector<omesh::Vec3> seedPoints;
     if (seeds)
       OracleBuilder::CheckCoordinates(seeds->GetPoints(), "seed points (input port 2)", "");
@@ -272,6 +289,12 @@ int vtkFeaturePreservingTetrahedralizer::RequestData(
     vtkErrorMacro(<< "meshing failed: " << e.what());
     return 0;
   }
+  std::map<int, std::size_t> tetsPerMaterial;
+  for (int m : mesh.tetMaterial)
+    ++tetsPerMaterial[m];
+  for (const std::string& w : OracleBuilder::VanishedMaterialWarnings(*oracle, tetsPerMaterial))
+    inputNotes.push_back(w);
+  notes.insert(notes.end(), inputNotes.begin(), inputNotes.end());
   mesh.warnings.insert(mesh.warnings.begin(), notes.begin(), notes.end());
   for (const auto& w : mesh.warnings)
     vtkWarningMacro(<< w);
@@ -333,6 +356,13 @@ int vtkFeaturePreservingTetrahedralizer::RequestData(
   grid->GetFieldData()->AddArray(names);
   grid->GetFieldData()->AddArray(values);
   grid->GetFieldData()->AddArray(warnings);
+  // The inputs' warnings again (frames, units, materials or labels that vanished): the ones the
+  // command line's --strict turns into a failure.
+  vtkNew<vtkStringArray> inputWarnings;
+  inputWarnings->SetName("InputWarnings");
+  for (const auto& w : inputNotes)
+    inputWarnings->InsertNextValue(w);
+  grid->GetFieldData()->AddArray(inputWarnings);
 
   // Port 1: interface triangles with the materials on both sides.
   interfaces->SetPoints(grid->GetPoints());

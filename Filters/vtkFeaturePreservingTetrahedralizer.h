@@ -13,6 +13,13 @@
  * edges), None (stock Mesh_3, Pons et al.), ProtectingBalls (CGAL's protecting balls, Dey et al.).
  * Criteria are global and can be overridden per material.
  *
+ * Defaults: every property's default comes from the core's omesh::MesherOptions and
+ * omesh::MeshCriteria::defaults(), the one source of them; the getters of a fresh filter show
+ * them (the Python package, the scene loader and the command line read them there, and a test
+ * checks the plugin XML's default_values against them). Criteria merge as documented in
+ * MeshCriteria.h: defaults < global < a domain's own < this filter's per-material table; two domains
+ * giving one material different values for a criterion are an error naming both.
+ *
  * Port 0 takes any data object and port 1 any vtkPolyData so that a wrong input gets an error naming
  * the port (an image as feature lines, triangles or vertices as feature lines, no oracle); duplicate
  * and overlapping collinear feature segments are merged (with a warning), not refused. A domain that
@@ -83,7 +90,8 @@ public:
 
   ///@{
   /// Per-material overrides, in the order facet angle, facet size, facet distance, cell size,
-  /// cell radius-edge ratio, edge size; a negative value keeps the global one.
+  /// cell radius-edge ratio, edge size; a negative value is "not set" (the domain's or the global
+  /// value counts); 0 is "no bound".
   void SetMaterialCriteria(int materialId, double facetAngle, double facetSize, double facetDistance,
     double cellSize, double cellRadiusEdgeRatio, double edgeSize);
   void RemoveMaterialCriteria(int materialId);
@@ -163,22 +171,23 @@ protected:
   int FillOutputPortInformation(int port, vtkInformation* info) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
-  int FeatureStrategy = CONFORMING;
-  double SliverAngle = 1.0;
-  double InterfaceSliverAngle = 10.0;
-  double FacetAngle = 25.0;
-  double FacetSize = 0.0;
-  double FacetDistance = 0.0;
-  double CellSize = 0.0;
-  double CellRadiusEdgeRatio = 3.0;
-  double EdgeSize = 0.0;
-  bool Perturb = true;
-  bool Exude = true;
-  double PerturbationStepsPerVertex = 2.0;
-  double ExudationStepsPerCell = 0.1;
-  double OptimisationTimeLimit = 0.0;
-  int Seed = 0;
-  vtkIdType MaximumNumberOfVertices = 2000000;
+  // Set by the constructor from the core's defaults (omesh::MesherOptions).
+  int FeatureStrategy;
+  double SliverAngle;
+  double InterfaceSliverAngle;
+  double FacetAngle;
+  double FacetSize;
+  double FacetDistance;
+  double CellSize;
+  double CellRadiusEdgeRatio;
+  double EdgeSize;
+  bool Perturb;
+  bool Exude;
+  double PerturbationStepsPerVertex;
+  double ExudationStepsPerCell;
+  double OptimisationTimeLimit;
+  int Seed;
+  vtkIdType MaximumNumberOfVertices;
 
 private:
   vtkFeaturePreservingTetrahedralizer(const vtkFeaturePreservingTetrahedralizer&) = delete;

@@ -90,7 +90,6 @@ vtkImplicitDomain::vtkImplicitDomain()
 {
   this->SetNumberOfInputPorts(0);
   this->SetMaterialName("Implicit");
-  this->Cut = true; // most implicit domains are cuts
 }
 
 vtkImplicitDomain::~vtkImplicitDomain()

@@ -6,7 +6,8 @@
  * Inside is where the function is <= 0 (VTK's convention: a vtkPlane contains the side its normal
  * points away from). The function's linear Transform is honoured (ParaView's box widget uses it).
  * vtkCylinder is infinite; a positive Height caps it symmetrically about its Center (a screw).
- * Unbounded shapes (planes, infinite cylinders) are meant as cuts, so Cut is on by default. The output is a tessellation of
+ * Unbounded shapes (planes, infinite cylinders) may only be cuts: SetCut(true) (Cut is off by default, as for
+ * every domain and in scene files). The output is a tessellation of
  * the shape's boundary inside DisplayBounds, for display only, with the domain description in its
  * field data.
  */

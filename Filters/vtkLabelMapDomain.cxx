@@ -16,6 +16,8 @@
 #include <vtkPointData.h>
 #include <vtkStreamingDemandDrivenPipeline.h>
 
+#include <vector>
+
 vtkStandardNewMacro(vtkLabelMapDomain);
 
 vtkLabelMapDomain::vtkLabelMapDomain()
@@ -93,6 +95,33 @@ std::string arrayNames(vtkDataSetAttributes* attributes)
   }
   return names.empty() ? "none" : names;
 }
+
+/// The label array when none was named: the one integer single-component array of `attributes`;
+/// of several, the active scalars if among them. Null when there is none; throws InputError
+/// naming them when several leave the choice open.
+vtkDataArray* integerLabelArray(vtkDataSetAttributes* attributes, const std::string& who, const char* what)
+{
+  std::vector<vtkDataArray*> candidates;
+  for (int i = 0; i < attributes->GetNumberOfArrays(); ++i)
+  {
+    vtkDataArray* a = attributes->GetArray(i);
+    if (a && a->GetNumberOfComponents() == 1 && a->GetDataType() != VTK_FLOAT && a->GetDataType() != VTK_DOUBLE)
+      candidates.push_back(a);
+  }
+  if (candidates.size() == 1)
+    return candidates[0];
+  if (candidates.empty())
+    return nullptr;
+  for (vtkDataArray* a : candidates)
+    if (a == attributes->GetScalars())
+      return a;
+  std::string names;
+  for (vtkDataArray* a : candidates)
+    names += (names.empty() ? "'" : ", '") + std::string(a->GetName() ? a->GetName() : "") + "'";
+  throw omesh::InputError(who + ": the image has several integer " + what + " arrays (" + names +
+    ") and none is the active scalars: name the label array (scene key \"array\", ParaView's Label Array, "
+    "SetInputArrayToProcess)");
+}
 }
 
 int vtkLabelMapDomain::RequestData(
@@ -121,11 +150,26 @@ int vtkLabelMapDomain::RequestData(
   md.Criteria = { this->FacetAngle, this->FacetSize, this->FacetDistance, this->CellSize,
     this->CellRadiusEdgeRatio, this->EdgeSize };
   int association = vtkDataObject::FIELD_ASSOCIATION_POINTS;
-  vtkDataArray* array = input ? this->GetInputArrayToProcess(0, inputVector, association) : nullptr;
-  if (!array && input && input->GetCellData()->GetScalars())
+  vtkDataArray* array = nullptr;
+  vtkInformation* chosen = this->GetInputArrayInformation(0);
+  const bool named = chosen && chosen->Has(vtkDataObject::FIELD_NAME()) && chosen->Get(vtkDataObject::FIELD_NAME()) &&
+    *chosen->Get(vtkDataObject::FIELD_NAME());
+  try
   {
-    array = input->GetCellData()->GetScalars(); // only cell scalars: the cells are the voxels
-    association = vtkDataObject::FIELD_ASSOCIATION_CELLS;
+    if (named)
+      array = this->GetInputArrayToProcess(0, inputVector, association);
+    else if ((array = integerLabelArray(input->GetPointData(), who, "point")))
+      association = vtkDataObject::FIELD_ASSOCIATION_POINTS;
+    else if ((array = input->GetPointData()->GetScalars()))
+      association = vtkDataObject::FIELD_ASSOCIATION_POINTS; // integral values in a float array
+    else if ((array = integerLabelArray(input->GetCellData(), who, "cell")) ||
+      (array = input->GetCellData()->GetScalars()))
+      association = vtkDataObject::FIELD_ASSOCIATION_CELLS; // the cells are the voxels
+  }
+  catch (const omesh::InputError& e)
+  {
+    vtkErrorMacro(<< e.what());
+    return 0;
   }
   md.CellLabels = association == vtkDataObject::FIELD_ASSOCIATION_CELLS;
   md.LabelArray = (array && array->GetName()) ? array->GetName() : "";

@@ -4,8 +4,9 @@
  * @brief A label map (segmented image) as materials of the hierarchical oracle.
  *
  * Input: vtkImageData with an integer label array, point or cell data, chosen with
- * SetInputArrayToProcess(0, 0, 0, association, name) (default: the active point scalars, else the
- * active cell scalars). Every label other than BackgroundLabel is a material whose id is the label.
+ * SetInputArrayToProcess(0, 0, 0, association, name). Unnamed (the default), the label array is
+ * picked: the one integer point array (of several, the active point scalars; else an error naming
+ * them), else the point scalars, else the one integer cell array or the cell scalars. Every label other than BackgroundLabel is a material whose id is the label.
  * With point data each point is the centre of its voxel (as in ITK and CGAL's Image_3); with cell
  * data each cell is a voxel. The image's direction matrix is honoured.
  * Output: the same image with the domain description in its field data.
@@ -71,7 +72,7 @@ public:
   /// Optional mesh criteria for every label of this map, as on
   /// vtkFeaturePreservingTetrahedralizer; negative (the default) = use the tetrahedralizer's.
   /// The tetrahedralizer's SetMaterialCriteria overrides these; where two domains give one
-  /// material different values, the higher-priority domain's count.
+  /// material different values, the update of the tetrahedralizer fails naming both (MeshCriteria.h).
   vtkSetMacro(FacetAngle, double);
   vtkGetMacro(FacetAngle, double);
   vtkSetMacro(FacetSize, double);

@@ -46,7 +46,7 @@ public:
   /// Optional mesh criteria for this domain's material(s), as on
   /// vtkFeaturePreservingTetrahedralizer; negative (the default) = use the tetrahedralizer's.
   /// The tetrahedralizer's SetMaterialCriteria overrides these; where two domains give one
-  /// material different values, the higher-priority domain's count.
+  /// material different values, the update of the tetrahedralizer fails naming both (MeshCriteria.h).
   vtkSetMacro(FacetAngle, double);
   vtkGetMacro(FacetAngle, double);
   vtkSetMacro(FacetSize, double);

@@ -68,7 +68,7 @@ BoundingBox HierarchicalOracle::bounds() const
       continue;
     if (!d->bounded())
       throw InputError("HierarchicalOracle: domain '" + d->name() + "' (" + d->kind() +
-        ") is unbounded; only cut domains may be unbounded");
+        ") is unbounded; only cut domains may be unbounded (make it a cut: scene \"cut\": true, SetCut(true), Cut in ParaView; Cut is off by default)");
     box.add(d->bounds());
   }
   if (box.empty())

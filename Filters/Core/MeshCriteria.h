@@ -1,49 +1,93 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 
-#include <cmath>
-#include <limits>
+#include <array>
 #include <map>
+#include <optional>
+#include <string>
+#include <vector>
 
 namespace omesh
 {
-/// Delaunay-refinement criteria (paper section 2 / CGAL Mesh_3). A value <= 0 means "no bound".
-/// In per-material overrides a NaN field means "inherit the global value".
+/// Delaunay-refinement criteria (paper section 2 / CGAL Mesh_3): the one criteria type of every
+/// level (defaults, global, per domain, per material). A value <= 0 means "no bound"; an empty
+/// field (std::nullopt) means "not set here": the next less specific level's value counts.
+///
+/// The merge rule (MaterialCriteria::of): defaults < global < per domain < per material, the
+/// more specific value wins. "Per domain" are a domain's own criteria, which apply to each material
+/// the domain gives (every label of a label map); "per material" name one material id (the
+/// tetrahedralizer's table, the scene's "mesh.materials"). Two sources of one level that give one
+/// material's criterion different values are a contradiction: CriteriaLevel::add throws.
+/// There are no per-feature-line criteria: EdgeSize is global (feature lines belong to no material).
 struct MeshCriteria
 {
-  static constexpr double kInherit = std::numeric_limits<double>::quiet_NaN();
+  std::optional<double> facetAngle;          ///< lower bound of facet angles, degrees (<= 30 for termination)
+  std::optional<double> facetSize;           ///< upper bound of the surface Delaunay ball radius
+  std::optional<double> facetDistance;       ///< upper bound of facet-centre-to-surface distance
+  std::optional<double> cellSize;            ///< upper bound of the tetrahedron circumradius
+  std::optional<double> cellRadiusEdgeRatio; ///< upper bound of circumradius / shortest edge (>= 2 guaranteed)
+  std::optional<double> edgeSize;            ///< upper bound of constrained-segment length
 
-  double facetAngle = 25.0;         ///< lower bound of facet angles, degrees (<= 30 for termination)
-  double facetSize = 0.0;           ///< upper bound of the surface Delaunay ball radius
-  double facetDistance = 0.0;       ///< upper bound of facet-centre-to-surface distance
-  double cellSize = 0.0;            ///< upper bound of the tetrahedron circumradius
-  double cellRadiusEdgeRatio = 3.0; ///< upper bound of circumradius / shortest edge (>= 2 guaranteed)
-  double edgeSize = 0.0;            ///< upper bound of constrained-segment length
+  static constexpr int kCount = 6;
+  /// Names in field order: the VTK properties ("FacetAngle") and the scene keys ("facet_angle").
+  static const std::array<const char*, kCount>& propertyNames();
+  static const std::array<const char*, kCount>& sceneKeys();
 
-  static MeshCriteria inheritAll()
+  /// The defaults, the one source of them (the VTK filter, the plugin XML, the scene loader and
+  /// the command line take theirs from here): facet angle 25, radius-edge ratio 3, no size bound.
+  static MeshCriteria defaults();
+  /// Nothing set (every field inherits). Kept for the tests' readability.
+  static MeshCriteria inheritAll() { return {}; }
+
+  std::optional<double>& operator[](int k);
+  const std::optional<double>& operator[](int k) const;
+
+  /// This, with every unset field taken from `base`.
+  MeshCriteria over(const MeshCriteria& base) const;
+
+  /// Resolved values: what the mesher reads, every field set (unset ones from defaults()).
+  struct Values
   {
-    return { kInherit, kInherit, kInherit, kInherit, kInherit, kInherit };
-  }
-  /// This, with every NaN field taken from `base`.
-  MeshCriteria over(const MeshCriteria& base) const
-  {
-    auto pick = [](double mine, double theirs) { return std::isnan(mine) ? theirs : mine; };
-    return { pick(facetAngle, base.facetAngle), pick(facetSize, base.facetSize),
-      pick(facetDistance, base.facetDistance), pick(cellSize, base.cellSize),
-      pick(cellRadiusEdgeRatio, base.cellRadiusEdgeRatio), pick(edgeSize, base.edgeSize) };
-  }
+    double facetAngle, facetSize, facetDistance, cellSize, cellRadiusEdgeRatio, edgeSize;
+  };
+  Values values() const;
+
+  /// From six numbers as the VTK layer spells them: negative (or NaN) = not set.
+  static MeshCriteria fromVtk(const std::array<double, kCount>& v);
+  /// Throws InputError when a set field is NaN or infinite, naming it and `who`.
+  void checkFinite(const std::string& who) const;
 };
 
-/// Global criteria plus per-material overrides (NaN fields inherit).
+/// Global criteria plus per-material ones, merged by the rule above.
 struct MaterialCriteria
 {
-  MeshCriteria global;
-  std::map<int, MeshCriteria> perMaterial;
+  MeshCriteria global = MeshCriteria::defaults();
+  std::map<int, MeshCriteria> perMaterial; ///< per domain and per material already merged
 
-  MeshCriteria of(int material) const
-  {
-    auto it = perMaterial.find(material);
-    return it == perMaterial.end() ? global : it->second.over(global);
-  }
+  /// Material m's resolved criteria: perMaterial[m] over global over the defaults.
+  MeshCriteria::Values of(int material) const;
+  MeshCriteria::Values globalValues() const { return global.values(); }
 };
+
+/// One level of per-material criteria (the domains' or the per-material table's), remembering
+/// where each value came from so that a contradiction names both sources.
+class CriteriaLevel
+{
+public:
+  /// Adds `c` (its set fields) for `material`, from `source` ("domain 'implant'"). Throws
+  /// InputError when a field already has a different value at this level:
+  /// "criteria: material 3 gets CellSize 1 from domain 'a' and 2 from domain 'b' (...)".
+  void add(int material, const MeshCriteria& c, const std::string& source);
+  const std::map<int, MeshCriteria>& criteria() const { return criteria_; }
+
+private:
+  std::map<int, MeshCriteria> criteria_;
+  std::map<std::pair<int, int>, std::string> sources_;
+};
+
+/// `global` with the levels on top, least specific first (the domains', then the table's).
+MaterialCriteria mergeCriteria(const MeshCriteria& global, const std::vector<const CriteriaLevel*>& levels);
+
+/// Termination and sizing warnings for `c`; throws InputError for NaN or infinite values.
+void checkCriteria(const MaterialCriteria& c, std::vector<std::string>& warnings);
 }

@@ -228,7 +228,7 @@ protected:
   MaterialCellCriterion* do_clone() const override { return new MaterialCellCriterion(*this); }
   Is_bad do_is_bad(const Tr& tr, const Tr::Cell_handle& c) const override
   {
-    const MeshCriteria m = criteria_.of(materialOf(c->subdomain_index()));
+    const MeshCriteria::Values m = criteria_.of(materialOf(c->subdomain_index()));
     const Tr::Weighted_point &wp = tr.point(c, 0), &wq = tr.point(c, 1), &wr = tr.point(c, 2), &ws = tr.point(c, 3);
     const auto &p = wp.point(), &q = wq.point(), &r = wr.point(), &s = ws.point();
     // CGAL's rules next to protecting balls (Cell_criteria_visitor_with_features): no shape
@@ -299,8 +299,8 @@ protected:
   Is_bad do_is_bad(const Tr& tr, const Tr::Facet& f) const override
   {
     const auto patch = f.first->surface_patch_index(f.second);
-    const MeshCriteria a = criteria_.of(materialOf(patch.first));
-    const MeshCriteria b = criteria_.of(materialOf(patch.second));
+    const MeshCriteria::Values a = criteria_.of(materialOf(patch.first));
+    const MeshCriteria::Values b = criteria_.of(materialOf(patch.second));
     auto strict = [](double x, double y) { return x > 0 && y > 0 ? std::min(x, y) : std::max(x, y); };
     const double angle = std::max(a.facetAngle, b.facetAngle);
     const double size = strict(a.facetSize, b.facetSize);
@@ -346,35 +346,6 @@ protected:
 private:
   MaterialCriteria criteria_;
 };
-
-void checkCriteria(const MaterialCriteria& c, std::vector<std::string>& warnings)
-{
-  // A material's termination warnings only where its value is its own (not the global one again).
-  auto check = [&](const MeshCriteria& m, const std::string& who, const MeshCriteria* global) {
-    const double values[] = { m.facetAngle, m.facetSize, m.facetDistance, m.cellSize, m.cellRadiusEdgeRatio, m.edgeSize };
-    for (double v : values)
-      if (std::isnan(v) || std::isinf(v))
-        throw InputError(who + ": criteria must be finite numbers");
-    if (m.facetAngle > 30.0 && !(global && global->facetAngle == m.facetAngle))
-      warnings.push_back(who + ": FacetAngle " + std::to_string(m.facetAngle) +
-        " > 30 degrees: refinement is not guaranteed to terminate");
-    if (m.cellRadiusEdgeRatio > 0 && m.cellRadiusEdgeRatio < 2.0 &&
-      !(global && global->cellRadiusEdgeRatio == m.cellRadiusEdgeRatio))
-      warnings.push_back(who + ": CellRadiusEdgeRatio " + std::to_string(m.cellRadiusEdgeRatio) +
-        " < 2: termination is not guaranteed (the run stops at MaximumNumberOfVertices)");
-  };
-  check(c.global, "global criteria", nullptr);
-  for (const auto& [material, m] : c.perMaterial)
-    check(m.over(c.global), "criteria of material " + std::to_string(material), &c.global);
-  if (c.global.cellSize <= 0 && c.global.facetSize <= 0 && c.global.facetDistance <= 0)
-  {
-    bool sized = !c.perMaterial.empty();
-    for (const auto& [material, m] : c.perMaterial)
-      sized = sized && (m.over(c.global).cellSize > 0 || m.over(c.global).facetSize > 0);
-    if (!sized)
-      warnings.push_back("no size bound (CellSize, FacetSize, FacetDistance): the mesh follows only the shape criteria");
-  }
-}
 
 /// Maximal polylines through the segments, broken at points of degree != 2 and at bends sharper
 /// than kPolylineCorner: CGAL protects a polyline as one smooth curve, and through a sharp bend
@@ -583,7 +554,7 @@ TetMesh meshOracleUnguarded(const HierarchicalOracle& oracle, const FeatureSegme
   std::vector<std::string> warnings;
   const BoundingBox inner = oracle.bounds(); // throws for an empty or unbounded oracle
   checkCriteria(options.criteria, warnings);
-  const MeshCriteria& g = options.criteria.global;
+  const MeshCriteria::Values g = options.criteria.globalValues();
   if (!features.empty())
   {
     auto w = features.validate(oracle, g.cellRadiusEdgeRatio);
@@ -748,7 +719,7 @@ TetMesh meshOracleUnguarded(const HierarchicalOracle& oracle, const FeatureSegme
     double sum = 0.0;
     for (const auto& [m, v] : volume)
     {
-      const MeshCriteria c = options.criteria.of(m);
+      const MeshCriteria::Values c = options.criteria.of(m);
       const double size = c.cellSize > 0 ? c.cellSize : norm(inner.size()) / 20.0;
       sum += v / (size * size * size);
     }

@@ -25,6 +25,9 @@ enum class FeatureStrategy
 
 const char* toString(FeatureStrategy s);
 
+/// Every default of the mesher, the one source of them: the VTK filter starts from a
+/// default-constructed MesherOptions (its getters on a fresh filter show these), and the plugin
+/// XML, the scene loader, the command line and pvpython read them from there (a test compares).
 struct MesherOptions
 {
   FeatureStrategy strategy = FeatureStrategy::Conforming;
@@ -50,7 +53,7 @@ struct MesherOptions
   /// depend on the machine's speed), < 0 = stock CGAL's default (the refinement's running time).
   double optimisationTimeLimit = 0.0;
   unsigned seed = 0;                  ///< same input + same seed = identical mesh
-  std::size_t maximumNumberOfVertices = 0; ///< 0 = unlimited; reaching it ends refinement with a warning
+  std::size_t maximumNumberOfVertices = 2000000; ///< 0 = unlimited; reaching it ends refinement with a warning
   /// Called during the work with a fraction in [0, 1] and the phase name; return false to abort
   /// (the call then throws MeshingAborted). Called from the calling thread.
   std::function<bool(double, const char*)> progress;

@@ -6,7 +6,8 @@ saved state), meshed and checked:
   - every material of the scene is in the mesh, with a volume close to the oracle's own (sampled);
   - the feature lines are all mesh edges (statistic feature_coverage = 1);
   - the per-material table reaches the mesher (the implant's rows ask for smaller tetrahedra);
-  - a fresh tetrahedralizer's sizes default to shares of the oracle's extent.
+  - a fresh tetrahedralizer's properties default to the C++ filter's (0 = no size bound, not
+    -1e298 or a share of the input's bounds).
     pvpython pvpython_demo_mesh.py <plugin .so> <Data folder>"""
 import os
 import sys
@@ -32,17 +33,21 @@ def check(condition, message):
 proxies, scene = make_demo_state.build_pipeline(os.path.join(data, "demo", "scene.json"))
 oracle, mesher = proxies["Oracle"], proxies["Tetrahedralizer"]
 
-# Defaults scaled to the input (BoundsDomain scaled_extent): 1/20 and 1/100 of the largest extent,
-# computed when the filter is created on an updated input (as in the GUI, after Apply).
-oracle.UpdatePipeline()
-fresh = pv.FeaturePreservingTetrahedralizer(Input=oracle)
+# The proxy's defaults are the C++ filter's (the one source), before and after the input is updated.
+from oraclemesh.OracleMeshFilters import vtkFeaturePreservingTetrahedralizer  # noqa: E402
+
+cxx = vtkFeaturePreservingTetrahedralizer()
+for updated in (False, True):
+    if updated:
+        oracle.UpdatePipeline()
+    fresh = pv.FeaturePreservingTetrahedralizer(Input=oracle)
+    for prop in ("FacetAngle", "FacetSize", "FacetDistance", "CellSize", "CellRadiusEdgeRatio", "EdgeSize",
+                 "SliverAngle", "InterfaceSliverAngle", "Seed", "MaximumNumberOfVertices"):
+        check(getattr(fresh, prop) == getattr(cxx, "Get" + prop)(),
+              f"{prop} defaults to the C++'s {getattr(cxx, 'Get' + prop)()} (input updated: {updated}): {getattr(fresh, prop)}")
+    pv.Delete(fresh)
 b = oracle.GetDataInformation().GetBounds()
 extent = max(b[1] - b[0], b[3] - b[2], b[5] - b[4])
-check(abs(fresh.CellSize - 0.05 * extent) < 1e-9 * extent and abs(fresh.FacetSize - 0.05 * extent) < 1e-9 * extent
-      and abs(fresh.FacetDistance - 0.01 * extent) < 1e-9 * extent,
-      f"default sizes from the oracle's extent {extent}: cell {fresh.CellSize}, facet {fresh.FacetSize}, "
-      f"distance {fresh.FacetDistance}")
-pv.Delete(fresh)
 
 expected_rows = make_demo_state.material_criteria_rows(scene["mesh"]["materials"])
 check(list(mesher.MaterialCriteria) == expected_rows, f"per-material table from the scene: {list(mesher.MaterialCriteria)}")

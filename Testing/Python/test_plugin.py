@@ -57,9 +57,9 @@ class PluginXML(unittest.TestCase):
         for label in ("Size criteria", "Shape criteria", "Features", "Optimisation", "Advanced"):
             self.assertIn(label, groups)
         for prop in ("CellSize", "FacetSize", "FacetDistance"):
-            domain = mesher.find(f"DoubleVectorProperty[@name='{prop}']/BoundsDomain")
-            self.assertIsNotNone(domain, f"{prop}: no default from the input's bounds")
-            self.assertEqual(domain.get("mode"), "scaled_extent")
+            # the C++ default (0 = no bound), not one scaled from the input's bounds (which gave
+            # -1e298 in pvpython before the input was updated, and a different mesh than the CLI)
+            self.assertIsNone(mesher.find(f"DoubleVectorProperty[@name='{prop}']/BoundsDomain"))
         hints = mesher.find("Hints")
         self.assertEqual(hints.find("RepresentationType[@port='0']").get("type"), "Surface With Edges")
         self.assertEqual({v.get("port") for v in hints.findall("View") if v.get("type") == "None"}, {"1", "2"})
@@ -68,6 +68,45 @@ class PluginXML(unittest.TestCase):
                           table.get("number_of_elements_per_command")),
                          ("AddMaterialCriteria", "RemoveAllMaterialCriteria", "1", "7"))
         self.assertEqual(len(table.findall("Hints/ShowComponentLabels/ComponentLabel")), 7)
+
+    def test_default_values_are_the_cxx_defaults(self):
+        """Every property's default_values (a base proxy's too) equals what the getter of a fresh
+        object of the proxy's VTK class returns: the C++ is the one source of the defaults."""
+        root = ET.parse(XML).getroot()
+        bases = {(g.get("name"), p.get("name")): p for g in root.findall("ProxyGroup") for p in g.findall("Proxy")}
+        checked = 0
+        for name, proxy in proxies().items():
+            instance = getattr(om, proxy.get("class"))()
+            props = list(proxy)
+            if proxy.get("base_proxyname"):
+                props += list(bases[(proxy.get("base_proxygroup"), proxy.get("base_proxyname"))])
+            for prop in props:
+                command, default = prop.get("command", ""), prop.get("default_values")
+                if prop.tag not in PROPERTY_TAGS or default is None or not command.startswith("Set") \
+                        or prop.get("repeat_command") == "1" or not hasattr(instance, "Get" + command[3:]):
+                    continue
+                with self.subTest(proxy=name, property=prop.get("name")):
+                    value = getattr(instance, "Get" + command[3:])()
+                    if prop.tag == "StringVectorProperty":
+                        self.assertEqual(default, value)
+                        continue
+                    expected = [float(v) for v in default.split()]
+                    actual = [float(v) for v in (value if isinstance(value, (tuple, list)) else [value])]
+                    self.assertEqual(expected, actual)
+                    checked += 1
+        # the tetrahedralizer's criteria, strategy, optimiser, sliver angles, seed and budget; every
+        # domain's cut and criteria
+        self.assertGreater(checked, 40)
+
+    def test_domain_criteria_are_one_base_proxy(self):
+        root = ET.parse(XML).getroot()
+        domains = [p for p in proxies().values() if p.get("class").endswith("Domain")]
+        self.assertEqual(len(domains), 4)
+        for proxy in domains:
+            self.assertEqual((proxy.get("base_proxygroup"), proxy.get("base_proxyname")),
+                             ("oraclemesh_bases", "DomainCriteria"))
+            self.assertIsNone(proxy.find("DoubleVectorProperty[@name='FacetSize']"), "criteria repeated")
+        self.assertEqual(len(root.findall(".//DoubleVectorProperty[@name='CellRadiusEdgeRatio']")), 2)
 
     def test_domains_have_the_3d_widgets(self):
         p = proxies()

@@ -18,6 +18,7 @@ int main()
   plane->SetNormal(0, 0, -1);
   vtkNew<vtkImplicitDomain> cut;
   cut->SetImplicitFunction(plane);
+  cut->SetCut(true); // a plane is unbounded: only a cut may be
   vtkNew<vtkHierarchicalOracle> oracle; // first input = highest priority
   oracle->AddInputConnection(cut->GetOutputPort());
   oracle->AddInputConnection(bone->GetOutputPort());

@@ -158,6 +158,7 @@ TEST(OracleFilters, CutPlaneRemovesLowerPrioritiesOnly)
   plane->SetNormal(0, 0, -1); // contains z >= 0
   vtkNew<vtkImplicitDomain> cut;
   cut->SetImplicitFunction(plane);
+  cut->SetCut(true);
   vtkNew<vtkSphereDomain> bottom;
   bottom->SetRadius(2);
   bottom->SetMaterialId(2);
@@ -355,6 +356,7 @@ TEST(OracleFilters, BadInputGivesClearErrors)
   vtkNew<vtkPlane> plane;
   vtkNew<vtkImplicitDomain> cut;
   cut->SetImplicitFunction(plane);
+  cut->SetCut(true);
   vtkNew<vtkHierarchicalOracle> onlyCut;
   onlyCut->AddInputConnection(cut->GetOutputPort());
   vtkNew<vtkOracleSampler> sampler;

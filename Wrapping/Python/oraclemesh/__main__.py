@@ -9,7 +9,7 @@
   batch SCENES   mesh many scenes, each in its own process, with a summary CSV
 
 Exit codes: 0 done, 2 bad input (the message names it), 3 meshing failed (or --strict found
-defects), 130 interrupted (SIGINT or SIGTERM), 1 an internal error (a bug; ORACLEMESH_TRACEBACK=1
+defects or warnings about the inputs), 130 interrupted (SIGINT or SIGTERM), 1 an internal error (a bug; ORACLEMESH_TRACEBACK=1
 shows where).
 """
 import argparse
@@ -21,6 +21,7 @@ import sys
 import time
 
 from .atomic import write_text
+from .defaults import mesh_defaults
 from .errors import MeshingError, OracleMeshError, update
 from .meshing import mesh
 from .scene import STRATEGIES, load_scene
@@ -194,7 +195,7 @@ def _mesh(args):
         save_histogram(q, histogram, result.material_names, f"Dihedral angles: {os.path.basename(args.scene)}")
         lines.append(f"wrote {histogram}")
     _publish(lines, args.report or scene.outputs.get("report"))
-    status = _strict_status(args, q, outputs)
+    status = _strict_status(args, q, outputs, result.input_warnings)
     if args.summary:
         stats = statistics(result.grid)
         summary = {"tets": q["tets"], "vertices": q["vertices"], "min_dihedral": q["min_dihedral"],
@@ -206,14 +207,20 @@ def _mesh(args):
     return status
 
 
-def _strict_status(args, q, what):
-    """3 when --strict and the mesh has validity defects (the report names them), else 0."""
+def _strict_status(args, q, what, input_warnings=()):
+    """3 when --strict and the mesh has validity defects or warnings about its inputs (frames or
+    units that do not match, materials or labels without a tetrahedron; the report lists them), else 0."""
     defects = int(q["validity"]["validity.defects"])
+    where = ', '.join(what) if isinstance(what, list) else what
+    status = 0
     if args.strict and defects:
-        print(f"oraclemesh: error: {', '.join(what) if isinstance(what, list) else what}: {defects} validity "
-              "defects (--strict)", file=sys.stderr)
-        return 3
-    return 0
+        print(f"oraclemesh: error: {where}: {defects} validity defects (--strict)", file=sys.stderr)
+        status = 3
+    if args.strict and input_warnings:
+        print(f"oraclemesh: error: {where}: {len(input_warnings)} warning(s) about the inputs (--strict): "
+              + "; ".join(input_warnings), file=sys.stderr)
+        status = 3
+    return status
 
 
 def _report(args):
@@ -231,7 +238,9 @@ def _report(args):
         save_histogram(q, png, material_names(grid), f"Dihedral angles: {os.path.basename(args.mesh)}")
         lines.append(f"wrote {png}")
     _publish(lines, args.report)
-    return _strict_status(args, q, args.mesh)
+    from .fielddata import strings
+
+    return _strict_status(args, q, args.mesh, strings(grid.GetFieldData(), "InputWarnings"))
 
 
 def _batch(args):
@@ -256,21 +265,25 @@ def main(argv=None):
     p.add_argument("-o", "--output", action="append",
                    help=f"output mesh, format by extension ({' '.join(MESH_FORMATS)}); repeat for several "
                         "(default: the scene's outputs.mesh)")
-    p.add_argument("--strategy", choices=STRATEGIES, help="feature strategy (default: the scene's, else Conforming)")
+    p.add_argument("--strategy", choices=STRATEGIES,
+                   help=f"feature strategy (default: the scene's, else {mesh_defaults()['strategy']})")
     p.add_argument("--report", help="also write the quality report to this text file")
     p.add_argument("--histogram", help="save the dihedral-angle histogram to this PNG")
     p.add_argument("--progress", action="store_true", help="show the mesher's progress on stderr")
     p.add_argument("--progress-lines", action="store_true", help=argparse.SUPPRESS)
     p.add_argument("--summary", help=argparse.SUPPRESS)  # JSON of the figures batch puts in its CSV
     p.add_argument("--strict", action="store_true",
-                   help="exit with status 3 when the mesh has validity defects (the files are still written)")
+                   help="exit with status 3 when the mesh has validity defects or warnings about the inputs "
+                        "(frames or units that do not match, materials or labels without a tetrahedron); "
+                        "the files are still written")
     p.set_defaults(run=_mesh)
     p = sub.add_parser("report", help="quality report of a mesh written by 'mesh' (.vtu .inp .msh .mesh): table and histogram")
     p.add_argument("mesh", help="tetrahedral mesh written by 'mesh' (.vtu, .inp, .msh or .mesh)")
     p.add_argument("--png", help="histogram picture (default: MESH without its extension + _dihedral.png)")
     p.add_argument("--no-png", action="store_true", help="do not save the histogram picture")
     p.add_argument("--report", help="also write the report to this text file")
-    p.add_argument("--strict", action="store_true", help="exit with status 3 when the mesh has validity defects")
+    p.add_argument("--strict", action="store_true",
+                   help="exit with status 3 when the mesh has validity defects or warnings about its inputs")
     p.set_defaults(run=_report)
     p = sub.add_parser("batch", help="mesh several scenes, each in its own process, with a summary CSV")
     p.add_argument("scenes", nargs="+", help="scene files (JSON)")

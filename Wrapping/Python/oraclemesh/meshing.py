@@ -10,14 +10,16 @@
 import os
 import time
 
+from .defaults import CRITERIA_KEYS, MESH_PROPERTIES, domain_criteria_unset, mesh_defaults
 from .errors import OracleMeshError, update
-from .scene import CRITERIA_KEYS, Scene, build_scene, load_scene
+from .scene import Scene, build_scene, load_scene
 
 
 def mesher_for(scene, strategy=None):
-    """The tetrahedralizer set up from the scene's validated "mesh" block (criteria, per-material
-    criteria from the domains and "mesh.materials", feature lines, strategy, seed); `strategy`
-    overrides the scene's."""
+    """The tetrahedralizer set up from the scene's validated "mesh" block (criteria, the
+    "mesh.materials" table, feature lines, strategy, seed, ...); a key the scene leaves out keeps the
+    filter's default (defaults.py). The domains carry their own criteria; the core merges them
+    (MeshCriteria.h). `strategy` overrides the scene's."""
     from vtkmodules.vtkFiltersCore import vtkAppendPolyData, vtkFeatureEdges
 
     from . import vtkFeaturePreservingTetrahedralizer
@@ -25,13 +27,13 @@ def mesher_for(scene, strategy=None):
     spec = scene.mesh
     mesher = vtkFeaturePreservingTetrahedralizer()
     mesher.SetInputConnection(0, scene.oracle.GetOutputPort())
-    getattr(mesher, "SetFeatureStrategyTo" + (strategy or spec.get("strategy", "Conforming")))()
+    if strategy or "strategy" in spec:
+        getattr(mesher, "SetFeatureStrategyTo" + (strategy or spec["strategy"]))()
     for key, value in spec.get("criteria", {}).items():
         getattr(mesher, "Set" + CRITERIA_KEYS[key])(value)
-    for material, overrides in scene.material_criteria().items():
-        values = [-1.0] * len(CRITERIA_KEYS)  # < 0: inherit the global value
-        for key, value in overrides.items():
-            values[list(CRITERIA_KEYS).index(key)] = value
+    unset = domain_criteria_unset()
+    for material, overrides in sorted(spec.get("materials", {}).items()):
+        values = [overrides.get(key, unset) for key in CRITERIA_KEYS]
         mesher.SetMaterialCriteria(material, *values)
     features = spec.get("features")
     if features:
@@ -53,20 +55,9 @@ def mesher_for(scene, strategy=None):
                 lines.AddInputConnection(part.GetOutputPort())
         mesher.SetInputConnection(1, lines.GetOutputPort())
         scene.feature_lines = lines  # keeps the Python objects alive with the scene
-    mesher.SetSeed(spec.get("seed", 0))
-    mesher.SetPerturb(spec.get("perturb", True))
-    mesher.SetExude(spec.get("exude", True))
-    for key, setter in (("perturbation_steps_per_vertex", "SetPerturbationStepsPerVertex"),
-                        ("exudation_steps_per_cell", "SetExudationStepsPerCell"),
-                        ("optimisation_time_limit", "SetOptimisationTimeLimit")):
+    for key, prop in MESH_PROPERTIES.items():
         if key in spec:
-            getattr(mesher, setter)(spec[key])
-    if "sliver_angle" in spec:
-        mesher.SetSliverAngle(spec["sliver_angle"])
-    if "interface_sliver_angle" in spec:
-        mesher.SetInterfaceSliverAngle(spec["interface_sliver_angle"])
-    if "maximum_number_of_vertices" in spec:
-        mesher.SetMaximumNumberOfVertices(spec["maximum_number_of_vertices"])
+            getattr(mesher, "Set" + prop)(spec[key])
     return mesher
 
 
@@ -109,14 +100,20 @@ class MeshResult:
     Defects; field data: statistics, warnings, material names); ``scene``; ``material_names``
     {id: name}; ``strategy``; ``seconds`` (meshing time); ``statistics`` {name: value} (the mesher's:
     volumes, validity counts, timings, ...); ``quality`` (per-material table, see report.quality);
-    ``report`` (the quality report as text); ``surface_sets``; ``save(path, ...)``."""
+    ``report`` (the quality report as text); ``warnings`` (all the mesher's, also in the report);
+    ``input_warnings`` (those about the inputs: frames or units that do not match, materials or labels
+    without a tetrahedron; the command line's ``--strict`` fails on them); ``surface_sets``;
+    ``save(path, ...)``."""
 
     def __init__(self, grid, scene, strategy, seconds, title):
+        from .fielddata import strings
         from .report import report_lines, statistics
 
         self.grid, self.scene, self.strategy, self.seconds = grid, scene, strategy, seconds
         self.material_names = scene.material_names()
         self.statistics = statistics(grid)
+        self.warnings = strings(grid.GetFieldData(), "Warnings")
+        self.input_warnings = strings(grid.GetFieldData(), "InputWarnings")
         lines, self.quality = report_lines(grid, title, self.material_names, recheck=False)
         self.report = "\n".join(lines)
         self._arrays = None
@@ -170,7 +167,7 @@ def mesh(scene, strategy=None, progress=None, base_dir=None, updater=update):
     grid = updater(mesher)
     segments = mesher.GetOutputDataObject(2)
     describe(grid, scene.material_names(), segments.GetNumberOfCells() if segments is not None else 0)
-    strategy = strategy or scene.mesh.get("strategy", "Conforming")
+    strategy = strategy or scene.mesh.get("strategy", mesh_defaults()["strategy"])
     seconds = time.perf_counter() - started
     return MeshResult(grid, scene, strategy, seconds,
                       f"Mesh of {scene.source} ({seconds:.1f} s, strategy {strategy})")

@@ -21,21 +21,21 @@ write the results (the README's "Scene files" section documents every key):
 
 The first domain has the highest priority. Relative file paths resolve against the scene file.
 Every problem found is reported at once, each with its JSON path.
+
+A key left out keeps the VTK filter's default (defaults.py reads them from the C++, their one
+source). Criteria merge in the core (MeshCriteria.h): "mesh.criteria" < a domain's "criteria" (for
+each material of the domain) < "mesh.materials"; two domains giving one material different values
+fail the meshing with the core's error, the same at every door.
 """
 import json
 import math
 import os
 
+from .defaults import CRITERIA_KEYS, STRATEGIES, cut_default  # noqa: F401 (CRITERIA_KEYS, STRATEGIES re-exported)
 from .errors import OracleMeshError
 from .readers import SPACES, label_map_reader, surface_reader
 
 DOMAIN_TYPES = ("surface", "labelmap", "sphere", "plane", "box", "cylinder")
-# Criteria in the scene -> the tetrahedralizer's setters (this order is SetMaterialCriteria's).
-CRITERIA_KEYS = {
-    "facet_angle": "FacetAngle", "facet_size": "FacetSize", "facet_distance": "FacetDistance",
-    "cell_size": "CellSize", "cell_radius_edge_ratio": "CellRadiusEdgeRatio", "edge_size": "EdgeSize",
-}
-STRATEGIES = ("Conforming", "None", "ProtectingBalls")
 COMMON_KEYS = {"name", "type", "material", "cut", "criteria", "comment"}
 DOMAIN_KEYS = {
     "surface": {"file"},
@@ -56,10 +56,11 @@ ID_MAX = 2**63 - 1  # vtkIdType: the vertex budget
 
 
 class Scene:
-    """The pipeline built from a scene: ``domains`` (algorithms, priority order), ``readers`` and
-    ``oracle`` (a vtkHierarchicalOracle); ``mesh`` (the validated "mesh" block: strategy, criteria,
-    materials {id: {criterion: value}}, features, seed, maximum_number_of_vertices), ``outputs``
-    (absolute paths) and ``domain_criteria`` [(domain index, {criterion: value})]."""
+    """The pipeline built from a scene: ``domains`` (algorithms, priority order, each with its own
+    criteria set), ``readers`` and ``oracle`` (a vtkHierarchicalOracle); ``mesh`` (the validated
+    "mesh" block: only the keys the scene gives; criteria, materials {id: {criterion: value}},
+    features, ...), ``outputs`` (absolute paths) and ``domain_criteria`` [(domain index,
+    {criterion: value})]."""
 
     def __init__(self, description, base_dir):
         self.description = description
@@ -76,46 +77,6 @@ class Scene:
     def path(self, file):
         """A scene path: relative ones resolve against the scene file's folder."""
         return file if os.path.isabs(file) else os.path.join(self.base_dir, file)
-
-    def material_criteria(self):
-        """{material id: {criterion: value}}: the domains' "criteria" (a label map's apply to each of
-        its labels), then the "mesh.materials" entries, which win on the same criterion. Two domains
-        giving one material different values for a criterion is an error."""
-        merged, origin = {}, {}
-        for index, criteria in self.domain_criteria:
-            for m in self._materials_of(index):
-                for key, value in criteria.items():
-                    where = f"$.domains[{index}].criteria.{key}"
-                    if key in merged.get(m, {}) and merged[m][key] != value:
-                        raise OracleMeshError(f"{self.source}: {where}: material {m} already has {key} {merged[m][key]} "
-                                              f"from {origin[(m, key)]}")
-                    merged.setdefault(m, {})[key] = value
-                    origin[(m, key)] = where
-        for m, criteria in self.mesh.get("materials", {}).items():
-            merged.setdefault(m, {}).update(criteria)
-        return merged
-
-    def _materials_of(self, index):
-        spec = self.description["domains"][index]
-        if spec["type"] != "labelmap":
-            return [int(spec.get("material", 1))]
-        import numpy as np
-        from vtkmodules.util.numpy_support import vtk_to_numpy
-
-        from .errors import update
-
-        domain = self.domains[index]
-        image = update(domain.GetInputAlgorithm())
-        name = spec.get("array")
-        if spec.get("association", "point") == "cell":
-            data = image.GetCellData()
-        else:
-            data = image.GetPointData()
-        array = data.GetArray(name) if name else data.GetScalars()
-        if array is None:
-            raise OracleMeshError(f"{self.source}: $.domains[{index}].file: no label array {name or '(scalars)'} in {spec['file']}")
-        labels = np.unique(vtk_to_numpy(array))
-        return [int(v) for v in labels if v != spec.get("background", 0)]
 
     def material_names(self):
         """{material id: name} from the scene's domains (cut domains have no material)."""
@@ -250,10 +211,10 @@ def _mesh_block(problems, spec, scene):
         return
     _unknown_keys(problems, spec, "$.mesh", MESH_KEYS)
     mesh = scene.mesh
-    strategy = spec.get("strategy", "Conforming")
-    if strategy not in STRATEGIES:
-        problems.add("$.mesh.strategy", f"must be one of {', '.join(STRATEGIES)}, got {strategy!r}")
-    mesh["strategy"] = strategy
+    if "strategy" in spec:
+        if spec["strategy"] not in STRATEGIES:
+            problems.add("$.mesh.strategy", f"must be one of {', '.join(STRATEGIES)}, got {spec['strategy']!r}")
+        mesh["strategy"] = spec["strategy"]
     mesh["criteria"] = _criteria(problems, spec.get("criteria", {}), "$.mesh.criteria")
     materials = spec.get("materials", {})
     mesh["materials"] = {}
@@ -265,12 +226,14 @@ def _mesh_block(problems, spec, scene):
         if material is None:
             continue
         mesh["materials"][material] = _criteria(problems, value, f"$.mesh.materials.{key}")
-    mesh["seed"] = _number(problems, spec, "$.mesh", "seed", required=False, default=0, integer=True) or 0
+    seed = _number(problems, spec, "$.mesh", "seed", required=False, integer=True)
+    if seed is not None:
+        mesh["seed"] = seed
     for flag in ("perturb", "exude"):
         if flag in spec and not isinstance(spec[flag], bool):
             problems.add(f"$.mesh.{flag}", f"must be true or false, got {spec[flag]!r}")
-        else:
-            mesh[flag] = spec.get(flag, True)
+        elif flag in spec:
+            mesh[flag] = spec[flag]
     for key in ("sliver_angle", "interface_sliver_angle"):
         angle = _number(problems, spec, "$.mesh", key, required=False)
         if angle is not None:
@@ -381,7 +344,11 @@ def build_scene(description, base_dir=".", source="scene"):
             continue
         _unknown_keys(problems, spec, where, COMMON_KEYS | DOMAIN_KEYS[kind])
         name = spec.get("name", f"{kind}{i}")
-        cut = spec.get("cut", False)
+        cut = spec.get("cut", cut_default(kind))
+        if kind == "plane" and not cut and "material" not in spec:
+            problems.add(f"{where}.cut", "a plane is unbounded, so it can only be a cut: give \"cut\": true "
+                                         f"(the default is {str(cut_default(kind)).lower()})")
+            cut = True
         if "criteria" in spec:
             if cut:
                 problems.add(f"{where}.criteria", "a cut domain has no material to mesh: criteria do not apply")
@@ -488,6 +455,10 @@ def build_scene(description, base_dir=".", source="scene"):
                 domain.SetHeight(max(height or 0.0, 0.0))
             domain.SetImplicitFunction(function)
         domain.SetCut(bool(cut))
+        for index, criteria in scene.domain_criteria:
+            if index == i:  # the domain's own criteria: the core merges them (MeshCriteria.h)
+                for key, value in criteria.items():
+                    getattr(domain, "Set" + CRITERIA_KEYS[key])(value)
         scene.domains.append(domain)
     if isinstance(description, dict):
         _unknown_keys(problems, description, "$", TOP_KEYS)
