@@ -90,6 +90,7 @@ vtkFeaturePreservingTetrahedralizer::vtkFeaturePreservingTetrahedralizer()
   this->CellSize = c.cellSize;
   this->CellRadiusEdgeRatio = c.cellRadiusEdgeRatio;
   this->EdgeSize = c.edgeSize;
+  this->ResampleFeatureLines = defaults.resampleFeatureLines;
   this->SliverAngle = defaults.sliverAngle;
   this->InterfaceSliverAngle = defaults.interfaceSliverAngle;
   this->Perturb = defaults.perturb;
@@ -194,6 +195,7 @@ int vtkFeaturePreservingTetrahedralizer::RequestData(
   options.strategy = this->FeatureStrategy == CONFORMING ? omesh::FeatureStrategy::Conforming
     : this->FeatureStrategy == NONE                    ? omesh::FeatureStrategy::None
                                                         : omesh::FeatureStrategy::ProtectingBalls;
+  options.resampleFeatureLines = this->ResampleFeatureLines;
   options.sliverAngle = this->SliverAngle;
   options.interfaceSliverAngle = this->InterfaceSliverAngle;
   options.perturb = this->Perturb;
@@ -414,6 +416,7 @@ void vtkFeaturePreservingTetrahedralizer::PrintSelf(ostream& os, vtkIndent inden
   os << indent << "CellSize: " << this->CellSize << "\n";
   os << indent << "CellRadiusEdgeRatio: " << this->CellRadiusEdgeRatio << "\n";
   os << indent << "EdgeSize: " << this->EdgeSize << "\n";
+  os << indent << "ResampleFeatureLines: " << this->ResampleFeatureLines << "\n";
   os << indent << "SliverAngle: " << this->SliverAngle << "\n";
   os << indent << "InterfaceSliverAngle: " << this->InterfaceSliverAngle << "\n";
   os << indent << "Perturb: " << this->Perturb << "\n";

@@ -136,6 +136,16 @@ public:
   ///@}
 
   ///@{
+  /// Resample the feature lines before meshing: keep their corners and, between them, only the
+  /// points needed for chords of at most the edge size within half the smallest facet distance
+  /// of the dropped points. For lines made of many tiny noisy segments (sharp edges of scanned
+  /// surfaces), which otherwise cost a point per wiggle and meet at small angles all along.
+  vtkSetMacro(ResampleFeatureLines, bool);
+  vtkGetMacro(ResampleFeatureLines, bool);
+  vtkBooleanMacro(ResampleFeatureLines, bool);
+  ///@}
+
+  ///@{
   /// Tetrahedra of any material whose minimal dihedral angle is below this bound (degrees) are
   /// refined: removes the flat tetrahedra radius-edge refinement leaves; higher values bound the
   /// angles before optimisation at a price in tetrahedra (no termination guarantee: the vertex
@@ -173,6 +183,7 @@ protected:
 
   // Set by the constructor from the core's defaults (omesh::MesherOptions).
   int FeatureStrategy;
+  bool ResampleFeatureLines;
   double SliverAngle;
   double InterfaceSliverAngle;
   double FacetAngle;

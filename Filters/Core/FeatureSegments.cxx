@@ -11,6 +11,8 @@
 #include <cmath>
 #include <sstream>
 
+#include "FeatureMerge.h"
+
 namespace omesh
 {
 double angleAt(const Vec3& v, const Vec3& p, const Vec3& q)
@@ -197,5 +199,136 @@ std::vector<std::string> FeatureSegments::validate(const HierarchicalOracle& ora
     warnings.push_back("feature lines: " + std::to_string(outside) +
       " segment(s) lie outside every domain and cannot become mesh edges; first: " + firstOutside);
   return warnings;
+}
+
+namespace
+{
+/// Distance from p to the segment ab.
+double distanceToSegment(const Vec3& p, const Vec3& a, const Vec3& b)
+{
+  const Vec3 ab = b - a;
+  const double len2 = dot(ab, ab);
+  const double t = len2 > 0 ? std::clamp(dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
+  return norm(p - (a + t * ab));
+}
+
+/// Greedy sleeve: from each kept point, the farthest next point whose chord holds every point in
+/// between within the tolerance and is not longer than maxLength (at least the next point).
+std::vector<int> simplifyChain(const std::vector<Vec3>& pts, const std::vector<int>& chain, double maxLength,
+  double tolerance)
+{
+  std::vector<int> kept{ chain.front() };
+  size_t anchor = 0;
+  while (anchor + 1 < chain.size())
+  {
+    size_t best = anchor + 1;
+    for (size_t j = anchor + 2; j < chain.size(); ++j)
+    {
+      const Vec3 &a = pts[chain[anchor]], &b = pts[chain[j]];
+      if (norm(b - a) > maxLength)
+        break;
+      bool fits = true;
+      for (size_t k = anchor + 1; fits && k < j; ++k)
+        fits = distanceToSegment(pts[chain[k]], a, b) <= tolerance;
+      if (!fits)
+        break;
+      best = j;
+    }
+    kept.push_back(chain[best]);
+    anchor = best;
+  }
+  return kept;
+}
+}
+
+size_t resampleFeatureLines(FeatureSegments& f, double maxLength, double tolerance, double cornerAngle)
+{
+  if (f.segments.empty() || !(maxLength > 0) || !(tolerance >= 0))
+    return 0;
+  const auto inc = incidence(f);
+  auto other = [&](size_t seg, int v) { return f.segments[seg][0] == v ? f.segments[seg][1] : f.segments[seg][0]; };
+  std::vector<char> corner(f.points.size(), 0);
+  for (size_t v = 0; v < f.points.size(); ++v)
+  {
+    if (inc[v].empty())
+      continue;
+    if (inc[v].size() != 2)
+      corner[v] = 1;
+    else
+    {
+      const int p = other(inc[v][0], static_cast<int>(v)), q = other(inc[v][1], static_cast<int>(v));
+      corner[v] = angleAt(f.points[v], f.points[p], f.points[q]) < 180.0 - cornerAngle;
+    }
+  }
+  std::vector<char> used(f.segments.size(), 0);
+  std::vector<std::array<int, 2>> out;
+  // Walks the chain that leaves `start` through segment `first` up to the next corner (or back to start).
+  auto walk = [&](int start, size_t first) {
+    std::vector<int> chain{ start };
+    int v = start;
+    size_t seg = first;
+    while (true)
+    {
+      used[seg] = 1;
+      v = other(seg, v);
+      chain.push_back(v);
+      if (corner[v] || v == start)
+        break;
+      seg = inc[v][0] == seg ? inc[v][1] : inc[v][0];
+      if (used[seg])
+        break;
+    }
+    const std::vector<int> kept = simplifyChain(f.points, chain, maxLength, tolerance);
+    for (size_t k = 0; k + 1 < kept.size(); ++k)
+      out.push_back({ kept[k], kept[k + 1] });
+  };
+  for (size_t v = 0; v < f.points.size(); ++v)
+    if (corner[v])
+      for (size_t seg : inc[v])
+        if (!used[seg])
+          walk(static_cast<int>(v), seg);
+  // Loops without a corner: start at their sharpest point, which stays.
+  for (size_t seg = 0; seg < f.segments.size(); ++seg)
+  {
+    if (used[seg])
+      continue;
+    int start = f.segments[seg][0];
+    double sharpest = 180.0;
+    for (int v = start, s = static_cast<int>(seg);;)
+    {
+      const int p = other(inc[v][0], v), q = other(inc[v][1], v);
+      const double a = angleAt(f.points[v], f.points[p], f.points[q]);
+      if (a < sharpest)
+      {
+        sharpest = a;
+        start = v;
+      }
+      v = other(s, v);
+      s = static_cast<int>(inc[v][0] == static_cast<size_t>(s) ? inc[v][1] : inc[v][0]);
+      if (v == f.segments[seg][0])
+        break;
+    }
+    corner[start] = 1;
+    walk(start, inc[start][0]);
+  }
+  // Renumber: only points that end a kept segment remain.
+  std::vector<int> index(f.points.size(), -1);
+  FeatureSegments r;
+  for (auto& s : out)
+    for (int& e : s)
+    {
+      if (index[e] < 0)
+      {
+        index[e] = static_cast<int>(r.points.size());
+        r.points.push_back(f.points[e]);
+      }
+      e = index[e];
+    }
+  r.segments = std::move(out);
+  // two chains between the same corners that both fit one chord become one segment
+  mergeFeatureSegments(r);
+  const size_t dropped = f.points.size() - r.points.size();
+  f = std::move(r);
+  return dropped;
 }
 }

@@ -37,4 +37,15 @@ struct FeatureSegments
 
 /// Angle (degrees) at v between the directions to p and to q.
 double angleAt(const Vec3& v, const Vec3& p, const Vec3& q);
+
+/// Feature lines that come as many tiny, noisy segments (sharp edges of a scanned or finely
+/// triangulated surface) meet at small angles all along and cost the mesher a point per wiggle.
+/// Resampling keeps the corners (points where other than two segments meet, or where the line
+/// turns by more than `cornerAngle` degrees) and, between them, only the input points needed so
+/// that every dropped point lies within `tolerance` of the chord that replaces it and no chord
+/// is longer than `maxLength` (unless it was one input segment). Kept points are input points,
+/// so the chords stay on the feature line as given. Closed loops without a corner keep their
+/// sharpest point; two chains between the same corners that fit one chord become one segment.
+/// Returns the number of points dropped.
+size_t resampleFeatureLines(FeatureSegments& f, double maxLength, double tolerance, double cornerAngle = 60.0);
 }

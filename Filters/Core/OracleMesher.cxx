@@ -555,6 +555,26 @@ TetMesh meshOracleUnguarded(const HierarchicalOracle& oracle, const FeatureSegme
   const BoundingBox inner = oracle.bounds(); // throws for an empty or unbounded oracle
   checkCriteria(options.criteria, warnings);
   const MeshCriteria::Values g = options.criteria.globalValues();
+  if (options.resampleFeatureLines && !features.empty())
+  {
+    double distance = g.facetDistance;
+    for (const auto& [m, unused] : options.criteria.perMaterial)
+      if (const double d = options.criteria.of(m).facetDistance; d > 0 && (distance <= 0 || d < distance))
+        distance = d;
+    const double length = g.edgeSize > 0 ? g.edgeSize : g.facetSize > 0 ? g.facetSize : norm(inner.size()) / 40.0;
+    FeatureSegments resampled = features;
+    const size_t before = resampled.segments.size();
+    std::vector<std::string> notes;
+    if (resampleFeatureLines(resampled, length, distance > 0 ? 0.5 * distance : 0.05 * length) > 0)
+      notes.push_back("feature lines resampled: " + std::to_string(before) + " segments became " +
+        std::to_string(resampled.segments.size()) + " (chords up to " + std::to_string(length) + ")");
+    MesherOptions rest = options;
+    rest.resampleFeatureLines = false;
+    auto mesh = meshOracleUnguarded(oracle, resampled, seedPoints, rest);
+    mesh.warnings.insert(mesh.warnings.begin(), notes.begin(), notes.end());
+    mesh.statistics["feature_segments_before_resampling"] = static_cast<double>(before);
+    return mesh;
+  }
   if (!features.empty())
   {
     auto w = features.validate(oracle, g.cellRadiusEdgeRatio);

@@ -24,12 +24,13 @@ STRATEGIES = ("Conforming", "None", "ProtectingBalls")
 # Scene "mesh" keys that are plain tetrahedralizer properties.
 MESH_PROPERTIES = {
     "perturb": "Perturb", "exude": "Exude", "sliver_angle": "SliverAngle",
+    "resample_feature_lines": "ResampleFeatureLines",
     "interface_sliver_angle": "InterfaceSliverAngle",
     "perturbation_steps_per_vertex": "PerturbationStepsPerVertex",
     "exudation_steps_per_cell": "ExudationStepsPerCell", "optimisation_time_limit": "OptimisationTimeLimit",
     "seed": "Seed", "maximum_number_of_vertices": "MaximumNumberOfVertices",
 }
-BOOLEAN_PROPERTIES = {"Perturb", "Exude"}
+BOOLEAN_PROPERTIES = {"Perturb", "Exude", "ResampleFeatureLines"}
 
 
 @functools.lru_cache(maxsize=None)

@@ -49,7 +49,7 @@ TOP_KEYS = {"description", "comment", "space", "domains", "mesh", "outputs"}
 MESH_KEYS = {"strategy", "criteria", "materials", "features", "seed", "maximum_number_of_vertices", "comment",
              "perturb", "exude", "sliver_angle", "interface_sliver_angle", "perturbation_steps_per_vertex",
              "exudation_steps_per_cell", "optimisation_time_limit"}
-FEATURE_KEYS = {"from_surface", "feature_angle", "files", "comment"}
+FEATURE_KEYS = {"from_surface", "feature_angle", "files", "resample", "comment"}
 OUTPUT_KEYS = {"mesh", "report", "histogram", "comment"}
 INT_MIN, INT_MAX = -2**31, 2**31 - 1  # the C int of material ids, labels and the seed
 ID_MAX = 2**63 - 1  # vtkIdType: the vertex budget
@@ -291,6 +291,12 @@ def _mesh_block(problems, spec, scene):
             out["files"].append(file)
     if "from_surface" not in features and "files" not in features:
         problems.add("$.mesh.features", "give 'from_surface' (a surface domain's name) and/or 'files' (polylines)")
+    # Sharp edges found on a surface are often many tiny noisy segments: resampled unless asked not to.
+    resample = features.get("resample", bool(out["from_surface"]))
+    if not isinstance(resample, bool):
+        problems.add("$.mesh.features.resample", f"must be true or false, got {resample!r}")
+    else:
+        mesh["resample_feature_lines"] = resample
     mesh["features"] = out
 
 

@@ -1,0 +1,112 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// resampleFeatureLines (FeatureSegments.h) and meshing with it: noisy feature lines made of many
+// tiny segments, as sharp edges of scanned surfaces come.
+#include "FeatureSegments.h"
+#include "HierarchicalOracle.h"
+#include "MeshQuality.h"
+#include "OracleMesher.h"
+#include "SphereDomain.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <random>
+
+using namespace omesh;
+
+namespace
+{
+/// A closed circle of `n` segments whose points wiggle radially by up to `noise` (fixed seed),
+/// plus a straight tail of 5 segments leaving point 0 at a corner.
+FeatureSegments noisyCircle(int n, double radius, double noise)
+{
+  std::mt19937 random(7);
+  std::uniform_real_distribution<double> wiggle(-noise, noise);
+  FeatureSegments f;
+  for (int i = 0; i < n; ++i)
+  {
+    const double a = 2 * M_PI * i / n, r = radius + (i == 0 ? 0.0 : wiggle(random));
+    f.points.push_back({ r * std::cos(a), r * std::sin(a), 0.1 * wiggle(random) });
+    f.segments.push_back({ i, (i + 1) % n });
+  }
+  for (int k = 1; k <= 5; ++k)
+  {
+    f.points.push_back({ radius, 0.0, 0.08 * k });
+    f.segments.push_back({ k == 1 ? 0 : n + k - 2, n + k - 1 });
+  }
+  return f;
+}
+
+double distanceToSegment(const Vec3& p, const Vec3& a, const Vec3& b)
+{
+  const Vec3 ab = b - a;
+  const double t = std::clamp(dot(p - a, ab) / dot(ab, ab), 0.0, 1.0);
+  return norm(p - (a + t * ab));
+}
+}
+
+// The claims: kept points are input points; every input point lies within the tolerance of the
+// resampled lines; chords are at most the length bound (or one input segment); corners stay; the
+// count drops to about length / bound.
+TEST(FeatureResampling, ChordsWithinToleranceOfTheInputAndCornersKept)
+{
+  const FeatureSegments input = noisyCircle(3000, 0.5, 2e-4);
+  FeatureSegments f = input;
+  const double maxLength = 0.1, tolerance = 0.005;
+  const size_t dropped = resampleFeatureLines(f, maxLength, tolerance);
+  EXPECT_GT(dropped, 2500u);
+  EXPECT_EQ(f.points.size() + dropped, input.points.size());
+  EXPECT_LT(f.segments.size(), 2 * static_cast<size_t>(2 * M_PI * 0.5 / maxLength) + 10);
+  for (const Vec3& p : f.points)
+    EXPECT_NE(std::find_if(input.points.begin(), input.points.end(), [&](const Vec3& q) { return norm(p - q) == 0.0; }),
+      input.points.end());
+  for (const Vec3& p : input.points)
+  {
+    double nearest = 1e300;
+    for (const auto& s : f.segments)
+      nearest = std::min(nearest, distanceToSegment(p, f.points[s[0]], f.points[s[1]]));
+    EXPECT_LE(nearest, tolerance * (1 + 1e-12));
+  }
+  for (size_t s = 0; s < f.segments.size(); ++s)
+    EXPECT_LE(f.length(s), maxLength * (1 + 1e-12));
+  // the corner where the tail leaves the circle, and the tail's end
+  for (const Vec3& corner : { input.points[0], input.points.back() })
+    EXPECT_NE(std::find_if(f.points.begin(), f.points.end(), [&](const Vec3& q) { return norm(corner - q) == 0.0; }),
+      f.points.end());
+  HierarchicalOracle o;
+  o.add(std::make_shared<SphereDomain>(Vec3{ 0, 0, 0 }, 1.0, 1));
+  EXPECT_NO_THROW(f.validate(o, 3.0)); // throws on crossing or zero-length segments
+}
+
+// A line that is already coarse stays as it is.
+TEST(FeatureResampling, CoarseLinesAreLeftAlone)
+{
+  FeatureSegments f;
+  f.points = { { 0, 0, 0 }, { 1, 0, 0 }, { 1, 1, 0 }, { 1, 1, 1 } };
+  f.segments = { { 0, 1 }, { 1, 2 }, { 2, 3 } };
+  const FeatureSegments before = f;
+  EXPECT_EQ(resampleFeatureLines(f, 0.5, 0.01), 0u);
+  EXPECT_EQ(f.segments, before.segments);
+}
+
+// Meshing a noisy feature line: with resampling the Conforming strategy ends quickly with a valid
+// mesh that keeps every resampled segment.
+TEST(FeatureResampling, ConformingMeshesNoisyFeatureLinesWhenResampled)
+{
+  HierarchicalOracle o;
+  o.add(std::make_shared<SphereDomain>(Vec3{ 0, 0, 0 }, 1.0, 1));
+  const FeatureSegments noisy = noisyCircle(3000, 0.5, 2e-4);
+  MesherOptions opt;
+  opt.criteria.global.facetSize = opt.criteria.global.cellSize = 0.2;
+  opt.criteria.global.facetDistance = 0.02;
+  opt.criteria.global.edgeSize = 0.1;
+  opt.resampleFeatureLines = true;
+  opt.maximumNumberOfVertices = 200000;
+  const TetMesh m = meshOracle(o, noisy, {}, opt);
+  EXPECT_EQ(m.statistics.at("validity.defects"), 0.0);
+  EXPECT_EQ(m.statistics.at("feature_segments_before_resampling"), static_cast<double>(noisy.segments.size()));
+  EXPECT_NEAR(m.statistics.at("feature_coverage"), 1.0, 1e-12);
+  EXPECT_LT(m.points.size(), 50000u);
+}
