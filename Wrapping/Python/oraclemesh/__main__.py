@@ -161,10 +161,25 @@ class _Progress:
         self.last, self.last_time = fraction, now
 
 
-def _mesh(args):
-    from .report import save_histogram, statistics
+def _settings(items):
+    """--set KEY=VALUE items as {dotted key: value}: the value read as JSON, else taken as a string."""
+    settings = {}
+    for item in items or ():
+        key, sep, text = item.partition("=")
+        if not sep or not key:
+            raise OracleMeshError(f"--set {item}: use KEY=VALUE with a key of the scene's mesh block, "
+                                  "e.g. criteria.cell_size=2 or strategy=None")
+        try:
+            settings[key] = json.loads(text)
+        except ValueError:
+            settings[key] = text
+    return settings
 
-    scene = load_scene(args.scene)
+
+def _mesh(args):
+    from .report import VALIDITY_ITEMS, save_histogram, save_section, statistics
+
+    scene = load_scene(args.scene, _settings(args.set))
     outputs = args.output or scene.outputs.get("mesh")
     if not outputs:
         raise OracleMeshError(f"{args.scene}: no output: give -o OUT (or \"outputs\": {{\"mesh\": ...}} in the scene)")
@@ -175,6 +190,7 @@ def _mesh(args):
         check_output_path(out, "mesh")
     for path, what in ((args.report or scene.outputs.get("report"), "report"),
                        (args.histogram or scene.outputs.get("histogram"), "histogram"),
+                       (args.section, "section"),
                        (args.summary, "summary")):
         if path:
             check_output_path(path, what)
@@ -194,6 +210,9 @@ def _mesh(args):
     if histogram:
         save_histogram(q, histogram, result.material_names, f"Dihedral angles: {os.path.basename(args.scene)}")
         lines.append(f"wrote {histogram}")
+    if args.section:
+        save_section(result.grid, args.section, result.material_names)
+        lines.append(f"wrote {args.section}")
     _publish(lines, args.report or scene.outputs.get("report"))
     status = _strict_status(args, q, outputs, result.input_warnings)
     if args.summary:
@@ -202,6 +221,12 @@ def _mesh(args):
                    "feature_coverage": stats.get("feature_coverage") if scene.mesh.get("features") else None,
                    "seconds": result.seconds, "outputs": outputs,
                    "validity_defects": q["validity"]["validity.defects"],
+                   "validity": {key: int(q["validity"][key]) for key, _ in VALIDITY_ITEMS if key in q["validity"]},
+                   "materials": {str(m): {"tets": row["tets"], "volume": row["volume"],
+                                          "min_dihedral": row["min_dihedral"]}
+                                 for m, row in q["materials"].items()},
+                   "material_names": {str(m): n for m, n in result.material_names.items()},
+                   "reference_volumes": {str(m): v for m, v in scene.reference_volumes.items()},
                    "peak_rss_mib": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0}
         write_text(args.summary, json.dumps(summary))
     return status
@@ -269,6 +294,11 @@ def main(argv=None):
                    help=f"feature strategy (default: the scene's, else {mesh_defaults()['strategy']})")
     p.add_argument("--report", help="also write the quality report to this text file")
     p.add_argument("--histogram", help="save the dihedral-angle histogram to this PNG")
+    p.add_argument("--section", help="save a cross-section of the mesh to this PNG (the plane through its "
+                                     "centre normal to its thinnest axis, tetrahedra coloured by material)")
+    p.add_argument("--set", action="append", metavar="KEY=VALUE",
+                   help="set a key of the scene's mesh block (dotted, the value as JSON or a string), e.g. "
+                        "criteria.cell_size=2, strategy=None, materials.3.cell_size=1; repeat for several")
     p.add_argument("--progress", action="store_true", help="show the mesher's progress on stderr")
     p.add_argument("--progress-lines", action="store_true", help=argparse.SUPPRESS)
     p.add_argument("--summary", help=argparse.SUPPRESS)  # JSON of the figures batch puts in its CSV
