@@ -6,7 +6,8 @@
                  and print a quality report
   report MESH    quality report of a mesh written by 'mesh' (any of its formats): table, validity check,
                  dihedral-angle histogram
-  batch SCENES   mesh many scenes, each in its own process, with a summary CSV
+  batch SCENES   mesh many cases (scenes, a study's sweeps), each in its own process, locally or on
+                 Dask distributed, with a folder per case and a summary CSV; resumable
 
 Exit codes: 0 done, 2 bad input (the message names it), 3 meshing failed (or --strict found
 defects or warnings about the inputs), 130 interrupted (SIGINT or SIGTERM), 1 an internal error (a bug; ORACLEMESH_TRACEBACK=1
@@ -274,6 +275,23 @@ def _batch(args):
     return run_batch(args)
 
 
+def _die_with_parent():
+    """For batch's children (ORACLEMESH_PARENT_PID set): the kernel kills this process when the one
+    that started it dies (Linux PR_SET_PDEATHSIG), so a Dask worker killed mid-case leaves no mesh
+    running beside the case's rerun."""
+    parent = os.environ.pop("ORACLEMESH_PARENT_PID", None)
+    if not parent:
+        return
+    try:
+        import ctypes
+
+        ctypes.CDLL(None, use_errno=True).prctl(1, signal.SIGKILL)  # 1: PR_SET_PDEATHSIG
+    except (OSError, AttributeError):
+        return
+    if str(os.getppid()) != parent:  # the parent died before the call
+        os._exit(137)
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(prog="oraclemesh", description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -315,18 +333,35 @@ def main(argv=None):
     p.add_argument("--strict", action="store_true",
                    help="exit with status 3 when the mesh has validity defects or warnings about its inputs")
     p.set_defaults(run=_report)
-    p = sub.add_parser("batch", help="mesh several scenes, each in its own process, with a summary CSV")
-    p.add_argument("scenes", nargs="+", help="scene files (JSON)")
-    p.add_argument("-j", "--jobs", type=int, default=1, help="scenes meshed at once (default 1)")
+    p = sub.add_parser("batch", help="mesh many cases (scenes, or a study's scenes x parameter sweeps), each in "
+                                     "its own process, locally or on Dask, with a summary CSV; resumable")
+    p.add_argument("scenes", nargs="*", help="scene files (JSON)")
+    p.add_argument("--study", help="study file (JSON): scenes or glob patterns, and a sweep of mesh keys, e.g. "
+                                   '{"scenes": ["*.json"], "sweep": {"criteria.cell_size": [2, 1]}}')
+    p.add_argument("-j", "--jobs", type=int, help="cases meshed at once on this machine (default 1; not with Dask)")
+    p.add_argument("--workers", type=int, metavar="N",
+                   help="run the cases on a local Dask cluster of N worker processes (one case each at a time)")
+    p.add_argument("--scheduler", metavar="tcp://HOST:PORT",
+                   help="run the cases on an existing Dask cluster (its workers need this package and the "
+                        "same paths to the scenes and OUTPUT_DIR)")
+    p.add_argument("--retries", type=int, default=1,
+                   help="with Dask: times a case's task is run again after an error of its own (default 1); "
+                        "a case whose worker dies is run again anyway")
     p.add_argument("-o", "--output-dir", default="batch-output",
-                   help="folder for the meshes, reports, logs and summary.csv (default ./batch-output)")
+                   help="folder for a folder per case (meshes, report, pictures, log) and summary.csv "
+                        "(default ./batch-output)")
     p.add_argument("-f", "--format", action="append", choices=[f[1:] for f in MESH_FORMATS],
-                   help="mesh format(s) to write (default vtu; repeat for several)")
+                   help="mesh format(s) to write (default the study's, else vtu; repeat for several)")
     p.add_argument("--csv", help="summary CSV (default OUTPUT_DIR/summary.csv)")
-    p.add_argument("--strategy", choices=STRATEGIES, help="feature strategy for every scene")
-    p.add_argument("--timeout", type=float, help="seconds after which a scene's process is stopped")
+    p.add_argument("--strategy", choices=STRATEGIES, help="feature strategy for every case")
+    p.add_argument("--timeout", type=float, help="seconds after which a case's process is stopped")
+    p.add_argument("--no-pictures", action="store_true",
+                   help="no dihedral-angle histogram and cross-section PNG per case")
+    p.add_argument("--force", action="store_true",
+                   help="mesh every case again (default: cases done earlier with the same inputs are skipped)")
     p.set_defaults(run=_batch)
     args = parser.parse_args(argv)
+    _die_with_parent()
     SIGNALS.install()
     try:
         return args.run(args)
