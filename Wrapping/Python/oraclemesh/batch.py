@@ -457,7 +457,7 @@ def _dask_client(scheduler, workers):
             raise OracleMeshError(f"--scheduler {scheduler}: cannot connect: {e}") from None
     import logging
 
-    cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None,
+    cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=":0",
                            silence_logs=logging.ERROR)
     return Client(cluster), cluster
 
