@@ -19,6 +19,8 @@ PKGS=(
   gmsh
   # command line: finite-element mesh formats (meshio) and the report's histogram picture
   python3-meshio python3-matplotlib
+  # batch on a Dask cluster (--scheduler, --workers)
+  python3-distributed
 )
 export DEBIAN_FRONTEND=noninteractive
 missing=()

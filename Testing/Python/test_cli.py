@@ -264,17 +264,17 @@ class Batch(unittest.TestCase):
             self.assertIn("not valid JSON", rows["broken.json"]["error"])
             for name in ("small", "smaller"):
                 row = rows[name + ".json"]
-                grid = read_vtu(os.path.join(out, name + ".vtu"))
+                grid = read_vtu(os.path.join(out, name, "mesh.vtu"))  # a folder per case
                 self.assertEqual(int(row["tets"]), grid.GetNumberOfCells())
                 self.assertEqual(int(row["vertices"]), grid.GetNumberOfPoints())
                 angles = vtk_to_numpy(grid.GetCellData().GetArray("MinDihedralAngle"))
                 self.assertAlmostEqual(float(row["min_dihedral"]), angles.min(), places=2)
                 self.assertGreater(float(row["seconds"]), 0)
                 self.assertEqual(row["error"], "")
-                self.assertTrue(os.path.getsize(os.path.join(out, name + ".inp")) > 0)
-                self.assertTrue(os.path.getsize(os.path.join(out, name + "_report.txt")) > 0)
+                self.assertTrue(os.path.getsize(os.path.join(out, name, "mesh.inp")) > 0)
+                self.assertTrue(os.path.getsize(os.path.join(out, name, "report.txt")) > 0)
             # the smaller ball has fewer tetrahedra in material 2: the two scenes were not mixed up
-            counts = {n: material_counts(vtk_to_numpy(read_vtu(os.path.join(out, n + ".vtu")).GetCellData()
+            counts = {n: material_counts(vtk_to_numpy(read_vtu(os.path.join(out, n, "mesh.vtu")).GetCellData()
                                                       .GetArray("Material"))) for n in ("small", "smaller")}
             self.assertLess(counts["smaller"][2], counts["small"][2])
 

@@ -6,7 +6,8 @@
                  and print a quality report
   report MESH    quality report of a mesh written by 'mesh' (any of its formats): table, validity check,
                  dihedral-angle histogram
-  batch SCENES   mesh many scenes, each in its own process, with a summary CSV
+  batch SCENES   mesh many cases (scenes, a study's sweeps), each in its own process, locally or on
+                 Dask distributed, with a folder per case and a summary CSV; resumable
 
 Exit codes: 0 done, 2 bad input (the message names it), 3 meshing failed (or --strict found
 defects or warnings about the inputs), 130 interrupted (SIGINT or SIGTERM), 1 an internal error (a bug; ORACLEMESH_TRACEBACK=1
@@ -161,10 +162,25 @@ class _Progress:
         self.last, self.last_time = fraction, now
 
 
-def _mesh(args):
-    from .report import save_histogram, statistics
+def _settings(items):
+    """--set KEY=VALUE items as {dotted key: value}: the value read as JSON, else taken as a string."""
+    settings = {}
+    for item in items or ():
+        key, sep, text = item.partition("=")
+        if not sep or not key:
+            raise OracleMeshError(f"--set {item}: use KEY=VALUE with a key of the scene's mesh block, "
+                                  "e.g. criteria.cell_size=2 or strategy=None")
+        try:
+            settings[key] = json.loads(text)
+        except ValueError:
+            settings[key] = text
+    return settings
 
-    scene = load_scene(args.scene)
+
+def _mesh(args):
+    from .report import VALIDITY_ITEMS, save_histogram, save_section, statistics
+
+    scene = load_scene(args.scene, _settings(args.set))
     outputs = args.output or scene.outputs.get("mesh")
     if not outputs:
         raise OracleMeshError(f"{args.scene}: no output: give -o OUT (or \"outputs\": {{\"mesh\": ...}} in the scene)")
@@ -175,6 +191,7 @@ def _mesh(args):
         check_output_path(out, "mesh")
     for path, what in ((args.report or scene.outputs.get("report"), "report"),
                        (args.histogram or scene.outputs.get("histogram"), "histogram"),
+                       (args.section, "section"),
                        (args.summary, "summary")):
         if path:
             check_output_path(path, what)
@@ -194,6 +211,9 @@ def _mesh(args):
     if histogram:
         save_histogram(q, histogram, result.material_names, f"Dihedral angles: {os.path.basename(args.scene)}")
         lines.append(f"wrote {histogram}")
+    if args.section:
+        save_section(result.grid, args.section, result.material_names)
+        lines.append(f"wrote {args.section}")
     _publish(lines, args.report or scene.outputs.get("report"))
     status = _strict_status(args, q, outputs, result.input_warnings)
     if args.summary:
@@ -202,6 +222,12 @@ def _mesh(args):
                    "feature_coverage": stats.get("feature_coverage") if scene.mesh.get("features") else None,
                    "seconds": result.seconds, "outputs": outputs,
                    "validity_defects": q["validity"]["validity.defects"],
+                   "validity": {key: int(q["validity"][key]) for key, _ in VALIDITY_ITEMS if key in q["validity"]},
+                   "materials": {str(m): {"tets": row["tets"], "volume": row["volume"],
+                                          "min_dihedral": row["min_dihedral"]}
+                                 for m, row in q["materials"].items()},
+                   "material_names": {str(m): n for m, n in result.material_names.items()},
+                   "reference_volumes": {str(m): v for m, v in scene.reference_volumes.items()},
                    "peak_rss_mib": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0}
         write_text(args.summary, json.dumps(summary))
     return status
@@ -249,6 +275,23 @@ def _batch(args):
     return run_batch(args)
 
 
+def _die_with_parent():
+    """For batch's children (ORACLEMESH_PARENT_PID set): the kernel kills this process when the one
+    that started it dies (Linux PR_SET_PDEATHSIG), so a Dask worker killed mid-case leaves no mesh
+    running beside the case's rerun."""
+    parent = os.environ.pop("ORACLEMESH_PARENT_PID", None)
+    if not parent:
+        return
+    try:
+        import ctypes
+
+        ctypes.CDLL(None, use_errno=True).prctl(1, signal.SIGKILL)  # 1: PR_SET_PDEATHSIG
+    except (OSError, AttributeError):
+        return
+    if str(os.getppid()) != parent:  # the parent died before the call
+        os._exit(137)
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(prog="oraclemesh", description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -269,6 +312,11 @@ def main(argv=None):
                    help=f"feature strategy (default: the scene's, else {mesh_defaults()['strategy']})")
     p.add_argument("--report", help="also write the quality report to this text file")
     p.add_argument("--histogram", help="save the dihedral-angle histogram to this PNG")
+    p.add_argument("--section", help="save a cross-section of the mesh to this PNG (the plane through its "
+                                     "centre normal to its thinnest axis, tetrahedra coloured by material)")
+    p.add_argument("--set", action="append", metavar="KEY=VALUE",
+                   help="set a key of the scene's mesh block (dotted, the value as JSON or a string), e.g. "
+                        "criteria.cell_size=2, strategy=None, materials.3.cell_size=1; repeat for several")
     p.add_argument("--progress", action="store_true", help="show the mesher's progress on stderr")
     p.add_argument("--progress-lines", action="store_true", help=argparse.SUPPRESS)
     p.add_argument("--summary", help=argparse.SUPPRESS)  # JSON of the figures batch puts in its CSV
@@ -285,18 +333,35 @@ def main(argv=None):
     p.add_argument("--strict", action="store_true",
                    help="exit with status 3 when the mesh has validity defects or warnings about its inputs")
     p.set_defaults(run=_report)
-    p = sub.add_parser("batch", help="mesh several scenes, each in its own process, with a summary CSV")
-    p.add_argument("scenes", nargs="+", help="scene files (JSON)")
-    p.add_argument("-j", "--jobs", type=int, default=1, help="scenes meshed at once (default 1)")
+    p = sub.add_parser("batch", help="mesh many cases (scenes, or a study's scenes x parameter sweeps), each in "
+                                     "its own process, locally or on Dask, with a summary CSV; resumable")
+    p.add_argument("scenes", nargs="*", help="scene files (JSON)")
+    p.add_argument("--study", help="study file (JSON): scenes or glob patterns, and a sweep of mesh keys, e.g. "
+                                   '{"scenes": ["*.json"], "sweep": {"criteria.cell_size": [2, 1]}}')
+    p.add_argument("-j", "--jobs", type=int, help="cases meshed at once on this machine (default 1; not with Dask)")
+    p.add_argument("--workers", type=int, metavar="N",
+                   help="run the cases on a local Dask cluster of N worker processes (one case each at a time)")
+    p.add_argument("--scheduler", metavar="tcp://HOST:PORT",
+                   help="run the cases on an existing Dask cluster (its workers need this package and the "
+                        "same paths to the scenes and OUTPUT_DIR)")
+    p.add_argument("--retries", type=int, default=1,
+                   help="with Dask: times a case's task is run again after an error of its own (default 1); "
+                        "a case whose worker dies is run again anyway")
     p.add_argument("-o", "--output-dir", default="batch-output",
-                   help="folder for the meshes, reports, logs and summary.csv (default ./batch-output)")
+                   help="folder for a folder per case (meshes, report, pictures, log) and summary.csv "
+                        "(default ./batch-output)")
     p.add_argument("-f", "--format", action="append", choices=[f[1:] for f in MESH_FORMATS],
-                   help="mesh format(s) to write (default vtu; repeat for several)")
+                   help="mesh format(s) to write (default the study's, else vtu; repeat for several)")
     p.add_argument("--csv", help="summary CSV (default OUTPUT_DIR/summary.csv)")
-    p.add_argument("--strategy", choices=STRATEGIES, help="feature strategy for every scene")
-    p.add_argument("--timeout", type=float, help="seconds after which a scene's process is stopped")
+    p.add_argument("--strategy", choices=STRATEGIES, help="feature strategy for every case")
+    p.add_argument("--timeout", type=float, help="seconds after which a case's process is stopped")
+    p.add_argument("--no-pictures", action="store_true",
+                   help="no dihedral-angle histogram and cross-section PNG per case")
+    p.add_argument("--force", action="store_true",
+                   help="mesh every case again (default: cases done earlier with the same inputs are skipped)")
     p.set_defaults(run=_batch)
     args = parser.parse_args(argv)
+    _die_with_parent()
     SIGNALS.install()
     try:
         return args.run(args)

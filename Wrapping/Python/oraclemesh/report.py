@@ -166,3 +166,82 @@ def save_histogram(q, png_path, names=None, title=None):
 
     with atomic_output(png_path) as temporary:
         figure.savefig(temporary, format="png")
+
+
+def section(grid, axis=None, source="mesh"):
+    """The mesh cut by the plane through its bounding box's centre normal to `axis` (0, 1, 2; default
+    its thinnest axis, so the plane holds the longest ones): (polygons [n, 4, 2] in the plane's two
+    other coordinates (triangles repeat a corner), their materials, axis, the plane's position,
+    the names of the two in-plane axes)."""
+    import numpy as np
+
+    points, cells, material = tetrahedra(grid, source)
+    lo, hi = points.min(axis=0), points.max(axis=0)
+    if axis is None:
+        axis = int(np.argmin(hi - lo))
+    position = float((lo[axis] + hi[axis]) / 2)
+    distance = points[:, axis] - position
+    distance[distance == 0] = 1e-9 * float((hi - lo).max() or 1)  # points on the plane: on one side
+    d = distance[cells]
+    above = d > 0
+    crossing = above.any(axis=1) & ~above.all(axis=1)
+    cells, d, material = cells[crossing], d[crossing], material[crossing]
+    p = points[cells]
+    corners, valid = [], []
+    for i, j in ((0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)):
+        t = (d[:, i] / (d[:, i] - d[:, j]))[:, None]
+        corners.append(p[:, i] + t * (p[:, j] - p[:, i]))
+        valid.append((d[:, i] > 0) != (d[:, j] > 0))
+    corners, valid = np.stack(corners, axis=1), np.stack(valid, axis=1)  # [n, 6, 3], [n, 6]
+    plane = [a for a in range(3) if a != axis]
+    corners = corners[:, :, plane]
+    # 3 or 4 corners per tetrahedron, ordered by angle around their centre
+    centre = (np.where(valid[:, :, None], corners, 0.0)).sum(axis=1) / valid.sum(axis=1)[:, None]
+    angle = np.arctan2(corners[:, :, 1] - centre[:, None, 1], corners[:, :, 0] - centre[:, None, 0])
+    angle = np.where(valid, angle, np.inf)
+    order = np.argsort(angle, axis=1, kind="stable")[:, :4]
+    polygons = np.take_along_axis(corners, order[:, :, None], axis=1)
+    triangle = valid.sum(axis=1) == 3
+    polygons[triangle, 3] = polygons[triangle, 2]  # a repeated last corner keeps the triangle's area
+    names = "xyz"
+    return polygons, material, axis, position, (names[plane[0]], names[plane[1]])
+
+
+def save_section(grid, png_path, names=None, title=None, source="mesh"):
+    """Saves the mesh's cross-section (see section()) as a PNG: the cut tetrahedra coloured by
+    material (the histogram's colours), their edges drawn."""
+    import numpy as np
+    from matplotlib import colormaps
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.collections import PolyCollection
+    from matplotlib.figure import Figure
+    from matplotlib.patches import Patch
+
+    from .writers import tetrahedra as _tetrahedra
+
+    names = names or {}
+    ids = sorted(set(_tetrahedra(grid, source)[2].tolist()))
+    polygons, material, axis, position, (u, v) = section(grid, source=source)
+    set1 = colormaps["Set1"].colors
+    colour = {m: set1[i % len(set1)] for i, m in enumerate(ids)}
+    figure = Figure(figsize=(7, 7), dpi=100)
+    FigureCanvasAgg(figure)
+    axes = figure.add_subplot()
+    axes.add_collection(PolyCollection(polygons, facecolors=[colour[m] for m in material.tolist()],
+                                       edgecolors=(0.15, 0.15, 0.15), linewidths=0.2))
+    if len(polygons):
+        lo, hi = polygons.reshape(-1, 2).min(axis=0), polygons.reshape(-1, 2).max(axis=0)
+        pad = 0.03 * float(np.max(hi - lo) or 1)
+        axes.set_xlim(lo[0] - pad, hi[0] + pad)
+        axes.set_ylim(lo[1] - pad, hi[1] + pad)
+    axes.set_aspect("equal")
+    axes.set_xlabel(f"{u} [mm]")
+    axes.set_ylabel(f"{v} [mm]")
+    axes.set_title(title or f"Section at {'xyz'[axis]} = {position:.4g}")
+    axes.legend(handles=[Patch(color=colour[m], label=f"{m}: {names[m]}" if m in names else str(m)) for m in ids],
+                title="Material", loc="upper right", fontsize="small")
+    figure.tight_layout()
+    from .atomic import atomic_output
+
+    with atomic_output(png_path) as temporary:
+        figure.savefig(temporary, format="png")

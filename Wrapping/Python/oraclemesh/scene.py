@@ -17,7 +17,8 @@ write the results (the README's "Scene files" section documents every key):
      "mesh": {"strategy": "Conforming", "criteria": {...}, "materials": {"3": {...}},
               "features": {"from_surface": "implant", "feature_angle": 60, "files": [...]},
               "seed": 1, "maximum_number_of_vertices": 200000},
-     "outputs": {"mesh": ["out.vtu", "out.inp"], "report": "report.txt", "histogram": "dihedral.png"}}
+     "outputs": {"mesh": ["out.vtu", "out.inp"], "report": "report.txt", "histogram": "dihedral.png"},
+     "reference_volumes": {"5": 523.6}}
 
 The first domain has the highest priority. Relative file paths resolve against the scene file.
 Every problem found is reported at once, each with its JSON path.
@@ -45,7 +46,7 @@ DOMAIN_KEYS = {
     "box": {"bounds"},
     "cylinder": {"center", "axis", "radius", "height"},
 }
-TOP_KEYS = {"description", "comment", "space", "domains", "mesh", "outputs"}
+TOP_KEYS = {"description", "comment", "space", "domains", "mesh", "outputs", "reference_volumes"}
 MESH_KEYS = {"strategy", "criteria", "materials", "features", "seed", "maximum_number_of_vertices", "comment",
              "perturb", "exude", "sliver_angle", "interface_sliver_angle", "perturbation_steps_per_vertex",
              "exudation_steps_per_cell", "optimisation_time_limit"}
@@ -72,6 +73,7 @@ class Scene:
         self.outputs = {}
         self.domain_criteria = []
         self.feature_readers = []
+        self.reference_volumes = {}
         self.source = "scene"
 
     def path(self, file):
@@ -149,8 +151,35 @@ def _integer_key(problems, key, path, low=0, high=INT_MAX, what="material id"):
     return value
 
 
-def load_scene(path):
+def set_mesh_keys(description, settings, source="scene"):
+    """Sets keys of a scene description's "mesh" block in place: `settings` {dotted key: value},
+    e.g. {"criteria.cell_size": 2, "strategy": "None", "materials.3.cell_size": 1} (the command
+    line's ``mesh --set``, a study's sweep). The scene's validation then checks the values."""
+    if not isinstance(description, dict):
+        return description
+    for key, value in settings.items():
+        parts = [p for p in str(key).split(".")]
+        if not all(parts):
+            raise OracleMeshError(f"{source}: mesh key {key!r}: empty part (use e.g. criteria.cell_size)")
+        if parts[0] not in MESH_KEYS or parts[0] == "comment":
+            raise OracleMeshError(f"{source}: mesh key {key!r}: {parts[0]!r} is not a key of the mesh block "
+                                  f"(use {', '.join(sorted(MESH_KEYS - {'comment'}))})")
+        block = description.setdefault("mesh", {})
+        where = "$.mesh"
+        for part in parts[:-1]:
+            if not isinstance(block, dict):
+                raise OracleMeshError(f"{source}: mesh key {key!r}: {where} is not an object")
+            block = block.setdefault(part, {})
+            where += "." + part
+        if not isinstance(block, dict):
+            raise OracleMeshError(f"{source}: mesh key {key!r}: {where} is not an object")
+        block[parts[-1]] = value
+    return description
+
+
+def load_scene(path, mesh_settings=None):
     """Reads and validates a scene file; returns a Scene whose pipeline is built but not run.
+    `mesh_settings` {dotted key: value} overrides keys of its "mesh" block (see set_mesh_keys).
     Raises OracleMeshError listing every problem with its JSON path."""
     try:
         with open(path, encoding="utf-8") as f:
@@ -170,6 +199,8 @@ def load_scene(path):
         raise OracleMeshError(f"{path}: not a scene file: JSON nested too deeply") from None
     except OSError as e:
         raise OracleMeshError(f"{path}: the scene file cannot be read ({e.strerror or e})") from None
+    if mesh_settings:
+        set_mesh_keys(description, mesh_settings, path)
     return build_scene(description, os.path.dirname(os.path.abspath(path)), source=path)
 
 
@@ -323,6 +354,18 @@ def _outputs_block(problems, spec, scene):
                 scene.outputs[key] = scene.path(spec[key])
 
 
+def _reference_volumes(problems, spec, scene):
+    """{material id: volume}: exact or reference volumes (batch's summary gives the meshes' errors)."""
+    if not isinstance(spec, dict):
+        problems.add("$.reference_volumes", "must be an object {material id: volume}")
+        return
+    for key in spec:
+        material = _integer_key(problems, key, f"$.reference_volumes.{key}")
+        volume = _number(problems, spec, "$.reference_volumes", key, positive=True)
+        if material is not None and volume is not None:
+            scene.reference_volumes[material] = volume
+
+
 def build_scene(description, base_dir=".", source="scene"):
     from vtkmodules.vtkCommonDataModel import vtkBox, vtkCylinder, vtkPlane
 
@@ -471,6 +514,8 @@ def build_scene(description, base_dir=".", source="scene"):
         _mesh_block(problems, description.get("mesh", {}), scene)
         if "outputs" in description:
             _outputs_block(problems, description["outputs"], scene)
+        if "reference_volumes" in description:
+            _reference_volumes(problems, description["reference_volumes"], scene)
     if problems.items:
         raise OracleMeshError(f"{source}: " + "; ".join(problems.items))
     oracle = vtkHierarchicalOracle()
