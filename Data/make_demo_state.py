@@ -126,6 +126,8 @@ def build_pipeline(scene_file, file_prefix=None):
         pv.RenameSource("Feature Edges", edges)
         proxies["Feature Edges"] = edges
         mesher.FeatureLines = edges
+        # as scene files do: sharp edges found on a surface are resampled unless the scene says not to
+        mesher.ResampleFeatureLines = int(features.get("resample", True))
     if "strategy" in spec:
         mesher.FeatureStrategy = STRATEGIES[spec["strategy"]]
     criteria = spec.get("criteria", {})

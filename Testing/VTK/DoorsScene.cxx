@@ -82,6 +82,7 @@ int main(int argc, char* argv[])
   vtkNew<vtkFeaturePreservingTetrahedralizer> mesher;
   mesher->SetInputConnection(0, oracle->GetOutputPort());
   mesher->SetInputConnection(1, edges->GetOutputPort());
+  mesher->ResampleFeatureLinesOn(); // as scene files do for sharp edges found on a surface
   mesher->SetCellRadiusEdgeRatio(2.5);
   mesher->SetCellSize(8.0);
   mesher->SetFacetSize(6.0);
