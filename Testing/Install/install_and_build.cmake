@@ -1,7 +1,8 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 # Test Install.find_package (cmake -P): installs the build tree into a fresh prefix, checks what
 # was installed (the package config, the public headers, none of the CGAL-private ones), then
-# configures, builds and runs Testing/Install/consumer against that prefix alone.
+# configures, builds and runs Testing/Install/consumer against that prefix alone (mesh_sphere and
+# the README's C++ example).
 #   -DBUILD_DIR=<OracleMesh build> -DSOURCE_DIR=<consumer> -DWORK_DIR=<scratch> [-DGENERATOR=Ninja]
 foreach (var BUILD_DIR SOURCE_DIR WORK_DIR)
   if (NOT DEFINED ${var})
@@ -67,6 +68,10 @@ run("running mesh_sphere" "${consumer_build}/mesh_sphere")
 message(STATUS "mesh_sphere: ${run_output}")
 if (NOT run_output MATCHES "tetrahedra [1-9][0-9]* volume")
   message(FATAL_ERROR "mesh_sphere printed no tetrahedra: ${run_output}")
+endif ()
+execute_process(COMMAND "${consumer_build}/my_mesher" WORKING_DIRECTORY "${consumer_build}" RESULT_VARIABLE rc)
+if (NOT rc EQUAL 0 OR NOT EXISTS "${consumer_build}/bone.vtu")
+  message(FATAL_ERROR "the README example built against the installed package failed (${rc})")
 endif ()
 file(REMOVE_RECURSE "${WORK_DIR}")
 message(STATUS "Install.find_package: passed")
