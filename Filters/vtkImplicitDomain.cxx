@@ -21,6 +21,7 @@
 #include <vtkSampleFunction.h>
 #include <vtkSphere.h>
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -29,6 +30,77 @@ vtkCxxSetObjectMacro(vtkImplicitDomain, ImplicitFunction, vtkImplicitFunction);
 
 namespace
 {
+/// The transform's linear part and offset (world to local: x -> M x + t); throws if not linear.
+void linearPart(vtkAbstractTransform* t, double M[3][3], double off[3], const std::string& who)
+{
+  auto* linear = vtkLinearTransform::SafeDownCast(t);
+  if (!linear)
+    throw omesh::InputError(
+      who + ": the implicit function's transform (" + std::string(t->GetClassName()) + ") is not linear");
+  vtkMatrix4x4* m = linear->GetMatrix();
+  for (int r = 0; r < 3; ++r)
+  {
+    for (int c = 0; c < 3; ++c)
+      M[r][c] = m->GetElement(r, c);
+    off[r] = m->GetElement(r, 3);
+  }
+}
+
+/// A cylinder as one plain centre and unit axis in world coordinates, the same whichever way it
+/// was given. ParaView's Cylinder (vtkPVCylinder) keeps the user's centre but the axis as a
+/// rotation Transform about that centre (local axis y); the scene loader, Python and C++ give
+/// vtkCylinder the axis itself. So: a rotation (orthonormal M) is folded into the axis (M^T a) and
+/// the centre (the centre itself when the transform fixes it up to rounding, else its preimage);
+/// then the unit axis is rounded to multiples of 2^-30 per component (at most 1e-9 rad of tilt).
+/// The two descriptions of one cylinder differ by a few ulps before the rounding and agree bit for
+/// bit after it, unless a component lies within those ulps of a rounding boundary (odds about
+/// 1e-7 per component; axis-aligned axes are never near one). Returns false, leaving the transform
+/// to the caller, when the transform is not a rotation (a scaled or sheared cylinder).
+bool describeCylinder(vtkCylinder* cyl, double height, OracleDomainMetadata& md, const std::string& who)
+{
+  double c[3], a[3];
+  cyl->GetCenter(c);
+  cyl->GetAxis(a);
+  if (vtkAbstractTransform* t = cyl->GetTransform())
+  {
+    double M[3][3], off[3];
+    linearPart(t, M, off, who);
+    double worst = 0.0; // |M M^T - I|
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j)
+      {
+        const double d = M[i][0] * M[j][0] + M[i][1] * M[j][1] + M[i][2] * M[j][2] - (i == j ? 1.0 : 0.0);
+        worst = std::max(worst, std::abs(d));
+      }
+    if (!(worst <= 1e-12))
+    {
+      md.Parameters = { c[0], c[1], c[2], a[0], a[1], a[2], cyl->GetRadius(), height };
+      return false;
+    }
+    double wa[3], wc[3], moved = 0.0, scale = 1.0; // world axis M^T a; centre: T(c) == c?
+    for (int i = 0; i < 3; ++i)
+    {
+      wa[i] = M[0][i] * a[0] + M[1][i] * a[1] + M[2][i] * a[2];
+      const double image = M[i][0] * c[0] + M[i][1] * c[1] + M[i][2] * c[2] + off[i];
+      moved = std::max(moved, std::abs(image - c[i]));
+      scale = std::max({ scale, std::abs(c[i]), std::abs(off[i]) });
+    }
+    if (moved <= 1e-12 * scale)
+      std::copy(c, c + 3, wc); // a rotation about the centre (vtkPVCylinder's)
+    else
+      for (int i = 0; i < 3; ++i) // the preimage M^T (c - t)
+        wc[i] = M[0][i] * (c[0] - off[0]) + M[1][i] * (c[1] - off[1]) + M[2][i] * (c[2] - off[2]);
+    std::copy(wc, wc + 3, c);
+    std::copy(wa, wa + 3, a);
+  }
+  const double len = std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+  if (std::isfinite(len) && len > 0.0) // else the core names the bad axis
+    for (double& v : a)
+      v = std::ldexp(std::nearbyint(std::ldexp(v / len, 30)), -30);
+  md.Parameters = { c[0], c[1], c[2], a[0], a[1], a[2], cyl->GetRadius(), height };
+  return true;
+}
+
 /// The function's shape as domain metadata (kind, parameters, world-to-local transform).
 void describeFunction(vtkImplicitFunction* f, double height, OracleDomainMetadata& md, const std::string& who)
 {
@@ -64,24 +136,22 @@ void describeFunction(vtkImplicitFunction* f, double height, OracleDomainMetadat
   }
   else if (auto* cyl = vtkCylinder::SafeDownCast(f))
   {
-    const double* c = cyl->GetCenter();
-    const double* a = cyl->GetAxis();
     md.Kind = "Cylinder";
-    md.Parameters = { c[0], c[1], c[2], a[0], a[1], a[2], cyl->GetRadius(), height };
+    if (describeCylinder(cyl, height, md, who))
+      return; // the transform is folded into the centre and axis
   }
   else
     throw omesh::InputError(who + ": implicit function " + f->GetClassName() +
       " is not supported (use vtkPlane, vtkBox, vtkSphere or vtkCylinder)");
   if (vtkAbstractTransform* t = f->GetTransform())
   {
-    auto* linear = vtkLinearTransform::SafeDownCast(t);
-    if (!linear)
-      throw omesh::InputError(who + ": the implicit function's transform (" +
-        std::string(t->GetClassName()) + ") is not linear");
-    vtkMatrix4x4* m = linear->GetMatrix();
+    double M[3][3], off[3];
+    linearPart(t, M, off, who);
     for (int r = 0; r < 3; ++r)
-      for (int c = 0; c < 4; ++c)
-        md.Transform.push_back(m->GetElement(r, c));
+    {
+      md.Transform.insert(md.Transform.end(), M[r], M[r] + 3);
+      md.Transform.push_back(off[r]);
+    }
   }
 }
 }
@@ -161,9 +231,21 @@ int vtkImplicitDomain::RequestData(vtkInformation*, vtkInformationVector**, vtkI
 
   // Draw the zero set; a capped cylinder is the infinite one intersected with two planes.
   vtkSmartPointer<vtkImplicitFunction> shape = this->ImplicitFunction;
+  if (md.Kind == "Cylinder")
+  {
+    // The cylinder as described (reduced to a plain centre + axis when its transform was a rotation).
+    const double* p = md.Parameters.data();
+    vtkNew<vtkCylinder> cyl;
+    cyl->SetCenter(p[0], p[1], p[2]);
+    cyl->SetAxis(p[3], p[4], p[5]);
+    cyl->SetRadius(p[6]);
+    if (!md.Transform.empty())
+      cyl->SetTransform(this->ImplicitFunction->GetTransform());
+    shape = cyl;
+  }
   if (md.Kind == "Cylinder" && this->Height > 0)
   {
-    auto* cyl = vtkCylinder::SafeDownCast(this->ImplicitFunction);
+    auto* cyl = vtkCylinder::SafeDownCast(shape);
     double axis[3] = { cyl->GetAxis()[0], cyl->GetAxis()[1], cyl->GetAxis()[2] };
     const double len = std::sqrt(axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]);
     vtkNew<vtkImplicitBoolean> capped;

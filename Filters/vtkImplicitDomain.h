@@ -6,6 +6,10 @@
  * Inside is where the function is <= 0 (VTK's convention: a vtkPlane contains the side its normal
  * points away from). The function's linear Transform is honoured (ParaView's box widget uses it).
  * vtkCylinder is infinite; a positive Height caps it symmetrically about its Center (a screw).
+ * A cylinder whose Transform is a rotation (ParaView's Cylinder keeps its axis that way) is reduced
+ * to one plain centre and axis in world coordinates, and every cylinder's unit axis is rounded to
+ * multiples of 2^-30 per component, so the same cylinder given either way is the same domain bit
+ * for bit (see describeCylinder in the .cxx).
  * Unbounded shapes (planes, infinite cylinders) may only be cuts: SetCut(true) (Cut is off by default, as for
  * every domain and in scene files). The output is a tessellation of
  * the shape's boundary inside DisplayBounds, for display only, with the domain description in its

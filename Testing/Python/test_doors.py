@@ -44,7 +44,7 @@ def read_vtu(path):
 
 
 def without_cylinder(folder):
-    """The door scene without its cylinder (see test_pvpython_proxies_with_a_cylinder)."""
+    """The door scene without its cylinder (test_pvpython_proxies: the other shapes on their own)."""
     with open(SCENE) as f:
         scene = json.load(f)
     for d in scene["domains"]:
@@ -113,14 +113,11 @@ class Doors(unittest.TestCase):
         scene = without_cylinder(self.tmp)
         self.assertEqual(self.pvpython(scene, "pvpython.vtu"), fingerprint(om.mesh(scene).grid))
 
-    @unittest.expectedFailure
     @unittest.skipUnless(PVPYTHON and PLUGIN, "pvpython or the plugin not given")
     def test_pvpython_proxies_with_a_cylinder(self):
-        # Known: ParaView's Cylinder proxy (vtkPVCylinder) keeps the axis as a rotation Transform
-        # about the centre with a local y axis; the scene loader and C++ give vtkCylinder the axis
-        # itself. The same cylinder up to rounding, so the mesh differs slightly (the issue's
-        # 160,447 vs 159,448 tets of the demo scene). A fix folds the transform into one canonical
-        # (centre, axis) in vtkImplicitDomain, which changes every cylinder scene's mesh.
+        # ParaView's Cylinder proxy (vtkPVCylinder) keeps the axis as a rotation Transform about the
+        # centre with a local y axis; the scene loader and C++ give vtkCylinder the axis itself.
+        # vtkImplicitDomain reduces both to one plain centre + axis: the same mesh, bit for bit.
         self.assertEqual(self.pvpython(SCENE, "pvpython_cylinder.vtu"), self.python)
 
     def test_a_contradiction_is_the_same_error_at_every_door(self):

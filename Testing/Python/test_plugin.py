@@ -14,9 +14,18 @@ PROPERTY_TAGS = ("IntVectorProperty", "DoubleVectorProperty", "IdTypeVectorPrope
                  "ProxyProperty", "InputProperty")
 
 
-def proxies():
+def all_proxies():
     root = ET.parse(XML).getroot()
     return {p.get("name"): p for group in root.findall("ProxyGroup") for p in group.findall("SourceProxy")}
+
+
+def proxies():
+    """The sources and filters of the menus (not the readers of File > Open)."""
+    return {n: p for n, p in all_proxies().items() if p.find("Hints/ReaderFactory") is None}
+
+
+def readers():
+    return {n: p for n, p in all_proxies().items() if p.find("Hints/ReaderFactory") is not None}
 
 
 class PluginXML(unittest.TestCase):
@@ -118,6 +127,38 @@ class PluginXML(unittest.TestCase):
         for name in ("OracleMeshSurfaceDomain", "OracleMeshLabelMapDomain", "OracleMeshSphereDomain",
                      "OracleMeshImplicitDomain"):
             self.assertIn("Domain", [g.get("label") for g in p[name].findall("PropertyGroup")])
+
+    def test_the_label_map_reader_is_the_command_lines(self):
+        """File > Open: one reader proxy for the label-map formats the command line reads (but .vti,
+        which ParaView reads itself), backed by the Python class embedded in the plugin."""
+        import importlib.util
+
+        from oraclemesh.readers import LABEL_MAP_EXTENSIONS, SPACES
+
+        self.assertEqual(list(readers()), ["OracleMeshLabelMapReader"])
+        reader = readers()["OracleMeshLabelMapReader"]
+        expected = [e.lstrip(".") for e in LABEL_MAP_EXTENSIONS if e != ".vti"]
+        self.assertEqual(reader.find("Hints/ReaderFactory").get("extensions").split(), expected)
+        self.assertEqual(reader.find("StringVectorProperty[@name='FileName']/Hints/FileChooser")
+                         .get("extensions").split(), expected)
+        self.assertEqual(reader.get("si_class"), "vtkSIPythonSourceProxy")
+        self.assertTrue(reader.get("label") and reader.find("Documentation").text.strip())
+        module_name, _, class_name = reader.get("class").partition(".")
+        path = os.path.join(os.path.dirname(XML), module_name + ".py")
+        spec = importlib.util.spec_from_file_location(module_name, path)
+        module = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(module)
+        instance = getattr(module, class_name)()
+        for prop in reader:
+            if prop.tag in PROPERTY_TAGS:
+                with self.subTest(property=prop.get("name")):
+                    self.assertTrue(prop.find("Documentation").text.strip(), "no tooltip")
+                    self.assertTrue(callable(getattr(instance, prop.get("command"))))
+        space = reader.find("IntVectorProperty[@name='Space']")
+        entries = {int(e.get("value")): e.get("text") for e in space.findall("EnumerationDomain/Entry")}
+        self.assertEqual([entries[i] for i in sorted(entries)], list(module.SPACES))
+        self.assertEqual(list(module.SPACES), list(SPACES))
+        self.assertEqual(entries[int(space.get("default_values"))], "LPS")  # as scene files
 
 
 def two_balls():

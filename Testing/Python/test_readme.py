@@ -55,6 +55,17 @@ class Readme(unittest.TestCase):
             source = f.read()
         self.assertEqual(readme_block("cpp"), source[source.index("#include"):])
 
+    def test_the_cmake_example_is_the_installed_package_tests(self):
+        """The README's find_package / target_link_libraries lines are those of the outside project
+        that the test Install.find_package builds against an installed tree."""
+        with open(os.path.join(ROOT, "Testing", "Install", "consumer", "CMakeLists.txt"), encoding="utf-8") as f:
+            consumer = f.read()
+        block = readme_block("cmake")
+        find = re.search(r"^find_package\(OracleMesh[^)]*\)", block, re.M).group(0)
+        link = re.search(r"^target_link_libraries\(my_mesher [^)]*\)", block, re.M).group(0)
+        self.assertIn(find, consumer)
+        self.assertIn(link, consumer)
+
 
 if __name__ == "__main__":
     unittest.main()

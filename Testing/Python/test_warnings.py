@@ -78,6 +78,78 @@ class InputWarnings(unittest.TestCase):
                 report = subprocess.run([COMMAND, "report", out, "--no-png", "--strict"], capture_output=True, text=True)
                 self.assertEqual(report.returncode, 3, report.stderr)
 
+    def test_a_label_map_in_another_frame_than_the_surfaces_declare(self):
+        """A NIfTI label map (RAS, placed in the scene's LPS) under a surface whose STL header says
+        SPACE=RAS (3D Slicer's): the orientations differ, a warning says so and names the fix; with
+        "space": "RAS", or a surface declaring LPS, none. Both are centred on the origin, so the
+        bounding-box warnings stay out of it."""
+        from vtkmodules.util.numpy_support import numpy_to_vtk
+        from vtkmodules.vtkCommonDataModel import vtkImageData
+        from vtkmodules.vtkFiltersSources import vtkCubeSource
+        from vtkmodules.vtkFiltersCore import vtkTriangleFilter
+        from vtkmodules.vtkIOGeometry import vtkSTLWriter
+        from vtkmodules.vtkIOImage import vtkNIFTIImageWriter
+
+        labels = np.zeros((20, 20, 20), dtype=np.uint8)
+        labels[4:16, 4:16, 4:16] = 1
+        image = vtkImageData()
+        image.SetDimensions(20, 20, 20)
+        image.SetOrigin(-9.5, -9.5, -9.5)
+        array = numpy_to_vtk(labels.ravel(), deep=True)
+        array.SetName("labels")
+        image.GetPointData().SetScalars(array)
+        cube = vtkCubeSource()
+        cube.SetXLength(4)
+        cube.SetYLength(4)
+        cube.SetZLength(4)
+        triangles = vtkTriangleFilter()
+        triangles.SetInputConnection(cube.GetOutputPort())
+        with tempfile.TemporaryDirectory() as tmp:
+            nifti = vtkNIFTIImageWriter()
+            nifti.SetFileName(os.path.join(tmp, "labels.nii.gz"))
+            nifti.SetInputData(image)
+            nifti.Write()
+            for frame in ("RAS", "LPS"):
+                stl = vtkSTLWriter()
+                stl.SetFileName(os.path.join(tmp, f"implant_{frame}.stl"))
+                stl.SetInputConnection(triangles.GetOutputPort())
+                stl.SetFileTypeToBinary()
+                stl.SetHeader(f"SPACE={frame}")
+                stl.Write()
+
+            def scene(surface_frame, space=None):
+                description = {"domains": [
+                    {"name": "implant", "type": "surface", "file": f"implant_{surface_frame}.stl", "material": 2},
+                    {"name": "bone", "type": "labelmap", "file": "labels.nii.gz"}],
+                    "mesh": {"criteria": {"cell_size": 4, "facet_size": 4, "facet_distance": 1}, "seed": 1}}
+                if space:
+                    description["space"] = space
+                return description
+
+            result = om.mesh(scene("RAS"), base_dir=tmp)
+            frames = [w for w in result.input_warnings if "declares SPACE=RAS" in w]
+            self.assertEqual(len(frames), 1, result.input_warnings)
+            self.assertIn("bone (RAS file)", frames[0])
+            self.assertIn('set "space": "RAS"', frames[0])
+            self.assertIn(frames[0], result.warnings)
+            self.assertIn(frames[0], result.report)
+            for fine in (scene("RAS", space="RAS"), scene("LPS")):
+                self.assertFalse([w for w in om.mesh(fine, base_dir=tmp).input_warnings if "SPACE=" in w])
+            if COMMAND:
+                path = os.path.join(tmp, "scene.json")
+                with open(path, "w") as f:
+                    json.dump(scene("RAS"), f)
+                out = os.path.join(tmp, "out.vtu")
+                plain = subprocess.run([COMMAND, "mesh", path, "-o", out], capture_output=True, text=True)
+                self.assertEqual(plain.returncode, 0, plain.stderr)
+                self.assertIn("declares SPACE=RAS", plain.stdout)
+                strict = subprocess.run([COMMAND, "mesh", path, "-o", out, "--strict"], capture_output=True,
+                                        text=True)
+                self.assertEqual(strict.returncode, 3, strict.stderr)
+                report = subprocess.run([COMMAND, "report", out, "--no-png", "--strict"], capture_output=True,
+                                        text=True)
+                self.assertEqual(report.returncode, 3, report.stderr)  # the warning is in the file
+
 
 if __name__ == "__main__":
     unittest.main()

@@ -19,6 +19,7 @@
 #include <vtkFloatArray.h>
 #include <vtkImageData.h>
 #include <vtkIntArray.h>
+#include <vtkMath.h>
 #include <vtkMultiBlockDataSet.h>
 #include <vtkNew.h>
 #include <vtkPlane.h>
@@ -202,6 +203,88 @@ TEST(OracleFilters, TransformedImplicitFunctionsAreHonoured)
   EXPECT_NEAR(b[1], 2, 0.2);
   const auto cv = SampledVolumes(screw->GetOutputPort(), 140);
   EXPECT_NEAR(cv.at(4), M_PI * 4, 0.03 * M_PI * 4);
+}
+
+namespace
+{
+/// The domain description a vtkImplicitDomain writes: (parameters, transform) from its field data.
+std::pair<std::vector<double>, std::vector<double>> CylinderDescription(vtkImplicitFunction* f, double height)
+{
+  vtkNew<vtkImplicitDomain> d;
+  d->SetImplicitFunction(f);
+  d->SetHeight(height);
+  d->SetMaterialId(4);
+  EXPECT_EQ(UpdateAndCatch(d), "");
+  std::pair<std::vector<double>, std::vector<double>> out;
+  vtkFieldData* fd = d->GetOutput()->GetFieldData();
+  for (auto [name, v] : { std::make_pair("OracleMesh_Parameters", &out.first),
+         std::make_pair("OracleMesh_Transform", &out.second) })
+    if (vtkDataArray* a = fd->GetArray(name))
+      for (vtkIdType i = 0; i < a->GetNumberOfValues(); ++i)
+        v->push_back(a->GetComponent(i / a->GetNumberOfComponents(), i % a->GetNumberOfComponents()));
+  return out;
+}
+}
+
+TEST(OracleFilters, CylinderWithARotationIsOnePlainCentreAndAxis)
+{
+  // ParaView's way: local axis y and a rotation about the centre taking the axis to y (world to
+  // local); the scene's way: the axis itself. One description, bit for bit, without a transform.
+  const double centre[3] = { -15, -14, 66 }, axis[3] = { 0.1, 0.05, 1 };
+  vtkNew<vtkCylinder> plain;
+  plain->SetCenter(centre);
+  plain->SetAxis(axis[0], axis[1], axis[2]);
+  plain->SetRadius(2.5);
+  const auto expected = CylinderDescription(plain, 34);
+  ASSERT_EQ(expected.first.size(), 8u);
+  EXPECT_TRUE(expected.second.empty());
+  const double len = std::sqrt(0.1 * 0.1 + 0.05 * 0.05 + 1.0);
+  for (int i = 0; i < 3; ++i)
+  {
+    EXPECT_EQ(expected.first[i], centre[i]);
+    EXPECT_NEAR(expected.first[3 + i], axis[i] / len, 1e-9);
+  }
+
+  // y -> axis: rotate about y x axis by the angle between them, about the centre.
+  const double y[3] = { 0, 1, 0 };
+  double u[3] = { axis[0] / len, axis[1] / len, axis[2] / len }, r[3];
+  vtkMath::Cross(y, u, r);
+  const double angle = vtkMath::DegreesFromRadians(std::acos(vtkMath::Dot(y, u)));
+  vtkNew<vtkTransform> localToWorld;
+  localToWorld->Translate(centre);
+  localToWorld->RotateWXYZ(angle, r);
+  localToWorld->Translate(-centre[0], -centre[1], -centre[2]);
+  vtkNew<vtkTransform> worldToLocal;
+  worldToLocal->SetMatrix(localToWorld->GetMatrix());
+  worldToLocal->Inverse();
+  vtkNew<vtkCylinder> rotated;
+  rotated->SetCenter(centre);
+  rotated->SetAxis(0, 1, 0);
+  rotated->SetRadius(2.5);
+  rotated->SetTransform(worldToLocal);
+  EXPECT_EQ(CylinderDescription(rotated, 34), expected);
+
+  // A rotation about another point moves the centre: its preimage, still without a transform.
+  vtkNew<vtkTransform> shifted;
+  shifted->Translate(5, 0, 0); // world to local: x + 5
+  vtkNew<vtkCylinder> moved;
+  moved->SetCenter(centre);
+  moved->SetAxis(axis[0], axis[1], axis[2]);
+  moved->SetRadius(2.5);
+  moved->SetTransform(shifted);
+  const auto m = CylinderDescription(moved, 34);
+  EXPECT_TRUE(m.second.empty());
+  EXPECT_NEAR(m.first[0], centre[0] - 5, 1e-12);
+  for (int i = 1; i < 6; ++i)
+    EXPECT_EQ(m.first[i], expected.first[i]);
+
+  // A scaled cylinder (elliptic) is not a plain cylinder: its transform stays.
+  vtkNew<vtkTransform> scaled;
+  scaled->Scale(2, 1, 1);
+  vtkNew<vtkCylinder> elliptic;
+  elliptic->SetRadius(1);
+  elliptic->SetTransform(scaled);
+  EXPECT_EQ(CylinderDescription(elliptic, 4).second.size(), 12u);
 }
 
 TEST(OracleFilters, SurfaceDomainMatchesTheEnclosedVolume)

@@ -80,6 +80,24 @@ def describe(grid, names, feature_segments):
     grid.GetFieldData().AddArray(strings)
 
 
+def add_input_warnings(grid, warnings):
+    """Appends warnings about the inputs that only the scene knows (the frames its files declare) to
+    the mesh's field data, Warnings and InputWarnings, as the mesher's own: the report prints them and
+    --strict fails on them."""
+    from vtkmodules.vtkCommonCore import vtkStringArray
+
+    for name in ("Warnings", "InputWarnings"):
+        if not warnings:
+            break
+        array = grid.GetFieldData().GetAbstractArray(name)
+        if not isinstance(array, vtkStringArray):
+            array = vtkStringArray()
+            array.SetName(name)
+            grid.GetFieldData().AddArray(array)
+        for warning in warnings:
+            array.InsertNextValue(warning)
+
+
 def as_scene(scene, base_dir=None):
     """A Scene from a JSON scene path, a scene dict (relative paths against `base_dir`, default the
     working folder) or a Scene."""
@@ -165,6 +183,7 @@ def mesh(scene, strategy=None, progress=None, base_dir=None, updater=update):
     if progress is not None:
         mesher.AddObserver("ProgressEvent", lambda algorithm, event: progress(algorithm.GetProgress()))
     grid = updater(mesher)
+    add_input_warnings(grid, scene.input_warnings())
     segments = mesher.GetOutputDataObject(2)
     describe(grid, scene.material_names(), segments.GetNumberOfCells() if segments is not None else 0)
     strategy = strategy or scene.mesh.get("strategy", mesh_defaults()["strategy"])

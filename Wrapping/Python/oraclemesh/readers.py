@@ -18,6 +18,7 @@ in the scene with their origin, spacing and direction, and converted to the scen
 """
 import functools
 import os
+import re
 import struct
 
 from .errors import OracleMeshError
@@ -91,6 +92,48 @@ def label_map_reader(path, space="LPS"):
         placement = _nifti_placement
     reader.SetFileName(path)
     return _Placed(reader, lambda: placement(path, reader), space)
+
+
+# ---------------------------------------------------------------------------------------------------
+# Frames the files declare (for the scene's warnings; nothing is converted by them).
+
+_SLICER_SPACE = re.compile(rb"SPACE\s*=\s*(LPS|RAS)\b", re.IGNORECASE)
+
+
+def surface_frame(path):
+    """The anatomical frame a surface file declares, as 3D Slicer writes it into the header
+    ("SPACE=LPS" or "SPACE=RAS": a .vtk's title line, an STL's 80-byte header, a PLY or OBJ comment,
+    a .vtp's first kilobyte); None when it declares none. Surfaces are never converted: a declared
+    frame only lets the scene warn when it differs from the label maps'."""
+    try:
+        with open(path, "rb") as f:
+            head = f.read(1024)
+    except OSError:
+        return None
+    match = _SLICER_SPACE.search(head)
+    return match.group(1).decode().upper() if match else None
+
+
+def label_map_frame(path):
+    """The anatomical frame of a label-map file's world before conversion to the scene's: RAS for
+    NIfTI, LPS for MetaImage (ITK's), NRRD's ``space``; None for .vti and .inr (no frame) or a
+    header that cannot be read (the reader reports that)."""
+    ext = _extension(path)
+    if ext in (".nii", ".nii.gz"):
+        return "RAS"
+    if ext in (".mha", ".mhd"):
+        return "LPS"
+    if ext in (".nrrd", ".nhdr"):
+        try:
+            with open(path, "rb") as f:
+                head = f.read(65536)
+        except OSError:
+            return None
+        for line in head.split(b"\n\n")[0].decode("latin-1").splitlines():
+            key, sep, value = line.partition(":")
+            if sep and key.strip().lower() == "space":
+                return _NRRD_SPACES.get(value.strip().lower())
+    return None
 
 
 def _check_exists(path):

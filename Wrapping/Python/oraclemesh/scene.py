@@ -34,7 +34,7 @@ import os
 
 from .defaults import CRITERIA_KEYS, STRATEGIES, cut_default  # noqa: F401 (CRITERIA_KEYS, STRATEGIES re-exported)
 from .errors import OracleMeshError
-from .readers import SPACES, label_map_reader, surface_reader
+from .readers import SPACES, label_map_frame, label_map_reader, surface_frame, surface_reader
 
 DOMAIN_TYPES = ("surface", "labelmap", "sphere", "plane", "box", "cylinder")
 COMMON_KEYS = {"name", "type", "material", "cut", "criteria", "comment"}
@@ -75,10 +75,33 @@ class Scene:
         self.feature_readers = []
         self.reference_volumes = {}
         self.source = "scene"
+        self.space = "LPS"
+        self.frames = []  # (domain name, "surface" or "labelmap", the frame its file declares or None)
 
     def path(self, file):
         """A scene path: relative ones resolve against the scene file's folder."""
         return file if os.path.isabs(file) else os.path.join(self.base_dir, file)
+
+    def input_warnings(self):
+        """Warnings about the inputs' frames that the files make known: a surface whose file declares
+        an anatomical frame (3D Slicer's "SPACE=LPS/RAS" header) other than the one the label maps
+        with a frame are placed in (the scene's "space"), or surfaces declaring different frames."""
+        surfaces = [(name, frame) for name, kind, frame in self.frames if kind == "surface" and frame]
+        maps = [(name, frame) for name, kind, frame in self.frames if kind == "labelmap" and frame]
+        warnings = []
+        if maps:
+            placed = ", ".join(f"{name} ({frame} file)" for name, frame in maps)
+            for name, frame in surfaces:
+                if frame != self.space:
+                    warnings.append(f"inputs: surface {name} declares SPACE={frame} in its file, but the label "
+                                    f"maps {placed} are placed in the scene's space {self.space}: their "
+                                    f"orientations differ (x and y mirrored); set \"space\": \"{frame}\" "
+                                    "if the surfaces are right")
+        if len({frame for _, frame in surfaces}) > 1:
+            listed = ", ".join(f"{name} ({frame})" for name, frame in surfaces)
+            warnings.append(f"inputs: the surfaces declare different frames in their files: {listed}; "
+                            "surfaces are used as they are, so they are mirrored against each other")
+        return warnings
 
     def material_names(self):
         """{material id: name} from the scene's domains (cut domains have no material)."""
@@ -379,6 +402,7 @@ def build_scene(description, base_dir=".", source="scene"):
     if space not in SPACES:
         problems.add("$.space", f"must be one of {', '.join(SPACES)} (the scene's anatomical frame), got {space!r}")
         space = "LPS"
+    scene.space = space
     domains = description.get("domains") if isinstance(description, dict) else None
     if not isinstance(domains, list) or not domains:
         raise OracleMeshError(f"{source}: $.domains: missing or empty (a list of domains, highest priority first)")
@@ -425,6 +449,7 @@ def build_scene(description, base_dir=".", source="scene"):
                 problems.add(f"{where}.file", str(e))
                 continue
             scene.readers.append(reader)
+            scene.frames.append((name, kind, surface_frame(full) if kind == "surface" else label_map_frame(full)))
             if kind == "surface":
                 domain = vtkSurfaceDomain()
                 domain.SetMaterialId(material)

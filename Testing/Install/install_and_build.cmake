@@ -1,0 +1,77 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+# Test Install.find_package (cmake -P): installs the build tree into a fresh prefix, checks what
+# was installed (the package config, the public headers, none of the CGAL-private ones), then
+# configures, builds and runs Testing/Install/consumer against that prefix alone (mesh_sphere and
+# the README's C++ example).
+#   -DBUILD_DIR=<OracleMesh build> -DSOURCE_DIR=<consumer> -DWORK_DIR=<scratch> [-DGENERATOR=Ninja]
+foreach (var BUILD_DIR SOURCE_DIR WORK_DIR)
+  if (NOT DEFINED ${var})
+    message(FATAL_ERROR "install_and_build.cmake: -D${var}=... is required")
+  endif ()
+endforeach ()
+
+function (run what)
+  execute_process(COMMAND ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if (NOT rc EQUAL 0)
+    message(FATAL_ERROR "${what} failed (${rc}):\n${out}\n${err}")
+  endif ()
+  set(run_output "${out}" PARENT_SCOPE)
+endfunction ()
+
+set(prefix "${WORK_DIR}/prefix")
+set(consumer_build "${WORK_DIR}/consumer-build")
+file(REMOVE_RECURSE "${WORK_DIR}")
+file(MAKE_DIRECTORY "${WORK_DIR}")
+
+run("cmake --install" "${CMAKE_COMMAND}" --install "${BUILD_DIR}" --prefix "${prefix}")
+
+# What the package holds.
+file(GLOB configs "${prefix}/lib*/cmake/oraclemesh/OracleMeshConfig.cmake")
+file(GLOB versions "${prefix}/lib*/cmake/oraclemesh/OracleMeshConfigVersion.cmake")
+if (NOT configs OR NOT versions)
+  message(FATAL_ERROR "no OracleMeshConfig.cmake / OracleMeshConfigVersion.cmake under ${prefix}/lib*/cmake/oraclemesh")
+endif ()
+foreach (header vtkFeaturePreservingTetrahedralizer.h vtkHierarchicalOracle.h vtkSphereDomain.h OracleMeshFiltersModule.h)
+  if (NOT EXISTS "${prefix}/include/oraclemesh/${header}")
+    message(FATAL_ERROR "public header ${header} not installed in ${prefix}/include/oraclemesh")
+  endif ()
+endforeach ()
+file(GLOB_RECURSE headers "${prefix}/include/*.h")
+foreach (header IN LISTS headers)
+  get_filename_component(name "${header}" NAME)
+  if (name MATCHES "^(OracleMeshDomain|SegmentRefinementLevel|ConformingMesher3)\\.h$")
+    message(FATAL_ERROR "CGAL-private header installed: ${header}")
+  endif ()
+  file(STRINGS "${header}" cgal_includes REGEX "#[ \t]*include[ \t]*[<\"]CGAL/")
+  if (cgal_includes)
+    message(FATAL_ERROR "installed header ${header} includes CGAL: ${cgal_includes}")
+  endif ()
+endforeach ()
+
+# The outside project sees the prefix only (plus the system's ParaView/VTK).
+set(generator_args)
+if (GENERATOR)
+  set(generator_args -G "${GENERATOR}")
+endif ()
+run("configuring the consumer" "${CMAKE_COMMAND}" -S "${SOURCE_DIR}" -B "${consumer_build}" ${generator_args}
+  -DCMAKE_BUILD_TYPE=Release "-DCMAKE_PREFIX_PATH=${prefix}" -DCMAKE_FIND_USE_PACKAGE_REGISTRY=OFF)
+if (NOT run_output MATCHES "OracleMesh" AND NOT EXISTS "${consumer_build}/CMakeCache.txt")
+  message(FATAL_ERROR "the consumer did not configure")
+endif ()
+file(STRINGS "${consumer_build}/CMakeCache.txt" found_dir REGEX "^OracleMesh_DIR:")
+string(FIND "${found_dir}" "${prefix}" at)
+if (at EQUAL -1)
+  message(FATAL_ERROR "find_package(OracleMesh) found ${found_dir}, not the installed prefix ${prefix}")
+endif ()
+run("building the consumer" "${CMAKE_COMMAND}" --build "${consumer_build}")
+run("running mesh_sphere" "${consumer_build}/mesh_sphere")
+message(STATUS "mesh_sphere: ${run_output}")
+if (NOT run_output MATCHES "tetrahedra [1-9][0-9]* volume")
+  message(FATAL_ERROR "mesh_sphere printed no tetrahedra: ${run_output}")
+endif ()
+execute_process(COMMAND "${consumer_build}/my_mesher" WORKING_DIRECTORY "${consumer_build}" RESULT_VARIABLE rc)
+if (NOT rc EQUAL 0 OR NOT EXISTS "${consumer_build}/bone.vtu")
+  message(FATAL_ERROR "the README example built against the installed package failed (${rc})")
+endif ()
+file(REMOVE_RECURSE "${WORK_DIR}")
+message(STATUS "Install.find_package: passed")
