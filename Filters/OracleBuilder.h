@@ -80,4 +80,7 @@ public:
   /// Warnings for the domains no point of which reaches the mesh: every point sampled inside the
   /// domain's bounds (20 x 20 x 20) that the domain contains belongs to a higher-priority domain.
   static std::vector<std::string> HiddenDomainWarnings(const omesh::HierarchicalOracle& oracle);
+  /// The domains' own warnings (the holes a winding-number surface closes), then
+  /// HiddenDomainWarnings.
+  static std::vector<std::string> DomainWarnings(const omesh::HierarchicalOracle& oracle);
 };

@@ -226,7 +226,7 @@ int vtkFeaturePreservingTetrahedralizer::RequestData(
         " repeated point(s); " + std::to_string(features.segments.size()) + " segments remain");
 
     auto oracle = OracleBuilder::BuildOracle(oracleData);
-    for (const std::string& w : OracleBuilder::HiddenDomainWarnings(*oracle))
+    for (const std::string& w : OracleBuilder::DomainWarnings(*oracle))
       notes.push_back(w);
     // per material: the domains' criteria, then this filter's SetMaterialCriteria over them
     auto overrideWith = [&](int m, const std::array<double, 6>& c) {

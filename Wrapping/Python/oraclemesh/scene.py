@@ -38,7 +38,7 @@ CRITERIA_KEYS = {
 STRATEGIES = ("Conforming", "None", "ProtectingBalls")
 COMMON_KEYS = {"name", "type", "material", "cut", "criteria", "comment"}
 DOMAIN_KEYS = {
-    "surface": {"file"},
+    "surface": {"file", "inside_test", "allow_self_intersections"},
     "labelmap": {"file", "array", "association", "background", "label_names", "interpolation"},
     "sphere": {"center", "radius"},
     "plane": {"origin", "normal"},
@@ -413,6 +413,16 @@ def build_scene(description, base_dir=".", source="scene"):
                 domain = vtkSurfaceDomain()
                 domain.SetMaterialId(material)
                 domain.SetMaterialName(name)
+                inside_test = spec.get("inside_test", "closed")
+                if inside_test not in ("closed", "winding_number"):
+                    problems.add(f"{where}.inside_test", f"must be 'closed' or 'winding_number', got {inside_test!r}")
+                elif inside_test == "winding_number":
+                    domain.SetInsideTestToWindingNumber()
+                allow = spec.get("allow_self_intersections", False)
+                if not isinstance(allow, bool):
+                    problems.add(f"{where}.allow_self_intersections", f"must be true or false, got {allow!r}")
+                else:
+                    domain.SetAllowSelfIntersections(allow)
             else:
                 domain = vtkLabelMapDomain()
                 domain.SetDomainName(name)
