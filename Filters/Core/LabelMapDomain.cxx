@@ -57,7 +57,15 @@ LabelMapDomain::LabelMapDomain(const std::array<int, 3>& dims, const std::vector
       std::to_string(n) + " voxels");
   for (int i = 0; i < 3; ++i)
     dimsD_[i] = dims[i];
-  const AffineMap toWorld = worldToVoxel.inverse(); // throws if singular
+  AffineMap toWorld;
+  try
+  {
+    toWorld = worldToVoxel.inverse(); // throws if singular or not finite
+  }
+  catch (const InputError& e)
+  {
+    throw InputError(name + ": label map placement (origin, spacing, direction): " + e.what());
+  }
   const auto& r = toWorld.rows();
   voxelVolume_ = std::abs(r[0] * (r[5] * r[10] - r[6] * r[9]) - r[1] * (r[4] * r[10] - r[6] * r[8]) +
     r[2] * (r[4] * r[9] - r[5] * r[8]));
@@ -87,6 +95,8 @@ LabelMapDomain::LabelMapDomain(const std::array<int, 3>& dims, const std::vector
 void LabelMapDomain::crossings(const Vec3& a, const Vec3& b, std::vector<double>& ts) const
 {
   const Vec3 ua = worldToVoxel_.apply(a), ub = worldToVoxel_.apply(b), d = ub - ua;
+  if (!isFinite(ua) || !isFinite(d)) // a NaN end is outside every domain: nothing to cross
+    return;
   // Clip to the grid [0, dims] (slab method); entering and leaving the grid are candidates.
   double t0 = 0.0, t1 = 1.0;
   for (int i = 0; i < 3; ++i)

@@ -296,7 +296,21 @@ SurfaceDomain::SurfaceDomain(
 
   for (const auto& p : surface.points)
     impl_->box.add(p);
-  impl_->tree = std::make_unique<Tree>(faces(impl_->mesh).first, faces(impl_->mesh).second, impl_->mesh);
+  // Zero-area triangles (collinear or coincident corners, as CAD exports have) hold no interior
+  // that a ray could cross, and their edges are their neighbours' edges: leave them out of the
+  // tree. Side_of_triangle_mesh shot random rays forever from a point on one (found by fuzzing).
+  std::vector<Mesh::Face_index> solid;
+  solid.reserve(impl_->mesh.number_of_faces());
+  for (auto f : impl_->mesh.faces())
+  {
+    auto h = impl_->mesh.halfedge(f);
+    if (!CGAL::collinear(impl_->mesh.point(impl_->mesh.source(h)), impl_->mesh.point(impl_->mesh.target(h)),
+          impl_->mesh.point(impl_->mesh.target(impl_->mesh.next(h)))))
+      solid.push_back(f);
+  }
+  if (solid.empty())
+    throw InputError(name + ": every triangle of the surface has zero area");
+  impl_->tree = std::make_unique<Tree>(solid.begin(), solid.end(), impl_->mesh);
   impl_->tree->accelerate_distance_queries();
   if (winding)
   {
