@@ -51,6 +51,12 @@ LabelMapDomain::LabelMapDomain(const std::array<int, 3>& dims, const std::vector
   if (dims[0] <= 0 || dims[1] <= 0 || dims[2] <= 0)
     throw InputError(name + ": label map is empty (" + std::to_string(dims[0]) + " x " +
       std::to_string(dims[1]) + " x " + std::to_string(dims[2]) + " voxels)");
+  // the product in double first: three ints can multiply past 2^64, and a product that wrapped to
+  // the number of labels given would pass the size check below
+  const double voxels = static_cast<double>(dims[0]) * dims[1] * dims[2];
+  if (voxels > 1e15)
+    throw InputError(name + ": label map has " + std::to_string(dims[0]) + " x " + std::to_string(dims[1]) + " x " +
+      std::to_string(dims[2]) + " voxels, beyond any memory");
   const size_t n = static_cast<size_t>(dims[0]) * dims[1] * dims[2];
   if (labels.size() != n)
     throw InputError(name + ": label map has " + std::to_string(labels.size()) + " labels for " +

@@ -2,6 +2,7 @@
 #include "SegmentConformation.h"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 namespace omesh
@@ -60,6 +61,15 @@ SegmentSet conformSegments(const FeatureSegments& f, double edgeSize, size_t max
     }
   }
   // T1.2: midpoint splits until no sub-segment is encroached by a segment point (or too long).
+  // Encroachment splits stop at 1/64 of the shortest piece after T1.1, as in the mesher's
+  // refinement: a point almost on another segment (closer than rounding to it) otherwise drew
+  // midpoint splits towards it without end (found by fuzzing).
+  double shortest = std::numeric_limits<double>::infinity();
+  for (size_t s = 0; s < set.subs.size(); ++s)
+    shortest = std::min(shortest, set.length(s));
+  const double floor = shortest / 64.0;
+  std::vector<char> given(set.subs.size(), 0); // encroached but at the floor: left as it is
+  size_t unresolved = 0;
   bool changed = true;
   while (changed)
   {
@@ -70,12 +80,22 @@ SegmentSet conformSegments(const FeatureSegments& f, double edgeSize, size_t max
       const Vec3 mid = 0.5 * (a + b);
       const double r2 = 0.25 * dot(b - a, b - a);
       bool bad = edgeSize > 0 && 4.0 * r2 > edgeSize * edgeSize;
+      if (!bad && s < given.size() && given[s])
+        continue;
       for (size_t p = 0; !bad && p < set.points.size(); ++p)
       {
         if (static_cast<int>(p) == set.subs[s][0] || static_cast<int>(p) == set.subs[s][1])
           continue;
         const Vec3 d = set.points[p] - mid;
         bad = dot(d, d) < r2 * (1.0 - 1e-12);
+        if (bad && !(2.0 * std::sqrt(r2) >= 2.0 * floor)) // halves would fall below the floor
+        {
+          given.resize(set.subs.size(), 0);
+          given[s] = 1;
+          ++unresolved;
+          bad = false;
+          break;
+        }
       }
       if (bad)
       {
@@ -91,6 +111,10 @@ SegmentSet conformSegments(const FeatureSegments& f, double edgeSize, size_t max
       }
     }
   }
+  if (unresolved)
+    warnings.push_back("feature lines: " + std::to_string(unresolved) +
+      " sub-segment(s) stay encroached by a point closer to them than 1/64 of the shortest segment piece; "
+      "splitting stopped there");
   return set;
 }
 }
