@@ -160,10 +160,12 @@ void SurfaceDomain::Impl::buildGrid(size_t numTriangles)
 
 namespace
 {
-/// Orients every connected component of an oriented soup so that it bounds a positive volume
-/// (outward), as the winding number needs; orient_polygon_soup makes each component consistent
-/// but picks its side at random.
-void orientComponentsOutward(const std::vector<Point>& points, std::vector<std::vector<std::size_t>>& polygons)
+/// Orients every connected component of an oriented soup for the winding number:
+/// orient_polygon_soup makes each component consistent but picks its side at random. A component
+/// is turned to bound a positive volume, then flipped again if it lies inside an odd number of
+/// other components (the inner wall of a hollow part bounds a cavity: its triangles face inward).
+/// Nesting is tested for up to 64 components (beyond, all face outward).
+void orientComponentsForWinding(const std::vector<Point>& points, std::vector<std::vector<std::size_t>>& polygons)
 {
   std::vector<std::size_t> parent(points.size());
   std::iota(parent.begin(), parent.end(), 0);
@@ -193,6 +195,50 @@ void orientComponentsOutward(const std::vector<Point>& points, std::vector<std::
   }
   for (auto& poly : polygons)
     if (volume[find(poly[0])] < 0)
+      std::reverse(poly.begin(), poly.end());
+
+  // nesting: component d lies inside component c if c's winding number at a vertex of d is > 1/2
+  std::vector<std::size_t> roots;
+  std::vector<int> componentOf(points.size(), -1);
+  for (const auto& poly : polygons)
+  {
+    const std::size_t r = find(poly[0]);
+    if (componentOf[r] < 0)
+    {
+      componentOf[r] = static_cast<int>(roots.size());
+      roots.push_back(r);
+    }
+  }
+  const size_t k = roots.size();
+  if (k < 2 || k > 64)
+    return;
+  std::vector<Vec3> pts;
+  pts.reserve(points.size());
+  for (const Point& p : points)
+    pts.push_back({ p.x(), p.y(), p.z() });
+  std::vector<std::vector<std::array<int, 3>>> tris(k);
+  for (const auto& poly : polygons)
+    tris[componentOf[find(poly[0])]].push_back(
+      { static_cast<int>(poly[0]), static_cast<int>(poly[1]), static_cast<int>(poly[2]) });
+  // d is nested in c when c winds around every probe of d (up to 32 corners spread over d), so
+  // components that merely overlap (allowed self-intersections) are not taken as cavities
+  std::vector<std::vector<Vec3>> probes(k);
+  for (size_t c = 0; c < k; ++c)
+  {
+    const size_t step = std::max<size_t>(1, tris[c].size() / 32);
+    for (size_t t = 0; t < tris[c].size(); t += step)
+      probes[c].push_back(pts[tris[c][t][0]]);
+  }
+  std::vector<int> depth(k, 0);
+  for (size_t c = 0; c < k; ++c)
+  {
+    const WindingNumber w(pts, tris[c]);
+    for (size_t d = 0; d < k; ++d)
+      if (d != c && std::all_of(probes[d].begin(), probes[d].end(), [&](const Vec3& p) { return w(p) > 0.5; }))
+        ++depth[d];
+  }
+  for (auto& poly : polygons)
+    if (depth[componentOf[find(poly[0])]] % 2 == 1)
       std::reverse(poly.begin(), poly.end());
 }
 }
@@ -291,7 +337,7 @@ SurfaceDomain::SurfaceDomain(
   if (!PMP::is_polygon_soup_a_polygon_mesh(polygons))
     throw InputError(name + ": surface cannot be oriented consistently (is it self-intersecting or non-orientable?)");
   if (winding)
-    orientComponentsOutward(points, polygons);
+    orientComponentsForWinding(points, polygons);
   PMP::polygon_soup_to_polygon_mesh(points, polygons, impl_->mesh);
 
   for (const auto& p : surface.points)
@@ -312,7 +358,10 @@ SurfaceDomain::SurfaceDomain(
     throw InputError(name + ": every triangle of the surface has zero area");
   impl_->tree = std::make_unique<Tree>(solid.begin(), solid.end(), impl_->mesh);
   impl_->tree->accelerate_distance_queries();
-  if (winding)
+  // A closed surface that does not intersect itself (checked above) has winding number 1 exactly
+  // where ray parity says inside: the fast test with the grid gives the same answers.
+  const bool closed = winding && surface.borderLoops().empty();
+  if (winding && !(closed && !options.allowSelfIntersections))
   {
     std::vector<Vec3> pts;
     pts.reserve(points.size());
