@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "SegmentConformation.h"
 
+#include "BoundingBox.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -70,10 +72,28 @@ SegmentSet conformSegments(const FeatureSegments& f, double edgeSize, size_t max
   const double floor = shortest / 64.0;
   std::vector<char> given(set.subs.size(), 0); // encroached but at the floor: left as it is
   size_t unresolved = 0;
+  // The points sorted by x, rebuilt every pass (points added during a pass are checked one by
+  // one): a sub-segment only looks at the points in the x-slab of its diametral ball, instead of
+  // all of them (quadratic: a fine EdgeSize took minutes before the vertex budget was reached).
+  std::vector<std::pair<double, int>> byX;
+  size_t indexed = 0;
+  int axis = 0; // the axis along which the points spread most
+  {
+    BoundingBox box;
+    for (const Vec3& p : set.points)
+      box.add(p);
+    const Vec3 size = box.size();
+    axis = size.x >= size.y && size.x >= size.z ? 0 : (size.y >= size.z ? 1 : 2);
+  }
   bool changed = true;
   while (changed)
   {
     changed = false;
+    byX.clear();
+    for (size_t p = 0; p < set.points.size(); ++p)
+      byX.emplace_back(set.points[p][axis], static_cast<int>(p));
+    std::sort(byX.begin(), byX.end());
+    indexed = set.points.size();
     for (size_t s = 0; s < set.subs.size(); ++s)
     {
       const Vec3 a = set.points[set.subs[s][0]], b = set.points[set.subs[s][1]];
@@ -82,13 +102,18 @@ SegmentSet conformSegments(const FeatureSegments& f, double edgeSize, size_t max
       bool bad = edgeSize > 0 && 4.0 * r2 > edgeSize * edgeSize;
       if (!bad && s < given.size() && given[s])
         continue;
-      for (size_t p = 0; !bad && p < set.points.size(); ++p)
+      const double r = std::sqrt(r2);
+      auto first = std::lower_bound(byX.begin(), byX.end(), std::make_pair(mid[axis] - r, -1));
+      auto last = std::upper_bound(byX.begin(), byX.end(), std::make_pair(mid[axis] + r, std::numeric_limits<int>::max()));
+      const size_t slab = static_cast<size_t>(last - first);
+      for (size_t c = 0; !bad && c < slab + (set.points.size() - indexed); ++c)
       {
-        if (static_cast<int>(p) == set.subs[s][0] || static_cast<int>(p) == set.subs[s][1])
+        const int p = c < slab ? (first + c)->second : static_cast<int>(indexed + (c - slab));
+        if (p == set.subs[s][0] || p == set.subs[s][1])
           continue;
         const Vec3 d = set.points[p] - mid;
         bad = dot(d, d) < r2 * (1.0 - 1e-12);
-        if (bad && !(2.0 * std::sqrt(r2) >= 2.0 * floor)) // halves would fall below the floor
+        if (bad && !(2.0 * r >= 2.0 * floor)) // halves would fall below the floor
         {
           given.resize(set.subs.size(), 0);
           given[s] = 1;

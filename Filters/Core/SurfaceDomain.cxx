@@ -405,15 +405,20 @@ void SurfaceDomain::crossings(const Vec3& a, const Vec3& b, std::vector<double>&
 {
   const Vec3 d = b - a;
   const double len2 = dot(d, d);
-  if (!(len2 > 0.0))
+  if (!(len2 > 0.0) || !isFinite(d)) // also NaN ends (outside every domain) and ends 1e308 apart
     return;
+  // parameters by projection; for segments longer than 1e154 (len2 overflows) along the longest axis
+  const int axis = std::abs(d.x) >= std::abs(d.y) && std::abs(d.x) >= std::abs(d.z) ? 0 : (std::abs(d.y) >= std::abs(d.z) ? 1 : 2);
+  const bool project = std::isfinite(len2);
   const size_t firstHit = ts.size();
   using Hit = Tree::Intersection_and_primitive_id<K::Segment_3>::Type;
   std::vector<Hit> hits;
   impl_->tree->all_intersections(K::Segment_3(toCgal(a), toCgal(b)), std::back_inserter(hits));
   auto param = [&](const Point& p) {
-    const double t = dot(Vec3{ p.x() - a.x, p.y() - a.y, p.z() - a.z }, d) / len2;
-    ts.push_back(std::clamp(t, 0.0, 1.0));
+    const Vec3 q{ p.x() - a.x, p.y() - a.y, p.z() - a.z };
+    const double t = project ? dot(q, d) / len2 : q[axis] / d[axis];
+    if (std::isfinite(t))
+      ts.push_back(std::clamp(t, 0.0, 1.0));
   };
   for (const auto& hit : hits)
   {
