@@ -338,8 +338,20 @@ std::shared_ptr<omesh::Domain> OracleBuilder::BuildDomain(vtkDataObject* data, c
   const std::string who = describe(md, where);
   if (md.Kind == "Surface")
   {
+    // Parameters: allow self-intersections (0/1), inside test (0 closed, 1 winding number);
+    // absent in files written before they existed
+    omesh::SurfaceOptions options;
+    if (!md.Parameters.empty())
+    {
+      expectParameters(md, 2, who);
+      options.allowSelfIntersections = md.Parameters[0] != 0;
+      if (md.Parameters[1] != 0 && md.Parameters[1] != 1)
+        throw InputError(who + ": surface inside test " + std::to_string(md.Parameters[1]) +
+          " is not 0 (closed) or 1 (winding number)");
+      options.insideTest = md.Parameters[1] == 1 ? omesh::InsideTest::WindingNumber : omesh::InsideTest::Closed;
+    }
     auto d = std::make_shared<omesh::SurfaceDomain>(
-      ToTriangleSurface(vtkPolyData::SafeDownCast(data), who), md.MaterialId, who);
+      ToTriangleSurface(vtkPolyData::SafeDownCast(data), who), md.MaterialId, who, options);
     d->setCut(md.Cut);
     return d;
   }
@@ -462,6 +474,17 @@ std::vector<std::string> OracleBuilder::HiddenDomainWarnings(const omesh::Hierar
       std::to_string(inside) + " points sampled inside it belong to higher-priority domain(s) " + names +
       (d.isCut() ? "; the cut has no effect" : "; its material will not appear in the mesh"));
   }
+  return warnings;
+}
+
+std::vector<std::string> OracleBuilder::DomainWarnings(const omesh::HierarchicalOracle& oracle)
+{
+  std::vector<std::string> warnings;
+  for (const auto& d : oracle.domains())
+    if (const auto* surface = dynamic_cast<const omesh::SurfaceDomain*>(d.get()))
+      warnings.insert(warnings.end(), surface->warnings().begin(), surface->warnings().end());
+  for (std::string& w : HiddenDomainWarnings(oracle))
+    warnings.push_back(std::move(w));
   return warnings;
 }
 

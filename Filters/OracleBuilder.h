@@ -95,4 +95,7 @@ public:
   /// the mesh although their input is not empty: `tetsPerMaterial` counts the mesh's tetrahedra.
   static std::vector<std::string> VanishedMaterialWarnings(
     const omesh::HierarchicalOracle& oracle, const std::map<int, std::size_t>& tetsPerMaterial);
+  /// The domains' own warnings (the holes a winding-number surface closes), then
+  /// HiddenDomainWarnings.
+  static std::vector<std::string> DomainWarnings(const omesh::HierarchicalOracle& oracle);
 };

@@ -251,7 +251,7 @@ int vtkFeaturePreservingTetrahedralizer::RequestData(
         " repeated point(s); " + std::to_string(features.segments.size()) + " segments remain");
 
     oracle = OracleBuilder::BuildOracle(oracleData);
-    for (const std::string& w : OracleBuilder::HiddenDomainWarnings(*oracle))
+    for (const std::string& w : OracleBuilder::DomainWarnings(*oracle))
       notes.push_back(w);
     inputNotes = OracleBuilder::InputPlacementWarnings(*oracle);
     // The merge rule of MeshCriteria.h: global < the domains' own < this filter's table.

@@ -77,7 +77,7 @@ int vtkOracleSampler::RequestData(
     if (!input)
       throw omesh::InputError("vtkOracleSampler: no input on port 0 (connect a vtkHierarchicalOracle)");
     oracle = OracleBuilder::BuildOracle(input);
-    for (const std::string& w : OracleBuilder::HiddenDomainWarnings(*oracle))
+    for (const std::string& w : OracleBuilder::DomainWarnings(*oracle))
       vtkWarningMacro(<< w);
     if (b[0] <= b[1] && b[2] <= b[3] && b[4] <= b[5])
     {

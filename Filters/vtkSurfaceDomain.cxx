@@ -3,6 +3,7 @@
 
 #include "InputError.h"
 #include "OracleBuilder.h"
+#include "SelfIntersections.h"
 #include "TriangleSurface.h"
 
 #include <vtkAlgorithm.h>
@@ -80,6 +81,9 @@ int vtkSurfaceDomain::RequestData(
         << " must be between 0 and 1 (a fraction of the bounding-box diagonal)";
       throw omesh::InputError(o.str());
     }
+    if (this->InsideTest != CLOSED && this->InsideTest != WINDING_NUMBER)
+      throw omesh::InputError(who + ": InsideTest " + std::to_string(this->InsideTest) +
+        " is not one of 0 (Closed) and 1 (WindingNumber)");
     if (input->GetNumberOfPoints() == 0)
       throw omesh::InputError(who + ": surface is empty (no points)");
     // Refuse NaN and absurd coordinates before any filter computes bounds or tolerances from them.
@@ -104,7 +108,19 @@ int vtkSurfaceDomain::RequestData(
     merge->Update();
     surface = merge->GetOutput();
     // Validate here, where the user connected the surface, not later inside the mesher.
-    OracleBuilder::ToTriangleSurface(surface, who).validateClosed(who);
+    const omesh::TriangleSurface triangles = OracleBuilder::ToTriangleSurface(surface, who);
+    if (this->InsideTest == WINDING_NUMBER)
+    {
+      triangles.validateTriangles(who);
+      const std::vector<omesh::BorderLoop> loops = triangles.borderLoops();
+      if (!loops.empty())
+        vtkWarningMacro(<< who << ": surface is not closed: " << omesh::TriangleSurface::describeHoles(loops)
+                        << "; the winding-number inside test closes them");
+    }
+    else
+      triangles.validateClosed(who);
+    if (!this->AllowSelfIntersections)
+      omesh::refuseSelfIntersections(triangles, who);
   }
   catch (const omesh::InputError& e)
   {
@@ -117,6 +133,7 @@ int vtkSurfaceDomain::RequestData(
   output->GetFieldData()->PassData(input->GetFieldData());
   OracleDomainMetadata md;
   this->FillMetadata("Surface", md);
+  md.Parameters = { this->AllowSelfIntersections ? 1.0 : 0.0, static_cast<double>(this->InsideTest) };
   md.WriteTo(output->GetFieldData());
   return 1;
 }

@@ -8,8 +8,11 @@
  * (unwelded corners, as STL and many exporters write them) before the check that every edge is
  * shared by exactly two triangles. Output: the triangulated, merged surface, with the domain
  * description in its field data (README, "Domain format"). Any other data type on the port, an empty
- * surface, NaN, infinite or absurd (beyond 1e15) coordinates, and open or non-manifold edges are
- * rejected with an error that names the domain and the offending points or edges.
+ * surface, NaN, infinite or absurd (beyond 1e15) coordinates, open or non-manifold edges (with the
+ * holes' sizes and places) and self-intersections (with the first intersecting pair of triangles)
+ * are rejected with an error that names the domain and the offending points, edges or triangles.
+ * InsideTest WindingNumber accepts surfaces with holes and borders (a warning lists the holes);
+ * AllowSelfIntersections accepts surfaces that cross themselves.
  */
 #ifndef vtkSurfaceDomain_h
 #define vtkSurfaceDomain_h
@@ -34,6 +37,31 @@ public:
   vtkGetMacro(MergeTolerance, double);
   ///@}
 
+  ///@{
+  /// Accept a surface that intersects itself (refused by default, naming the first intersecting
+  /// pair of triangles): the inside test then decides where the surface overlaps itself (ray
+  /// parity for Closed, where it overlaps an even number of times it is outside; the winding number
+  /// counts such places inside).
+  vtkSetMacro(AllowSelfIntersections, bool);
+  vtkGetMacro(AllowSelfIntersections, bool);
+  vtkBooleanMacro(AllowSelfIntersections, bool);
+  ///@}
+
+  enum InsideTests
+  {
+    CLOSED = 0,        ///< the surface must be closed; ray parity
+    WINDING_NUMBER = 1 ///< generalized winding number > 1/2: holes and borders are closed smoothly
+  };
+  ///@{
+  /// How inside is decided: Closed (default: every edge must be shared by two triangles) or
+  /// WindingNumber (fTetWild's generalized winding number; surfaces with holes are accepted with a
+  /// warning naming the holes). Other values are an error at the next update.
+  vtkSetMacro(InsideTest, int);
+  vtkGetMacro(InsideTest, int);
+  void SetInsideTestToClosed() { this->SetInsideTest(CLOSED); }
+  void SetInsideTestToWindingNumber() { this->SetInsideTest(WINDING_NUMBER); }
+  ///@}
+
 protected:
   vtkSurfaceDomain();
   ~vtkSurfaceDomain() override = default;
@@ -41,6 +69,8 @@ protected:
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
   double MergeTolerance = 1e-9;
+  bool AllowSelfIntersections = false;
+  int InsideTest = CLOSED;
 
 private:
   vtkSurfaceDomain(const vtkSurfaceDomain&) = delete;

@@ -15,6 +15,8 @@ PKGS=(
   libcgal-dev libboost-dev libeigen3-dev libgmp-dev libmpfr-dev libtbb-dev
   # tests
   libgtest-dev googletest python3-numpy xvfb xauth
+  # tests: the sanitizer build (ASan + UBSan) and the libFuzzer harnesses; llvm-14 symbolizes reports
+  clang libclang-rt-14-dev llvm-14
   # tests: gmsh's own reader checks the .msh files (gmsh -check)
   gmsh
   # command line: finite-element mesh formats (meshio) and the report's histogram picture

@@ -25,6 +25,9 @@ AffineMap AffineMap::scaleTranslate(const Vec3& s, const Vec3& t)
 AffineMap AffineMap::inverse() const
 {
   const auto& a = m_;
+  for (double v : a)
+    if (!std::isfinite(v))
+      throw InputError("transform has a NaN or infinite entry");
   // cofactors of the 3x3 linear part
   const double c00 = a[5] * a[10] - a[6] * a[9];
   const double c01 = a[6] * a[8] - a[4] * a[10];
@@ -54,6 +57,9 @@ AffineMap AffineMap::inverse() const
   {
     r[4 * row + 3] = -(r[4 * row] * a[3] + r[4 * row + 1] * a[7] + r[4 * row + 2] * a[11]);
   }
+  for (double v : r)
+    if (!std::isfinite(v))
+      throw InputError("transform cannot be inverted in double precision (an entry of its inverse overflows)");
   return AffineMap(r);
 }
 

@@ -52,13 +52,27 @@ LabelMapDomain::LabelMapDomain(const std::array<int, 3>& dims, const std::vector
   if (dims[0] <= 0 || dims[1] <= 0 || dims[2] <= 0)
     throw InputError(name + ": label map is empty (" + std::to_string(dims[0]) + " x " +
       std::to_string(dims[1]) + " x " + std::to_string(dims[2]) + " voxels)");
+  // the product in double first: three ints can multiply past 2^64, and a product that wrapped to
+  // the number of labels given would pass the size check below
+  const double voxels = static_cast<double>(dims[0]) * dims[1] * dims[2];
+  if (voxels > 1e15)
+    throw InputError(name + ": label map has " + std::to_string(dims[0]) + " x " + std::to_string(dims[1]) + " x " +
+      std::to_string(dims[2]) + " voxels, beyond any memory");
   const size_t n = static_cast<size_t>(dims[0]) * dims[1] * dims[2];
   if (labels.size() != n)
     throw InputError(name + ": label map has " + std::to_string(labels.size()) + " labels for " +
       std::to_string(n) + " voxels");
   for (int i = 0; i < 3; ++i)
     dimsD_[i] = dims[i];
-  const AffineMap toWorld = worldToVoxel.inverse(); // throws if singular
+  AffineMap toWorld;
+  try
+  {
+    toWorld = worldToVoxel.inverse(); // throws if singular or not finite
+  }
+  catch (const InputError& e)
+  {
+    throw InputError(name + ": label map placement (origin, spacing, direction): " + e.what());
+  }
   const auto& r = toWorld.rows();
   voxelVolume_ = std::abs(r[0] * (r[5] * r[10] - r[6] * r[9]) - r[1] * (r[4] * r[10] - r[6] * r[8]) +
     r[2] * (r[4] * r[9] - r[5] * r[8]));
@@ -88,6 +102,8 @@ LabelMapDomain::LabelMapDomain(const std::array<int, 3>& dims, const std::vector
 void LabelMapDomain::crossings(const Vec3& a, const Vec3& b, std::vector<double>& ts) const
 {
   const Vec3 ua = worldToVoxel_.apply(a), ub = worldToVoxel_.apply(b), d = ub - ua;
+  if (!isFinite(ua) || !isFinite(d)) // a NaN end is outside every domain: nothing to cross
+    return;
   // Clip to the grid [0, dims] (slab method); entering and leaving the grid are candidates.
   double t0 = 0.0, t1 = 1.0;
   for (int i = 0; i < 3; ++i)

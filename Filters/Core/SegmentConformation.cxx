@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "SegmentConformation.h"
 
+#include "BoundingBox.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -221,6 +223,12 @@ SegmentSet conformSegments(const FeatureSegments& f, double edgeSize, size_t max
     lengths.push_back(set.length(s));
   std::nth_element(lengths.begin(), lengths.begin() + lengths.size() / 2, lengths.end());
   PointGrid grid(set.points, lengths.empty() ? 1.0 : lengths[lengths.size() / 2]);
+  // Encroachment splits stop at 1/64 of the shortest piece after T1.1, as in the mesher's
+  // refinement: a point almost on another segment (closer than rounding to it) otherwise drew
+  // midpoint splits towards it without end (found by fuzzing).
+  const double floor = (lengths.empty() ? 0.0 : *std::min_element(lengths.begin(), lengths.end())) / 64.0;
+  std::vector<char> given; // encroached but at the floor: left as it is
+  size_t unresolved = 0;
   auto splitAt = [&](size_t s, double t) {
     grid.add(set.split(s, t));
     ++set.splits;
@@ -233,8 +241,19 @@ SegmentSet conformSegments(const FeatureSegments& f, double edgeSize, size_t max
     {
       const Vec3 a = set.points[set.subs[s][0]], b = set.points[set.subs[s][1]];
       const double r2 = 0.25 * dot(b - a, b - a);
-      const bool bad = (edgeSize > 0 && 4.0 * r2 > edgeSize * edgeSize) ||
-        grid.anyInside(0.5 * (a + b), r2, set.subs[s][0], set.subs[s][1]);
+      if (s < given.size() && given[s])
+        continue;
+      bool bad = edgeSize > 0 && 4.0 * r2 > edgeSize * edgeSize;
+      if (!bad && grid.anyInside(0.5 * (a + b), r2, set.subs[s][0], set.subs[s][1]))
+      {
+        bad = std::sqrt(r2) >= floor; // halves would fall below the floor
+        if (!bad)
+        {
+          given.resize(set.subs.size(), 0);
+          given[s] = 1;
+          ++unresolved;
+        }
+      }
       if (bad)
       {
         if (set.points.size() >= maxPoints)
@@ -254,6 +273,10 @@ SegmentSet conformSegments(const FeatureSegments& f, double edgeSize, size_t max
       }
     }
   }
+  if (unresolved)
+    warnings.push_back("feature lines: " + std::to_string(unresolved) +
+      " sub-segment(s) stay encroached by a point closer to them than 1/64 of the shortest segment piece; "
+      "splitting stopped there");
   return set;
 }
 }

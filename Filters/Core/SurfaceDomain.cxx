@@ -3,6 +3,8 @@
 #include "SurfaceDomain.h"
 
 #include "InputError.h"
+#include "SelfIntersections.h"
+#include "WindingNumber.h"
 
 #include <CGAL/AABB_face_graph_triangle_primitive.h>
 #include <CGAL/AABB_traits.h>
@@ -18,6 +20,7 @@
 #include <cmath>
 #include <cstdint>
 #include <deque>
+#include <numeric>
 
 namespace omesh
 {
@@ -46,6 +49,7 @@ struct SurfaceDomain::Impl
   Mesh mesh;
   std::unique_ptr<Tree> tree;
   std::unique_ptr<SideOf> side;
+  std::unique_ptr<WindingNumber> winding; // InsideTest::WindingNumber: instead of side and grid
   BoundingBox box;
   // Inside/outside/boundary classification of a uniform grid over the box: a query in a cell that
   // no triangle touches takes that cell's answer, every other query goes to the exact test.
@@ -53,7 +57,14 @@ struct SurfaceDomain::Impl
   Vec3 origin, invCell, cell;
   std::vector<uint8_t> state;
 
-  bool exact(const Vec3& p) const { return (*side)(toCgal(p)) != CGAL::ON_UNBOUNDED_SIDE; }
+  bool exact(const Vec3& p) const
+  {
+    if (winding)
+      return (*winding)(p) > 0.5;
+    return (*side)(toCgal(p)) != CGAL::ON_UNBOUNDED_SIDE;
+  }
+  /// Where the winding number passes 1/2 between the triangle hits of segment ab (across holes).
+  void windingCrossings(const Vec3& a, const Vec3& b, std::vector<double>& ts, size_t firstHit) const;
   size_t cellIndex(int i, int j, int k) const
   {
     return static_cast<size_t>(i) + static_cast<size_t>(n[0]) * (static_cast<size_t>(j) + static_cast<size_t>(n[1]) * k);
@@ -147,13 +158,170 @@ void SurfaceDomain::Impl::buildGrid(size_t numTriangles)
   }
 }
 
-SurfaceDomain::SurfaceDomain(const TriangleSurface& surface, int materialId, const std::string& name)
+namespace
+{
+/// Orients every connected component of an oriented soup for the winding number:
+/// orient_polygon_soup makes each component consistent but picks its side at random. A component
+/// is turned to bound a positive volume, then flipped again if it lies inside an odd number of
+/// other components (the inner wall of a hollow part bounds a cavity: its triangles face inward).
+/// Nesting is tested for up to 64 components (beyond, all face outward).
+void orientComponentsForWinding(const std::vector<Point>& points, std::vector<std::vector<std::size_t>>& polygons)
+{
+  std::vector<std::size_t> parent(points.size());
+  std::iota(parent.begin(), parent.end(), 0);
+  auto find = [&](std::size_t x) {
+    while (parent[x] != x)
+      x = parent[x] = parent[parent[x]];
+    return x;
+  };
+  for (const auto& poly : polygons)
+    for (std::size_t k = 1; k < poly.size(); ++k)
+      parent[find(poly[k])] = find(poly[0]);
+  std::vector<BoundingBox> boxes(points.size());
+  for (const auto& poly : polygons)
+    for (std::size_t v : poly)
+      boxes[find(poly[0])].add({ points[v].x(), points[v].y(), points[v].z() });
+  std::vector<double> volume(points.size(), 0.0);
+  for (const auto& poly : polygons)
+  {
+    const std::size_t root = find(poly[0]);
+    const Vec3 c = 0.5 * (boxes[root].min + boxes[root].max);
+    auto at = [&](std::size_t k) {
+      const Point& q = points[poly[k]];
+      return Vec3{ q.x() - c.x, q.y() - c.y, q.z() - c.z };
+    };
+    for (std::size_t k = 1; k + 1 < poly.size(); ++k)
+      volume[root] += dot(at(0), cross(at(k), at(k + 1)));
+  }
+  for (auto& poly : polygons)
+    if (volume[find(poly[0])] < 0)
+      std::reverse(poly.begin(), poly.end());
+
+  // nesting: component d lies inside component c if c's winding number at a vertex of d is > 1/2
+  std::vector<std::size_t> roots;
+  std::vector<int> componentOf(points.size(), -1);
+  for (const auto& poly : polygons)
+  {
+    const std::size_t r = find(poly[0]);
+    if (componentOf[r] < 0)
+    {
+      componentOf[r] = static_cast<int>(roots.size());
+      roots.push_back(r);
+    }
+  }
+  const size_t k = roots.size();
+  if (k < 2 || k > 64)
+    return;
+  std::vector<Vec3> pts;
+  pts.reserve(points.size());
+  for (const Point& p : points)
+    pts.push_back({ p.x(), p.y(), p.z() });
+  std::vector<std::vector<std::array<int, 3>>> tris(k);
+  for (const auto& poly : polygons)
+    tris[componentOf[find(poly[0])]].push_back(
+      { static_cast<int>(poly[0]), static_cast<int>(poly[1]), static_cast<int>(poly[2]) });
+  // d is nested in c when c winds around every probe of d (up to 32 corners spread over d), so
+  // components that merely overlap (allowed self-intersections) are not taken as cavities
+  std::vector<std::vector<Vec3>> probes(k);
+  for (size_t c = 0; c < k; ++c)
+  {
+    const size_t step = std::max<size_t>(1, tris[c].size() / 32);
+    for (size_t t = 0; t < tris[c].size(); t += step)
+      probes[c].push_back(pts[tris[c][t][0]]);
+  }
+  std::vector<int> depth(k, 0);
+  for (size_t c = 0; c < k; ++c)
+  {
+    const WindingNumber w(pts, tris[c]);
+    for (size_t d = 0; d < k; ++d)
+      if (d != c && std::all_of(probes[d].begin(), probes[d].end(), [&](const Vec3& p) { return w(p) > 0.5; }))
+        ++depth[d];
+  }
+  for (auto& poly : polygons)
+    if (depth[componentOf[find(poly[0])]] % 2 == 1)
+      std::reverse(poly.begin(), poly.end());
+}
+}
+
+void SurfaceDomain::Impl::windingCrossings(const Vec3& a, const Vec3& b, std::vector<double>& ts, size_t firstHit) const
+{
+  // clip ab to the box: outside it nothing is inside
+  const Vec3 d = b - a;
+  double t0 = 0.0, t1 = 1.0;
+  for (int i = 0; i < 3; ++i)
+  {
+    if (d[i] == 0.0)
+    {
+      if (!(a[i] >= box.min[i] && a[i] <= box.max[i]))
+        return;
+      continue;
+    }
+    double ta = (box.min[i] - a[i]) / d[i], tb = (box.max[i] - a[i]) / d[i];
+    if (ta > tb)
+      std::swap(ta, tb);
+    t0 = std::max(t0, ta);
+    t1 = std::min(t1, tb);
+  }
+  if (!(t0 <= t1))
+    return;
+  ts.push_back(t0);
+  ts.push_back(t1);
+  // between two triangle hits the winding number is continuous: sample, bisect every change
+  std::vector<double> ends{ t0, t1 };
+  for (size_t i = firstHit; i < ts.size(); ++i)
+    if (ts[i] > t0 && ts[i] < t1)
+      ends.push_back(ts[i]);
+  std::sort(ends.begin(), ends.end());
+  constexpr int kSamples = 8;
+  auto inside = [&](double t) { return exact(lerp(a, b, t)); };
+  for (size_t e = 0; e + 1 < ends.size(); ++e)
+  {
+    const double lo = ends[e], hi = ends[e + 1];
+    if (!(hi > lo))
+      continue;
+    double previousT = lo + 1e-3 * (hi - lo);
+    bool previous = inside(previousT);
+    for (int s = 1; s <= kSamples; ++s)
+    {
+      const double t = s == kSamples ? hi - 1e-3 * (hi - lo) : lo + (hi - lo) * s / kSamples;
+      const bool now = inside(t);
+      if (now != previous)
+      {
+        double x = previousT, y = t;
+        while (y - x > 1e-12 * (1.0 + std::abs(y)))
+        {
+          const double mid = 0.5 * (x + y);
+          (inside(mid) == previous ? x : y) = mid;
+        }
+        ts.push_back(y);
+      }
+      previous = now;
+      previousT = t;
+    }
+  }
+}
+
+SurfaceDomain::SurfaceDomain(
+  const TriangleSurface& surface, int materialId, const std::string& name, const SurfaceOptions& options)
   : impl_(std::make_unique<Impl>())
   , materialId_(materialId)
+  , options_(options)
 {
   setName(name);
   checkMaterialId(materialId, name);
-  surface.validateClosed(name);
+  const bool winding = options.insideTest == InsideTest::WindingNumber;
+  if (winding)
+  {
+    surface.validateTriangles(name);
+    const std::vector<BorderLoop> loops = surface.borderLoops();
+    if (!loops.empty())
+      warnings_.push_back(name + ": surface is not closed: " + TriangleSurface::describeHoles(loops) +
+        "; the winding-number inside test closes them");
+  }
+  else
+    surface.validateClosed(name);
+  if (!options.allowSelfIntersections)
+    refuseSelfIntersections(surface, name);
 
   std::vector<Point> points;
   points.reserve(surface.points.size());
@@ -168,12 +336,44 @@ SurfaceDomain::SurfaceDomain(const TriangleSurface& surface, int materialId, con
   PMP::orient_polygon_soup(points, polygons);
   if (!PMP::is_polygon_soup_a_polygon_mesh(polygons))
     throw InputError(name + ": surface cannot be oriented consistently (is it self-intersecting or non-orientable?)");
+  if (winding)
+    orientComponentsForWinding(points, polygons);
   PMP::polygon_soup_to_polygon_mesh(points, polygons, impl_->mesh);
 
   for (const auto& p : surface.points)
     impl_->box.add(p);
-  impl_->tree = std::make_unique<Tree>(faces(impl_->mesh).first, faces(impl_->mesh).second, impl_->mesh);
+  // Zero-area triangles (collinear or coincident corners, as CAD exports have) hold no interior
+  // that a ray could cross, and their edges are their neighbours' edges: leave them out of the
+  // tree. Side_of_triangle_mesh shot random rays forever from a point on one (found by fuzzing).
+  std::vector<Mesh::Face_index> solid;
+  solid.reserve(impl_->mesh.number_of_faces());
+  for (auto f : impl_->mesh.faces())
+  {
+    auto h = impl_->mesh.halfedge(f);
+    if (!CGAL::collinear(impl_->mesh.point(impl_->mesh.source(h)), impl_->mesh.point(impl_->mesh.target(h)),
+          impl_->mesh.point(impl_->mesh.target(impl_->mesh.next(h)))))
+      solid.push_back(f);
+  }
+  if (solid.empty())
+    throw InputError(name + ": every triangle of the surface has zero area");
+  impl_->tree = std::make_unique<Tree>(solid.begin(), solid.end(), impl_->mesh);
   impl_->tree->accelerate_distance_queries();
+  // A closed surface that does not intersect itself (checked above) has winding number 1 exactly
+  // where ray parity says inside: the fast test with the grid gives the same answers.
+  const bool closed = winding && surface.borderLoops().empty();
+  if (winding && !(closed && !options.allowSelfIntersections))
+  {
+    std::vector<Vec3> pts;
+    pts.reserve(points.size());
+    for (const Point& p : points)
+      pts.push_back({ p.x(), p.y(), p.z() });
+    std::vector<std::array<int, 3>> tris;
+    tris.reserve(polygons.size());
+    for (const auto& poly : polygons)
+      tris.push_back({ static_cast<int>(poly[0]), static_cast<int>(poly[1]), static_cast<int>(poly[2]) });
+    impl_->winding = std::make_unique<WindingNumber>(pts, tris);
+    return; // no grid: across a hole, cells no triangle touches are not all on one side
+  }
   impl_->side = std::make_unique<SideOf>(*impl_->tree);
   impl_->buildGrid(surface.triangles.size());
 }
@@ -185,6 +385,8 @@ int SurfaceDomain::material(const Vec3& p) const
   const Impl& m = *impl_;
   if (!m.box.contains(p)) // also rejects NaN
     return kOutside;
+  if (m.winding)
+    return m.exact(p) ? materialId_ : kOutside;
   const int i = std::min(static_cast<int>((p.x - m.origin.x) * m.invCell.x), m.n[0] - 1);
   const int j = std::min(static_cast<int>((p.y - m.origin.y) * m.invCell.y), m.n[1] - 1);
   const int k = std::min(static_cast<int>((p.z - m.origin.z) * m.invCell.z), m.n[2] - 1);
@@ -203,14 +405,20 @@ void SurfaceDomain::crossings(const Vec3& a, const Vec3& b, std::vector<double>&
 {
   const Vec3 d = b - a;
   const double len2 = dot(d, d);
-  if (!(len2 > 0.0))
+  if (!(len2 > 0.0) || !isFinite(d)) // also NaN ends (outside every domain) and ends 1e308 apart
     return;
+  // parameters by projection; for segments longer than 1e154 (len2 overflows) along the longest axis
+  const int axis = std::abs(d.x) >= std::abs(d.y) && std::abs(d.x) >= std::abs(d.z) ? 0 : (std::abs(d.y) >= std::abs(d.z) ? 1 : 2);
+  const bool project = std::isfinite(len2);
+  const size_t firstHit = ts.size();
   using Hit = Tree::Intersection_and_primitive_id<K::Segment_3>::Type;
   std::vector<Hit> hits;
   impl_->tree->all_intersections(K::Segment_3(toCgal(a), toCgal(b)), std::back_inserter(hits));
   auto param = [&](const Point& p) {
-    const double t = dot(Vec3{ p.x() - a.x, p.y() - a.y, p.z() - a.z }, d) / len2;
-    ts.push_back(std::clamp(t, 0.0, 1.0));
+    const Vec3 q{ p.x() - a.x, p.y() - a.y, p.z() - a.z };
+    const double t = project ? dot(q, d) / len2 : q[axis] / d[axis];
+    if (std::isfinite(t))
+      ts.push_back(std::clamp(t, 0.0, 1.0));
   };
   for (const auto& hit : hits)
   {
@@ -222,6 +430,8 @@ void SurfaceDomain::crossings(const Vec3& a, const Vec3& b, std::vector<double>&
       param(s->target());
     }
   }
+  if (impl_->winding && impl_->winding->hasBorder())
+    impl_->windingCrossings(a, b, ts, firstHit);
 }
 
 BoundingBox SurfaceDomain::bounds() const
@@ -231,6 +441,23 @@ BoundingBox SurfaceDomain::bounds() const
 
 double SurfaceDomain::volume() const
 {
+  if (impl_->winding)
+  {
+    const Vec3 c = 0.5 * (impl_->box.min + impl_->box.max);
+    double v = 0.0;
+    for (auto f : impl_->mesh.faces())
+    {
+      auto h = impl_->mesh.halfedge(f);
+      Vec3 q[3];
+      for (int k = 0; k < 3; ++k, h = impl_->mesh.next(h))
+      {
+        const Point& p = impl_->mesh.point(impl_->mesh.source(h));
+        q[k] = Vec3{ p.x(), p.y(), p.z() } - c;
+      }
+      v += dot(q[0], cross(q[1], q[2]));
+    }
+    return v / 6.0;
+  }
   Mesh copy = impl_->mesh;
   PMP::orient_to_bound_a_volume(copy);
   return PMP::volume(copy);

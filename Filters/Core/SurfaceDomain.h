@@ -5,19 +5,48 @@
 #include "TriangleSurface.h"
 
 #include <memory>
+#include <string>
+#include <vector>
 
 namespace omesh
 {
+/// How a surface domain decides what is inside.
+enum class InsideTest
+{
+  /// The surface must be closed (every edge shared by two triangles); ray parity (exact).
+  Closed,
+  /// Generalized winding number above 1/2 (fTetWild's test): surfaces with holes and borders are
+  /// accepted, the holes closed smoothly; only points in the surface's bounding box can be inside.
+  WindingNumber
+};
+
+struct SurfaceOptions
+{
+  /// Accept a surface that intersects itself (the inside test then decides where it overlaps).
+  bool allowSelfIntersections = false;
+  InsideTest insideTest = InsideTest::Closed;
+};
+
 /// The region bounded by a closed triangle surface, one material. Inside tests are exact (CGAL's
 /// Side_of_triangle_mesh: ray parity with exact predicates, re-shooting rays that hit an edge or a
 /// vertex) behind a precomputed grid that answers points away from the surface in O(1). Segment
-/// crossings are exact segment/triangle intersections found through an AABB tree.
+/// crossings are exact segment/triangle intersections found through an AABB tree. With
+/// InsideTest::WindingNumber the inside test is the generalized winding number (WindingNumber)
+/// and crossings also include where it passes 1/2 across a hole (sampled and bisected).
 class SurfaceDomain : public Domain
 {
 public:
-  /// Validates (TriangleSurface::validateClosed) and builds the search structures; throws InputError.
-  SurfaceDomain(const TriangleSurface& surface, int materialId, const std::string& name = "Surface");
+  /// Validates (TriangleSurface::validateClosed, or validateTriangles for the winding number),
+  /// refuses self-intersections (unless allowed) and builds the search structures; throws
+  /// InputError naming `name`.
+  SurfaceDomain(const TriangleSurface& surface, int materialId, const std::string& name = "Surface",
+    const SurfaceOptions& options = {});
   ~SurfaceDomain() override;
+
+  /// What the user should know but that does not stop meshing: the holes the winding number
+  /// closes (number of border loops, their lengths and centres).
+  const std::vector<std::string>& warnings() const { return warnings_; }
+  const SurfaceOptions& options() const { return options_; }
 
   int material(const Vec3& p) const override;
   void crossings(const Vec3& a, const Vec3& b, std::vector<double>& ts) const override;
@@ -28,7 +57,8 @@ public:
   int materialId() const { return materialId_; }
   /// Exact inside test without the grid shortcut (for tests and benchmarks).
   bool containsExact(const Vec3& p) const;
-  /// Volume enclosed by the surface.
+  /// Volume enclosed by the surface (with holes: the volume of the oriented triangles closed by
+  /// cones to the centre of their box, an estimate).
   double volume() const;
   size_t numberOfTriangles() const;
 
@@ -36,5 +66,7 @@ private:
   struct Impl; // CGAL lives only in the .cxx
   std::unique_ptr<Impl> impl_;
   int materialId_;
+  SurfaceOptions options_;
+  std::vector<std::string> warnings_;
 };
 }

@@ -24,7 +24,7 @@ std::string describePoint(const std::vector<Vec3>& pts, int i)
 }
 }
 
-void TriangleSurface::validateClosed(const std::string& who) const
+void TriangleSurface::validateTriangles(const std::string& who) const
 {
   if (triangles.empty())
     throw InputError(who + ": surface has no triangles");
@@ -38,8 +38,6 @@ void TriangleSurface::validateClosed(const std::string& who) const
       throw InputError(who + ": surface point " + describePoint(points, i) +
         " has a coordinate beyond 1e15 in magnitude (absurd; check the file's units)");
   }
-  std::unordered_map<uint64_t, int> edgeUse;
-  edgeUse.reserve(triangles.size() * 2);
   for (size_t t = 0; t < triangles.size(); ++t)
   {
     const auto& tri = triangles[t];
@@ -51,6 +49,16 @@ void TriangleSurface::validateClosed(const std::string& who) const
     }
     if (tri[0] == tri[1] || tri[1] == tri[2] || tri[0] == tri[2])
       throw InputError(who + ": triangle " + std::to_string(t) + " repeats a vertex (degenerate)");
+  }
+}
+
+void TriangleSurface::validateClosed(const std::string& who) const
+{
+  validateTriangles(who);
+  std::unordered_map<uint64_t, int> edgeUse;
+  edgeUse.reserve(triangles.size() * 2);
+  for (const auto& tri : triangles)
+  {
     for (int e = 0; e < 3; ++e)
     {
       const auto lo = static_cast<uint64_t>(std::min(tri[e], tri[(e + 1) % 3]));
@@ -80,7 +88,91 @@ void TriangleSurface::validateClosed(const std::string& who) const
     msg << (i ? ";" : "") << " edge " << describePoint(points, a) << " - " << describePoint(points, b)
         << " used by " << bad[i].second << " triangle(s)";
   }
+  if (open > 0)
+    msg << "; " << describeHoles(borderLoops())
+        << " (the winding-number inside test, InsideTest WindingNumber, meshes surfaces with holes)";
   throw InputError(msg.str());
+}
+
+std::vector<BorderLoop> TriangleSurface::borderLoops() const
+{
+  // undirected edge -> number of triangles using it
+  std::unordered_map<uint64_t, int> edgeUse;
+  edgeUse.reserve(triangles.size() * 2);
+  auto key = [](int a, int b) {
+    return (static_cast<uint64_t>(std::min(a, b)) << 32) | static_cast<uint64_t>(std::max(a, b));
+  };
+  for (const auto& tri : triangles)
+    for (int e = 0; e < 3; ++e)
+      ++edgeUse[key(tri[e], tri[(e + 1) % 3])];
+  std::vector<std::array<int, 2>> border;
+  for (const auto& [k, uses] : edgeUse)
+    if (uses == 1)
+      border.push_back({ static_cast<int>(k >> 32), static_cast<int>(k & 0xffffffffu) });
+  std::sort(border.begin(), border.end()); // deterministic order
+  std::unordered_map<int, std::vector<size_t>> at; // vertex -> border edges
+  for (size_t e = 0; e < border.size(); ++e)
+  {
+    at[border[e][0]].push_back(e);
+    at[border[e][1]].push_back(e);
+  }
+  std::vector<char> used(border.size(), 0);
+  std::vector<BorderLoop> loops;
+  for (size_t start = 0; start < border.size(); ++start)
+  {
+    if (used[start])
+      continue;
+    BorderLoop loop;
+    Vec3 weighted;
+    const int first = border[start][0];
+    int current = first;
+    size_t e = start;
+    while (true)
+    {
+      used[e] = 1;
+      const Vec3& a = points[border[e][0]];
+      const Vec3& b = points[border[e][1]];
+      const double len = norm(b - a);
+      ++loop.edges;
+      loop.length += len;
+      weighted = weighted + (0.5 * len) * (a + b);
+      current = border[e][0] == current ? border[e][1] : border[e][0];
+      if (current == first)
+        break;
+      size_t next = border.size();
+      for (size_t candidate : at[current])
+        if (!used[candidate])
+        {
+          next = candidate;
+          break;
+        }
+      if (next == border.size())
+      {
+        loop.closed = false;
+        break;
+      }
+      e = next;
+    }
+    loop.centre = loop.length > 0 ? (1.0 / loop.length) * weighted : points[first];
+    loops.push_back(loop);
+  }
+  std::stable_sort(loops.begin(), loops.end(), [](const BorderLoop& x, const BorderLoop& y) { return x.length > y.length; });
+  return loops;
+}
+
+std::string TriangleSurface::describeHoles(const std::vector<BorderLoop>& loops)
+{
+  std::ostringstream o;
+  o << loops.size() << " hole(s) (border loops):";
+  for (size_t i = 0; i < std::min<size_t>(loops.size(), 5); ++i)
+  {
+    const BorderLoop& l = loops[i];
+    o << (i ? ";" : "") << " " << l.edges << " edge(s), length " << l.length << " around (" << l.centre.x << ", "
+      << l.centre.y << ", " << l.centre.z << ")" << (l.closed ? "" : " (not closed)");
+  }
+  if (loops.size() > 5)
+    o << "; ...";
+  return o.str();
 }
 
 double TriangleSurface::signedVolume() const

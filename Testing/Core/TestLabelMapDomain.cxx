@@ -110,6 +110,19 @@ TEST(LabelMapDomain, BadInputIsRejected)
     EXPECT_NE(std::string(e.what()).find("label -3"), std::string::npos) << e.what();
   }
   EXPECT_THROW(LabelMapDomain({ 2, 2, 2 }, { 0, 1 }, id, 0, "ct"), InputError);
+  // dims whose product wraps to 0 in 64 bits (2^22 x 2^21 x 2^21) with no labels (found in review)
+  EXPECT_THROW(LabelMapDomain({ 1 << 22, 1 << 21, 1 << 21 }, {}, id, 0, "ct"), InputError);
+  // a placement with a NaN origin is refused, not inverted into NaN (found by fuzzing)
+  try
+  {
+    const std::array<double, 9> dir{ 1, 0, 0, 0, 1, 0, 0, 0, 1 };
+    LabelMapDomain({ 1, 1, 1 }, { 1 }, LabelMapDomain::pointCenteredWorldToVoxel({ NAN, 0, 0 }, { 1, 1, 1 }, dir), 0, "ct");
+    ADD_FAILURE();
+  }
+  catch (const InputError& e)
+  {
+    EXPECT_NE(std::string(e.what()).find("NaN"), std::string::npos) << e.what();
+  }
   // a negative background is fine: it is not a material
   EXPECT_NO_THROW(LabelMapDomain({ 2, 1, 1 }, { -1, 4 }, id, -1, "ct"));
 }

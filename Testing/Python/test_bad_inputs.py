@@ -327,6 +327,43 @@ def case_hidden_domain(tmp):
     return ["mesh", scene(tmp, "hidden", [BLOCK, inner]), "-o", os.path.join(tmp, "h.vtu")]
 
 
+def overlapping_cubes():
+    from vtkmodules.vtkFiltersCore import vtkAppendPolyData
+    append = vtkAppendPolyData()
+    for center in ((0, 0, 0), (1, 1, 1)):
+        cube = vtkCubeSource()
+        cube.SetCenter(*center)
+        cube.SetXLength(4)
+        cube.SetYLength(4)
+        cube.SetZLength(4)
+        append.AddInputConnection(cube.GetOutputPort())
+    append.Update()
+    return append.GetOutput()
+
+
+def case_self_intersecting(tmp, **domain):
+    path = write_vtp(os.path.join(tmp, "cubes.vtp"), overlapping_cubes())
+    return ["mesh", surface_scene(tmp, "cubes", path, **domain), "-o", os.path.join(tmp, "cubes.vtu")]
+
+
+def sphere_with_hole():
+    """A sphere without one triangle: one hole (a border loop of 3 edges)."""
+    pd = sphere_polydata()
+    cells = vtkCellArray()
+    for c in range(1, pd.GetNumberOfCells()):
+        ids = pd.GetCell(c).GetPointIds()
+        cells.InsertNextCell(3, [ids.GetId(k) for k in range(3)])
+    out = vtkPolyData()
+    out.SetPoints(pd.GetPoints())
+    out.SetPolys(cells)
+    return out
+
+
+def case_surface_with_hole(tmp, **domain):
+    path = write_vtp(os.path.join(tmp, "holed.vtp"), sphere_with_hole())
+    return ["mesh", surface_scene(tmp, "holed", path, **domain), "-o", os.path.join(tmp, "holed.vtu")]
+
+
 # name -> (make, exit code, words that must all appear in stderr+stdout, case-insensitive)
 CLI_CASES = {
     "binary scene file": (case_binary_scene, 2, ["binary.json", "binary", "not utf-8"]),
@@ -357,6 +394,15 @@ CLI_CASES = {
     "unwelded triangle soup accepted": (case_unwelded_surface, 0, ["wrote"]),
     "overlapping feature segments merged": (case_overlapping_features, 0, ["warning", "merged", "duplicate"]),
     "hidden domain warned": (case_hidden_domain, 0, ["warning", "'hidden ball'", "hidden"]),
+    "self-intersecting surface": (case_self_intersecting, 2,
+                                  ["'part'", "intersects itself", "first: triangle", "allow_self_intersections"]),
+    "self-intersecting surface allowed": (lambda tmp: case_self_intersecting(tmp, allow_self_intersections=True),
+                                          0, ["wrote"]),
+    "surface with a hole": (case_surface_with_hole, 2, ["'part'", "not closed", "1 hole(s)", "length", "winding"]),
+    "surface with a hole, winding number": (lambda tmp: case_surface_with_hole(tmp, inside_test="winding_number"),
+                                            0, ["warning", "'part'", "1 hole(s)", "wrote"]),
+    "unknown inside test": (lambda tmp: case_surface_with_hole(tmp, inside_test="parity"), 2,
+                            ["$.domains[0].inside_test", "winding_number"]),
 }
 
 
@@ -504,6 +550,27 @@ class PythonApi(unittest.TestCase):
         labels.SetInputData(label_image())
         labels.SetInterpolation(5)
         self.assertRefused(labels, "Interpolation", "5")
+        surface = om.vtkSurfaceDomain()
+        surface.SetInputData(sphere_polydata())
+        surface.SetInsideTest(5)
+        self.assertRefused(surface, "InsideTest", "5")
+
+    def test_surface_options_through_the_python_api(self):
+        """AllowSelfIntersections and InsideTest on vtkSurfaceDomain reach the oracle (a mesh)."""
+        cubes = om.vtkSurfaceDomain()
+        cubes.SetInputData(overlapping_cubes())
+        self.assertRefused(cubes, "intersects itself", "first: triangle")
+        cubes.AllowSelfIntersectionsOn()
+        cubes.SetInsideTestToWindingNumber()
+        grid = om.update(self.mesher(self.oracle(cubes), cell=1.0))
+        self.assertGreater(grid.GetNumberOfCells(), 0)
+        holed = om.vtkSurfaceDomain()
+        holed.SetInputData(sphere_with_hole())
+        self.assertRefused(holed, "not closed", "1 hole(s)")
+        holed.SetInsideTestToWindingNumber()
+        mesher = self.mesher(self.oracle(holed), cell=1.0)
+        grid = om.update(mesher)
+        self.assertGreater(grid.GetNumberOfCells(), 0)
 
     def test_sampler_memory_and_abort(self):
         sampler = om.vtkOracleSampler()

@@ -39,7 +39,7 @@ from .readers import SPACES, label_map_frame, label_map_reader, surface_frame, s
 DOMAIN_TYPES = ("surface", "labelmap", "sphere", "plane", "box", "cylinder")
 COMMON_KEYS = {"name", "type", "material", "cut", "criteria", "comment"}
 DOMAIN_KEYS = {
-    "surface": {"file"},
+    "surface": {"file", "inside_test", "allow_self_intersections"},
     "labelmap": {"file", "array", "association", "background", "label_names", "interpolation"},
     "sphere": {"center", "radius"},
     "plane": {"origin", "normal"},
@@ -454,6 +454,16 @@ def build_scene(description, base_dir=".", source="scene"):
                 domain = vtkSurfaceDomain()
                 domain.SetMaterialId(material)
                 domain.SetMaterialName(name)
+                inside_test = spec.get("inside_test", "closed")
+                if inside_test not in ("closed", "winding_number"):
+                    problems.add(f"{where}.inside_test", f"must be 'closed' or 'winding_number', got {inside_test!r}")
+                elif inside_test == "winding_number":
+                    domain.SetInsideTestToWindingNumber()
+                allow = spec.get("allow_self_intersections", False)
+                if not isinstance(allow, bool):
+                    problems.add(f"{where}.allow_self_intersections", f"must be true or false, got {allow!r}")
+                else:
+                    domain.SetAllowSelfIntersections(allow)
             else:
                 domain = vtkLabelMapDomain()
                 domain.SetDomainName(name)

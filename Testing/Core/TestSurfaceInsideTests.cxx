@@ -1,0 +1,291 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Issue 14: self-intersecting surfaces refused with their first pair (unless allowed), surfaces
+// with holes meshed by the generalized winding number, holes reported.
+#include "HierarchicalOracle.h"
+#include "InputError.h"
+#include "MeshQuality.h"
+#include "OracleMesher.h"
+#include "SelfIntersections.h"
+#include "SurfaceDomain.h"
+#include "TestShapes.h"
+#include "WindingNumber.h"
+
+#include <gtest/gtest.h>
+
+#include <functional>
+#include <random>
+#include <sstream>
+
+using namespace omesh;
+
+namespace
+{
+/// Two soups as one surface (indices of `b` shifted).
+TriangleSurface merged(const TriangleSurface& a, const TriangleSurface& b)
+{
+  TriangleSurface s = a;
+  const int offset = static_cast<int>(a.points.size());
+  s.points.insert(s.points.end(), b.points.begin(), b.points.end());
+  for (auto t : b.triangles)
+    s.triangles.push_back({ t[0] + offset, t[1] + offset, t[2] + offset });
+  return s;
+}
+
+/// The icosphere without the triangles whose centroid lies above `zCut` (a hole at the top).
+TriangleSurface sphereWithHole(double radius, int levels, double zCut)
+{
+  TriangleSurface s = test::icosphere({ 0, 0, 0 }, radius, levels);
+  std::vector<std::array<int, 3>> kept;
+  for (const auto& t : s.triangles)
+    if ((s.points[t[0]].z + s.points[t[1]].z + s.points[t[2]].z) / 3.0 <= zCut)
+      kept.push_back(t);
+  s.triangles = kept;
+  return s;
+}
+
+std::string errorOf(const std::function<void()>& f)
+{
+  try
+  {
+    f();
+  }
+  catch (const InputError& e)
+  {
+    return e.what();
+  }
+  return "";
+}
+
+SurfaceOptions winding(bool allowSelfIntersections = false)
+{
+  SurfaceOptions o;
+  o.insideTest = InsideTest::WindingNumber;
+  o.allowSelfIntersections = allowSelfIntersections;
+  return o;
+}
+}
+
+TEST(SurfaceSelfIntersections, OverlappingCubesAreRefusedWithTheFirstPair)
+{
+  const TriangleSurface s = merged(test::cube(0, 2), test::cube(1, 3)); // closed, but crossing itself
+  EXPECT_NO_THROW(s.validateClosed("x"));
+  const auto pairs = selfIntersections(s);
+  ASSERT_FALSE(pairs.empty());
+  for (const auto& [a, b] : pairs)
+  {
+    EXPECT_LT(a, 12); // one triangle of each cube
+    EXPECT_GE(b, 12);
+  }
+  const std::string e = errorOf([&] { SurfaceDomain d(s, 1, "implant"); });
+  EXPECT_NE(e.find("implant"), std::string::npos) << e;
+  EXPECT_NE(e.find("intersects itself"), std::string::npos) << e;
+  EXPECT_NE(e.find("triangle " + std::to_string(pairs[0].first) + " ("), std::string::npos) << e;
+  EXPECT_NE(e.find("triangle " + std::to_string(pairs[0].second) + " ("), std::string::npos) << e;
+  EXPECT_NE(e.find("allow_self_intersections"), std::string::npos) << e;
+  // the first pair's coordinates are in the message
+  const Vec3& p = s.points[s.triangles[pairs[0].second][0]];
+  std::ostringstream coords;
+  coords << "(" << p.x << ", " << p.y << ", " << p.z << ")";
+  EXPECT_NE(e.find(coords.str()), std::string::npos) << e;
+}
+
+TEST(SurfaceSelfIntersections, AllowedSelfIntersectionsAreMeshableWithEitherTest)
+{
+  const TriangleSurface s = merged(test::cube(0, 2), test::cube(1, 3));
+  SurfaceOptions allow;
+  allow.allowSelfIntersections = true;
+  SurfaceDomain parity(s, 1, "cubes", allow);
+  EXPECT_EQ(parity.material({ 0.5, 0.5, 0.5 }), 1);
+  EXPECT_EQ(parity.material({ 2.5, 2.5, 2.5 }), 1);
+  SurfaceDomain wn(s, 1, "cubes", winding(true));
+  EXPECT_EQ(wn.material({ 0.5, 0.5, 0.5 }), 1);
+  EXPECT_EQ(wn.material({ 1.5, 1.5, 1.5 }), 1); // wound twice: inside (parity says outside)
+  EXPECT_EQ(wn.material({ 2.5, 2.5, 2.5 }), 1);
+  EXPECT_EQ(wn.material({ 0.5, 2.5, 0.5 }), kOutside);
+  EXPECT_TRUE(wn.warnings().empty());
+  EXPECT_NE(errorOf([&] { SurfaceDomain d(s, 1, "cubes", winding(false)); }).find("intersects itself"), std::string::npos);
+}
+
+TEST(SurfaceSelfIntersections, TouchingButCleanSurfacesAreAccepted)
+{
+  // two cubes welded at one corner (a non-manifold vertex), two cubes a hair apart face to face,
+  // and a sphere whose triangles all share vertices with their neighbours
+  TriangleSurface corner = test::cube(0, 1);
+  {
+    TriangleSurface other = test::cube(1, 2); // its point 0 is (1, 1, 1) = corner's point 7
+    const int offset = static_cast<int>(corner.points.size()) - 1;
+    for (size_t i = 1; i < other.points.size(); ++i)
+      corner.points.push_back(other.points[i]);
+    for (auto t : other.triangles)
+    {
+      for (int& v : t)
+        v = v == 0 ? 7 : v + offset;
+      corner.triangles.push_back(t);
+    }
+  }
+  EXPECT_TRUE(selfIntersections(corner).empty());
+  SurfaceDomain welded(corner, 1, "corner");
+  EXPECT_EQ(welded.material({ 0.5, 0.5, 0.5 }), 1);
+  EXPECT_EQ(welded.material({ 1.5, 1.5, 1.5 }), 1);
+  EXPECT_EQ(welded.material({ 1.5, 0.5, 0.5 }), kOutside);
+
+  const TriangleSurface gap = merged(test::cube(0, 1), test::cube(1 + 1e-9, 2));
+  EXPECT_TRUE(selfIntersections(gap).empty());
+  EXPECT_NO_THROW(SurfaceDomain(gap, 1, "gap"));
+  EXPECT_NO_THROW(SurfaceDomain(test::icosphere({ 0, 0, 0 }, 1, 3), 1, "sphere"));
+  EXPECT_NO_THROW(SurfaceDomain(gap, 1, "gap", winding()));
+
+  // face to face without a gap is an intersection (the coplanar faces overlap)
+  EXPECT_FALSE(selfIntersections(merged(test::cube(0, 1), test::cube(1, 2))).empty());
+}
+
+TEST(SurfaceHoles, ClosedTestRefusesAHoleNamingItsSizeAndPlace)
+{
+  const TriangleSurface s = sphereWithHole(10.0, 4, 9.9);
+  ASSERT_LT(s.triangles.size(), test::icosphere({ 0, 0, 0 }, 10, 4).triangles.size());
+  const auto loops = s.borderLoops();
+  ASSERT_EQ(loops.size(), 1u);
+  EXPECT_TRUE(loops[0].closed);
+  EXPECT_GT(loops[0].length, 0.0);
+  EXPECT_LT(loops[0].length, 2 * M_PI * 10 * 0.2); // a small hole
+  EXPECT_NEAR(loops[0].centre.x, 0.0, 0.2);
+  EXPECT_NEAR(loops[0].centre.y, 0.0, 0.2);
+  EXPECT_GT(loops[0].centre.z, 9.0);
+  const std::string e = errorOf([&] { SurfaceDomain d(s, 1, "skull"); });
+  EXPECT_NE(e.find("skull"), std::string::npos) << e;
+  EXPECT_NE(e.find("not closed"), std::string::npos) << e;
+  EXPECT_NE(e.find("1 hole(s) (border loops)"), std::string::npos) << e;
+  EXPECT_NE(e.find("winding"), std::string::npos) << e;
+
+  SurfaceDomain wn(s, 1, "skull", winding());
+  ASSERT_EQ(wn.warnings().size(), 1u);
+  EXPECT_NE(wn.warnings()[0].find("skull"), std::string::npos);
+  EXPECT_NE(wn.warnings()[0].find("1 hole(s)"), std::string::npos);
+  std::ostringstream length;
+  length << "length " << loops[0].length;
+  EXPECT_NE(wn.warnings()[0].find(length.str()), std::string::npos) << wn.warnings()[0];
+  // two holes: both reported, the longer first
+  const TriangleSurface twoHoles = [&] {
+    TriangleSurface t = sphereWithHole(10.0, 4, 9.5);
+    std::vector<std::array<int, 3>> kept;
+    for (const auto& f : t.triangles)
+      if ((t.points[f[0]].z + t.points[f[1]].z + t.points[f[2]].z) / 3.0 >= -9.9)
+        kept.push_back(f);
+    t.triangles = kept;
+    return t;
+  }();
+  const auto two = twoHoles.borderLoops();
+  ASSERT_EQ(two.size(), 2u);
+  EXPECT_GE(two[0].length, two[1].length);
+  EXPECT_GT(two[0].centre.z, 9.0);
+  EXPECT_LT(two[1].centre.z, -9.0);
+}
+
+TEST(SurfaceHoles, HierarchicalWindingNumberIsTheDirectSum)
+{
+  const TriangleSurface s = sphereWithHole(2.0, 4, 1.7);
+  const WindingNumber w(s.points, s.triangles);
+  EXPECT_TRUE(w.hasBorder());
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-3, 3);
+  for (int n = 0; n < 2000; ++n)
+  {
+    const Vec3 p{ u(rng), u(rng), u(rng) };
+    ASSERT_NEAR(w(p), w.bruteForce(p), 1e-9) << p.x << " " << p.y << " " << p.z;
+  }
+  // at the centre: the sphere's solid angle without the cap above z = 1.7 (a fraction (1 - 1.7/2)/2)
+  EXPECT_NEAR(w({ 0, 0, 0 }), 1.0 - (1.0 - 1.7 / 2.0) / 2.0, 0.03);
+  EXPECT_NEAR(w({ 0, 0, 10 }), 0.0, 0.01);
+}
+
+TEST(SurfaceHoles, ClosedSurfacesGetTheSameAnswersFromBothTests)
+{
+  const std::vector<TriangleSurface> surfaces{ test::icosphere({ 0.3, -0.2, 0.1 }, 2.0, 3), test::lPrism(1.5, { 0.1, -2, 0.2 }),
+    test::cube(-1, 1) };
+  std::mt19937 rng(17);
+  for (const auto& s : surfaces)
+  {
+    SurfaceDomain parity(s, 2, "parity");
+    // allowing self-intersections keeps the winding number in use (a closed surface checked to be
+    // free of them is answered by the parity test, the same answers faster)
+    SurfaceDomain wn(s, 2, "winding", winding(true));
+    EXPECT_TRUE(wn.warnings().empty());
+    const BoundingBox b = parity.bounds();
+    std::uniform_real_distribution<double> ux(b.min.x - 0.5, b.max.x + 0.5), uy(b.min.y - 0.5, b.max.y + 0.5),
+      uz(b.min.z - 0.5, b.max.z + 0.5);
+    int inside = 0;
+    for (int n = 0; n < 5000; ++n)
+    {
+      const Vec3 p{ ux(rng), uy(rng), uz(rng) };
+      ASSERT_EQ(parity.material(p), wn.material(p)) << p.x << " " << p.y << " " << p.z;
+      inside += parity.material(p) == 2;
+    }
+    EXPECT_GT(inside, 500);
+    EXPECT_LT(inside, 4500);
+  }
+  // orientation does not matter: an inward-facing cube gives the same answers
+  TriangleSurface inward = test::cube(-1, 1);
+  for (auto& t : inward.triangles)
+    std::swap(t[1], t[2]);
+  SurfaceDomain wn(inward, 2, "inward", winding(true));
+  EXPECT_EQ(wn.material({ 0.2, 0.3, -0.4 }), 2);
+  EXPECT_EQ(wn.material({ 1.2, 0.3, -0.4 }), kOutside);
+}
+
+TEST(SurfaceHoles, HollowPartWithAHoleKeepsItsCavity)
+{
+  // an outer sphere with a hole around an inner sphere (a cavity), the inner one facing either way
+  for (bool flipInner : { false, true })
+  {
+    TriangleSurface inner = test::icosphere({ 0, 0, 0 }, 5.0, 3);
+    if (flipInner)
+      for (auto& t : inner.triangles)
+        std::swap(t[1], t[2]);
+    const TriangleSurface s = merged(sphereWithHole(10.0, 3, 9.8), inner);
+    SurfaceDomain wn(s, 1, "hollow", winding());
+    EXPECT_EQ(wn.material({ 0, 0, 0 }), kOutside) << flipInner;     // the cavity
+    EXPECT_EQ(wn.material({ 7.5, 0, 0 }), 1) << flipInner;          // the wall
+    EXPECT_EQ(wn.material({ 0, 0, -7.5 }), 1) << flipInner;
+    EXPECT_EQ(wn.material({ 0, 0, 10.5 }), kOutside) << flipInner;
+    // the closed version with the parity test agrees
+    SurfaceDomain parity(merged(test::icosphere({ 0, 0, 0 }, 10.0, 3), inner), 1, "hollow");
+    EXPECT_EQ(parity.material({ 0, 0, 0 }), kOutside);
+    EXPECT_EQ(parity.material({ 7.5, 0, 0 }), 1);
+  }
+}
+
+TEST(SurfaceHoles, SegmentsThroughTheHoleCrossTheWindingNumberSurface)
+{
+  SurfaceDomain wn(sphereWithHole(2.0, 4, 1.7), 1, "open", winding());
+  HierarchicalOracle o;
+  o.add(std::make_shared<SurfaceDomain>(sphereWithHole(2.0, 4, 1.7), 1, "open", winding()));
+  // from the centre straight up through the hole
+  const Intersection x = o.intersect({ 0, 0, 0 }, { 0, 0, 1.999 });
+  ASSERT_TRUE(x.found);
+  EXPECT_EQ(x.materialBefore, 1);
+  EXPECT_EQ(x.materialAfter, kOutside);
+  EXPECT_GT(x.point.z, 1.5);
+  EXPECT_LT(x.point.z, 2.0);
+  EXPECT_EQ(o.material(lerp({ 0, 0, 0 }, { 0, 0, 1.999 }, 0.5 * x.t)), 1);
+}
+
+TEST(SurfaceHoles, SphereWithAHoleMeshesToTheClosedSphereVolume)
+{
+  MesherOptions opt;
+  opt.strategy = FeatureStrategy::None;
+  opt.criteria.global.cellSize = 2.0;
+  opt.criteria.global.facetSize = 2.0;
+  opt.criteria.global.facetDistance = 0.1;
+  opt.seed = 3;
+  auto volumeOf = [&](const TriangleSurface& s, const SurfaceOptions& so) {
+    HierarchicalOracle o;
+    o.add(std::make_shared<SurfaceDomain>(s, 1, "sphere", so));
+    return materialVolumes(meshOracle(o, {}, {}, opt)).at(1);
+  };
+  const TriangleSurface closed = test::icosphere({ 0, 0, 0 }, 10.0, 4);
+  const double reference = volumeOf(closed, {});
+  EXPECT_NEAR(reference, closed.signedVolume(), 0.02 * closed.signedVolume());
+  const TriangleSurface open = sphereWithHole(10.0, 4, 9.9);
+  ASSERT_EQ(open.borderLoops().size(), 1u);
+  EXPECT_NEAR(volumeOf(open, winding()), reference, 0.02 * reference);
+}
