@@ -28,7 +28,6 @@
 #include <chrono>
 #include <future>
 #include <cmath>
-#include <cstdlib>
 #include <ctime>
 #include <limits>
 #include <map>
