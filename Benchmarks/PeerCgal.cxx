@@ -80,6 +80,17 @@ int run(const peer::Args& a, const Domain& domain, const Criteria& criteria, dou
   const double cpu0 = peer::cpuSeconds();
   C3t3 c3t3 = CGAL::make_mesh_3<C3t3>(domain, criteria, params::no_perturb(), params::no_exude());
   const double refine = peer::since(t0);
+  const double refineCpu = peer::cpuSeconds() - cpu0;
+  double minRefined = 180.0;
+  for (auto c = c3t3.cells_in_complex_begin(); c != c3t3.cells_in_complex_end(); ++c)
+  {
+    auto v = [&](int i) {
+      const auto& p = c->vertex(i)->point().point();
+      return omesh::Vec3{ CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z()) };
+    };
+    minRefined = std::min(minRefined, omesh::minDihedralAngle(v(0), v(1), v(2), v(3)));
+  }
+  const double optCpu0 = peer::cpuSeconds();
   double perturb = 0, exude = 0;
   if (a.opt != "none")
   {
@@ -92,11 +103,14 @@ int run(const peer::Args& a, const Domain& domain, const Criteria& criteria, dou
     exude = peer::since(t1);
   }
   const double optimise = perturb + exude;
+  const double optimiseCpu = peer::cpuSeconds() - optCpu0;
   const omesh::TetMesh mesh = toTetMesh(c3t3);
   const double call = peer::since(t0);
   const double cpu = peer::cpuSeconds() - cpu0;
   const double rss = peer::peakRssBytes();
-  peer::report("CGAL", a, mesh, setupSeconds, refine, perturb, exude, optimise, call, rss, cpu, features);
+  std::ostringstream extra;
+  extra << ", \"refine_cpu\": " << refineCpu << ", \"optimise_cpu\": " << optimiseCpu << ", \"min_refined\": " << minRefined;
+  peer::report("CGAL", a, mesh, setupSeconds, refine, perturb, exude, optimise, call, rss, cpu, features, extra.str());
   return 0;
 }
 }

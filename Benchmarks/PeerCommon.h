@@ -109,7 +109,8 @@ inline omesh::FeatureSegments readSegments(const std::string& path)
 ///   <labels|surface|cad> <input> [features] [--cell-size x] [--facet-size x] [--facet-distance x]
 ///   [--facet-angle x] [--radius-edge x] [--edge-size x] [--opt default|none|limit:T] [--seed n]
 /// --opt: default = the tool's own default optimisation; none = refinement only; limit:T = perturb
-/// and exude each limited to T seconds and nothing else (no step budgets).
+/// and exude each limited to T seconds and nothing else (no step budgets); previous (OracleMesh
+/// only) = its defaults before issue 12's optimisation policy.
 struct Args
 {
   std::string kind, input, features;
@@ -146,8 +147,8 @@ inline Args parseArgs(int argc, char* argv[])
         a.limit = std::stod(a.opt.substr(6));
         a.opt = "limit";
       }
-      else if (a.opt != "default" && a.opt != "none")
-        throw std::runtime_error("--opt: default, none or limit:SECONDS");
+      else if (a.opt != "default" && a.opt != "none" && a.opt != "previous")
+        throw std::runtime_error("--opt: default, none, previous or limit:SECONDS");
     }
     else
       positional.push_back(s);

@@ -5,8 +5,10 @@
 //   surface -> SurfaceDomain
 //   cad     -> SurfaceDomain + the given feature segments (Conforming)
 // Strategy Conforming (the default), the mesher's default sliver rules. --opt default = the
-// mesher's defaults (step budgets, no time limit); none = refinement only; limit:T = perturb and
-// exude each limited to T seconds without step budgets. Prints one JSON line (PeerCommon.h).
+// mesher's defaults (its optimisation policy, no time limit); none = refinement only; limit:T = stock
+// CGAL's policy: perturb and exude each limited to T seconds, nothing else (no step budgets, no
+// giving up at a bound, the exuder on every cell); previous = the defaults before issue 12's
+// optimisation policy (step budgets only). Prints one JSON line (PeerCommon.h).
 #include "PeerCommon.h"
 
 #include "HierarchicalOracle.h"
@@ -55,11 +57,15 @@ int main(int argc, char* argv[])
     o.seed = a.seed;
     if (a.opt == "none")
       o.perturb = o.exude = false;
+    else if (a.opt == "previous") // the defaults before issue 12's optimisation policy: step budgets only
+      o.perturbationFailuresPerBound = o.exudationSliverBound = 0;
     else if (a.opt == "limit")
     {
       o.optimisationTimeLimit = a.limit;
       o.perturbationStepsPerVertex = 0;
       o.exudationStepsPerCell = 0;
+      o.perturbationFailuresPerBound = 0; // CGAL's optimiser policy: only the time limits
+      o.exudationSliverBound = 0;
     }
     const auto t0 = peer::Clock::now();
     const double cpu0 = peer::cpuSeconds();
@@ -76,7 +82,9 @@ int main(int argc, char* argv[])
     extra << ", \"perturb_cut_short\": " << stat("optimisation.perturbation_cut_short")
           << ", \"exude_cut_short\": " << stat("optimisation.exudation_cut_short")
           << ", \"after_mesh\": " << (call - stat("time.initialisation") - stat("time.refinement") - stat("time.optimisation"))
-          << ", \"warnings\": " << mesh.warnings.size();
+          << ", \"warnings\": " << mesh.warnings.size()
+          << ", \"refine_cpu\": " << stat("cpu.refinement") << ", \"optimise_cpu\": " << stat("cpu.optimisation")
+          << ", \"min_refined\": " << stat("optimisation.min_dihedral_before");
     peer::report("OracleMesh", a, mesh, setup, stat("time.initialisation") + stat("time.refinement"),
       stat("time.perturbation"), stat("time.exudation"), stat("time.optimisation"), call, rss, cpu, features, extra.str());
     return 0;

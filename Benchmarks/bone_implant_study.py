@@ -100,11 +100,18 @@ def sampled_volumes(scene, dims, timeout):
 
 
 STOCK_OPTIMISERS = ":stock-optimisers"  # strategy suffix: CGAL's default optimiser time limits
+# Strategy suffixes -> scene "mesh" keys they set: stock CGAL's optimiser policy (each optimiser
+# limited to the refinement's running time, no giving up at a bound, the exuder on every cell), and
+# OracleMesh's policy before issue 12 (step budgets only).
+OPTIMISER_VARIANTS = {
+    STOCK_OPTIMISERS: {"optimisation_time_limit": -1, "perturbation_failures_per_bound": 0, "exudation_sliver_bound": 0},
+    ":previous-optimisers": {"perturbation_failures_per_bound": 0, "exudation_sliver_bound": 0},
+}
 
 
 def mesh_case(case, strategy, timeout):
-    """Meshes one case with one strategy (with STOCK_OPTIMISERS: perturbation and exudation limited
-    as stock CGAL limits them, each to the refinement's running time); returns the table row."""
+    """Meshes one case with one strategy (with a suffix of OPTIMISER_VARIANTS: its optimiser
+    settings); returns the table row."""
     tag = strategy.replace(":", "_")
     out = os.path.join(case["dir"], f"mesh_{tag}.vtu")
     summary = os.path.join(case["dir"], f"summary_{tag}.json")
@@ -112,10 +119,11 @@ def mesh_case(case, strategy, timeout):
         if os.path.exists(stale):
             os.remove(stale)
     scene = case["scene"]
-    if strategy.endswith(STOCK_OPTIMISERS):
+    variant = next((v for suffix, v in OPTIMISER_VARIANTS.items() if strategy.endswith(suffix)), None)
+    if variant:
         with open(scene) as f:
             description = json.load(f)
-        description["mesh"]["optimisation_time_limit"] = -1
+        description["mesh"].update(variant)
         scene = os.path.join(case["dir"], f"scene_{tag}.json")
         with open(scene, "w") as f:
             json.dump(description, f)

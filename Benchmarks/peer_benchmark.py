@@ -7,9 +7,9 @@ triangles; the demo's implant with its sharp edges at 60 degrees as given featur
 for each case and mesh size runs, each in its own process:
   PeerCgal --opt default          stock CGAL: make_mesh_3's defaults (perturb and exude each limited
                                   to the refinement's time)
-  PeerOracleMesh --opt default    OracleMesh's defaults (Conforming, step budgets, no time limit)
-  PeerOracleMesh --opt limit:T    the same budget as CGAL: perturb and exude each limited to T =
-                                  CGAL's refinement time of that case, no step budgets
+  PeerOracleMesh --opt default    OracleMesh's defaults (Conforming, its optimisation policy, no time limit)
+  PeerOracleMesh --opt limit:T    CGAL's optimisation policy: perturb and exude each limited to T =
+                                  CGAL's refinement time of that case, nothing else
 and prints a Markdown table (raw figures in <work>/results.jsonl). Same criteria for both tools
 (facet angle 25, radius-edge 3, cell size = facet size = h, facet distance h/4, edge size h/2 for
 the CAD part), same seed. Min dihedral angle, validity and coverage are computed from each output
@@ -35,7 +35,8 @@ SIZES = {
     "cad": [2.0, 1.0, 0.5, 0.4],
 }
 QUICK_SIZES = {"labels": [4.0], "surface": [3.5], "cad": [2.0]}
-TIME_KEYS = ("setup", "refine", "perturb", "exude", "optimise", "call", "call_cpu", "peak_rss")
+TIME_KEYS = ("setup", "refine", "perturb", "exude", "optimise", "call", "call_cpu", "refine_cpu", "optimise_cpu",
+             "peak_rss")
 
 
 def prepare(data, work):
@@ -124,7 +125,7 @@ def run(exe, case, paths, h, opt, repeat, log):
         runs.append(json.loads(p.stdout.strip().splitlines()[-1]))
     r = dict(runs[0])
     for k in TIME_KEYS:  # medians of the timings and peak memory
-        r[k] = statistics.median(x[k] for x in runs)
+        r[k] = statistics.median(x.get(k, float("nan")) for x in runs)
     r.update(case=case, h=h, repeat=repeat, loadavg=os.getloadavg()[0])
     log.write(json.dumps(r) + "\n")
     log.flush()
@@ -139,22 +140,29 @@ def table(rows):
         return r[key] / max(r["tets"], 1)
 
     out = ["| case | h | optimisation | tets OM / CGAL | refine s OM / CGAL (per-tet ratio) | optimise s OM / CGAL "
-           "| total per-tet ratio | CPU s OM / CGAL (per-tet ratio) | peak RSS MiB OM / CGAL | bytes/tet OM / CGAL (ratio) | min dihedral OM / CGAL "
+           "| total per-tet ratio | CPU s OM / CGAL (per-tet ratio) | optimise CPU s OM / CGAL | peak RSS MiB OM / CGAL "
+           "| bytes/tet OM / CGAL (ratio) | min dihedral OM / CGAL (before optimisation) | ° gained per optimise CPU s OM / CGAL "
            "| defects OM / CGAL | coverage OM / CGAL |",
-           "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+           "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for case, h, label, om, cg in rows:
         rr = per_tet(om, "refine") / per_tet(cg, "refine")
         tot = lambda r: (r["refine"] + r["optimise"]) / max(r["tets"], 1)  # noqa: E731
         bpt = lambda r: r["peak_rss"] / max(r["tets"], 1)  # noqa: E731
         cpu = lambda r: r.get("call_cpu", float("nan"))  # noqa: E731
         cpus = "%.2f / %.2f (%.2fx)" % (cpu(om), cpu(cg), (cpu(om) / max(om["tets"], 1)) / (cpu(cg) / max(cg["tets"], 1)))
+        ocpu = lambda r: r.get("optimise_cpu", float("nan"))  # noqa: E731
+        gain = lambda r: (r["min_dihedral"] - r.get("min_refined", float("nan"))) / max(ocpu(r), 1e-9)  # noqa: E731
+        opt = "%.2f / %.2f" % (ocpu(om), ocpu(cg))
+        angles = "%.1f° / %.1f° (%.1f° / %.1f°)" % (om["min_dihedral"], cg["min_dihedral"], om.get("min_refined", float("nan")),
+                                                    cg.get("min_refined", float("nan")))
+        gains = "%.1f / %.1f" % (gain(om), gain(cg))
         cov = "–" if om["coverage"] < 0 else "%.0f %% / %.0f %%" % (100 * om["coverage"], 100 * cg["coverage"])
-        out.append("| %s | %g | %s | %s / %s | %.2f / %.2f (%.2fx) | %.2f / %.2f | %.2fx | %s | %.0f / %.0f | %.0f / %.0f "
-                   "(%.2fx) | %.1f° / %.1f° | %d / %d | %s |" % (
+        out.append("| %s | %g | %s | %s / %s | %.2f / %.2f (%.2fx) | %.2f / %.2f | %.2fx | %s | %s | %.0f / %.0f | %.0f / %.0f "
+                   "(%.2fx) | %s | %s | %d / %d | %s |" % (
                        case, h, label, f"{om['tets']:,}", f"{cg['tets']:,}", om["refine"], cg["refine"], rr,
-                       om["optimise"], cg["optimise"], tot(om) / tot(cg), cpus, om["peak_rss"] / 2**20,
-                       cg["peak_rss"] / 2**20, bpt(om), bpt(cg), bpt(om) / bpt(cg), om["min_dihedral"],
-                       cg["min_dihedral"], om["defects"], cg["defects"], cov))
+                       om["optimise"], cg["optimise"], tot(om) / tot(cg), cpus, opt, om["peak_rss"] / 2**20,
+                       cg["peak_rss"] / 2**20, bpt(om), bpt(cg), bpt(om) / bpt(cg), angles, gains,
+                       om["defects"], cg["defects"], cov))
     return "\n".join(out)
 
 

@@ -23,6 +23,8 @@ CRITERIA = [("facet_angle", "FacetAngle"), ("facet_size", "FacetSize"), ("facet_
             ("cell_size", "CellSize"), ("cell_radius_edge_ratio", "CellRadiusEdgeRatio"), ("edge_size", "EdgeSize")]
 MESH_PROPERTIES = {"perturb": "Perturb", "exude": "Exude", "sliver_angle": "SliverAngle",
                    "interface_sliver_angle": "InterfaceSliverAngle",
+                   "perturbation_failures_per_bound": "PerturbationFailuresPerBound",
+                   "exudation_sliver_bound": "ExudationSliverBound",
                    "perturbation_steps_per_vertex": "PerturbationStepsPerVertex",
                    "exudation_steps_per_cell": "ExudationStepsPerCell",
                    "optimisation_time_limit": "OptimisationTimeLimit", "seed": "Seed",

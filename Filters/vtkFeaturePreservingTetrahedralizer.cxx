@@ -95,6 +95,8 @@ vtkFeaturePreservingTetrahedralizer::vtkFeaturePreservingTetrahedralizer()
   this->InterfaceSliverAngle = defaults.interfaceSliverAngle;
   this->Perturb = defaults.perturb;
   this->Exude = defaults.exude;
+  this->PerturbationFailuresPerBound = defaults.perturbationFailuresPerBound;
+  this->ExudationSliverBound = defaults.exudationSliverBound;
   this->PerturbationStepsPerVertex = defaults.perturbationStepsPerVertex;
   this->ExudationStepsPerCell = defaults.exudationStepsPerCell;
   this->OptimisationTimeLimit = defaults.optimisationTimeLimit;
@@ -200,6 +202,8 @@ int vtkFeaturePreservingTetrahedralizer::RequestData(
   options.interfaceSliverAngle = this->InterfaceSliverAngle;
   options.perturb = this->Perturb;
   options.exude = this->Exude;
+  options.perturbationFailuresPerBound = this->PerturbationFailuresPerBound;
+  options.exudationSliverBound = this->ExudationSliverBound;
   options.perturbationStepsPerVertex = this->PerturbationStepsPerVertex;
   options.exudationStepsPerCell = this->ExudationStepsPerCell;
   options.optimisationTimeLimit = this->OptimisationTimeLimit;
@@ -225,6 +229,8 @@ int vtkFeaturePreservingTetrahedralizer::RequestData(
     if (this->MaximumNumberOfVertices < 0)
       throw omesh::InputError("vtkFeaturePreservingTetrahedralizer: MaximumNumberOfVertices " +
         std::to_string(this->MaximumNumberOfVertices) + " is out of range (>= 0; 0 = unlimited)");
+    checkRange("PerturbationFailuresPerBound", this->PerturbationFailuresPerBound, 0.0, 1e6, "; 0 = never give up");
+    checkRange("ExudationSliverBound", this->ExudationSliverBound, 0.0, 90.0, " degrees; 0 = every cell");
     checkRange("PerturbationStepsPerVertex", this->PerturbationStepsPerVertex, 0.0, 1e6, "; 0 = no budget");
     checkRange("ExudationStepsPerCell", this->ExudationStepsPerCell, 0.0, 1e6, "; 0 = no budget");
     checkRange("OptimisationTimeLimit", this->OptimisationTimeLimit, -1.0, 1e9, " seconds; 0 = none, -1 = CGAL's");
@@ -421,6 +427,8 @@ void vtkFeaturePreservingTetrahedralizer::PrintSelf(ostream& os, vtkIndent inden
   os << indent << "InterfaceSliverAngle: " << this->InterfaceSliverAngle << "\n";
   os << indent << "Perturb: " << this->Perturb << "\n";
   os << indent << "Exude: " << this->Exude << "\n";
+  os << indent << "PerturbationFailuresPerBound: " << this->PerturbationFailuresPerBound << "\n";
+  os << indent << "ExudationSliverBound: " << this->ExudationSliverBound << "\n";
   os << indent << "PerturbationStepsPerVertex: " << this->PerturbationStepsPerVertex << "\n";
   os << indent << "ExudationStepsPerCell: " << this->ExudationStepsPerCell << "\n";
   os << indent << "OptimisationTimeLimit: " << this->OptimisationTimeLimit << "\n";

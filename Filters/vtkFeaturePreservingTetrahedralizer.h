@@ -118,6 +118,17 @@ public:
   ///@}
 
   ///@{
+  /// The optimisation policy (see omesh::MesherOptions): the perturber gives up at a bound on the
+  /// smallest dihedral angle it cannot reach after this many vertices it could not move (plus 1% of
+  /// its attempts at that bound; default 4; 0 = never, CGAL's behaviour); the exuder pumps the cells
+  /// below ExudationSliverBound degrees (default 15; 0 = every cell, CGAL's default).
+  vtkSetMacro(PerturbationFailuresPerBound, double); // 0 to 1e6
+  vtkGetMacro(PerturbationFailuresPerBound, double);
+  vtkSetMacro(ExudationSliverBound, double); // 0 to 90
+  vtkGetMacro(ExudationSliverBound, double);
+  ///@}
+
+  ///@{
   /// Step budgets of the sliver optimisers (they otherwise may run for hours on large meshes):
   /// perturbation attempts per mesh vertex (default 2) and cells pumped per cell (default 0.1: the exuder treats the worst first, and on an 890k-tet mesh 0.1 reached the same minimal angle as 1 in a fifth of the time);
   /// 0 = no budget. A phase that reaches its budget ends there (statistics
@@ -194,6 +205,8 @@ protected:
   double EdgeSize;
   bool Perturb;
   bool Exude;
+  double PerturbationFailuresPerBound;
+  double ExudationSliverBound;
   double PerturbationStepsPerVertex;
   double ExudationStepsPerCell;
   double OptimisationTimeLimit;

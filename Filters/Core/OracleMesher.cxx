@@ -28,6 +28,7 @@
 #include <chrono>
 #include <future>
 #include <cmath>
+#include <ctime>
 #include <limits>
 #include <map>
 #include <memory>
@@ -164,6 +165,14 @@ private:
 double seconds(Clock::time_point since)
 {
   return std::chrono::duration<double>(Clock::now() - since).count();
+}
+
+/// CPU seconds of the calling thread.
+double threadCpu()
+{
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
 }
 
 double squared(double x) { return x * x; }
@@ -411,14 +420,41 @@ struct BudgetReached
 {
 };
 
+/// Thrown by OptimiserVisitor when the perturber gives up at a bound it cannot reach.
+struct GaveUp
+{
+};
+
+/// The perturber's current bound. CGAL's perturber raises a bound on the smallest dihedral angle
+/// one degree at a time (up to 12); at each it moves the vertices of the cells below it. At a bound
+/// it cannot reach, every vertex that none of its perturbations improves has cost all of them (40
+/// gradient steps each of three kinds and 100 random moves): measured, the last bound took 40-75%
+/// of the perturbation time for a few tenths of a degree. It gives up there after `allowed` such
+/// vertices plus `perStep` per attempt at that bound (deterministic, unlike a time limit).
+struct PerturbationBound
+{
+  double allowed = 0.0; ///< 0 = never give up (CGAL's behaviour)
+  double perStep = 0.0;
+  std::size_t failures = 0; ///< vertices no perturbation moved, at this bound
+  std::size_t steps = 0;    ///< attempts at this bound
+  double done = 0.0;        ///< last bound worked through to the end (reached or not)
+  void step()
+  {
+    ++steps;
+    if (allowed > 0 && static_cast<double>(failures) > allowed + perStep * static_cast<double>(steps))
+      throw GaveUp{};
+  }
+};
+
 /// CGAL's optimiser visitors: count the steps (a perturbation attempt on one vertex, or one cell
 /// pumped), stop at `budget` steps (0 = none) and ask `check` (which may throw MeshingAborted)
-/// every 256 steps. Copied by CGAL: the count lives outside.
+/// every 256 steps. Copied by CGAL: the counts live outside.
 struct OptimiserVisitor
 {
   std::function<void()> check;
   std::size_t* steps;
   std::size_t budget;
+  PerturbationBound* bound = nullptr; ///< the perturber's
   void step()
   {
     if (++*steps % 256 == 0)
@@ -426,59 +462,127 @@ struct OptimiserVisitor
     if (budget && *steps >= budget)
       throw BudgetReached{};
   }
-  void bound_reached(double) {}
-  void end_of_perturbation_iteration(std::size_t) { step(); }
+  void bound_reached(double b)
+  {
+    if (bound)
+      *bound = PerturbationBound{ bound->allowed, bound->perStep, 0, 0, b };
+  }
+  void end_of_perturbation_iteration(std::size_t)
+  {
+    step();
+    if (bound)
+      bound->step();
+  }
   void after_cell_pumped(std::size_t) { step(); }
 };
+
+/// Smallest dihedral angle (degrees) of the cells of the complex.
+double complexMinAngle(const C3t3& c3t3)
+{
+  double m = 180.0;
+  for (auto c = c3t3.cells_in_complex_begin(); c != c3t3.cells_in_complex_end(); ++c)
+    m = std::min(m, minDihedralAngle(toVec(c->vertex(0)->point().point()), toVec(c->vertex(1)->point().point()),
+      toVec(c->vertex(2)->point().point()), toVec(c->vertex(3)->point().point())));
+  return m;
+}
 
 /// How one optimiser ended.
 struct OptimiserRun
 {
   std::size_t steps = 0;
   bool cutShort = false; ///< stopped by its step budget or time limit, not by its own bound
+  bool gaveUp = false;   ///< the perturber gave up at a bound it could not reach
+  double lastBound = 0.0; ///< the perturber's last bound (degrees) worked through to the end
   double seconds = 0.0;
+  double cpuSeconds = 0.0; ///< of the calling thread
 };
 
 /// Runs a CGAL optimiser (perturber or exuder) with an OptimiserVisitor and its budget.
 template <class Optimiser>
-OptimiserRun runOptimiser(C3t3& c3t3, Optimiser& optimiser, std::size_t budget, std::function<void()> check)
+OptimiserRun runOptimiser(C3t3& c3t3, Optimiser& optimiser, std::size_t budget, std::function<void()> check,
+  PerturbationBound* bound = nullptr)
 {
   const auto started = Clock::now();
+  const double cpuStart = threadCpu();
   OptimiserRun run;
+  auto stopped = [&] {
+    // the optimisers cache sliver values in the cells and clear them only when they end normally
+    for (auto c = c3t3.triangulation().finite_cells_begin(); c != c3t3.triangulation().finite_cells_end(); ++c)
+      c->reset_cache_validity();
+  };
   try
   {
-    run.cutShort = optimiser(OptimiserVisitor{ std::move(check), &run.steps, budget }) == CGAL::TIME_LIMIT_REACHED;
+    run.cutShort = optimiser(OptimiserVisitor{ std::move(check), &run.steps, budget, bound }) == CGAL::TIME_LIMIT_REACHED;
   }
   catch (const BudgetReached&)
   {
     run.cutShort = true;
-    // the optimisers cache sliver values in the cells and clear them only when they end normally
-    for (auto c = c3t3.triangulation().finite_cells_begin(); c != c3t3.triangulation().finite_cells_end(); ++c)
-      c->reset_cache_validity();
+    stopped();
   }
+  catch (const GaveUp&)
+  {
+    run.gaveUp = true;
+    stopped();
+  }
+  if (bound)
+    run.lastBound = bound->done;
   run.seconds = seconds(started);
+  run.cpuSeconds = threadCpu() - cpuStart;
   return run;
 }
 
-/// As CGAL::perturb_mesh_3 with its defaults, abortable, stopped after `budget` steps (0 = none)
-/// or `timeLimit` seconds (0 = none).
-OptimiserRun perturb(C3t3& c3t3, const MeshDomain& domain, double timeLimit, std::size_t budget, std::function<void()> check)
+/// The last of CGAL's perturbations for a vertex: when it fails too, no perturbation moved the
+/// vertex, which counts as a failure at the current bound.
+template <class Base, class Criterion>
+struct LastPerturbation : Base
+{
+  using Base::Base;
+  PerturbationBound* bound = nullptr;
+
+protected:
+  std::pair<bool, typename Base::Vertex_handle> do_perturb(const typename Base::Vertex_handle& v,
+    const std::vector<typename Base::Cell_handle>& slivers, C3t3& c3t3, const MeshDomain& domain,
+    const Criterion& criterion, const typename Base::FT& sliverBound, std::vector<typename Base::Vertex_handle>& modified,
+    bool* couldLock) const override
+  {
+    auto r = Base::do_perturb(v, slivers, c3t3, domain, criterion, sliverBound, modified, couldLock);
+    if (!r.first)
+      ++bound->failures;
+    return r;
+  }
+};
+
+/// As CGAL::perturb_mesh_3 with its defaults (bounds up to 12 degrees, CGAL's perturbations),
+/// abortable, stopped after `budget` steps (0 = none) or `timeLimit` seconds (0 = none), giving up
+/// at a bound after `failuresPerBound` vertices it could not move plus 1% of its attempts there
+/// (0 = never).
+OptimiserRun perturb(C3t3& c3t3, const MeshDomain& domain, double timeLimit, std::size_t budget,
+  double failuresPerBound, std::function<void()> check)
 {
   const auto criterion = CGAL::parameters::default_values_for_mesh_3::default_sliver_criterion(
     c3t3, CGAL::parameters::default_values_for_mesh_3::perturb_sliver_bound);
   using Criterion = std::remove_const_t<decltype(criterion)>;
   CGAL::Mesh_3::Sliver_perturber<C3t3, MeshDomain, Criterion, OptimiserVisitor> perturber(c3t3, domain, criterion);
-  for (auto* p : CGAL::default_perturbation_vector(c3t3, domain, criterion))
-    perturber.add_perturbation(p);
+  PerturbationBound bound;
+  bound.allowed = failuresPerBound;
+  bound.perStep = failuresPerBound > 0 ? 0.01 : 0.0;
+  // CGAL's default_perturbation_vector (same kinds, same parameters), the last one watched
+  perturber.add_perturbation(new CGAL::Mesh_3::Sq_radius_perturbation<C3t3, MeshDomain, Criterion>(40, 0.05));
+  perturber.add_perturbation(new CGAL::Mesh_3::Volume_perturbation<C3t3, MeshDomain, Criterion>(40, 0.05));
+  perturber.add_perturbation(new CGAL::Mesh_3::Dihedral_angle_perturbation<C3t3, MeshDomain, Criterion>(40, 0.05));
+  auto* last = new LastPerturbation<CGAL::Mesh_3::Li_random_perturbation<C3t3, MeshDomain, Criterion>, Criterion>(100, 0.15);
+  last->bound = &bound;
+  perturber.add_perturbation(last);
   perturber.set_time_limit(timeLimit);
-  return runOptimiser(c3t3, perturber, budget, std::move(check));
+  return runOptimiser(c3t3, perturber, budget, std::move(check), &bound);
 }
 
-/// As CGAL::exude_mesh_3 with its defaults, abortable, stopped as perturb().
-OptimiserRun exude(C3t3& c3t3, double timeLimit, std::size_t budget, std::function<void()> check)
+/// As CGAL::exude_mesh_3, pumping the cells below `sliverBound` degrees (0 = every cell, CGAL's
+/// default), abortable, stopped as perturb().
+OptimiserRun exude(C3t3& c3t3, double timeLimit, std::size_t budget, double sliverBound, std::function<void()> check)
 {
   using Criterion = CGAL::Mesh_3::Min_dihedral_angle_criterion<Tr>;
-  Criterion criterion(CGAL::parameters::default_values_for_mesh_3::exude_sliver_bound, c3t3.triangulation());
+  Criterion criterion(sliverBound, c3t3.triangulation());
   CGAL::Mesh_3::Slivers_exuder<C3t3, Criterion, OptimiserVisitor> exuder(c3t3, criterion);
   exuder.set_time_limit(timeLimit);
   return runOptimiser(c3t3, exuder, budget, std::move(check));
@@ -719,6 +823,7 @@ TetMesh meshOracleUnguarded(const HierarchicalOracle& oracle, const FeatureSegme
 
   // Refinement, one step at a time: progress, abort and the vertex budget in our hands.
   const auto refineStart = Clock::now();
+  const double refineCpuStart = threadCpu();
   size_t steps = 0;
   int rounds = 0;
   bool budgetHit = false;
@@ -830,8 +935,11 @@ TetMesh meshOracleUnguarded(const HierarchicalOracle& oracle, const FeatureSegme
   }
   c3t3.clear_manifold_info();
   const double refineTime = seconds(refineStart);
+  const double refineCpu = threadCpu() - refineCpuStart;
 
   const auto optStart = Clock::now();
+  const double optCpuStart = threadCpu();
+  const double minBefore = options.perturb || options.exude ? complexMinAngle(c3t3) : 0.0;
   // Bounded by step budgets that scale with the mesh (deterministic: the same seed gives the same
   // mesh on any machine); a time limit is optional (< 0: stock CGAL's, the refinement's time).
   const double optLimit = options.optimisationTimeLimit < 0 ? refineTime : options.optimisationTimeLimit;
@@ -849,7 +957,7 @@ TetMesh meshOracleUnguarded(const HierarchicalOracle& oracle, const FeatureSegme
     report(0.45, "perturbation");
     const size_t max = budget(options.perturbationStepsPerVertex, c3t3.triangulation().number_of_vertices());
     size_t checks = 0;
-    perturbed = perturb(c3t3, domain, optLimit, max,
+    perturbed = perturb(c3t3, domain, optLimit, max, options.perturbationFailuresPerBound,
       [&] { report(0.45 + 0.35 * phaseProgress(256 * ++checks, max), "perturbation"); });
     // The perturber never moves segment vertices, but a moved neighbour can land in a diametral
     // ball and so break a sub-segment: refine again (the segment level splits what was
@@ -886,7 +994,7 @@ TetMesh meshOracleUnguarded(const HierarchicalOracle& oracle, const FeatureSegme
     const size_t max = budget(options.exudationStepsPerCell > 0 ? options.exudationStepsPerCell : 10.0,
       c3t3.number_of_cells_in_complex());
     size_t checks = 0;
-    exuded = exude(c3t3, optLimit, max, [&] { report(0.8 + 0.18 * phaseProgress(256 * ++checks, max), "exudation"); });
+    exuded = exude(c3t3, optLimit, max, options.exudationSliverBound, [&] { report(0.8 + 0.18 * phaseProgress(256 * ++checks, max), "exudation"); });
     if (conforming)
     {
       segVertex.clear(); // the exuder re-creates vertices: find the segment points again
@@ -899,6 +1007,8 @@ TetMesh meshOracleUnguarded(const HierarchicalOracle& oracle, const FeatureSegme
     }
   }
   const double optTime = seconds(optStart);
+  const double optCpu = threadCpu() - optCpuStart;
+
 
   TetMesh mesh = toTetMesh(c3t3);
   mesh.segments = locateFeatureSegments(mesh, features);
@@ -946,8 +1056,12 @@ TetMesh meshOracleUnguarded(const HierarchicalOracle& oracle, const FeatureSegme
   st["segment_splits_mirrored_in_small_angle_clusters"] = static_cast<double>(segs.mirrored + segCount.mirrored);
   st["segment_splits_after_optimisation"] = static_cast<double>(repaired);
   st["vertices_removed_from_segment_balls_after_perturbation"] = static_cast<double>(segCount.removedEncroachers);
+  if (options.perturb || options.exude)
+    st["optimisation.min_dihedral_before"] = minBefore;
   st["optimisation.perturbation_steps"] = static_cast<double>(perturbed.steps);
   st["optimisation.perturbation_cut_short"] = perturbed.cutShort;
+  st["optimisation.perturbation_gave_up"] = perturbed.gaveUp;
+  st["optimisation.perturbation_last_bound"] = perturbed.lastBound;
   st["optimisation.exudation_steps"] = static_cast<double>(exuded.steps);
   st["optimisation.exudation_cut_short"] = exuded.cutShort;
   st["time.perturbation"] = perturbed.seconds;
@@ -956,6 +1070,11 @@ TetMesh meshOracleUnguarded(const HierarchicalOracle& oracle, const FeatureSegme
   st["time.refinement"] = refineTime;
   st["time.optimisation"] = optTime;
   st["time.total"] = seconds(started);
+  // CPU seconds of the calling thread (the wall times above depend on the machine's load)
+  st["cpu.refinement"] = refineCpu;
+  st["cpu.perturbation"] = perturbed.cpuSeconds;
+  st["cpu.exudation"] = exuded.cpuSeconds;
+  st["cpu.optimisation"] = optCpu;
   for (const auto& [m, v] : materialVolumes(mesh))
     st["volume.material_" + std::to_string(m)] = v;
   for (int m : mesh.tetMaterial)

@@ -49,7 +49,17 @@ struct MesherOptions
   double interfaceSliverAngle = 10.0;
   bool perturb = true;
   bool exude = true;
-  /// Step budgets of the sliver optimisers, which otherwise may run for hours on large meshes:
+  /// The optimisation policy (issue 12): each optimiser works where its work pays, in steps, not
+  /// seconds, so a seed gives the same mesh on any machine.
+  /// The perturber raises a bound on the smallest dihedral angle one degree at a time (CGAL's, up to
+  /// 12); at a bound it cannot reach, a vertex that none of its perturbations moves costs all of them.
+  /// It gives up at a bound after this many such vertices plus 1% of its attempts at that bound
+  /// (statistics optimisation.perturbation_gave_up, _last_bound); 0 = never (CGAL's behaviour).
+  double perturbationFailuresPerBound = 4.0;
+  /// The exuder pumps the cells whose smallest dihedral angle is below this (degrees), worst first;
+  /// 0 = every cell (CGAL's default, whose cost only its time limit bounds).
+  double exudationSliverBound = 15.0;
+  /// Step budgets of the sliver optimisers, a backstop (which the defaults above rarely reach):
   /// perturbation attempts per mesh vertex, cells pumped per cell of the complex; 0 = no budget
   /// (for the exuder, which can cycle, 10 per cell).
   /// Reaching one ends the phase (statistics optimisation.*_cut_short). Deterministic.

@@ -372,6 +372,7 @@ TEST(OracleMesher, AbortDuringOptimisation)
   {
     SCOPED_TRACE(phase);
     MesherOptions opt = options(FeatureStrategy::None, 0.08);
+    opt.exudationSliverBound = 0; // every cell: an exudation long enough to be asked from inside
     int calls = 0;
     // the first call announces the phase; a second one comes from inside CGAL's optimiser
     opt.progress = [&](double, const char* p) { return !(phase == p && ++calls >= 2); };
@@ -478,6 +479,7 @@ TEST(OracleMesher, OptimiserBudgetsEndThePhasesAndSaySo)
   HierarchicalOracle o;
   o.add(std::make_shared<SphereDomain>(Vec3{ 0, 0, 0 }, 1.0, 1));
   MesherOptions opt = options(FeatureStrategy::None, 0.1);
+  opt.exudationSliverBound = 0;     // every cell in the exuder's queue (CGAL's default)
   opt.exudationStepsPerCell = 1e-9; // the floor of 1000 steps only
   const TetMesh cut = meshOracle(o, {}, {}, opt);
   ASSERT_GT(cut.tets.size(), 5000u);
@@ -489,6 +491,48 @@ TEST(OracleMesher, OptimiserBudgetsEndThePhasesAndSaySo)
   EXPECT_EQ(full.statistics.at("optimisation.exudation_cut_short"), 0.0);
   EXPECT_GT(full.statistics.at("optimisation.exudation_steps"), 1001.0);
   EXPECT_EQ(full.statistics.at("optimisation.perturbation_cut_short"), 0.0);
+}
+
+// Issue 12: the default optimisation policy gives up where the work no longer pays (the
+// perturber at a bound it cannot reach, the exuder above its sliver bound) and costs fewer steps
+// than CGAL's policy without limits, with the same guarantees: valid mesh, same seed = same mesh.
+TEST(OracleMesher, OptimisationPolicyStopsWhereItNoLongerPays)
+{
+  const TriangleSurface part = steppedPart({ 0.9, 0.3, 0.2, 0.245 });
+  HierarchicalOracle o;
+  o.add(std::make_shared<SurfaceDomain>(part, 3));
+  const FeatureSegments edges = test::sharpEdges(part, 60);
+  MesherOptions opt = options(FeatureStrategy::Conforming, 0.8);
+  opt.criteria.global.facetDistance = 0.2;
+  opt.criteria.global.edgeSize = 0.4;
+  const TetMesh policy = meshOracle(o, edges, {}, opt);
+  MesherOptions stock = opt; // CGAL's policy, without its time limits
+  stock.perturbationFailuresPerBound = 0;
+  stock.exudationSliverBound = 0;
+  stock.perturbationStepsPerVertex = 0;
+  stock.exudationStepsPerCell = 0;
+  const TetMesh full = meshOracle(o, edges, {}, stock);
+  for (const TetMesh* m : { &policy, &full })
+  {
+    EXPECT_EQ(m->statistics.at("validity.defects"), 0.0);
+    EXPECT_NEAR(m->statistics.at("feature_coverage"), 1.0, 1e-9);
+    EXPECT_GT(m->statistics.at("min_dihedral_angle"), 8.0);
+    EXPECT_GT(m->statistics.at("min_dihedral_angle"), m->statistics.at("optimisation.min_dihedral_before"));
+  }
+  // the perturber gives up at a bound it cannot reach (CGAL's policy goes on), the exuder treats
+  // the slivers only
+  EXPECT_EQ(policy.statistics.at("optimisation.perturbation_gave_up"), 1.0);
+  EXPECT_EQ(full.statistics.at("optimisation.perturbation_gave_up"), 0.0);
+  EXPECT_GE(policy.statistics.at("optimisation.perturbation_last_bound"), 8.0);
+  EXPECT_LT(policy.statistics.at("optimisation.perturbation_steps"), full.statistics.at("optimisation.perturbation_steps"));
+  EXPECT_LT(10 * policy.statistics.at("optimisation.exudation_steps"), full.statistics.at("optimisation.exudation_steps"));
+  // counts, not seconds: the same seed gives the same mesh
+  const TetMesh again = meshOracle(o, edges, {}, opt);
+  EXPECT_EQ(again.tets, policy.tets);
+  ASSERT_EQ(again.points.size(), policy.points.size());
+  for (size_t i = 0; i < again.points.size(); ++i)
+    ASSERT_TRUE(again.points[i].x == policy.points[i].x && again.points[i].y == policy.points[i].y &&
+      again.points[i].z == policy.points[i].z) << i;
 }
 
 // Issue 9 / the paper's section 5: a corner tetrahedron (face angles 45, 60 and 90 degrees, all six

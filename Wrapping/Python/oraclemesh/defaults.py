@@ -26,6 +26,8 @@ MESH_PROPERTIES = {
     "perturb": "Perturb", "exude": "Exude", "sliver_angle": "SliverAngle",
     "resample_feature_lines": "ResampleFeatureLines",
     "interface_sliver_angle": "InterfaceSliverAngle",
+    "perturbation_failures_per_bound": "PerturbationFailuresPerBound",
+    "exudation_sliver_bound": "ExudationSliverBound",
     "perturbation_steps_per_vertex": "PerturbationStepsPerVertex",
     "exudation_steps_per_cell": "ExudationStepsPerCell", "optimisation_time_limit": "OptimisationTimeLimit",
     "seed": "Seed", "maximum_number_of_vertices": "MaximumNumberOfVertices",

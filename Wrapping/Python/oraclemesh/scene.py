@@ -49,7 +49,8 @@ DOMAIN_KEYS = {
 TOP_KEYS = {"description", "comment", "space", "domains", "mesh", "outputs", "reference_volumes"}
 MESH_KEYS = {"strategy", "criteria", "materials", "features", "seed", "maximum_number_of_vertices", "comment",
              "perturb", "exude", "sliver_angle", "interface_sliver_angle", "perturbation_steps_per_vertex",
-             "exudation_steps_per_cell", "optimisation_time_limit"}
+             "exudation_steps_per_cell", "optimisation_time_limit", "perturbation_failures_per_bound",
+             "exudation_sliver_bound"}
 FEATURE_KEYS = {"from_surface", "feature_angle", "files", "resample", "comment"}
 OUTPUT_KEYS = {"mesh", "report", "histogram", "comment"}
 INT_MIN, INT_MAX = -2**31, 2**31 - 1  # the C int of material ids, labels and the seed
@@ -295,12 +296,13 @@ def _mesh_block(problems, spec, scene):
                 problems.add(f"$.mesh.{key}", f"must be between 0 and 30 degrees, got {angle}")
             else:
                 mesh[key] = angle
-    for key, low in (("perturbation_steps_per_vertex", 0), ("exudation_steps_per_cell", 0),
-                     ("optimisation_time_limit", -1)):
+    for key, low, high in (("perturbation_steps_per_vertex", 0, 1e6), ("exudation_steps_per_cell", 0, 1e6),
+                           ("optimisation_time_limit", -1, 1e6), ("perturbation_failures_per_bound", 0, 1e6),
+                           ("exudation_sliver_bound", 0, 90)):
         value = _number(problems, spec, "$.mesh", key, required=False)
         if value is not None:
-            if not low <= value <= 1e6:
-                problems.add(f"$.mesh.{key}", f"must be between {low} and 1e6, got {value}")
+            if not low <= value <= high:
+                problems.add(f"$.mesh.{key}", f"must be between {low} and {high:g}, got {value}")
             else:
                 mesh[key] = value
     limit = _number(problems, spec, "$.mesh", "maximum_number_of_vertices", positive=True, required=False,
