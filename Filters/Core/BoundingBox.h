@@ -43,5 +43,25 @@ struct BoundingBox
     return empty() ? 0.0 : (max.x - min.x) * (max.y - min.y) * (max.z - min.z);
   }
   Vec3 size() const { return max - min; }
+  /// Narrows [t0, t1] to the parameters t at which a + t d lies in the box (slab method); false
+  /// when none does.
+  bool clip(const Vec3& a, const Vec3& d, double& t0, double& t1) const
+  {
+    for (int i = 0; i < 3; ++i)
+    {
+      if (d[i] == 0.0)
+      {
+        if (!(a[i] >= min[i] && a[i] <= max[i]))
+          return false;
+        continue;
+      }
+      double ta = (min[i] - a[i]) / d[i], tb = (max[i] - a[i]) / d[i];
+      if (ta > tb)
+        std::swap(ta, tb);
+      t0 = std::max(t0, ta);
+      t1 = std::min(t1, tb);
+    }
+    return t0 <= t1;
+  }
 };
 }

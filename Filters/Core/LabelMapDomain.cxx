@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "LabelMapDomain.h"
 
+#include "BoundingBox.h"
+
 #include "InputError.h"
 
 #include <algorithm>
@@ -106,21 +108,10 @@ void LabelMapDomain::crossings(const Vec3& a, const Vec3& b, std::vector<double>
     return;
   // Clip to the grid [0, dims] (slab method); entering and leaving the grid are candidates.
   double t0 = 0.0, t1 = 1.0;
-  for (int i = 0; i < 3; ++i)
-  {
-    if (d[i] == 0.0)
-    {
-      if (!(ua[i] >= 0.0 && ua[i] <= dimsD_[i]))
-        return;
-      continue;
-    }
-    double ta = (0.0 - ua[i]) / d[i], tb = (dimsD_[i] - ua[i]) / d[i];
-    if (ta > tb)
-      std::swap(ta, tb);
-    t0 = std::max(t0, ta);
-    t1 = std::min(t1, tb);
-  }
-  if (!(t0 <= t1))
+  BoundingBox grid;
+  grid.add(Vec3{ 0.0, 0.0, 0.0 });
+  grid.add(Vec3{ dimsD_[0], dimsD_[1], dimsD_[2] });
+  if (!grid.clip(ua, d, t0, t1))
     return;
   ts.push_back(t0);
   ts.push_back(t1);

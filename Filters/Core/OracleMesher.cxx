@@ -22,6 +22,7 @@
 #include <CGAL/make_mesh_3.h>
 #include <CGAL/perturb_mesh_3.h>
 #include <CGAL/refine_mesh_3.h>
+#include <optional>
 
 #include <array>
 #include <atomic>
@@ -651,34 +652,37 @@ TetMesh toTetMesh(const C3t3& c3t3)
 
 namespace
 {
-TetMesh meshOracleUnguarded(const HierarchicalOracle& oracle, const FeatureSegments& features,
+/// The feature lines resampled as MesherOptions::resampleFeatureLines asks (chords up to the edge
+/// size, else the facet size, else 1/40 of the diagonal, within half the smallest facet distance),
+/// or nothing when it does not.
+std::optional<FeatureSegments> resampledFeatures(const FeatureSegments& given, const MesherOptions& options,
+  const BoundingBox& inner, std::vector<std::string>& warnings)
+{
+  if (!options.resampleFeatureLines || given.empty())
+    return std::nullopt;
+  const MeshCriteria::Values g = options.criteria.globalValues();
+  double distance = g.facetDistance;
+  for (const auto& [m, unused] : options.criteria.perMaterial)
+    if (const double d = options.criteria.of(m).facetDistance; d > 0 && (distance <= 0 || d < distance))
+      distance = d;
+  const double length = g.edgeSize > 0 ? g.edgeSize : g.facetSize > 0 ? g.facetSize : norm(inner.size()) / 40.0;
+  FeatureSegments resampled = given;
+  if (resampleFeatureLines(resampled, length, distance > 0 ? 0.5 * distance : 0.05 * length) > 0)
+    warnings.push_back("feature lines resampled: " + std::to_string(given.segments.size()) + " segments became " +
+      std::to_string(resampled.segments.size()) + " (chords up to " + std::to_string(length) + ")");
+  return resampled;
+}
+
+TetMesh meshOracleUnguarded(const HierarchicalOracle& oracle, const FeatureSegments& givenFeatures,
   const std::vector<Vec3>& seedPoints, const MesherOptions& options)
 {
   const auto started = Clock::now();
   std::vector<std::string> warnings;
   const BoundingBox inner = oracle.bounds(); // throws for an empty or unbounded oracle
+  const std::optional<FeatureSegments> resampled = resampledFeatures(givenFeatures, options, inner, warnings);
+  const FeatureSegments& features = resampled ? *resampled : givenFeatures;
   checkCriteria(options.criteria, warnings);
   const MeshCriteria::Values g = options.criteria.globalValues();
-  if (options.resampleFeatureLines && !features.empty())
-  {
-    double distance = g.facetDistance;
-    for (const auto& [m, unused] : options.criteria.perMaterial)
-      if (const double d = options.criteria.of(m).facetDistance; d > 0 && (distance <= 0 || d < distance))
-        distance = d;
-    const double length = g.edgeSize > 0 ? g.edgeSize : g.facetSize > 0 ? g.facetSize : norm(inner.size()) / 40.0;
-    FeatureSegments resampled = features;
-    const size_t before = resampled.segments.size();
-    std::vector<std::string> notes;
-    if (resampleFeatureLines(resampled, length, distance > 0 ? 0.5 * distance : 0.05 * length) > 0)
-      notes.push_back("feature lines resampled: " + std::to_string(before) + " segments became " +
-        std::to_string(resampled.segments.size()) + " (chords up to " + std::to_string(length) + ")");
-    MesherOptions rest = options;
-    rest.resampleFeatureLines = false;
-    auto mesh = meshOracleUnguarded(oracle, resampled, seedPoints, rest);
-    mesh.warnings.insert(mesh.warnings.begin(), notes.begin(), notes.end());
-    mesh.statistics["feature_segments_before_resampling"] = static_cast<double>(before);
-    return mesh;
-  }
   if (!features.empty())
   {
     auto w = features.validate(oracle, g.cellRadiusEdgeRatio);
@@ -1044,6 +1048,8 @@ TetMesh meshOracleUnguarded(const HierarchicalOracle& oracle, const FeatureSegme
   st["min_dihedral_angle"] = mesh.tets.empty() ? 0.0 : minAngle;
   st["mean_min_dihedral_angle"] = mesh.tets.empty() ? 0.0 : sumAngle / mesh.tets.size();
   st["feature_coverage"] = coverage;
+  if (resampled)
+    st["feature_segments_before_resampling"] = static_cast<double>(givenFeatures.segments.size());
   st["refinement_steps"] = static_cast<double>(steps);
   st["refinement_rounds"] = rounds;
   st["segment_trims_T1.1"] = static_cast<double>(segs.trims);

@@ -248,21 +248,7 @@ void SurfaceDomain::Impl::windingCrossings(const Vec3& a, const Vec3& b, std::ve
   // clip ab to the box: outside it nothing is inside
   const Vec3 d = b - a;
   double t0 = 0.0, t1 = 1.0;
-  for (int i = 0; i < 3; ++i)
-  {
-    if (d[i] == 0.0)
-    {
-      if (!(a[i] >= box.min[i] && a[i] <= box.max[i]))
-        return;
-      continue;
-    }
-    double ta = (box.min[i] - a[i]) / d[i], tb = (box.max[i] - a[i]) / d[i];
-    if (ta > tb)
-      std::swap(ta, tb);
-    t0 = std::max(t0, ta);
-    t1 = std::min(t1, tb);
-  }
-  if (!(t0 <= t1))
+  if (!box.clip(a, d, t0, t1))
     return;
   ts.push_back(t0);
   ts.push_back(t1);

@@ -106,3 +106,18 @@ def strings(field_data, name):
         return _string_values(array)
     return [array.GetComponentName(i) for i in range(array.GetNumberOfComponents())
             if array.GetComponentName(i) is not None]
+
+
+def add_material_names(field_data, names):
+    """Stores {material id: name} as the arrays MaterialIds and MaterialNames (what the report and
+    the writers read)."""
+    from vtkmodules.vtkCommonCore import vtkIntArray, vtkStringArray
+
+    ids, strings = vtkIntArray(), vtkStringArray()
+    ids.SetName("MaterialIds")
+    strings.SetName("MaterialNames")
+    for m, name in sorted(names.items()):
+        ids.InsertNextValue(m)
+        strings.InsertNextValue(name)
+    field_data.AddArray(ids)
+    field_data.AddArray(strings)

@@ -12,6 +12,7 @@ not part of the volume mesh and are skipped.
 import os
 import re
 
+from .fielddata import add_material_names
 from .errors import OracleMeshError, update
 from .writers import MESH_FORMATS
 
@@ -36,7 +37,7 @@ def _grid(points, cells, material, names):
     import numpy as np
     from vtkmodules.util.numpy_support import numpy_to_vtk
     from vtkmodules.util.vtkConstants import VTK_TETRA
-    from vtkmodules.vtkCommonCore import vtkIntArray, vtkPoints, vtkStringArray
+    from vtkmodules.vtkCommonCore import vtkPoints
     from vtkmodules.vtkCommonDataModel import vtkCellArray, vtkUnstructuredGrid
 
     grid = vtkUnstructuredGrid()
@@ -50,14 +51,7 @@ def _grid(points, cells, material, names):
     array = numpy_to_vtk(np.asarray(material, dtype=np.int32), deep=True)
     array.SetName("Material")
     grid.GetCellData().AddArray(array)
-    ids, strings = vtkIntArray(), vtkStringArray()
-    ids.SetName("MaterialIds")
-    strings.SetName("MaterialNames")
-    for m, name in sorted(names.items()):
-        ids.InsertNextValue(m)
-        strings.InsertNextValue(name)
-    grid.GetFieldData().AddArray(ids)
-    grid.GetFieldData().AddArray(strings)
+    add_material_names(grid.GetFieldData(), names)
     return grid
 
 

@@ -11,6 +11,7 @@ import os
 import time
 
 from .defaults import CRITERIA_KEYS, MESH_PROPERTIES, domain_criteria_unset, mesh_defaults
+from .fielddata import add_material_names
 from .errors import OracleMeshError, update
 from .scene import Scene, build_scene, load_scene
 
@@ -64,20 +65,13 @@ def mesher_for(scene, strategy=None):
 def describe(grid, names, feature_segments):
     """Stores {material id: name} (MaterialIds, MaterialNames) and the number of feature-line
     segments given (FeatureSegments) in the mesh's field data, for the report and the writers."""
-    from vtkmodules.vtkCommonCore import vtkIntArray, vtkStringArray
+    from vtkmodules.vtkCommonCore import vtkIntArray
 
     count = vtkIntArray()
     count.SetName("FeatureSegments")
     count.InsertNextValue(feature_segments)
     grid.GetFieldData().AddArray(count)
-    ids, strings = vtkIntArray(), vtkStringArray()
-    ids.SetName("MaterialIds")
-    strings.SetName("MaterialNames")
-    for m, name in sorted(names.items()):
-        ids.InsertNextValue(m)
-        strings.InsertNextValue(name)
-    grid.GetFieldData().AddArray(ids)
-    grid.GetFieldData().AddArray(strings)
+    add_material_names(grid.GetFieldData(), names)
 
 
 def add_input_warnings(grid, warnings):
