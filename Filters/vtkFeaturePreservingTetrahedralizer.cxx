@@ -287,7 +287,6 @@ int vtkFeaturePreservingTetrahedralizer::RequestData(
     mesh = omesh::meshOracle(*oracle, features, seedPoints, options);
     if (options.elementOrder == 2)
     {
-      this->UpdateProgress(1.0);
       const auto started = std::chrono::steady_clock::now();
       quadratic = omesh::makeQuadraticTets(mesh, *oracle);
       quadratic.statistics["time.quadratic"] =
