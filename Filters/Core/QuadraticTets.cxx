@@ -195,8 +195,9 @@ QuadraticTetMesh makeQuadraticTets(const TetMesh& mesh, const HierarchicalOracle
       continue;
     dimension = 2;
     ++interfaceEdges;
-    // Two faces of one pair, at less than 120 degrees: a smooth patch of one interface. Junctions of
-    // three materials and creases stay straight (the feature lines there are straight anyway).
+    // Two faces of one pair whose unit normals differ by less than 120 degrees (their dot product,
+    // |n1 + n2|^2 / 2 - 1, above -0.5): a patch of one interface. Junctions of three materials and
+    // creases stay straight (the feature lines there are straight anyway).
     const double sum = norm(info.normalSum);
     if (info.faces != 2 || !info.samePair || 0.5 * sum * sum - 1.0 < -0.5)
     {

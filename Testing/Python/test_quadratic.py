@@ -3,7 +3,8 @@
 true surfaces, in every format, checked from the files read back, independently of the package's
 code: meshio (or a few lines of numpy for Medit's P2 keywords, which meshio 5.0 does not read), an
 own Jacobian on a denser sample than the mesher's (a degree-4 lattice and Gauss points), an own
-volume rule (a collapsed Gauss product, exact for the cubic det J), and gmsh's own Jacobian bounds."""
+volume rule (a collapsed Gauss product, exact for the cubic det J), and gmsh's own reader and
+Jacobian bounds (of the .msh and the .mesh alike)."""
 import os
 import re
 import shutil
@@ -199,28 +200,35 @@ class QuadraticScenes(unittest.TestCase):
         self.assertEqual(len(mesh.point_sets["BOX__BALL"]),
                          len(np.unique(self.read("ball_in_box", ".msh")[3][tris.select(0)])))
 
-    def test_gmsh_reads_the_msh_cleanly_and_bounds_its_jacobians_above_zero(self):
+    def test_gmsh_reads_msh_and_mesh_cleanly_and_bounds_their_jacobians_above_zero(self):
+        """gmsh reads the .msh and the Medit P2 .mesh (an independent reader of its node order): no
+        warning, and its own (Bezier) bounds of det J over each whole element are positive and the
+        same for both files."""
         gmsh = shutil.which("gmsh")
         self.assertIsNotNone(gmsh, "gmsh is not installed (scripts/setup-debian.sh installs it)")
         for name in SCENES:
-            with self.subTest(scene=name):
-                path = self.files[name][".msh"]
-                result = subprocess.run([gmsh, "-check", path], capture_output=True, encoding="utf-8", check=False)
-                output = result.stdout + result.stderr
-                self.assertEqual(result.returncode, 0, output)
-                self.assertNotRegex(output, r"(?i)warning|error", output)
-                # gmsh's own (Bezier) bounds of det J over each whole element
-                script = os.path.join(self.tmp.name, f"{name}_jacobian.geo")
-                with open(script, "w") as f:
-                    f.write(f'Merge "{path}";\nPlugin(AnalyseMeshQuality).JacobianDeterminant = 1;\n'
-                            "Plugin(AnalyseMeshQuality).DimensionOfElements = 3;\n"
-                            "Plugin(AnalyseMeshQuality).CreateView = 0;\nPlugin(AnalyseMeshQuality).Run;\n")
-                result = subprocess.run([gmsh, script, "-0", "-o", os.path.join(self.tmp.name, "unrolled.geo")],
-                                        capture_output=True, encoding="utf-8", check=False)
-                output = result.stdout + result.stderr
-                found = re.search(r"minJ\s*=\s*(\S+),", output)
-                self.assertIsNotNone(found, output)
-                self.assertGreater(float(found.group(1)), 0.0, output)
+            bounds = {}
+            for ext in (".msh", ".mesh"):
+                with self.subTest(scene=name, format=ext):
+                    path = self.files[name][ext]
+                    result = subprocess.run([gmsh, "-check", path], capture_output=True, encoding="utf-8",
+                                            check=False)
+                    output = result.stdout + result.stderr
+                    self.assertEqual(result.returncode, 0, output)
+                    self.assertNotRegex(output, r"(?i)warning|error", output)
+                    script = os.path.join(self.tmp.name, f"{name}_jacobian.geo")
+                    with open(script, "w") as f:
+                        f.write(f'Merge "{path}";\nPlugin(AnalyseMeshQuality).JacobianDeterminant = 1;\n'
+                                "Plugin(AnalyseMeshQuality).DimensionOfElements = 3;\n"
+                                "Plugin(AnalyseMeshQuality).CreateView = 0;\nPlugin(AnalyseMeshQuality).Run;\n")
+                    result = subprocess.run([gmsh, script, "-0", "-o", os.path.join(self.tmp.name, "unrolled.geo")],
+                                            capture_output=True, encoding="utf-8", check=False)
+                    output = result.stdout + result.stderr
+                    found = re.search(r"minJ\s*=\s*(\S+),\s*(\S+),\s*(\S+)", output)
+                    self.assertIsNotNone(found, output)
+                    self.assertGreater(float(found.group(1)), 0.0, output)
+                    bounds[ext] = found.groups()
+            self.assertEqual(bounds[".msh"], bounds[".mesh"])
 
     def test_report_reads_every_format(self):
         for ext in (".vtu", ".inp", ".msh", ".mesh"):

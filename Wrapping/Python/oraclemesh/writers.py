@@ -21,8 +21,8 @@ surfaces (``surfaces.py``: one set per material pair, ``CORTICAL_BONE__IMPLANT``
 tetrahedra with ``_surfaces.vtu`` 6-node triangles (VTK_QUADRATIC_TRIANGLE); .inp C3D10 (the
 element-face ``*SURFACE`` works unchanged, each ``*NSET`` gets the faces' mid-edge nodes too); .msh
 Gmsh tetrahedra of 10 nodes and triangles of 6; .mesh ``TetrahedraP2`` and ``TrianglesP2`` (libMeshb's
-keywords; node order corners, then edges 12 23 31 (14 24 34), said in a comment; meshio 5.0 cannot read
-them, ``oraclemesh report`` can).
+keywords; node order corners, then edges 12 23 31 (14 24 34), said in a comment; gmsh and
+``oraclemesh report`` read them, meshio 5.0 cannot).
 
 Surface tags are the largest material id + 1, + 2, ... in the surfaces' order (sorted by material
 pair, the exterior last), the same in every format. Every file is written atomically (``atomic.py``).
