@@ -167,7 +167,7 @@ def _mesh(args):
         if path:
             check_output_path(path, what)
     progress = ProgressPrinter(sys.stderr, machine=args.progress_lines) if args.progress or args.progress_lines else None
-    result = mesh(scene, args.strategy, progress, updater=SIGNALS.update)
+    result = mesh(scene, args.strategy, progress, updater=SIGNALS.update, element_order=args.order)
     started = time.perf_counter()
     written = result.save(*outputs)
     lines = result.report.split("\n")
@@ -281,6 +281,10 @@ def main(argv=None):
                         "(default: the scene's outputs.mesh)")
     p.add_argument("--strategy", choices=STRATEGIES,
                    help=f"feature strategy (default: the scene's, else {mesh_defaults()['strategy']})")
+    p.add_argument("--order", type=int, choices=(1, 2),
+                   help="element order: 1 = 4-node, 2 = 10-node tetrahedra with the mid-edge nodes of interface "
+                        f"edges on the true surfaces (default: the scene's \"element_order\", else "
+                        f"{mesh_defaults()['element_order']})")
     p.add_argument("--report", help="also write the quality report to this text file")
     p.add_argument("--histogram", help="save the dihedral-angle histogram to this PNG")
     p.add_argument("--section", help="save a cross-section of the mesh to this PNG (the plane through its "
