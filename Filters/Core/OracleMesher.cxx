@@ -1048,6 +1048,7 @@ TetMesh meshOracleUnguarded(const HierarchicalOracle& oracle, const FeatureSegme
   st["min_dihedral_angle"] = mesh.tets.empty() ? 0.0 : minAngle;
   st["mean_min_dihedral_angle"] = mesh.tets.empty() ? 0.0 : sumAngle / mesh.tets.size();
   st["feature_coverage"] = coverage;
+  st["feature_segments"] = static_cast<double>(features.segments.size());
   if (resampled)
     st["feature_segments_before_resampling"] = static_cast<double>(givenFeatures.segments.size());
   st["refinement_steps"] = static_cast<double>(steps);
@@ -1062,6 +1063,8 @@ TetMesh meshOracleUnguarded(const HierarchicalOracle& oracle, const FeatureSegme
   st["segment_splits_mirrored_in_small_angle_clusters"] = static_cast<double>(segs.mirrored + segCount.mirrored);
   st["segment_splits_after_optimisation"] = static_cast<double>(repaired);
   st["vertices_removed_from_segment_balls_after_perturbation"] = static_cast<double>(segCount.removedEncroachers);
+  st["cell_points_dropped_in_facet_cycles"] = static_cast<double>(segCount.cyclesBroken);
+  st["segment_missing_edge_checks"] = static_cast<double>(segCount.missingChecks);
   if (options.perturb || options.exude)
     st["optimisation.min_dihedral_before"] = minBefore;
   st["optimisation.perturbation_steps"] = static_cast<double>(perturbed.steps);

@@ -16,6 +16,7 @@
 #include <CGAL/Mesh_3/Mesher_level.h>
 #include <CGAL/Meshes/Triangulation_mesher_level_traits_3.h>
 
+#include <algorithm>
 #include <deque>
 #include <functional>
 #include <iterator>
@@ -56,6 +57,8 @@ public:
     size_t missingSplits = 0;    ///< splits of sub-segments that were no mesh edge (paper section 5)
     size_t mirrored = 0;         ///< splits that keep the shells of a small-angle cluster
     size_t removedEncroachers = 0; ///< perturbed vertices removed from balls of unsplittable sub-segments
+    size_t cyclesBroken = 0;       ///< cell points dropped where T3.2 cycled (FacetsLevelWithSegments)
+    size_t missingChecks = 0;      ///< sub-segments looked at by queueMissingFromComplex
   };
 
   /// `vertexOf[p]` is the mesh vertex of segments.points[p] (all already in the triangulation);
@@ -83,6 +86,10 @@ public:
     inQueue_.assign(segs_.subs.size(), 0);
     refused_.assign(segs_.subs.size(), 0);
     mustSplit_.assign(segs_.subs.size(), 0);
+    changed_.assign(segs_.subs.size(), 1);
+    changedList_.resize(segs_.subs.size());
+    for (size_t s = 0; s < segs_.subs.size(); ++s)
+      changedList_[s] = static_cast<int>(s);
   }
 
   /// Queues every sub-segment for the encroachment test.
@@ -105,16 +112,25 @@ public:
   /// incident cell in the complex, as on a convex crease of the outer boundary where every
   /// incident circumcentre lies outside). Queues such sub-segments for splitting, where
   /// `wanted(a, b)` (material on at least one side) holds; returns how many were queued.
+  /// Looks only at the sub-segments whose cells may have changed since the last call (see
+  /// markChangedAround), in index order: the same as scanning all of them, without the cost of
+  /// one whole scan per round (rounds grow with the number of segments).
   size_t queueMissingFromComplex(const std::function<bool(const Vec3&, const Vec3&)>& wanted)
   {
+    std::sort(changedList_.begin(), changedList_.end());
     size_t queued = 0;
-    for (size_t s = 0; s < segs_.subs.size(); ++s)
-      if (!refused_[s] && missingFromComplex(static_cast<int>(s), wanted))
+    for (int s : changedList_)
+    {
+      changed_[s] = 0;
+      ++count_.missingChecks;
+      if (!refused_[s] && missingFromComplex(s, wanted))
       {
         mustSplit_[s] = 1;
-        enqueue(static_cast<int>(s));
+        enqueue(s);
         ++queued;
       }
+    }
+    changedList_.clear();
     count_.missingSplits += queued;
     return queued;
   }
@@ -196,7 +212,20 @@ public:
   /// through both ends and p, so after insertion p would connect to those ends.
   CGAL::Mesher_level_conflict_status test_point_conflict_from_superior(const Weighted_point& wp, Zone& zone)
   {
-    const Bare_point& p = wp.point();
+    const auto status = encroachedByRefinementPoint(wp.point(), zone);
+    if (status == CGAL::NO_CONFLICT)
+      markChangedAround(zone); // the point will be inserted (unless a facet refuses it)
+    return status;
+  }
+
+  Counters& counters() { return count_; }
+
+  std::string debug_info() const { return ""; }
+  std::string debug_info_header() const { return ""; }
+
+private:
+  CGAL::Mesher_level_conflict_status encroachedByRefinementPoint(const Bare_point& p, Zone& zone)
+  {
     for (const Cell_handle& c : zone.cells)
       for (int k = 0; k < 4; ++k)
       {
@@ -224,10 +253,34 @@ public:
     return CGAL::NO_CONFLICT;
   }
 
-  std::string debug_info() const { return ""; }
-  std::string debug_info_header() const { return ""; }
+  /// An insertion changes cells only in its conflict zone and its new star, whose vertices are
+  /// the zone's: only sub-segments with an end there can gain or lose an incident cell of the
+  /// complex. They are looked at again by the next queueMissingFromComplex.
+  void markChangedAround(const Zone& zone)
+  {
+    for (const Cell_handle& c : zone.cells)
+      for (int k = 0; k < 4; ++k)
+      {
+        const Vertex_handle v = c->vertex(k);
+        const int dim = v->in_dimension();
+        if (dim != 0 && dim != 1)
+          continue;
+        const auto it = pointOf_.find(v);
+        if (it != pointOf_.end())
+          for (int s : subsAt_[it->second])
+            markChanged(s);
+      }
+  }
 
-private:
+  void markChanged(int s)
+  {
+    if (!changed_[s])
+    {
+      changed_[s] = 1;
+      changedList_.push_back(s);
+    }
+  }
+
   Bare_point pointAt(int p) const { return toPoint(segs_.points[p]); }
 
   bool inDiametralBall(int s, const Bare_point& p) const
@@ -345,13 +398,19 @@ private:
     inQueue_.resize(segs_.subs.size(), 0);
     refused_.resize(segs_.subs.size(), 0);
     mustSplit_.resize(segs_.subs.size(), 0);
+    changed_.resize(segs_.subs.size(), 0);
     refused_[s] = 0; // a shorter piece now: judged again
+    markChanged(s);
+    markChanged(n);
     visitor.after(v);
     enqueue(s);
     enqueue(n);
     for (int p : near)
       for (int x : subsAt_[p])
+      {
         enqueue(x);
+        markChanged(x);
+      }
     return true;
   }
 
@@ -368,6 +427,8 @@ private:
   std::vector<char> inQueue_;
   std::vector<char> refused_;
   std::vector<char> mustSplit_; ///< queued by a refused refinement point
+  std::vector<char> changed_;   ///< cells around it may have changed since the last missing-edge scan
+  std::vector<int> changedList_;
 };
 }
 }
