@@ -6,15 +6,18 @@ find them (mesh.features.from_surface), meshed with the Conforming strategy at s
 bounding-box diagonal. Such edges come as thousands of short noisy segments meeting at small angles.
 
 Per case and resampling on/off it prints the feature segments given and after resampling, wall time,
-tetrahedra, validity defects and feature coverage (the mesher's own statistics, from the written
-mesh's field data).
+tetrahedra, validity defects, feature-line pieces missing from the mesh edges and how many of those
+the segment level could not split (shorter than its floor), feature coverage, cell points dropped
+where T3.2 cycled, and the refinement's wall and CPU seconds (the mesher's own statistics, from the
+written mesh's field data).
 
     /usr/bin/python3 Benchmarks/noisy_features.py [--cases small medium large] [--resample on off]
         [--timeout 600] [--work DIR] [--check]
 
 Needs PYTHONPATH=<build>/lib/python3.11/site-packages and the `oraclemesh` command (ORACLEMESH_COMMAND,
 else `python3 -m oraclemesh`). --check (the ctest version) exits 1 unless every mesh is valid and
-keeps 100% of its feature lines.
+keeps 100% of its feature lines (--min-coverage: at least that fraction of their length, pieces
+missing from the mesh edges then allowed).
 """
 import argparse
 import json
@@ -110,9 +113,12 @@ def run_case(work, name, resample, timeout):
     reader.Update()
     grid = reader.GetOutput()
     stats = statistics(grid)
+    counts = validity(grid)
     meshed = int(stats.get("feature_segments", 0))
     row.update(given=int(stats.get("feature_segments_before_resampling", meshed)), meshed=meshed,
-               tets=grid.GetNumberOfCells(), defects=int(validity(grid)["validity.defects"]),
+               tets=grid.GetNumberOfCells(), defects=int(counts["validity.defects"]),
+               missing=int(counts.get("validity.missing_segment_pieces", 0)),
+               too_short=int(stats.get("segment_pieces_missing_too_short", 0)),
                coverage=stats.get("feature_coverage", 0.0), refine_s=stats.get("time.refinement", 0.0),
                cpu_refine_s=stats.get("cpu.refinement", 0.0), min_dihedral=stats.get("min_dihedral_angle", 0.0),
                cycles=int(stats.get("cell_points_dropped_in_facet_cycles", 0)),
@@ -128,10 +134,13 @@ def main(argv=None):
     parser.add_argument("--timeout", type=float, default=600.0)
     parser.add_argument("--work", default=None)
     parser.add_argument("--check", action="store_true")
+    parser.add_argument("--min-coverage", type=float, default=1.0,
+                        help="--check: the smallest feature coverage accepted (a fraction of the length)")
     args = parser.parse_args(argv)
     work = args.work or tempfile.mkdtemp(prefix="noisy_features_")
-    print(f"{'case':<8} {'resample':<8} {'given':>6} {'meshed':>6} {'tets':>8} {'defects':>7} {'cover%':>7} "
-          f"{'min°':>6} {'splits':>7} {'time s':>7} {'refine':>7} {'cpu ref':>7}", flush=True)
+    print(f"{'case':<8} {'resample':<8} {'given':>6} {'meshed':>6} {'tets':>8} {'defects':>7} {'missing':>7} "
+          f"{'short':>6} {'cover%':>7} {'min°':>6} {'splits':>7} {'cycles':>6} {'time s':>7} {'refine':>7} {'cpu ref':>7}",
+          flush=True)
     rows = []
     for name in args.cases:
         for resample in args.resample:
@@ -141,11 +150,13 @@ def main(argv=None):
                 print(f"{name:<8} {resample:<8} failed after {r['seconds']:.1f} s: {r['error'][:100]}", flush=True)
                 continue
             print(f"{name:<8} {resample:<8} {r['given']:>6} {r['meshed']:>6} {r['tets']:>8} {r['defects']:>7} "
-                  f"{100 * r['coverage']:>7.2f} {r['min_dihedral']:>6.2f} {r['splits']:>7} {r['seconds']:>7.1f} "
-                  f"{r['refine_s']:>7.1f} {r['cpu_refine_s']:>7.1f}", flush=True)
+                  f"{r['missing']:>7} {r['too_short']:>6} {100 * r['coverage']:>7.2f} {r['min_dihedral']:>6.2f} "
+                  f"{r['splits']:>7} {r['cycles']:>6} {r['seconds']:>7.1f} {r['refine_s']:>7.1f} {r['cpu_refine_s']:>7.1f}",
+                  flush=True)
     print(f"work folder: {work}")
     if args.check:
-        bad = [r for r in rows if r["error"] or r["defects"] or r["coverage"] < 1.0 - 1e-9]
+        bad = [r for r in rows if r["error"] or r["defects"] > r["missing"] or r["coverage"] < args.min_coverage - 1e-9
+               or (args.min_coverage >= 1.0 and r["missing"])]
         for r in bad:
             why = r["error"] or f"{r['defects']} defects, coverage {100 * r['coverage']:.2f}%"
             print(f"FAILED: {r['case']} resample={r['resample']}: {why}")

@@ -903,12 +903,14 @@ TetMesh meshOracleUnguarded(const HierarchicalOracle& oracle, const FeatureSegme
       }
     return false;
   };
+  typename Segments::MissingCensus missing;
   auto refine = [&]() {
     if (conforming)
     {
       Segments level(c3t3, segs, segVertex, domain.index_from_curve_index(1), minSubSegment, segCount);
       ConformingMesher3<C3t3, Criteria, MeshDomain> mesher(c3t3, domain, criteria, level, CGAL::FACET_VERTICES_ON_SURFACE);
       drive(mesher, [&] { return level.queueMissingFromComplex(touchesMaterial) > 0; });
+      missing = level.missingCensus(touchesMaterial);
     }
     else
     {
@@ -1065,6 +1067,11 @@ TetMesh meshOracleUnguarded(const HierarchicalOracle& oracle, const FeatureSegme
   st["vertices_removed_from_segment_balls_after_perturbation"] = static_cast<double>(segCount.removedEncroachers);
   st["cell_points_dropped_in_facet_cycles"] = static_cast<double>(segCount.cyclesBroken);
   st["segment_missing_edge_checks"] = static_cast<double>(segCount.missingChecks);
+  // why refinement left sub-segments out of the complex (before optimisation)
+  st["segment_pieces_missing_too_short"] = static_cast<double>(missing.short_);
+  st["segment_pieces_missing_refused"] = static_cast<double>(missing.refused);
+  st["segment_pieces_missing_outside"] = static_cast<double>(missing.outside);
+  st["segment_pieces_missing_unfinished"] = static_cast<double>(missing.other);
   if (options.perturb || options.exude)
     st["optimisation.min_dihedral_before"] = minBefore;
   st["optimisation.perturbation_steps"] = static_cast<double>(perturbed.steps);

@@ -144,6 +144,34 @@ public:
     return n;
   }
 
+  /// Sub-segments that are no edge of a cell of the complex, by why refinement left them so.
+  struct MissingCensus
+  {
+    size_t refused = 0; ///< a split failed or was refused
+    size_t short_ = 0;  ///< too short to split
+    size_t outside = 0; ///< no material on either side (not wanted)
+    size_t other = 0;   ///< none of these: refinement stopped early
+  };
+  MissingCensus missingCensus(const std::function<bool(const Vec3&, const Vec3&)>& wanted) const
+  {
+    MissingCensus c;
+    for (size_t s = 0; s < segs_.subs.size(); ++s)
+    {
+      const int a = segs_.subs[s][0], b = segs_.subs[s][1];
+      if (inComplex(vertexOf_[a], vertexOf_[b]))
+        continue;
+      if (refused_[s])
+        ++c.refused;
+      else if (!splittable(static_cast<int>(s)))
+        ++c.short_;
+      else if (!wanted(segs_.points[a], segs_.points[b]))
+        ++c.outside;
+      else
+        ++c.other;
+    }
+    return c;
+  }
+
   /// After the perturber: a vertex off the segments that it moved into the diametral ball of a
   /// sub-segment too short to split breaks that sub-segment for good (seen at apexes of 1 degree).
   /// Removes such vertices; a refinement pass then fills their holes, refusing points inside the
