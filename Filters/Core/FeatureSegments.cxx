@@ -78,31 +78,8 @@ double FeatureSegments::smallestAngle() const
   return smallest;
 }
 
-std::vector<std::string> FeatureSegments::validate(const HierarchicalOracle& oracle, double radiusEdgeBound) const
+std::vector<std::pair<size_t, size_t>> FeatureSegments::crossingPairs() const
 {
-  const int n = static_cast<int>(points.size());
-  for (int i = 0; i < n; ++i)
-  {
-    if (!isFinite(points[i]))
-      throw InputError("feature lines: point " + std::to_string(i) + " has a NaN or infinite coordinate");
-    const Vec3& p = points[i];
-    if (std::max({ std::abs(p.x), std::abs(p.y), std::abs(p.z) }) > 1e15)
-    {
-      std::ostringstream o;
-      o << "feature lines: point " << i << " (" << p.x << ", " << p.y << ", " << p.z
-        << ") has a coordinate beyond 1e15 in magnitude (absurd; check the units)";
-      throw InputError(o.str());
-    }
-  }
-  for (size_t s = 0; s < segments.size(); ++s)
-  {
-    const auto& seg = segments[s];
-    if (seg[0] < 0 || seg[0] >= n || seg[1] < 0 || seg[1] >= n)
-      throw InputError("feature lines: segment " + std::to_string(s) + " refers to a point out of range");
-    if (seg[0] == seg[1] || !(length(s) > 0.0))
-      throw InputError("feature lines: " + describeSegment(*this, s) + " has zero length");
-  }
-
   // Segments may meet only at shared end points: any other contact is a crossing.
   std::vector<Box> boxes;
   boxes.reserve(segments.size());
@@ -140,6 +117,36 @@ std::vector<std::string> FeatureSegments::validate(const HierarchicalOracle& ora
       crossings.emplace_back(std::min(s, t), std::max(s, t));
   };
   CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), check);
+  std::sort(crossings.begin(), crossings.end());
+  return crossings;
+}
+
+std::vector<std::string> FeatureSegments::validate(const HierarchicalOracle& oracle, double radiusEdgeBound) const
+{
+  const int n = static_cast<int>(points.size());
+  for (int i = 0; i < n; ++i)
+  {
+    if (!isFinite(points[i]))
+      throw InputError("feature lines: point " + std::to_string(i) + " has a NaN or infinite coordinate");
+    const Vec3& p = points[i];
+    if (std::max({ std::abs(p.x), std::abs(p.y), std::abs(p.z) }) > 1e15)
+    {
+      std::ostringstream o;
+      o << "feature lines: point " << i << " (" << p.x << ", " << p.y << ", " << p.z
+        << ") has a coordinate beyond 1e15 in magnitude (absurd; check the units)";
+      throw InputError(o.str());
+    }
+  }
+  for (size_t s = 0; s < segments.size(); ++s)
+  {
+    const auto& seg = segments[s];
+    if (seg[0] < 0 || seg[0] >= n || seg[1] < 0 || seg[1] >= n)
+      throw InputError("feature lines: segment " + std::to_string(s) + " refers to a point out of range");
+    if (seg[0] == seg[1] || !(length(s) > 0.0))
+      throw InputError("feature lines: " + describeSegment(*this, s) + " has zero length");
+  }
+
+  std::vector<std::pair<size_t, size_t>> crossings = crossingPairs();
   if (!crossings.empty())
   {
     std::sort(crossings.begin(), crossings.end());

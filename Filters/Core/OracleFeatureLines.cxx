@@ -551,9 +551,12 @@ FeatureLines findFeatureLines(const HierarchicalOracle& oracle, const FeatureLin
       piece.segments.push_back({ static_cast<int>(k), static_cast<int>(k + 1) });
     if (closed)
       piece.segments.push_back({ static_cast<int>(m - 1), 0 });
-    if (options.maxSegmentLength > 0)
-      resampleFeatureLines(piece, options.maxSegmentLength,
-        options.tolerance > 0 ? options.tolerance : 0.05 * options.maxSegmentLength, options.smallAngle);
+    double length = options.maxSegmentLength;
+    for (int material : line.materials)
+      if (auto it = options.materialSegmentLength.find(material); it != options.materialSegmentLength.end())
+        length = length > 0 ? std::min(length, it->second) : it->second;
+    if (length > 0)
+      resampleFeatureLines(piece, length, options.tolerance > 0 ? options.tolerance : 0.05 * length, options.smallAngle);
     std::vector<int> order = chainOrder(piece);
     if (!closed && norm(piece.points[order.front()] - nodes[chain.front()]) > 0)
       std::reverse(order.begin(), order.end());

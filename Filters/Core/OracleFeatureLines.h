@@ -7,6 +7,7 @@
 
 #include <cstddef>
 #include <functional>
+#include <map>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -25,6 +26,9 @@ struct FeatureLineOptions
   /// points lie within `tolerance` of them; 0 = keep one point per grid face the curve crosses.
   double maxSegmentLength = 0.0;
   double tolerance = 0.0; ///< 0 = 0.05 x maxSegmentLength
+  /// Per material: a curve takes the smallest of its materials' lengths listed here (else
+  /// maxSegmentLength): the local edge size.
+  std::map<int, double> materialSegmentLength;
   /// Curves meeting at a shared vertex, or one curve turning, at less than this angle (degrees)
   /// are reported: the paper's termination argument needs 60.
   double smallAngle = 60.0;

@@ -25,7 +25,7 @@ from .atomic import write_text
 from .defaults import mesh_defaults
 from .errors import MeshingError, OracleMeshError, update
 from .meshing import mesh
-from .scene import STRATEGIES, load_scene
+from .scene import FEATURE_SOURCES, STRATEGIES, load_scene
 from .writers import MESH_FORMATS, write_vtk_xml
 
 PROGRESS_PREFIX = "oraclemesh-progress "  # machine-readable progress lines (batch reads them)
@@ -196,7 +196,7 @@ def _mesh(args):
         if path:
             check_output_path(path, what)
     progress = _Progress(sys.stderr, machine=args.progress_lines) if args.progress or args.progress_lines else None
-    result = mesh(scene, args.strategy, progress, updater=SIGNALS.update)
+    result = mesh(scene, args.strategy, progress, updater=SIGNALS.update, features=args.features)
     started = time.perf_counter()
     written = result.save(*outputs)
     lines = result.report.split("\n")
@@ -310,6 +310,10 @@ def main(argv=None):
                         "(default: the scene's outputs.mesh)")
     p.add_argument("--strategy", choices=STRATEGIES,
                    help=f"feature strategy (default: the scene's, else {mesh_defaults()['strategy']})")
+    p.add_argument("--features", choices=FEATURE_SOURCES,
+                   help="which feature lines are kept: given (the scene's), found where the inputs meet (cut "
+                        "rims, entry curves, triple lines), or both (default: the scene's mesh.features.use, "
+                        f"else {mesh_defaults()['features']})")
     p.add_argument("--report", help="also write the quality report to this text file")
     p.add_argument("--histogram", help="save the dihedral-angle histogram to this PNG")
     p.add_argument("--section", help="save a cross-section of the mesh to this PNG (the plane through its "
