@@ -80,8 +80,8 @@ public:
   ///@{
   /// Which feature lines are kept: none, the given ones (port 1), the ones found where the inputs
   /// meet (cut rims, entry curves, triple lines: omesh::findFeatureLines, as vtkOracleFeatureLines
-  /// shows them, resampled to the edge size of the materials they separate), or both (default:
-  /// automatic ones alone when none are given). Automatic segments that cross given ones are
+  /// shows them, resampled to the edge size of the materials they separate), or both. Default
+  /// Given (see omesh::kDefaultFeatureSource for why). Automatic segments that cross given ones are
   /// dropped with a warning. With Conforming they are kept like given ones.
   vtkSetMacro(Features, int);
   vtkGetMacro(Features, int);

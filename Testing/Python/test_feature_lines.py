@@ -45,7 +45,7 @@ class FeatureLinesFilter(unittest.TestCase):
 class FeaturesOption(unittest.TestCase):
     def test_the_default_comes_from_the_cxx(self):
         self.assertEqual(mesh_defaults()["features"], FEATURE_SOURCES[om.vtkFeaturePreservingTetrahedralizer().GetFeatures()])
-        self.assertEqual(mesh_defaults()["features"], "Both")
+        self.assertEqual(mesh_defaults()["features"], "Given")  # the meshes of before (FeatureSelection.h)
 
     def test_automatic_features_are_mesh_edges_and_given_alone_has_none(self):
         automatic = om.mesh(rim_scene(features="Automatic"))

@@ -176,7 +176,7 @@ def mesh(scene, strategy=None, progress=None, base_dir=None, updater=update, fea
     relative file paths resolve against `base_dir`, default the working folder) or a loaded Scene.
     `strategy` overrides the scene's feature strategy ("Conforming", "None", "ProtectingBalls");
     `features` which feature lines are kept ("None", "Given", "Automatic", "Both"; default the
-    scene's "mesh.features.use", else Both: the lines found where the inputs meet, plus given ones);
+    scene's "mesh.features.use", else Given);
     `progress`, if given, is called with the mesher's progress (0..1); `updater` runs the mesher
     (default errors.update; the command line passes one that signals can abort). Bad scenes and failed meshing
     raise OracleMeshError naming the problem."""
