@@ -83,7 +83,7 @@ def deviation(locator_cell, curves):
 
 def run(name, make, h):
     scene, curves = make(h)
-    scene["mesh"] = {"criteria": {"cell_size": h, "facet_size": h, "facet_distance": h / 4, "edge_size": h / 2},
+    scene["mesh"] = {"criteria": {"cell_size": h, "facet_size": h, "facet_distance": h / 4, "edge_size": h},
                      "seed": 1}
     rows = []
     for features in ("Given", "Automatic"):
@@ -103,7 +103,7 @@ def run(name, make, h):
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--size", type=float, default=1.5, help="cell and facet size h (facet distance h/4)")
+    parser.add_argument("--size", type=float, default=1.5, help="cell, facet and edge size h (facet distance h/4)")
     args = parser.parse_args()
     print("| scene | features | tets | x | min dihedral | curve deviation | / facet distance | s |")
     print("|---|---|---|---|---|---|---|---|")

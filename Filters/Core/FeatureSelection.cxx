@@ -46,7 +46,9 @@ FeatureLineOptions featureLineOptions(const HierarchicalOracle& oracle, const Ma
     if (v.facetDistance > 0 && (distance <= 0 || v.facetDistance < distance))
       distance = v.facetDistance;
   }
-  o.tolerance = distance > 0 ? 0.5 * distance : 0.05 * finest;
+  // a tenth of the facet distance (issue 13's aim for the curves' deviation), not the half that
+  // resampling given lines uses: these chords are the mesh's edges on the curve
+  o.tolerance = distance > 0 ? 0.1 * distance : 0.05 * finest;
   o.spacing = 0.5 * finest;
   return o;
 }

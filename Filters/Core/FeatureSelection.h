@@ -45,7 +45,7 @@ struct FeatureSelection
 
 /// The lines the mesher gets for `source`. Automatic lines are resampled to the edge size of the
 /// materials they separate (their smallest; else the facet size, else 1/40 of the oracle's diagonal,
-/// as MesherOptions::resampleFeatureLines) within half the smallest facet distance; the search grid
+/// as MesherOptions::resampleFeatureLines) within a tenth of the smallest facet distance; the search grid
 /// is half that fine. Given lines win: an automatic segment that crosses a given one is dropped
 /// (with a warning), so a rim given by hand and found again does not make the lines invalid.
 /// `progress` as FeatureLineOptions::progress.
