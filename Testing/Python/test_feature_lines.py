@@ -1,7 +1,12 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """Issue 13: feature lines found where the inputs meet (vtkOracleFeatureLines) and the mesher's
 Features option at the Python and scene doors."""
+import json
 import math
+import os
+import subprocess
+import sys
+import tempfile
 import unittest
 
 import oraclemesh as om
@@ -55,6 +60,20 @@ class FeaturesOption(unittest.TestCase):
         self.assertEqual(automatic.statistics.get("validity.missing_segment_pieces", 0), 0)
         given = om.mesh(rim_scene(features={"use": "Given"}))
         self.assertEqual(given.grid.GetFieldData().GetArray("FeatureSegments").GetValue(0), 0)
+
+    def test_the_command_line_keeps_the_rim_with_features_automatic(self):
+        with tempfile.TemporaryDirectory() as folder:
+            scene = os.path.join(folder, "scene.json")
+            with open(scene, "w") as f:
+                json.dump(rim_scene(), f)
+            out = subprocess.run([sys.executable, "-m", "oraclemesh", "mesh", scene, "-o", os.path.join(folder, "m.vtu"),
+                                  "--features", "Automatic"], capture_output=True, text=True, timeout=100)
+            self.assertEqual(out.returncode, 0, out.stderr)
+            self.assertIn("feature lines present as mesh edges: 100.0%", out.stdout)
+            bad = subprocess.run([sys.executable, "-m", "oraclemesh", "mesh", scene, "-o", os.path.join(folder, "m.vtu"),
+                                  "--features", "Sometimes"], capture_output=True, text=True, timeout=100)
+            self.assertNotEqual(bad.returncode, 0)
+            self.assertIn("--features", bad.stderr)
 
     def test_a_bad_value_is_named(self):
         with self.assertRaisesRegex(om.OracleMeshError, r"\$\.mesh\.features\.use: must be one of None, Given"):
