@@ -5,6 +5,8 @@
 #include "HierarchicalOracle.h"
 #include "MeshCriteria.h"
 
+#include <algorithm>
+#include <map>
 #include <set>
 
 namespace omesh
@@ -23,6 +25,82 @@ const char* toString(FeatureSource s)
       return "Both";
   }
   return "?";
+}
+
+namespace
+{
+/// Where a given line (a sharp edge of the implant) passes through another input's boundary and an
+/// automatic curve passes nearby (the implant's entry curve), both get that exact point as one
+/// vertex: the given segment is split there, and the curve's nearest segment too.
+void shareCrossings(const HierarchicalOracle& oracle, FeatureSegments& given, FeatureLines& automatic)
+{
+  auto& A = automatic.segments;
+  const double reach = automatic.spacing; // the curves' chords lie within a grid step of the curve
+  const double same = 1e-9 * norm(oracle.bounds().size());
+  std::vector<std::array<int, 2>> split;
+  for (const auto& seg : given.segments)
+  {
+    const Vec3 p = given.points[seg[0]], q = given.points[seg[1]];
+    int from = seg[0];
+    // Where the line passes through some input's boundary: not region changes, since the line
+    // lies on its own input's boundary, which decides all along it (a closed set).
+    std::vector<double> ts;
+    for (const auto& d : oracle.domains())
+    {
+      std::vector<double> own;
+      d->crossings(p, q, own);
+      for (double t : own)
+        if (t > 0 && t < 1 && d->material(lerp(p, q, std::max(0.0, t - 1e-7))) != d->material(lerp(p, q, std::min(1.0, t + 1e-7))))
+          ts.push_back(t);
+    }
+    std::sort(ts.begin(), ts.end());
+    for (double t : ts)
+    {
+      const Vec3 x = lerp(p, q, t);
+      // the nearest automatic segment
+      int best = -1;
+      double nearest = reach;
+      for (size_t s = 0; s < A.segments.size(); ++s)
+      {
+        const Vec3 a = A.points[A.segments[s][0]], d = A.points[A.segments[s][1]] - a;
+        const double u = std::clamp(dot(x - a, d) / dot(d, d), 0.0, 1.0);
+        const double dist = norm(x - (a + u * d));
+        if (dist < nearest)
+        {
+          nearest = dist;
+          best = static_cast<int>(s);
+        }
+      }
+      if (best < 0 || norm(x - given.points[from]) <= same || norm(x - q) <= same)
+        continue;
+      // into the curve: the end of its nearest segment if that is the point, else a new vertex
+      auto& s = A.segments[best];
+      const int xi = static_cast<int>(given.points.size());
+      split.push_back({ from, xi });
+      from = xi;
+      if (norm(A.points[s[0]] - x) <= same || norm(A.points[s[1]] - x) <= same)
+      {
+        given.points.push_back(A.points[s[norm(A.points[s[0]] - x) <= same ? 0 : 1]]); // one point: same coordinates
+        continue;
+      }
+      given.points.push_back(x);
+      const int ai = static_cast<int>(A.points.size());
+      A.points.push_back(x);
+      const int end = s[1];
+      s[1] = ai;
+      A.segments.push_back({ ai, end });
+      for (FeatureLine& l : automatic.lines)
+        for (size_t k = 0; k + 1 < l.points.size(); ++k)
+          if ((l.points[k] == s[0] && l.points[k + 1] == end) || (l.points[k] == end && l.points[k + 1] == s[0]))
+          {
+            l.points.insert(l.points.begin() + static_cast<long>(k) + 1, ai);
+            break;
+          }
+    }
+    split.push_back({ from, seg[1] });
+  }
+  given.segments = std::move(split);
+}
 }
 
 FeatureLineOptions featureLineOptions(const HierarchicalOracle& oracle, const MaterialCriteria& criteria)
@@ -65,12 +143,28 @@ FeatureSelection selectFeatures(const HierarchicalOracle& oracle, const FeatureS
   options.progress = progress;
   out.automatic = findFeatureLines(oracle, options);
   out.warnings = out.automatic.warnings;
-  const int offset = static_cast<int>(out.segments.points.size());
+  if (!out.segments.empty())
+    shareCrossings(oracle, out.segments, out.automatic);
+  // Appended; a point with the coordinates of a given one (a shared crossing) is that point.
   const std::size_t firstAutomatic = out.segments.segments.size();
-  out.segments.points.insert(out.segments.points.end(), out.automatic.segments.points.begin(),
-    out.automatic.segments.points.end());
+  std::map<std::array<double, 3>, int> givenPoint;
+  for (size_t i = 0; i < out.segments.points.size(); ++i)
+    givenPoint.emplace(std::array<double, 3>{ out.segments.points[i].x, out.segments.points[i].y, out.segments.points[i].z },
+      static_cast<int>(i));
+  std::vector<int> index;
+  for (const Vec3& p : out.automatic.segments.points)
+  {
+    auto it = givenPoint.find({ p.x, p.y, p.z });
+    if (it != givenPoint.end())
+      index.push_back(it->second);
+    else
+    {
+      index.push_back(static_cast<int>(out.segments.points.size()));
+      out.segments.points.push_back(p);
+    }
+  }
   for (auto s : out.automatic.segments.segments)
-    out.segments.segments.push_back({ s[0] + offset, s[1] + offset });
+    out.segments.segments.push_back({ index[s[0]], index[s[1]] });
   if (firstAutomatic == 0 || out.automatic.segments.empty())
     return out;
   // Given lines win over automatic ones that cross them.

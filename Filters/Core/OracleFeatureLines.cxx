@@ -597,12 +597,25 @@ FeatureLines findFeatureLines(const HierarchicalOracle& oracle, const FeatureLin
     if (smallest < options.smallAngle)
     {
       result.smallAngles.push_back({ static_cast<int>(v), smallest });
+      if (result.smallAngles.size() > 5)
+        continue; // the first five named, the rest counted below
       std::ostringstream o;
       o.precision(3);
       o << "feature lines meet at " << smallest << " degrees at " << describe(P[v]) << " (below "
         << options.smallAngle << ": refinement may not end there; the vertex budget bounds it)";
       result.warnings.push_back(o.str());
     }
+  }
+  if (result.smallAngles.size() > 5)
+  {
+    double smallest = 180.0;
+    for (const auto& a : result.smallAngles)
+      smallest = std::min(smallest, a.degrees);
+    std::ostringstream o;
+    o.precision(3);
+    o << "feature lines meet below " << options.smallAngle << " degrees at " << result.smallAngles.size() - 5
+      << " more vertices (smallest angle of all " << smallest << " degrees)";
+    result.warnings.push_back(o.str());
   }
   report(1.0);
   return result;

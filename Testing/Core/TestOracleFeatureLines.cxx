@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // Feature lines found where the oracle's inputs meet, checked against curves known exactly.
 #include "CylinderDomain.h"
+#include "FeatureSelection.h"
 #include "HalfSpaceDomain.h"
 #include "HierarchicalOracle.h"
 #include "LabelMapDomain.h"
@@ -277,4 +278,42 @@ TEST(OracleFeatureLines, EmptyOracleIsAnInputError)
 {
   HierarchicalOracle oracle;
   EXPECT_ANY_THROW(findFeatureLines(oracle));
+}
+
+TEST(OracleFeatureLines, AGivenLineCrossingACurveSharesOneVertexWithIt)
+{
+  // A given line along the screw's surface (as a sharp edge of an implant would run) passes
+  // through the bone's boundary exactly where the screw's entry curves are.
+  const Vec3 axisAt{ 0.05, 0.03, 0 };
+  const double radius = 0.4;
+  HierarchicalOracle oracle;
+  oracle.add(std::make_shared<CylinderDomain>(axisAt, Vec3{ 0, 0, 1 }, radius, 3.0, 2, "screw"));
+  oracle.add(std::make_shared<SphereDomain>(Vec3{ 0, 0, 0 }, 1.0, 1, "bone"));
+  FeatureSegments given;
+  given.points = { axisAt + Vec3{ radius, 0, -1.4 }, axisAt + Vec3{ radius, 0, 1.4 } };
+  given.segments = { { 0, 1 } };
+  MaterialCriteria criteria;
+  criteria.global.edgeSize = 0.1;
+  const FeatureSelection both = selectFeatures(oracle, given, FeatureSource::Both, criteria);
+  EXPECT_EQ(both.droppedAutomatic, 0u);
+  EXPECT_TRUE(both.segments.crossingPairs().empty());
+  // the two crossings: on the line and on the sphere, each ending two given and two curve segments
+  const double z = std::sqrt(1.0 - dot(axisAt + Vec3{ radius, 0, 0 }, axisAt + Vec3{ radius, 0, 0 }));
+  for (double sign : { -1.0, 1.0 })
+  {
+    const Vec3 x = axisAt + Vec3{ radius, 0, sign * z };
+    int found = -1;
+    for (size_t p = 0; p < both.segments.points.size(); ++p)
+      if (norm(both.segments.points[p] - x) < 1e-9)
+        found = static_cast<int>(p);
+    ASSERT_GE(found, 0);
+    int ends = 0;
+    for (const auto& s : both.segments.segments)
+      ends += (s[0] == found) + (s[1] == found);
+    EXPECT_EQ(ends, 4);
+  }
+  // Given alone is the line as it was; Automatic alone the two curves.
+  EXPECT_EQ(selectFeatures(oracle, given, FeatureSource::Given, criteria).segments.segments.size(), 1u);
+  EXPECT_EQ(selectFeatures(oracle, given, FeatureSource::Automatic, criteria).automatic.lines.size(), 2u);
+  EXPECT_TRUE(selectFeatures(oracle, given, FeatureSource::None, criteria).segments.empty());
 }
