@@ -2,6 +2,7 @@
 #include "vtkFeaturePreservingTetrahedralizer.h"
 
 #include "FeatureMerge.h"
+#include "FeatureSelection.h"
 #include "HierarchicalOracle.h"
 #include "InputError.h"
 #include "MeshQuality.h"
@@ -85,6 +86,7 @@ vtkFeaturePreservingTetrahedralizer::vtkFeaturePreservingTetrahedralizer()
   this->FeatureStrategy = defaults.strategy == omesh::FeatureStrategy::Conforming ? CONFORMING
     : defaults.strategy == omesh::FeatureStrategy::None                          ? NONE
                                                                                  : PROTECTING_BALLS;
+  this->Features = static_cast<int>(omesh::kDefaultFeatureSource); // the enums share their order
   const omesh::MeshCriteria::Values c = defaults.criteria.globalValues();
   this->FacetAngle = c.facetAngle;
   this->FacetSize = c.facetSize;
@@ -230,6 +232,8 @@ int vtkFeaturePreservingTetrahedralizer::RequestData(
     checkRange("FeatureStrategy", this->FeatureStrategy, CONFORMING, PROTECTING_BALLS,
       ": 0 Conforming, 1 None, 2 ProtectingBalls");
     checkRange("ElementOrder", this->ElementOrder, 1, 2, ": 1 linear, 2 quadratic tetrahedra");
+    checkRange("Features", this->Features, FEATURES_NONE, FEATURES_BOTH,
+      ": 0 None, 1 Given, 2 Automatic, 3 Both");
     checkRange("SliverAngle", this->SliverAngle, 0.0, 30.0, " degrees; 0 = off");
     checkRange("InterfaceSliverAngle", this->InterfaceSliverAngle, 0.0, 30.0, " degrees; 0 = off");
     if (this->MaximumNumberOfVertices < 0)
@@ -275,6 +279,11 @@ int vtkFeaturePreservingTetrahedralizer::RequestData(
                                               this->FacetDistance, this->CellSize, this->CellRadiusEdgeRatio,
                                               this->EdgeSize },
       { &domainLevel, &tableLevel });
+    // The lines to keep: given, found where the inputs meet, or both.
+    const omesh::FeatureSelection selection = omesh::selectFeatures(*oracle, features,
+      static_cast<omesh::FeatureSource>(this->Features), options.criteria, [this](double) { return !this->GetAbortExecute(); });
+    features = selection.segments;
+    notes.insert(notes.end(), selection.warnings.begin(), selection.warnings.end());
     std::vector<omesh::Vec3> seedPoints;
     if (seeds)
       OracleBuilder::CheckCoordinates(seeds->GetPoints(), "seed points (input port 2)", "");
@@ -297,6 +306,11 @@ int vtkFeaturePreservingTetrahedralizer::RequestData(
   catch (const omesh::InputError& e)
   {
     vtkErrorMacro(<< e.what());
+    return 0;
+  }
+  catch (const omesh::FeatureSearchAborted&)
+  {
+    vtkErrorMacro(<< "meshing aborted (AbortExecute) while finding feature lines: no mesh");
     return 0;
   }
   catch (const omesh::MeshingAborted&)
@@ -434,6 +448,7 @@ void vtkFeaturePreservingTetrahedralizer::PrintSelf(ostream& os, vtkIndent inden
 {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "FeatureStrategy: " << this->FeatureStrategy << "\n";
+  os << indent << "Features: " << this->Features << "\n";
   os << indent << "FacetAngle: " << this->FacetAngle << "\n";
   os << indent << "FacetSize: " << this->FacetSize << "\n";
   os << indent << "FacetDistance: " << this->FacetDistance << "\n";

@@ -4,7 +4,8 @@
  * @brief Multi-material tetrahedral mesh of a hierarchical oracle, keeping given feature lines.
  *
  * Inputs: port 0, the output of vtkHierarchicalOracle (or one domain); port 1 (optional),
- * vtkPolyData lines: the constrained segments (polylines are split into segments, shared points are
+ * vtkPolyData lines: the given constrained segments (Features says whether these, the lines found
+ * where the inputs meet, or both are kept) (polylines are split into segments, shared points are
  * shared vertices); port 2 (optional), vtkPolyData points inserted first (a-priori points).
  *
  * Delaunay refinement on CGAL Mesh_3 with the oracle's exact intersections; each tetrahedron takes
@@ -66,6 +67,28 @@ public:
   void SetFeatureStrategyToConforming() { this->SetFeatureStrategy(CONFORMING); }
   void SetFeatureStrategyToNone() { this->SetFeatureStrategy(NONE); }
   void SetFeatureStrategyToProtectingBalls() { this->SetFeatureStrategy(PROTECTING_BALLS); }
+  ///@}
+
+  enum FeatureSources
+  {
+    FEATURES_NONE = 0,
+    FEATURES_GIVEN = 1,
+    FEATURES_AUTOMATIC = 2,
+    FEATURES_BOTH = 3
+  };
+
+  ///@{
+  /// Which feature lines are kept: none, the given ones (port 1), the ones found where the inputs
+  /// meet (cut rims, entry curves, triple lines: omesh::findFeatureLines, as vtkOracleFeatureLines
+  /// shows them, resampled to the edge size of the materials they separate), or both. Default
+  /// Given (see omesh::kDefaultFeatureSource for why). Automatic segments that cross given ones are
+  /// dropped with a warning. With Conforming they are kept like given ones.
+  vtkSetMacro(Features, int);
+  vtkGetMacro(Features, int);
+  void SetFeaturesToNone() { this->SetFeatures(FEATURES_NONE); }
+  void SetFeaturesToGiven() { this->SetFeatures(FEATURES_GIVEN); }
+  void SetFeaturesToAutomatic() { this->SetFeatures(FEATURES_AUTOMATIC); }
+  void SetFeaturesToBoth() { this->SetFeatures(FEATURES_BOTH); }
   ///@}
 
   ///@{
@@ -204,6 +227,7 @@ protected:
 
   // Set by the constructor from the core's defaults (omesh::MesherOptions).
   int FeatureStrategy;
+  int Features;
   bool ResampleFeatureLines;
   double SliverAngle;
   double InterfaceSliverAngle;

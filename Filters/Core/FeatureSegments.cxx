@@ -78,38 +78,10 @@ double FeatureSegments::smallestAngle() const
   return smallest;
 }
 
-namespace
+std::vector<std::pair<size_t, size_t>> FeatureSegments::crossingPairs() const
 {
-/// Finite, sane coordinates and segments between two distinct points in range; throws InputError.
-void checkPointsAndIndices(const FeatureSegments& f)
-{
-  const int n = static_cast<int>(f.points.size());
-  for (int i = 0; i < n; ++i)
-  {
-    if (!isFinite(f.points[i]))
-      throw InputError("feature lines: point " + std::to_string(i) + " has a NaN or infinite coordinate");
-    const Vec3& p = f.points[i];
-    if (std::max({ std::abs(p.x), std::abs(p.y), std::abs(p.z) }) > 1e15)
-    {
-      std::ostringstream o;
-      o << "feature lines: point " << i << " (" << p.x << ", " << p.y << ", " << p.z
-        << ") has a coordinate beyond 1e15 in magnitude (absurd; check the units)";
-      throw InputError(o.str());
-    }
-  }
-  for (size_t s = 0; s < f.segments.size(); ++s)
-  {
-    const auto& seg = f.segments[s];
-    if (seg[0] < 0 || seg[0] >= n || seg[1] < 0 || seg[1] >= n)
-      throw InputError("feature lines: segment " + std::to_string(s) + " refers to a point out of range");
-    if (seg[0] == seg[1] || !(f.length(s) > 0.0))
-      throw InputError("feature lines: " + describeSegment(f, s) + " has zero length");
-  }
-}
-
-/// Segments may meet only at shared end points: any other contact is a crossing; throws InputError.
-void checkNoCrossings(const FeatureSegments& f)
-{
+  // Segments may meet only at shared end points: any other contact is a crossing.
+  const FeatureSegments& f = *this;
   std::vector<Box> boxes;
   boxes.reserve(f.segments.size());
   for (size_t s = 0; s < f.segments.size(); ++s)
@@ -146,9 +118,45 @@ void checkNoCrossings(const FeatureSegments& f)
       crossings.emplace_back(std::min(s, t), std::max(s, t));
   };
   CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), check);
+  std::sort(crossings.begin(), crossings.end());
+  return crossings;
+}
+
+namespace
+{
+/// Finite, sane coordinates and segments between two distinct points in range; throws InputError.
+void checkPointsAndIndices(const FeatureSegments& f)
+{
+  const int n = static_cast<int>(f.points.size());
+  for (int i = 0; i < n; ++i)
+  {
+    if (!isFinite(f.points[i]))
+      throw InputError("feature lines: point " + std::to_string(i) + " has a NaN or infinite coordinate");
+    const Vec3& p = f.points[i];
+    if (std::max({ std::abs(p.x), std::abs(p.y), std::abs(p.z) }) > 1e15)
+    {
+      std::ostringstream o;
+      o << "feature lines: point " << i << " (" << p.x << ", " << p.y << ", " << p.z
+        << ") has a coordinate beyond 1e15 in magnitude (absurd; check the units)";
+      throw InputError(o.str());
+    }
+  }
+  for (size_t s = 0; s < f.segments.size(); ++s)
+  {
+    const auto& seg = f.segments[s];
+    if (seg[0] < 0 || seg[0] >= n || seg[1] < 0 || seg[1] >= n)
+      throw InputError("feature lines: segment " + std::to_string(s) + " refers to a point out of range");
+    if (seg[0] == seg[1] || !(f.length(s) > 0.0))
+      throw InputError("feature lines: " + describeSegment(f, s) + " has zero length");
+  }
+}
+
+/// Segments may meet only at shared end points: any other contact is a crossing; throws InputError.
+void checkNoCrossings(const FeatureSegments& f)
+{
+  const std::vector<std::pair<size_t, size_t>> crossings = f.crossingPairs();
   if (!crossings.empty())
   {
-    std::sort(crossings.begin(), crossings.end());
     std::ostringstream msg;
     msg << "feature lines: " << crossings.size() << " pair(s) of segments cross or overlap; first: "
         << describeSegment(f, crossings[0].first) << " and " << describeSegment(f, crossings[0].second);

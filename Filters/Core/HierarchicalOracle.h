@@ -17,6 +17,19 @@ struct Intersection
   int materialAfter = kOutside;  ///< material just past the change
 };
 
+/// Result of HierarchicalOracle::decide: which domain decides a point, and its material.
+struct Decision
+{
+  int domain = -1;         ///< index in priority order; -1: no domain contains the point
+  int material = kOutside;
+  bool operator==(const Decision& o) const { return domain == o.domain && material == o.material; }
+  bool operator!=(const Decision& o) const { return !(*this == o); }
+  bool operator<(const Decision& o) const
+  {
+    return domain != o.domain ? domain < o.domain : material < o.material;
+  }
+};
+
 /// The paper's hierarchical oracle (section 3.1): domains in priority order, the first domain that
 /// contains a point decides its material; a cut domain that contains a point makes it outside.
 /// All queries are const and thread-safe.
@@ -37,6 +50,21 @@ public:
         return d->isCut() ? kOutside : m;
     }
     return kOutside;
+  }
+
+  /// The domain that decides p (its index in priority order: the first that contains it, a cut
+  /// included; -1 when none does) and p's material. Two points of one material can differ in the
+  /// domain (a point cut away and one outside every domain are both outside): feature lines lie
+  /// where three or more of these regions meet.
+  Decision decide(const Vec3& p) const
+  {
+    for (size_t i = 0; i < domains_.size(); ++i)
+    {
+      const int m = domains_[i]->material(p);
+      if (m != kOutside)
+        return { static_cast<int>(i), domains_[i]->isCut() ? kOutside : m };
+    }
+    return {};
   }
 
   /// First material change on segment ab. Exact up to floating-point rounding: every domain lists

@@ -26,7 +26,7 @@ from .defaults import mesh_defaults
 from .errors import MeshingError, OracleMeshError, update
 from .meshing import mesh
 from .progress import ProgressPrinter
-from .scene import STRATEGIES, load_scene
+from .scene import FEATURE_SOURCES, STRATEGIES, load_scene
 from .writers import MESH_FORMATS, write_vtk_xml
 
 
@@ -167,7 +167,8 @@ def _mesh(args):
         if path:
             check_output_path(path, what)
     progress = ProgressPrinter(sys.stderr, machine=args.progress_lines) if args.progress or args.progress_lines else None
-    result = mesh(scene, args.strategy, progress, updater=SIGNALS.update, element_order=args.order)
+    result = mesh(scene, args.strategy, progress, updater=SIGNALS.update, element_order=args.order,
+                  features=args.features)
     started = time.perf_counter()
     written = result.save(*outputs)
     lines = result.report.split("\n")
@@ -285,6 +286,10 @@ def main(argv=None):
                    help="element order: 1 = 4-node, 2 = 10-node tetrahedra with the mid-edge nodes of interface "
                         f"edges on the true surfaces (default: the scene's \"element_order\", else "
                         f"{mesh_defaults()['element_order']})")
+    p.add_argument("--features", choices=FEATURE_SOURCES,
+                   help="which feature lines are kept: given (the scene's), found where the inputs meet (cut "
+                        "rims, entry curves, triple lines), or both (default: the scene's mesh.features.use, "
+                        f"else {mesh_defaults()['features']})")
     p.add_argument("--report", help="also write the quality report to this text file")
     p.add_argument("--histogram", help="save the dihedral-angle histogram to this PNG")
     p.add_argument("--section", help="save a cross-section of the mesh to this PNG (the plane through its "

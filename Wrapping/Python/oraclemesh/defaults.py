@@ -21,6 +21,8 @@ CRITERIA_KEYS = {
 }
 # The tetrahedralizer's FeatureStrategy values, in the C++ enum's order.
 STRATEGIES = ("Conforming", "None", "ProtectingBalls")
+# The tetrahedralizer's Features values (which feature lines are kept), in the C++ enum's order.
+FEATURE_SOURCES = ("None", "Given", "Automatic", "Both")
 # Scene "mesh" keys that are plain tetrahedralizer properties.
 MESH_PROPERTIES = {
     "perturb": "Perturb", "exude": "Exude", "sliver_angle": "SliverAngle",
@@ -40,7 +42,7 @@ def _mesh_defaults():
     from . import vtkFeaturePreservingTetrahedralizer
 
     fresh = vtkFeaturePreservingTetrahedralizer()
-    out = {"strategy": STRATEGIES[fresh.GetFeatureStrategy()],
+    out = {"strategy": STRATEGIES[fresh.GetFeatureStrategy()], "features": FEATURE_SOURCES[fresh.GetFeatures()],
            "criteria": {key: float(getattr(fresh, "Get" + prop)()) for key, prop in CRITERIA_KEYS.items()}}
     for key, prop in MESH_PROPERTIES.items():
         value = getattr(fresh, "Get" + prop)()
@@ -49,7 +51,8 @@ def _mesh_defaults():
 
 
 def mesh_defaults():
-    """{scene "mesh" key: default}: "strategy", "criteria" {criterion: value} and every key of
+    """{scene "mesh" key: default}: "strategy", "features" (which lines are kept: the scene's
+    "mesh.features.use"), "criteria" {criterion: value} and every key of
     MESH_PROPERTIES, as a fresh vtkFeaturePreservingTetrahedralizer has them."""
     import copy
 

@@ -11,17 +11,18 @@
 import os
 import time
 
-from .defaults import CRITERIA_KEYS, MESH_PROPERTIES, domain_criteria_unset, mesh_defaults
+from .defaults import CRITERIA_KEYS, FEATURE_SOURCES, MESH_PROPERTIES, domain_criteria_unset, mesh_defaults
 from .fielddata import add_material_names
 from .errors import OracleMeshError, update
 from .scene import Scene, build_scene, load_scene
 
 
-def mesher_for(scene, strategy=None, element_order=None):
+def mesher_for(scene, strategy=None, element_order=None, features=None):
     """The tetrahedralizer set up from the scene's validated "mesh" block (criteria, the
     "mesh.materials" table, feature lines, strategy, seed, ...); a key the scene leaves out keeps the
     filter's default (defaults.py). The domains carry their own criteria; the core merges them
-    (MeshCriteria.h). `strategy` and `element_order` (1 or 2) override the scene's."""
+    (MeshCriteria.h). `strategy` and `element_order` (1 or 2) override the scene's, `features` (None,
+    Given, Automatic, Both: which feature lines are kept) the scene's "mesh.features.use"."""
     from vtkmodules.vtkFiltersCore import vtkAppendPolyData, vtkFeatureEdges
 
     from . import vtkFeaturePreservingTetrahedralizer
@@ -37,8 +38,14 @@ def mesher_for(scene, strategy=None, element_order=None):
     for material, overrides in sorted(spec.get("materials", {}).items()):
         values = [overrides.get(key, unset) for key in CRITERIA_KEYS]
         mesher.SetMaterialCriteria(material, *values)
+    use = features or (spec.get("features") or {}).get("use")
+    if use:
+        sources = {v.lower(): v for v in FEATURE_SOURCES}
+        if str(use).lower() not in sources:
+            raise OracleMeshError(f"features: must be one of {', '.join(FEATURE_SOURCES)}, got {use!r}")
+        getattr(mesher, "SetFeaturesTo" + sources[str(use).lower()])()
     features = spec.get("features")
-    if features:
+    if features and (features["from_surface"] or features["files"]):
         parts = []
         for index in features["from_surface"]:
             edges = vtkFeatureEdges()
@@ -167,7 +174,7 @@ class MeshResult:
                 f"min dihedral {self.quality['min_dihedral']:.1f} deg>")
 
 
-def mesh(scene, strategy=None, progress=None, base_dir=None, updater=update, element_order=None):
+def mesh(scene, strategy=None, progress=None, base_dir=None, updater=update, element_order=None, features=None):
     """Meshes a scene and returns a MeshResult (``.grid``, ``.report``, ``.statistics``, ``.save()``).
 
     `scene`: a JSON scene file path, a dict in the same format (see the README's "Scene files";
@@ -175,12 +182,14 @@ def mesh(scene, strategy=None, progress=None, base_dir=None, updater=update, ele
     `strategy` overrides the scene's feature strategy ("Conforming", "None", "ProtectingBalls");
     `element_order` its "element_order" (1: 4-node tetrahedra, 2: 10-node ones with the mid-edge nodes
     of interface edges on the true surfaces);
+    `features` which feature lines are kept ("None", "Given", "Automatic", "Both"; default the
+    scene's "mesh.features.use", else Given);
     `progress`, if given, is called with the mesher's progress (0..1); `updater` runs the mesher
     (default errors.update; the command line passes one that signals can abort). Bad scenes and failed meshing
     raise OracleMeshError naming the problem."""
     started = time.perf_counter()
     scene = as_scene(scene, base_dir)
-    mesher = mesher_for(scene, strategy, element_order)
+    mesher = mesher_for(scene, strategy, element_order, features)
     if progress is not None:
         mesher.AddObserver("ProgressEvent", lambda algorithm, event: progress(algorithm.GetProgress()))
     grid = updater(mesher)

@@ -15,7 +15,7 @@ write the results (the README's "Scene files" section documents every key):
        {"name": "ball", "type": "sphere", "center": [...], "radius": 5, "material": 5},
        {"name": "block", "type": "box", "bounds": [xmin, xmax, ymin, ymax, zmin, zmax], "material": 6}],
      "mesh": {"strategy": "Conforming", "criteria": {...}, "materials": {"3": {...}},
-              "features": {"from_surface": "implant", "feature_angle": 60, "files": [...]},
+              "features": {"use": "Both", "from_surface": "implant", "feature_angle": 60, "files": [...]},
               "seed": 1, "maximum_number_of_vertices": 200000},
      "outputs": {"mesh": ["out.vtu", "out.inp"], "report": "report.txt", "histogram": "dihedral.png"},
      "reference_volumes": {"5": 523.6}}
@@ -32,7 +32,7 @@ import json
 import math
 import os
 
-from .defaults import CRITERIA_KEYS, STRATEGIES, cut_default  # noqa: F401 (CRITERIA_KEYS, STRATEGIES re-exported)
+from .defaults import CRITERIA_KEYS, FEATURE_SOURCES, STRATEGIES, cut_default  # noqa: F401 (re-exported)
 from .errors import OracleMeshError
 from .readers import SPACES, label_map_frame, label_map_reader, surface_frame, surface_reader
 
@@ -51,7 +51,7 @@ MESH_KEYS = {"strategy", "criteria", "materials", "features", "seed", "maximum_n
              "perturb", "exude", "sliver_angle", "interface_sliver_angle", "perturbation_steps_per_vertex",
              "exudation_steps_per_cell", "optimisation_time_limit", "perturbation_failures_per_bound",
              "exudation_sliver_bound", "element_order"}
-FEATURE_KEYS = {"from_surface", "feature_angle", "files", "resample", "comment"}
+FEATURE_KEYS = {"use", "from_surface", "feature_angle", "files", "resample", "comment"}
 OUTPUT_KEYS = {"mesh", "report", "histogram", "comment"}
 INT_MIN, INT_MAX = -2**31, 2**31 - 1  # the C int of material ids, labels and the seed
 ID_MAX = 2**63 - 1  # vtkIdType: the vertex budget
@@ -318,11 +318,21 @@ def _mesh_block(problems, spec, scene):
     features = spec.get("features")
     if features is None:
         return
+    if isinstance(features, str):  # "features": "Automatic" is short for {"use": "Automatic"}
+        features = {"use": features}
     if not isinstance(features, dict):
-        problems.add("$.mesh.features", "must be an object")
+        problems.add("$.mesh.features", f"must be an object or one of {', '.join(FEATURE_SOURCES)}")
         return
     _unknown_keys(problems, features, "$.mesh.features", FEATURE_KEYS)
     out = {"from_surface": [], "files": []}
+    if "use" in features:
+        use = features["use"]
+        sources = {v.lower(): v for v in FEATURE_SOURCES}
+        if not isinstance(use, str) or use.lower() not in sources:
+            problems.add("$.mesh.features.use", f"must be one of {', '.join(FEATURE_SOURCES)} (which feature lines "
+                                                f"are kept: given, found where the inputs meet, or both), got {use!r}")
+        else:
+            out["use"] = sources[use.lower()]
     if "from_surface" in features:
         names = features["from_surface"]
         names = [names] if isinstance(names, str) else names
@@ -351,8 +361,9 @@ def _mesh_block(problems, spec, scene):
                 where = "$.mesh.features.files" + (f"[{k}]" if isinstance(features["files"], list) else "")
                 problems.add(where, str(e))
             out["files"].append(file)
-    if "from_surface" not in features and "files" not in features:
-        problems.add("$.mesh.features", "give 'from_surface' (a surface domain's name) and/or 'files' (polylines)")
+    if "from_surface" not in features and "files" not in features and "use" not in features:
+        problems.add("$.mesh.features", "give 'use' (which lines: None, Given, Automatic, Both), 'from_surface' "
+                                        "(a surface domain's name) and/or 'files' (polylines)")
     # Sharp edges found on a surface are often many tiny noisy segments: resampled unless asked not to.
     resample = features.get("resample", bool(out["from_surface"]))
     if not isinstance(resample, bool):
