@@ -214,8 +214,7 @@ void warnOutside(const FeatureSegments& f, const HierarchicalOracle& oracle, std
   {
     const Vec3& a = f.points[f.segments[s][0]];
     const Vec3& b = f.points[f.segments[s][1]];
-    if (oracle.material(a) == kOutside && oracle.material(b) == kOutside &&
-      oracle.material(lerp(a, b, 0.5)) == kOutside && !oracle.intersect(a, b).found && outside++ == 0)
+    if (!oracle.touchesMaterial(a, b) && outside++ == 0)
       firstOutside = describeSegment(f, s);
   }
   if (outside)

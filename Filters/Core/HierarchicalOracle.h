@@ -75,6 +75,12 @@ public:
   /// on a boundary) is located by bisection to 1e-12 |ab|.
   Intersection intersect(const Vec3& a, const Vec3& b) const;
 
+  /// Whether some material lies on or right next to segment ab: at a point of it, across it, or
+  /// within 1e-3 |ab| of its midpoint on either side along each axis. A segment on a boundary
+  /// (e.g. a rim on a closed cut plane, whose own points are all cut away) touches the material
+  /// beside it; a segment outside every domain does not and cannot become a mesh edge.
+  bool touchesMaterial(const Vec3& a, const Vec3& b) const;
+
   /// Union of the bounds of the non-cut domains, i.e. where material can be. Throws InputError when
   /// there are no domains or a non-cut domain is unbounded (names it).
   BoundingBox bounds() const;
