@@ -38,6 +38,15 @@
 
 namespace omesh
 {
+double effectiveTimeLimit(const MesherOptions& options)
+{
+  if (options.timeLimit != 0)
+    return options.timeLimit > 0 ? options.timeLimit : 0.0;
+  return options.maximumNumberOfVertices
+    ? kTimeLimitBase + kTimeLimitPerVertex * static_cast<double>(options.maximumNumberOfVertices)
+    : 0.0;
+}
+
 const char* toString(FeatureStrategy s)
 {
   switch (s)
@@ -448,16 +457,19 @@ struct PerturbationBound
 };
 
 /// CGAL's optimiser visitors: count the steps (a perturbation attempt on one vertex, or one cell
-/// pumped), stop at `budget` steps (0 = none) and ask `check` (which may throw MeshingAborted)
-/// every 256 steps. Copied by CGAL: the counts live outside.
+/// pumped), stop at `budget` steps (0 = none), ask the deadline at every step and `check` (which
+/// may throw MeshingAborted) every 256 steps. Copied by CGAL: the counts live outside.
 struct OptimiserVisitor
 {
   std::function<void()> check;
   std::size_t* steps;
   std::size_t budget;
+  const MeshingDeadline* deadline;
+  const char* phase;
   PerturbationBound* bound = nullptr; ///< the perturber's
   void step()
   {
+    deadline->check(phase);
     if (++*steps % 256 == 0)
       check();
     if (budget && *steps >= budget)
@@ -475,6 +487,33 @@ struct OptimiserVisitor
       bound->step();
   }
   void after_cell_pumped(std::size_t) { step(); }
+};
+
+/// CGAL's sliver criterion of the optimisers (smallest dihedral angle), which also asks the
+/// deadline: one perturbation or one pump evaluates the whole star of a vertex, with no visitor
+/// call in between, and next to a cluster of tiny facets (refinement stopped at the vertex budget)
+/// such a star took minutes.
+class WatchedDihedralCriterion : public CGAL::Mesh_3::Min_dihedral_angle_criterion<Tr>
+{
+  using Base = CGAL::Mesh_3::Min_dihedral_angle_criterion<Tr>;
+
+public:
+  WatchedDihedralCriterion(double bound, const Tr& tr, const MeshingDeadline& deadline, const char* phase)
+    : Base(bound, tr)
+    , deadline_(&deadline)
+    , phase_(phase)
+  {
+  }
+  using Base::operator();
+  double operator()(const typename Base::Tetrahedron_3& t) const override
+  {
+    deadline_->tick(phase_);
+    return Base::operator()(t);
+  }
+
+private:
+  const MeshingDeadline* deadline_;
+  const char* phase_;
 };
 
 /// Smallest dihedral angle (degrees) of the cells of the complex.
@@ -501,7 +540,7 @@ struct OptimiserRun
 /// Runs a CGAL optimiser (perturber or exuder) with an OptimiserVisitor and its budget.
 template <class Optimiser>
 OptimiserRun runOptimiser(C3t3& c3t3, Optimiser& optimiser, std::size_t budget, std::function<void()> check,
-  PerturbationBound* bound = nullptr)
+  const MeshingDeadline& deadline, const char* phase, PerturbationBound* bound = nullptr)
 {
   const auto started = Clock::now();
   const double cpuStart = threadCpu();
@@ -513,7 +552,8 @@ OptimiserRun runOptimiser(C3t3& c3t3, Optimiser& optimiser, std::size_t budget, 
   };
   try
   {
-    run.cutShort = optimiser(OptimiserVisitor{ std::move(check), &run.steps, budget, bound }) == CGAL::TIME_LIMIT_REACHED;
+    run.cutShort =
+      optimiser(OptimiserVisitor{ std::move(check), &run.steps, budget, &deadline, phase, bound }) == CGAL::TIME_LIMIT_REACHED;
   }
   catch (const BudgetReached&)
   {
@@ -558,11 +598,12 @@ protected:
 /// at a bound after `failuresPerBound` vertices it could not move plus 1% of its attempts there
 /// (0 = never).
 OptimiserRun perturb(C3t3& c3t3, const MeshDomain& domain, double timeLimit, std::size_t budget,
-  double failuresPerBound, std::function<void()> check)
+  double failuresPerBound, std::function<void()> check, const MeshingDeadline& deadline)
 {
-  const auto criterion = CGAL::parameters::default_values_for_mesh_3::default_sliver_criterion(
-    c3t3, CGAL::parameters::default_values_for_mesh_3::perturb_sliver_bound);
-  using Criterion = std::remove_const_t<decltype(criterion)>;
+  // as CGAL's default_sliver_criterion, watched
+  using Criterion = WatchedDihedralCriterion;
+  const Criterion criterion(
+    CGAL::parameters::default_values_for_mesh_3::perturb_sliver_bound, c3t3.triangulation(), deadline, "perturbation");
   CGAL::Mesh_3::Sliver_perturber<C3t3, MeshDomain, Criterion, OptimiserVisitor> perturber(c3t3, domain, criterion);
   PerturbationBound bound;
   bound.allowed = failuresPerBound;
@@ -575,18 +616,19 @@ OptimiserRun perturb(C3t3& c3t3, const MeshDomain& domain, double timeLimit, std
   last->bound = &bound;
   perturber.add_perturbation(last);
   perturber.set_time_limit(timeLimit);
-  return runOptimiser(c3t3, perturber, budget, std::move(check), &bound);
+  return runOptimiser(c3t3, perturber, budget, std::move(check), deadline, "perturbation", &bound);
 }
 
 /// As CGAL::exude_mesh_3, pumping the cells below `sliverBound` degrees (0 = every cell, CGAL's
 /// default), abortable, stopped as perturb().
-OptimiserRun exude(C3t3& c3t3, double timeLimit, std::size_t budget, double sliverBound, std::function<void()> check)
+OptimiserRun exude(C3t3& c3t3, double timeLimit, std::size_t budget, double sliverBound, std::function<void()> check,
+  const MeshingDeadline& deadline)
 {
-  using Criterion = CGAL::Mesh_3::Min_dihedral_angle_criterion<Tr>;
-  Criterion criterion(sliverBound, c3t3.triangulation());
+  using Criterion = WatchedDihedralCriterion;
+  Criterion criterion(sliverBound, c3t3.triangulation(), deadline, "exudation");
   CGAL::Mesh_3::Slivers_exuder<C3t3, Criterion, OptimiserVisitor> exuder(c3t3, criterion);
   exuder.set_time_limit(timeLimit);
-  return runOptimiser(c3t3, exuder, budget, std::move(check));
+  return runOptimiser(c3t3, exuder, budget, std::move(check), deadline, "exudation");
 }
 
 /// Sub-segments of `segs` that are not edges of the triangulation, minus `missingBefore`; the
@@ -677,16 +719,20 @@ TetMesh meshOracleUnguarded(const HierarchicalOracle& oracle, const FeatureSegme
   const std::vector<Vec3>& seedPoints, const MesherOptions& options)
 {
   const auto started = Clock::now();
+  // Every phase asks it: between steps, and inside the long ones (TimeLimitReached).
+  MeshingDeadline deadline(effectiveTimeLimit(options));
   std::vector<std::string> warnings;
   const BoundingBox inner = oracle.bounds(); // throws for an empty or unbounded oracle
   const std::optional<FeatureSegments> resampled = resampledFeatures(givenFeatures, options, inner, warnings);
   const FeatureSegments& features = resampled ? *resampled : givenFeatures;
+  deadline.check("feature-line resampling");
   checkCriteria(options.criteria, warnings);
   const MeshCriteria::Values g = options.criteria.globalValues();
   if (!features.empty())
   {
     auto w = features.validate(oracle, g.cellRadiusEdgeRatio);
     warnings.insert(warnings.end(), w.begin(), w.end());
+    deadline.check("feature-line validation");
   }
   auto report = [&](double fraction, const char* phase) {
     if (options.progress && !options.progress(fraction, phase))
@@ -730,12 +776,19 @@ TetMesh meshOracleUnguarded(const HierarchicalOracle& oracle, const FeatureSegme
   if (conforming)
   {
     const size_t budget = options.maximumNumberOfVertices ? options.maximumNumberOfVertices : 1000000;
-    segs = conformSegments(features, g.edgeSize, budget, warnings);
+    segs = conformSegments(features, g.edgeSize, budget, warnings, [&] { deadline.tick("feature-line conformation"); });
     domain.avoidInitialPointsNear(segs.points);
   }
 
   CGAL::get_default_random() = CGAL::Random(options.seed);
   C3t3 c3t3;
+  size_t steps = 0;
+  deadline.setMeasure([&](std::map<std::string, double>& st) {
+    st["vertices"] = static_cast<double>(c3t3.triangulation().number_of_vertices());
+    st["tetrahedra"] = static_cast<double>(c3t3.number_of_cells_in_complex());
+    st["feature_points"] = static_cast<double>(segs.points.size());
+    st["refinement_steps"] = static_cast<double>(steps);
+  });
   const auto initStart = Clock::now();
   // First, far points around the domain keep the triangulation's hull away from the material boundary:
   // a circumcentre on a convex domain's boundary would otherwise land on the hull (CGAL adds such
@@ -751,6 +804,21 @@ TetMesh meshOracleUnguarded(const HierarchicalOracle& oracle, const FeatureSegme
   }
   if (protect)
   {
+    // The seed chooses the domain's initial surface points, as with the other strategies (after
+    // protection CGAL adds them only where the balls alone give no surface facet: the seed changed
+    // nothing). They go in first, away from the feature lines; the balls then leave them out, as
+    // they leave out the far points.
+    std::vector<Vec3> alongFeatures;
+    const double spacing = 0.01 * norm(inner.size());
+    for (size_t s = 0; s < features.segments.size(); ++s)
+    {
+      const Vec3 a = features.points[features.segments[s][0]], b = features.points[features.segments[s][1]];
+      const int n = static_cast<int>(std::min(1e4, std::ceil(norm(b - a) / spacing)));
+      for (int k = 0; k <= n; ++k)
+        alongFeatures.push_back(lerp(a, b, static_cast<double>(k) / std::max(n, 1)));
+    }
+    domain.avoidInitialPointsNear(std::move(alongFeatures));
+    CGAL::Mesh_3::internal::init_c3t3(c3t3, domain, criteria, 20);
     // The vertex budget also bounds the protection of the features (CGAL's ball refinement can
     // run long on small angles). It reports no progress of its own: it runs in a worker thread
     // while this one keeps asking the progress callback, and stops through CGAL's stop flag.
@@ -775,6 +843,12 @@ TetMesh meshOracleUnguarded(const HierarchicalOracle& oracle, const FeatureSegme
         stop = true;
         protection.wait();
         throw;
+      }
+      if (deadline.passed()) // stop the worker first: it writes the complex the message measures
+      {
+        stop = true;
+        protection.wait();
+        deadline.fail("feature protection (protecting balls)");
       }
     }
     protection.get(); // rethrows what the worker threw
@@ -811,6 +885,8 @@ TetMesh meshOracleUnguarded(const HierarchicalOracle& oracle, const FeatureSegme
     segVertex.resize(segs.points.size());
     for (size_t p = 0; p < segs.points.size(); ++p)
     {
+      if (p % 16 == 0) // collinear points: an insertion can take milliseconds
+        deadline.check("inserting the feature-line points");
       Tr::Vertex_handle v = c3t3.triangulation().insert(Tr::Point(toPoint(segs.points[p])));
       c3t3.set_dimension(v, segs.corner[p] ? 0 : 1);
       c3t3.set_index(v, segs.corner[p] ? domain.index_from_corner_index(static_cast<int>(p) + 1)
@@ -828,7 +904,6 @@ TetMesh meshOracleUnguarded(const HierarchicalOracle& oracle, const FeatureSegme
   // Refinement, one step at a time: progress, abort and the vertex budget in our hands.
   const auto refineStart = Clock::now();
   const double refineCpuStart = threadCpu();
-  size_t steps = 0;
   int rounds = 0;
   bool budgetHit = false;
   // Expected number of vertices, for the progress bar only: about one per cell-size cube of each
@@ -856,6 +931,7 @@ TetMesh meshOracleUnguarded(const HierarchicalOracle& oracle, const FeatureSegme
   }();
 
   bool stalled = false;
+  const char* refinePhase = "refinement";
   // `more` (after the mesher is done) may queue more work: then refinement goes on.
   auto drive = [&](auto& mesher, const std::function<bool()>& more) {
     mesher.initialize();
@@ -863,6 +939,8 @@ TetMesh meshOracleUnguarded(const HierarchicalOracle& oracle, const FeatureSegme
     while (!mesher.is_algorithm_done() || (more && more()))
     {
       mesher.one_step();
+      if (steps % 16 == 0)
+        deadline.check(refinePhase); // also where steps insert nothing
       if (++steps % 512 == 0)
       {
         const size_t count = c3t3.triangulation().number_of_vertices();
@@ -962,7 +1040,7 @@ TetMesh meshOracleUnguarded(const HierarchicalOracle& oracle, const FeatureSegme
     const size_t max = budget(options.perturbationStepsPerVertex, c3t3.triangulation().number_of_vertices());
     size_t checks = 0;
     perturbed = perturb(c3t3, domain, optLimit, max, options.perturbationFailuresPerBound,
-      [&] { report(0.45 + 0.35 * phaseProgress(256 * ++checks, max), "perturbation"); });
+      [&] { report(0.45 + 0.35 * phaseProgress(256 * ++checks, max), "perturbation"); }, deadline);
     // The perturber never moves segment vertices, but a moved neighbour can land in a diametral
     // ball and so break a sub-segment: refine again (the segment level splits what was
     // encroached; weights are still zero here, after the exuder they are not).
@@ -978,6 +1056,7 @@ TetMesh meshOracleUnguarded(const HierarchicalOracle& oracle, const FeatureSegme
     if (encroached)
     {
       const size_t before = segCount.splitsEncroached + segCount.splitsVetoed;
+      refinePhase = "refinement after perturbation (segment repair)";
       refine();
       repaired = segCount.splitsEncroached + segCount.splitsVetoed - before;
       c3t3.clear_manifold_info();
@@ -998,7 +1077,8 @@ TetMesh meshOracleUnguarded(const HierarchicalOracle& oracle, const FeatureSegme
     const size_t max = budget(options.exudationStepsPerCell > 0 ? options.exudationStepsPerCell : 10.0,
       c3t3.number_of_cells_in_complex());
     size_t checks = 0;
-    exuded = exude(c3t3, optLimit, max, options.exudationSliverBound, [&] { report(0.8 + 0.18 * phaseProgress(256 * ++checks, max), "exudation"); });
+    exuded = exude(c3t3, optLimit, max, options.exudationSliverBound,
+      [&] { report(0.8 + 0.18 * phaseProgress(256 * ++checks, max), "exudation"); }, deadline);
     if (conforming)
     {
       segVertex.clear(); // the exuder re-creates vertices: find the segment points again
@@ -1014,8 +1094,10 @@ TetMesh meshOracleUnguarded(const HierarchicalOracle& oracle, const FeatureSegme
   const double optCpu = threadCpu() - optCpuStart;
 
 
+  deadline.check("exudation");
   TetMesh mesh = toTetMesh(c3t3);
   mesh.segments = locateFeatureSegments(mesh, features);
+  deadline.check("locating the feature lines in the mesh");
   const double coverage = featureCoverage(mesh.segments, features);
   if (!features.empty() && coverage < 0.9999)
   {
@@ -1035,8 +1117,13 @@ TetMesh meshOracleUnguarded(const HierarchicalOracle& oracle, const FeatureSegme
   // Missing feature-line pieces are defects only where the strategy promises them (not None).
   ValidityThresholds thresholds;
   thresholds.segmentsRequired = options.strategy != FeatureStrategy::None;
-  const MeshValidity validity =
-    checkMeshValidity(mesh, [&oracle](const Vec3& p) { return oracle.material(p); }, thresholds, &defects);
+  const MeshValidity validity = checkMeshValidity(
+    mesh,
+    [&](const Vec3& p) {
+      deadline.tick("validation");
+      return oracle.material(p);
+    },
+    thresholds, &defects);
   mesh.tetDefects = std::move(defects);
   if (!validity.valid())
     warnings.push_back("mesh validity: " + validity.describe());
@@ -1076,6 +1163,7 @@ TetMesh meshOracleUnguarded(const HierarchicalOracle& oracle, const FeatureSegme
   st["time.refinement"] = refineTime;
   st["time.optimisation"] = optTime;
   st["time.total"] = seconds(started);
+  st["time_limit"] = deadline.limit();
   // CPU seconds of the calling thread (the wall times above depend on the machine's load)
   st["cpu.refinement"] = refineCpu;
   st["cpu.perturbation"] = perturbed.cpuSeconds;

@@ -184,7 +184,8 @@ private:
 };
 }
 
-SegmentSet conformSegments(const FeatureSegments& f, double edgeSize, size_t maxPoints, std::vector<std::string>& warnings)
+SegmentSet conformSegments(const FeatureSegments& f, double edgeSize, size_t maxPoints, std::vector<std::string>& warnings,
+  const std::function<void()>& check)
 {
   SegmentSet set(f);
   const std::vector<bool> star = f.starVertices();
@@ -239,6 +240,8 @@ SegmentSet conformSegments(const FeatureSegments& f, double edgeSize, size_t max
     changed = false;
     for (size_t s = 0; s < set.subs.size(); ++s)
     {
+      if (check)
+        check();
       const Vec3 a = set.points[set.subs[s][0]], b = set.points[set.subs[s][1]];
       const double r2 = 0.25 * dot(b - a, b - a);
       if (s < given.size() && given[s])

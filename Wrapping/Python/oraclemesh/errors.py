@@ -16,6 +16,7 @@ class MeshingError(OracleMeshError):
     (``aborted`` is then True). The command line exits with 3 (130 when a signal aborted it)."""
 
     aborted = False
+    statistics = {}  # the mesher's figures so far, when it left some (a time limit reached)
 
 
 def _pipeline(algorithm):

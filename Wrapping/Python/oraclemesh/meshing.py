@@ -12,7 +12,7 @@ import time
 
 from .defaults import CRITERIA_KEYS, MESH_PROPERTIES, domain_criteria_unset, mesh_defaults
 from .fielddata import add_material_names
-from .errors import OracleMeshError, update
+from .errors import MeshingError, OracleMeshError, update
 from .scene import Scene, build_scene, load_scene
 
 
@@ -170,13 +170,21 @@ def mesh(scene, strategy=None, progress=None, base_dir=None, updater=update):
     `strategy` overrides the scene's feature strategy ("Conforming", "None", "ProtectingBalls");
     `progress`, if given, is called with the mesher's progress (0..1); `updater` runs the mesher
     (default errors.update; the command line passes one that signals can abort). Bad scenes and failed meshing
-    raise OracleMeshError naming the problem."""
+    raise OracleMeshError naming the problem; failed meshing raises MeshingError, whose ``statistics`` hold
+    the figures so far (after the scene's "time_limit": vertices, tetrahedra, time.elapsed, time_limit)."""
     started = time.perf_counter()
     scene = as_scene(scene, base_dir)
     mesher = mesher_for(scene, strategy)
     if progress is not None:
         mesher.AddObserver("ProgressEvent", lambda algorithm, event: progress(algorithm.GetProgress()))
-    grid = updater(mesher)
+    try:
+        grid = updater(mesher)
+    except MeshingError as error:  # a time limit leaves the figures so far in the empty output
+        from .report import statistics
+
+        output = mesher.GetOutputDataObject(0)
+        error.statistics = statistics(output) if output is not None else {}
+        raise
     add_input_warnings(grid, scene.input_warnings())
     segments = mesher.GetOutputDataObject(2)
     describe(grid, scene.material_names(), segments.GetNumberOfCells() if segments is not None else 0)
