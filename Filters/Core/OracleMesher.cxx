@@ -366,6 +366,26 @@ private:
   MaterialCriteria criteria_;
 };
 
+/// Thrown inside CGAL's feature protection (its worker thread) once it was asked to stop.
+struct ProtectionStopped
+{
+};
+
+/// The edge size of CGAL's feature protection, constant, reading the stop flag too: CGAL reads
+/// its own flag only between passes, and one pass took minutes (148 s past a 20 s time limit, balls
+/// on feature lines meeting at 1 degree), while it asks the size at every ball it places or checks.
+struct StoppableEdgeSize
+{
+  double size;
+  const std::atomic<bool>* stop;
+  double operator()(const K::Point_3&, int, const MeshDomain::Index&) const
+  {
+    if (stop->load(std::memory_order_relaxed))
+      throw ProtectionStopped{};
+    return size;
+  }
+};
+
 /// Maximal polylines through the segments, broken at points of degree != 2 and at bends sharper
 /// than kPolylineCorner: CGAL protects a polyline as one smooth curve, and through a sharp bend
 /// (the 38-degree bends of a chamfered stem's edges) its balls left 8 pieces out of every
@@ -765,7 +785,9 @@ TetMesh meshOracleUnguarded(const HierarchicalOracle& oracle, const FeatureSegme
   }
   FacetCriteria facetCriteria(0.0, 0.0, 0.0, CGAL::FACET_VERTICES_ON_SURFACE);
   CellCriteria cellCriteria(0.0, 0.0);
-  Criteria criteria(EdgeCriteria(edgeSize > 0 ? edgeSize : 1.0), facetCriteria, cellCriteria);
+  std::atomic<bool> stopProtection{ false };
+  Criteria criteria(EdgeCriteria(StoppableEdgeSize{ edgeSize > 0 ? edgeSize : 1.0, &stopProtection }), facetCriteria,
+    cellCriteria);
   criteria.add_facet_criterion(new MaterialFacetCriterion(options.criteria));
   criteria.add_cell_criterion(new MaterialCellCriterion(options.criteria, options.sliverAngle, options.interfaceSliverAngle));
 
@@ -822,15 +844,21 @@ TetMesh meshOracleUnguarded(const HierarchicalOracle& oracle, const FeatureSegme
     // The vertex budget also bounds the protection of the features (CGAL's ball refinement can
     // run long on small angles). It reports no progress of its own: it runs in a worker thread
     // while this one keeps asking the progress callback, and stops through CGAL's stop flag.
-    std::atomic<bool> stop{ false };
+    std::atomic<bool>& stop = stopProtection;
     CGAL::parameters::internal::Mesh_3_options meshOptions;
     meshOptions.maximal_number_of_vertices = options.maximumNumberOfVertices;
     meshOptions.pointer_to_stop_atomic_boolean = &stop;
     auto protection = std::async(std::launch::async, [&] {
       // CGAL's default random generator is per thread and seeded from the clock: seed this one
       CGAL::get_default_random() = CGAL::Random(options.seed);
-      CGAL::Mesh_3::internal::C3t3_initializer<C3t3, MeshDomain, Criteria, true, MeshDomain::Has_features>()(
-        c3t3, domain, criteria, true, meshOptions);
+      try
+      {
+        CGAL::Mesh_3::internal::C3t3_initializer<C3t3, MeshDomain, Criteria, true, MeshDomain::Has_features>()(
+          c3t3, domain, criteria, true, meshOptions);
+      }
+      catch (const ProtectionStopped&) // asked to stop: the calling thread says why
+      {
+      }
     });
     while (protection.wait_for(std::chrono::milliseconds(50)) != std::future_status::ready)
     {

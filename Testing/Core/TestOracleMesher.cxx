@@ -682,10 +682,11 @@ namespace
 /// A sphere in a box, meshed with `opt` under a time limit of `seconds`: the run must fail with
 /// TimeLimitReached, with a message that names the phase and says how far it got. (Which phase
 /// depends on the machine's load: 20,000 vertices take 1 to 10 s to insert here.)
-void expectTimeLimit(const FeatureSegments& features, MesherOptions opt, double seconds = 2.0)
+void expectTimeLimit(const FeatureSegments& features, MesherOptions opt, const std::string& phase = "")
 {
+  const double seconds = 2.0;
   const std::set<std::string> phases = { "feature-line conformation", "inserting the feature-line points",
-    "refinement", "perturbation", "exudation", "validation" };
+    "feature protection (protecting balls)", "refinement", "perturbation", "exudation", "validation" };
   HierarchicalOracle o;
   o.add(std::make_shared<SphereDomain>(Vec3{ 0, 0, 0 }, 3.0, 2));
   o.add(std::make_shared<BoxDomain>(Vec3{ -5, -5, -5 }, Vec3{ 5, 5, 5 }, 1));
@@ -700,6 +701,8 @@ void expectTimeLimit(const FeatureSegments& features, MesherOptions opt, double 
   {
     const std::string what = e.what();
     EXPECT_TRUE(phases.count(e.phase)) << what;
+    if (!phase.empty())
+      EXPECT_EQ(e.phase, phase) << what;
     EXPECT_NE(what.find("time limit of 2 s reached in " + e.phase + " after "), std::string::npos) << what;
     EXPECT_GE(e.statistics.at("time.elapsed"), seconds);
     EXPECT_EQ(e.statistics.at("time_limit"), seconds);
@@ -765,6 +768,20 @@ TEST(OracleMesherTimeLimit, TinyEdgeSizeWithFeatures)
 TEST(OracleMesherTimeLimit, DenseFeatureSegments)
 {
   expectTimeLimit(denseCircle(10000), formerHang(FeatureStrategy::Conforming));
+}
+
+// A thin triangle of feature lines (1 degree at one corner, through the sphere's boundary) keeps
+// CGAL's protection placing balls for minutes; it read its stop flag only between passes (148 s
+// past a 20 s limit), and now stops at the next ball (StoppableEdgeSize).
+TEST(OracleMesherTimeLimit, FeatureProtectionAtOneDegree)
+{
+  FeatureSegments thin;
+  thin.points = { { 1.698744, 2.718398, -2.539265 }, { 8.801943, 2.641747, -4.801912 }, { 2.730728, 2.713205, -2.886918 } };
+  thin.segments = { { 0, 1 }, { 0, 2 }, { 1, 2 } };
+  MesherOptions opt = formerHang(FeatureStrategy::ProtectingBalls);
+  opt.maximumNumberOfVertices = MesherOptions().maximumNumberOfVertices;
+  opt.criteria.global.edgeSize = 0.2;
+  expectTimeLimit(thin, opt, "feature protection (protecting balls)");
 }
 
 TEST(OracleMesherTimeLimit, AutomaticFromTheVertexBudget)

@@ -12,7 +12,7 @@ import time
 
 from .defaults import CRITERIA_KEYS, MESH_PROPERTIES, domain_criteria_unset, mesh_defaults
 from .fielddata import add_material_names
-from .errors import MeshingError, OracleMeshError, update
+from .errors import OracleMeshError, update
 from .scene import Scene, build_scene, load_scene
 
 
@@ -177,14 +177,7 @@ def mesh(scene, strategy=None, progress=None, base_dir=None, updater=update):
     mesher = mesher_for(scene, strategy)
     if progress is not None:
         mesher.AddObserver("ProgressEvent", lambda algorithm, event: progress(algorithm.GetProgress()))
-    try:
-        grid = updater(mesher)
-    except MeshingError as error:  # a time limit leaves the figures so far in the empty output
-        from .report import statistics
-
-        output = mesher.GetOutputDataObject(0)
-        error.statistics = statistics(output) if output is not None else {}
-        raise
+    grid = updater(mesher)
     add_input_warnings(grid, scene.input_warnings())
     segments = mesher.GetOutputDataObject(2)
     describe(grid, scene.material_names(), segments.GetNumberOfCells() if segments is not None else 0)
