@@ -1122,7 +1122,7 @@ TetMesh meshOracleUnguarded(const HierarchicalOracle& oracle, const FeatureSegme
   const double optCpu = threadCpu() - optCpuStart;
 
 
-  deadline.check("exudation");
+  deadline.check("optimisation");
   TetMesh mesh = toTetMesh(c3t3);
   mesh.segments = locateFeatureSegments(mesh, features);
   deadline.check("locating the feature lines in the mesh");
