@@ -7,6 +7,7 @@
 #include "MeshQuality.h"
 #include "OracleBuilder.h"
 #include "OracleMesher.h"
+#include "QuadraticTets.h"
 
 #include <vtkCellArray.h>
 #include <vtkCellArrayIterator.h>
@@ -26,6 +27,7 @@
 #include <vtkStringArray.h>
 #include <vtkUnstructuredGrid.h>
 
+#include <chrono>
 #include <cmath>
 #include <exception>
 #include <map>
@@ -100,6 +102,7 @@ vtkFeaturePreservingTetrahedralizer::vtkFeaturePreservingTetrahedralizer()
   this->PerturbationStepsPerVertex = defaults.perturbationStepsPerVertex;
   this->ExudationStepsPerCell = defaults.exudationStepsPerCell;
   this->OptimisationTimeLimit = defaults.optimisationTimeLimit;
+  this->ElementOrder = defaults.elementOrder;
   this->Seed = static_cast<int>(defaults.seed);
   this->MaximumNumberOfVertices = static_cast<vtkIdType>(defaults.maximumNumberOfVertices);
   this->TimeLimit = defaults.timeLimit;
@@ -208,6 +211,7 @@ int vtkFeaturePreservingTetrahedralizer::RequestData(
   options.perturbationStepsPerVertex = this->PerturbationStepsPerVertex;
   options.exudationStepsPerCell = this->ExudationStepsPerCell;
   options.optimisationTimeLimit = this->OptimisationTimeLimit;
+  options.elementOrder = this->ElementOrder;
   options.seed = static_cast<unsigned>(this->Seed);
   options.maximumNumberOfVertices = static_cast<std::size_t>(this->MaximumNumberOfVertices);
   options.timeLimit = this->TimeLimit;
@@ -217,6 +221,7 @@ int vtkFeaturePreservingTetrahedralizer::RequestData(
   };
 
   omesh::TetMesh mesh;
+  omesh::QuadraticTetMesh quadratic; // with ElementOrder 2
   omesh::FeatureSegments features;
   std::vector<std::string> notes; // this adapter's warnings, listed before the mesher's
   std::vector<std::string> inputNotes; // of them, those about the inputs (field data InputWarnings)
@@ -226,6 +231,7 @@ int vtkFeaturePreservingTetrahedralizer::RequestData(
     // Properties and inputs first, before any heavy work.
     checkRange("FeatureStrategy", this->FeatureStrategy, CONFORMING, PROTECTING_BALLS,
       ": 0 Conforming, 1 None, 2 ProtectingBalls");
+    checkRange("ElementOrder", this->ElementOrder, 1, 2, ": 1 linear, 2 quadratic tetrahedra");
     checkRange("SliverAngle", this->SliverAngle, 0.0, 30.0, " degrees; 0 = off");
     checkRange("InterfaceSliverAngle", this->InterfaceSliverAngle, 0.0, 30.0, " degrees; 0 = off");
     if (this->MaximumNumberOfVertices < 0)
@@ -282,6 +288,14 @@ int vtkFeaturePreservingTetrahedralizer::RequestData(
       seedPoints.push_back({ x[0], x[1], x[2] });
     }
     mesh = omesh::meshOracle(*oracle, features, seedPoints, options);
+    if (options.elementOrder == 2)
+    {
+      const auto started = std::chrono::steady_clock::now();
+      quadratic = omesh::makeQuadraticTets(mesh, *oracle);
+      quadratic.statistics["time.quadratic"] =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+      mesh.statistics.insert(quadratic.statistics.begin(), quadratic.statistics.end());
+    }
   }
   catch (const omesh::InputError& e)
   {
@@ -328,10 +342,12 @@ int vtkFeaturePreservingTetrahedralizer::RequestData(
   for (const auto& w : mesh.warnings)
     vtkWarningMacro(<< w);
 
-  // Port 0: tetrahedra, positively oriented.
-  grid->SetPoints(toPoints(mesh.points));
+  // Port 0: tetrahedra, positively oriented; with ElementOrder 2 the core's 10-node ones (oriented too).
+  const bool secondOrder = options.elementOrder == 2;
+  grid->SetPoints(toPoints(secondOrder ? quadratic.points : mesh.points));
+  const vtkIdType nodes = secondOrder ? 10 : 4;
   vtkNew<vtkCellArray> tets;
-  tets->AllocateExact(static_cast<vtkIdType>(mesh.tets.size()), 4 * static_cast<vtkIdType>(mesh.tets.size()));
+  tets->AllocateExact(static_cast<vtkIdType>(mesh.tets.size()), nodes * static_cast<vtkIdType>(mesh.tets.size()));
   vtkNew<vtkIntArray> material;
   material->SetName("Material");
   vtkNew<vtkDoubleArray> dihedral;
@@ -344,13 +360,15 @@ int vtkFeaturePreservingTetrahedralizer::RequestData(
     const auto& P = mesh.points;
     if (omesh::signedVolume(P[k[0]], P[k[1]], P[k[2]], P[k[3]]) < 0)
       std::swap(k[0], k[1]);
-    const vtkIdType ids[4] = { k[0], k[1], k[2], k[3] };
-    tets->InsertNextCell(4, ids);
+    vtkIdType ids[10] = { k[0], k[1], k[2], k[3] };
+    if (secondOrder)
+      std::copy(quadratic.tets[t].begin(), quadratic.tets[t].end(), ids);
+    tets->InsertNextCell(nodes, ids);
     material->InsertNextValue(mesh.tetMaterial[t]);
     dihedral->InsertNextValue(omesh::minDihedralAngle(P[k[0]], P[k[1]], P[k[2]], P[k[3]]));
     ratio->InsertNextValue(omesh::radiusEdgeRatio(P[k[0]], P[k[1]], P[k[2]], P[k[3]]));
   }
-  grid->SetCells(VTK_TETRA, tets);
+  grid->SetCells(secondOrder ? VTK_QUADRATIC_TETRA : VTK_TETRA, tets);
   if (mesh.tetDefects.size() == mesh.tets.size())
   {
     vtkNew<vtkUnsignedCharArray> defects; // bits as vtkMeshValidityCheck's
@@ -366,7 +384,7 @@ int vtkFeaturePreservingTetrahedralizer::RequestData(
   grid->GetCellData()->AddArray(ratio);
   vtkNew<vtkIntArray> dimension;
   dimension->SetName("Dimension");
-  for (int d : mesh.pointDimension)
+  for (int d : secondOrder ? quadratic.pointDimension : mesh.pointDimension)
     dimension->InsertNextValue(d);
   grid->GetPointData()->AddArray(dimension);
   vtkNew<vtkStringArray> names;
@@ -453,6 +471,7 @@ void vtkFeaturePreservingTetrahedralizer::PrintSelf(ostream& os, vtkIndent inden
   os << indent << "PerturbationStepsPerVertex: " << this->PerturbationStepsPerVertex << "\n";
   os << indent << "ExudationStepsPerCell: " << this->ExudationStepsPerCell << "\n";
   os << indent << "OptimisationTimeLimit: " << this->OptimisationTimeLimit << "\n";
+  os << indent << "ElementOrder: " << this->ElementOrder << "\n";
   os << indent << "Seed: " << this->Seed << "\n";
   os << indent << "MaximumNumberOfVertices: " << this->MaximumNumberOfVertices << "\n";
   os << indent << "TimeLimit: " << this->TimeLimit << "\n";

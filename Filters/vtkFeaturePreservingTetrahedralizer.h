@@ -26,7 +26,7 @@
  * higher-priority domains hide completely is reported as a warning. An abort (AbortExecute) or a
  * failure ends the update with an error and an empty output, never an empty mesh as success.
  *
- * Outputs: port 0, vtkUnstructuredGrid of tetrahedra with cell data Material, MinDihedralAngle
+ * Outputs: port 0, vtkUnstructuredGrid of tetrahedra (4 nodes, or 10 with ElementOrder 2) with cell data Material, MinDihedralAngle
  * (degrees) and RadiusEdgeRatio, point data Dimension (0 corner, 1 segment, 2 interface,
  * 3 volume), field data StatisticNames/StatisticValues and Warnings; port 1, the interface
  * triangles with cell data Materials (2 components: the materials on the two sides, -1 outside);
@@ -174,6 +174,16 @@ public:
   ///@}
 
   ///@{
+  /// 1 (default): linear tetrahedra (VTK_TETRA). 2: quadratic tetrahedra (VTK_QUADRATIC_TETRA,
+  /// 10 nodes): the mid-edge nodes of edges on interfaces and the boundary are moved onto the
+  /// oracle's true surfaces, then pulled back where a curved tetrahedron's Jacobian gets too small
+  /// (statistics quadratic.*); feature-line and interior edges stay straight. Port 1 keeps linear
+  /// interface triangles on the corner nodes.
+  vtkSetMacro(ElementOrder, int); // 1 or 2
+  vtkGetMacro(ElementOrder, int);
+  ///@}
+
+  ///@{
   /// Seed of the random choices: same input and seed give an identical mesh. Default 0.
   vtkSetMacro(Seed, int);
   vtkGetMacro(Seed, int);
@@ -219,6 +229,7 @@ protected:
   double PerturbationStepsPerVertex;
   double ExudationStepsPerCell;
   double OptimisationTimeLimit;
+  int ElementOrder;
   int Seed;
   vtkIdType MaximumNumberOfVertices;
   double TimeLimit;

@@ -69,6 +69,10 @@ struct MesherOptions
   /// Seconds for each of perturb and exude: 0 = no limit (the default: a limit makes the mesh
   /// depend on the machine's speed), < 0 = stock CGAL's default (the refinement's running time).
   double optimisationTimeLimit = 0.0;
+  /// 1: 4-node tetrahedra; 2: 10-node tetrahedra whose mid-edge nodes on interfaces lie on the
+  /// oracle's surfaces (makeQuadraticTets in QuadraticTets.h). meshOracle makes the linear mesh either
+  /// way; the VTK filter adds the mid-edge nodes.
+  int elementOrder = 1;
   unsigned seed = 0;                  ///< same input + same seed = identical mesh
   std::size_t maximumNumberOfVertices = 2000000; ///< 0 = unlimited; reaching it ends refinement with a warning
   /// Wall-clock seconds for the whole run, every phase (feature conformation and protection,

@@ -25,10 +25,9 @@ from .atomic import write_text
 from .defaults import mesh_defaults
 from .errors import MeshingError, OracleMeshError, update
 from .meshing import mesh
+from .progress import ProgressPrinter
 from .scene import STRATEGIES, load_scene
 from .writers import MESH_FORMATS, write_vtk_xml
-
-PROGRESS_PREFIX = "oraclemesh-progress "  # machine-readable progress lines (batch reads them)
 
 
 class Interrupted(Exception):
@@ -134,34 +133,6 @@ def _sample(args):
     return 0
 
 
-class _Progress:
-    """Reports a filter's ProgressEvent: a bar redrawn in place on a terminal, else a line every 10 %,
-    or machine-readable lines (``--progress-lines``, read by ``batch``)."""
-
-    def __init__(self, stream, machine=False):
-        self.stream, self.machine = stream, machine
-        self.tty = not machine and stream.isatty()
-        self.last, self.last_time = -1.0, 0.0
-
-    def __call__(self, fraction):
-        now = time.monotonic()
-        if self.machine or self.tty:
-            if fraction - self.last < 0.01 and now - self.last_time < 1.0 and fraction < 1.0:
-                return
-            if self.machine:
-                self.stream.write(f"{PROGRESS_PREFIX}{fraction:.4f}\n")
-            else:
-                filled = int(30 * fraction)
-                self.stream.write(f"\rmeshing [{'#' * filled}{'-' * (30 - filled)}] {100 * fraction:5.1f}%"
-                                  + ("\n" if fraction >= 1.0 else ""))
-        elif int(10 * fraction) > int(10 * max(self.last, 0)) or self.last < 0:
-            self.stream.write(f"meshing: {100 * fraction:.0f}%\n")
-        else:
-            return
-        self.stream.flush()
-        self.last, self.last_time = fraction, now
-
-
 def _settings(items):
     """--set KEY=VALUE items as {dotted key: value}: the value read as JSON, else taken as a string."""
     settings = {}
@@ -198,8 +169,8 @@ def _mesh(args):
                        (args.summary, "summary")):
         if path:
             check_output_path(path, what)
-    progress = _Progress(sys.stderr, machine=args.progress_lines) if args.progress or args.progress_lines else None
-    result = mesh(scene, args.strategy, progress, updater=SIGNALS.update)
+    progress = ProgressPrinter(sys.stderr, machine=args.progress_lines) if args.progress or args.progress_lines else None
+    result = mesh(scene, args.strategy, progress, updater=SIGNALS.update, element_order=args.order)
     started = time.perf_counter()
     written = result.save(*outputs)
     lines = result.report.split("\n")
@@ -313,6 +284,10 @@ def main(argv=None):
                         "(default: the scene's outputs.mesh)")
     p.add_argument("--strategy", choices=STRATEGIES,
                    help=f"feature strategy (default: the scene's, else {mesh_defaults()['strategy']})")
+    p.add_argument("--order", type=int, choices=(1, 2),
+                   help="element order: 1 = 4-node, 2 = 10-node tetrahedra with the mid-edge nodes of interface "
+                        f"edges on the true surfaces (default: the scene's \"element_order\", else "
+                        f"{mesh_defaults()['element_order']})")
     p.add_argument("--report", help="also write the quality report to this text file")
     p.add_argument("--histogram", help="save the dihedral-angle histogram to this PNG")
     p.add_argument("--section", help="save a cross-section of the mesh to this PNG (the plane through its "

@@ -5,6 +5,7 @@
     result = om.mesh("scene.json")       # or a dict in the scene format, or a loaded Scene
     print(result.report)                 # the quality report `oraclemesh mesh` prints
     result.save("out.inp", "out.vtu")    # any of MESH_FORMATS, with the boundary and interface sets
+    om.mesh("scene.json", element_order=2)  # 10-node tetrahedra, curved on the interfaces
     grid = result.grid                   # the vtkUnstructuredGrid
 """
 import os
@@ -16,11 +17,11 @@ from .errors import OracleMeshError, update
 from .scene import Scene, build_scene, load_scene
 
 
-def mesher_for(scene, strategy=None):
+def mesher_for(scene, strategy=None, element_order=None):
     """The tetrahedralizer set up from the scene's validated "mesh" block (criteria, the
     "mesh.materials" table, feature lines, strategy, seed, ...); a key the scene leaves out keeps the
     filter's default (defaults.py). The domains carry their own criteria; the core merges them
-    (MeshCriteria.h). `strategy` overrides the scene's."""
+    (MeshCriteria.h). `strategy` and `element_order` (1 or 2) override the scene's."""
     from vtkmodules.vtkFiltersCore import vtkAppendPolyData, vtkFeatureEdges
 
     from . import vtkFeaturePreservingTetrahedralizer
@@ -59,6 +60,10 @@ def mesher_for(scene, strategy=None):
     for key, prop in MESH_PROPERTIES.items():
         if key in spec:
             getattr(mesher, "Set" + prop)(spec[key])
+    if element_order is not None:
+        if element_order not in (1, 2) or isinstance(element_order, bool):
+            raise OracleMeshError(f"element_order: must be 1 (linear) or 2 (quadratic tetrahedra), got {element_order!r}")
+        mesher.SetElementOrder(element_order)
     return mesher
 
 
@@ -162,19 +167,21 @@ class MeshResult:
                 f"min dihedral {self.quality['min_dihedral']:.1f} deg>")
 
 
-def mesh(scene, strategy=None, progress=None, base_dir=None, updater=update):
+def mesh(scene, strategy=None, progress=None, base_dir=None, updater=update, element_order=None):
     """Meshes a scene and returns a MeshResult (``.grid``, ``.report``, ``.statistics``, ``.save()``).
 
     `scene`: a JSON scene file path, a dict in the same format (see the README's "Scene files";
     relative file paths resolve against `base_dir`, default the working folder) or a loaded Scene.
     `strategy` overrides the scene's feature strategy ("Conforming", "None", "ProtectingBalls");
+    `element_order` its "element_order" (1: 4-node tetrahedra, 2: 10-node ones with the mid-edge nodes
+    of interface edges on the true surfaces);
     `progress`, if given, is called with the mesher's progress (0..1); `updater` runs the mesher
     (default errors.update; the command line passes one that signals can abort). Bad scenes and failed meshing
     raise OracleMeshError naming the problem; failed meshing raises MeshingError, whose ``statistics`` hold
     the figures so far (after the scene's "time_limit": vertices, tetrahedra, time.elapsed, time_limit)."""
     started = time.perf_counter()
     scene = as_scene(scene, base_dir)
-    mesher = mesher_for(scene, strategy)
+    mesher = mesher_for(scene, strategy, element_order)
     if progress is not None:
         mesher.AddObserver("ProgressEvent", lambda algorithm, event: progress(algorithm.GetProgress()))
     grid = updater(mesher)

@@ -50,7 +50,7 @@ TOP_KEYS = {"description", "comment", "space", "domains", "mesh", "outputs", "re
 MESH_KEYS = {"strategy", "criteria", "materials", "features", "seed", "maximum_number_of_vertices", "comment",
              "perturb", "exude", "sliver_angle", "interface_sliver_angle", "perturbation_steps_per_vertex",
              "exudation_steps_per_cell", "optimisation_time_limit", "perturbation_failures_per_bound",
-             "exudation_sliver_bound", "time_limit"}
+             "exudation_sliver_bound", "time_limit", "element_order"}
 FEATURE_KEYS = {"from_surface", "feature_angle", "files", "resample", "comment"}
 OUTPUT_KEYS = {"mesh", "report", "histogram", "comment"}
 INT_MIN, INT_MAX = -2**31, 2**31 - 1  # the C int of material ids, labels and the seed
@@ -305,6 +305,12 @@ def _mesh_block(problems, spec, scene):
                 problems.add(f"$.mesh.{key}", f"must be between {low} and {high:g}, got {value}")
             else:
                 mesh[key] = value
+    order = spec.get("element_order")
+    if order is not None:
+        if order not in (1, 2) or isinstance(order, bool):
+            problems.add("$.mesh.element_order", f"must be 1 (linear) or 2 (quadratic tetrahedra), got {order!r}")
+        else:
+            mesh["element_order"] = order
     limit = _number(problems, spec, "$.mesh", "maximum_number_of_vertices", positive=True, required=False,
                     integer=True, low=1, high=ID_MAX)
     if limit is not None:
