@@ -107,6 +107,7 @@ vtkFeaturePreservingTetrahedralizer::vtkFeaturePreservingTetrahedralizer()
   this->ElementOrder = defaults.elementOrder;
   this->Seed = static_cast<int>(defaults.seed);
   this->MaximumNumberOfVertices = static_cast<vtkIdType>(defaults.maximumNumberOfVertices);
+  this->TimeLimit = defaults.timeLimit;
 }
 
 vtkFeaturePreservingTetrahedralizer::~vtkFeaturePreservingTetrahedralizer() = default;
@@ -215,6 +216,7 @@ int vtkFeaturePreservingTetrahedralizer::RequestData(
   options.elementOrder = this->ElementOrder;
   options.seed = static_cast<unsigned>(this->Seed);
   options.maximumNumberOfVertices = static_cast<std::size_t>(this->MaximumNumberOfVertices);
+  options.timeLimit = this->TimeLimit;
   options.progress = [this](double fraction, const char*) {
     this->UpdateProgress(fraction);
     return !this->GetAbortExecute();
@@ -244,6 +246,7 @@ int vtkFeaturePreservingTetrahedralizer::RequestData(
     checkRange("PerturbationStepsPerVertex", this->PerturbationStepsPerVertex, 0.0, 1e6, "; 0 = no budget");
     checkRange("ExudationStepsPerCell", this->ExudationStepsPerCell, 0.0, 1e6, "; 0 = no budget");
     checkRange("OptimisationTimeLimit", this->OptimisationTimeLimit, -1.0, 1e9, " seconds; 0 = none, -1 = CGAL's");
+    checkRange("TimeLimit", this->TimeLimit, -1.0, 1e9, " seconds; 0 = automatic, -1 = none");
     checkCriteria({ this->FacetAngle, this->FacetSize, this->FacetDistance, this->CellSize,
                     this->CellRadiusEdgeRatio, this->EdgeSize },
       "vtkFeaturePreservingTetrahedralizer");
@@ -311,6 +314,24 @@ int vtkFeaturePreservingTetrahedralizer::RequestData(
   catch (const omesh::FeatureSearchAborted&)
   {
     vtkErrorMacro(<< "meshing aborted (AbortExecute) while finding feature lines: no mesh");
+    return 0;
+  }
+  catch (const omesh::TimeLimitReached& e)
+  {
+    // an error (no partial mesh: one cut by the clock depends on the machine's load), with the
+    // figures so far in the otherwise empty output
+    vtkErrorMacro(<< "meshing failed: " << e.what());
+    vtkNew<vtkStringArray> names;
+    names->SetName("StatisticNames");
+    vtkNew<vtkDoubleArray> values;
+    values->SetName("StatisticValues");
+    for (const auto& [name, value] : e.statistics)
+    {
+      names->InsertNextValue(name);
+      values->InsertNextValue(value);
+    }
+    grid->GetFieldData()->AddArray(names);
+    grid->GetFieldData()->AddArray(values);
     return 0;
   }
   catch (const omesh::MeshingAborted&)
@@ -468,6 +489,7 @@ void vtkFeaturePreservingTetrahedralizer::PrintSelf(ostream& os, vtkIndent inden
   os << indent << "ElementOrder: " << this->ElementOrder << "\n";
   os << indent << "Seed: " << this->Seed << "\n";
   os << indent << "MaximumNumberOfVertices: " << this->MaximumNumberOfVertices << "\n";
+  os << indent << "TimeLimit: " << this->TimeLimit << "\n";
   for (const auto& [m, c] : this->MaterialCriteria)
     os << indent << "Material " << m << " criteria: " << c[0] << " " << c[1] << " " << c[2] << " " << c[3]
        << " " << c[4] << " " << c[5] << "\n";

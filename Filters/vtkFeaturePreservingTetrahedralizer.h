@@ -218,6 +218,15 @@ public:
   vtkGetMacro(MaximumNumberOfVertices, vtkIdType);
   ///@}
 
+  ///@{
+  /// Wall-clock seconds for the whole run (every phase): reaching it fails the update with an
+  /// error naming the phase and how far it got (vertices, tetrahedra, seconds); the output then
+  /// holds no cells, only those statistics (StatisticNames/StatisticValues). 0 = automatic (the
+  /// default: 60 s + 5 ms per vertex of MaximumNumberOfVertices, none when that is 0), -1 = none.
+  vtkSetMacro(TimeLimit, double); // -1 to 1e9
+  vtkGetMacro(TimeLimit, double);
+  ///@}
+
 protected:
   vtkFeaturePreservingTetrahedralizer();
   ~vtkFeaturePreservingTetrahedralizer() override;
@@ -247,6 +256,7 @@ protected:
   int ElementOrder;
   int Seed;
   vtkIdType MaximumNumberOfVertices;
+  double TimeLimit;
 
 private:
   vtkFeaturePreservingTetrahedralizer(const vtkFeaturePreservingTetrahedralizer&) = delete;

@@ -121,7 +121,8 @@ def mesh(root, scene, out):
 
 
 def fingerprint(path):
-    """Everything of a written mesh that a seed fixes: arrays as bytes, statistics but the times."""
+    """Everything of a written mesh that a seed fixes: arrays as bytes, statistics but the times (and the
+    time limit)."""
     from vtkmodules.util.numpy_support import vtk_to_numpy
     from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader
 
@@ -139,7 +140,8 @@ def fingerprint(path):
     from oraclemesh.fielddata import labelled
 
     for name, value in labelled(grid.GetFieldData(), "StatisticValues"):
-        if not name.startswith(("time.", "cpu.")):
+        # times depend on the load; time_limit is the run's limit (a setting echoed, not a result)
+        if not name.startswith(("time.", "cpu.")) and name != "time_limit":
             parts[f"statistic:{name}"] = repr(value)
     return parts
 

@@ -39,6 +39,15 @@
 
 namespace omesh
 {
+double effectiveTimeLimit(const MesherOptions& options)
+{
+  if (options.timeLimit != 0)
+    return options.timeLimit > 0 ? options.timeLimit : 0.0;
+  return options.maximumNumberOfVertices
+    ? kTimeLimitBase + kTimeLimitPerVertex * static_cast<double>(options.maximumNumberOfVertices)
+    : 0.0;
+}
+
 const char* toString(FeatureStrategy s)
 {
   switch (s)
@@ -358,6 +367,26 @@ private:
   MaterialCriteria criteria_;
 };
 
+/// Thrown inside CGAL's feature protection (its worker thread) once it was asked to stop.
+struct ProtectionStopped
+{
+};
+
+/// The edge size of CGAL's feature protection, constant, reading the stop flag too: CGAL reads
+/// its own flag only between passes, and one pass took minutes (148 s past a 20 s time limit, balls
+/// on feature lines meeting at 1 degree), while it asks the size at every ball it places or checks.
+struct StoppableEdgeSize
+{
+  double size;
+  const std::atomic<bool>* stop;
+  double operator()(const K::Point_3&, int, const MeshDomain::Index&) const
+  {
+    if (stop->load(std::memory_order_relaxed))
+      throw ProtectionStopped{};
+    return size;
+  }
+};
+
 /// Maximal polylines through the segments, broken at points of degree != 2 and at bends sharper
 /// than kPolylineCorner: CGAL protects a polyline as one smooth curve, and through a sharp bend
 /// (the 38-degree bends of a chamfered stem's edges) its balls left 8 pieces out of every
@@ -449,16 +478,19 @@ struct PerturbationBound
 };
 
 /// CGAL's optimiser visitors: count the steps (a perturbation attempt on one vertex, or one cell
-/// pumped), stop at `budget` steps (0 = none) and ask `check` (which may throw MeshingAborted)
-/// every 256 steps. Copied by CGAL: the counts live outside.
+/// pumped), stop at `budget` steps (0 = none), ask the deadline at every step and `check` (which
+/// may throw MeshingAborted) every 256 steps. Copied by CGAL: the counts live outside.
 struct OptimiserVisitor
 {
   std::function<void()> check;
   std::size_t* steps;
   std::size_t budget;
+  const MeshingDeadline* deadline;
+  const char* phase;
   PerturbationBound* bound = nullptr; ///< the perturber's
   void step()
   {
+    deadline->check(phase);
     if (++*steps % 256 == 0)
       check();
     if (budget && *steps >= budget)
@@ -476,6 +508,33 @@ struct OptimiserVisitor
       bound->step();
   }
   void after_cell_pumped(std::size_t) { step(); }
+};
+
+/// CGAL's sliver criterion of the optimisers (smallest dihedral angle), which also asks the
+/// deadline: one perturbation or one pump evaluates the whole star of a vertex, with no visitor
+/// call in between, and next to a cluster of tiny facets (refinement stopped at the vertex budget)
+/// such a star took minutes.
+class WatchedDihedralCriterion : public CGAL::Mesh_3::Min_dihedral_angle_criterion<Tr>
+{
+  using Base = CGAL::Mesh_3::Min_dihedral_angle_criterion<Tr>;
+
+public:
+  WatchedDihedralCriterion(double bound, const Tr& tr, const MeshingDeadline& deadline, const char* phase)
+    : Base(bound, tr)
+    , deadline_(&deadline)
+    , phase_(phase)
+  {
+  }
+  using Base::operator();
+  double operator()(const typename Base::Tetrahedron_3& t) const override
+  {
+    deadline_->tick(phase_);
+    return Base::operator()(t);
+  }
+
+private:
+  const MeshingDeadline* deadline_;
+  const char* phase_;
 };
 
 /// Smallest dihedral angle (degrees) of the cells of the complex.
@@ -502,7 +561,7 @@ struct OptimiserRun
 /// Runs a CGAL optimiser (perturber or exuder) with an OptimiserVisitor and its budget.
 template <class Optimiser>
 OptimiserRun runOptimiser(C3t3& c3t3, Optimiser& optimiser, std::size_t budget, std::function<void()> check,
-  PerturbationBound* bound = nullptr)
+  const MeshingDeadline& deadline, const char* phase, PerturbationBound* bound = nullptr)
 {
   const auto started = Clock::now();
   const double cpuStart = threadCpu();
@@ -514,7 +573,8 @@ OptimiserRun runOptimiser(C3t3& c3t3, Optimiser& optimiser, std::size_t budget, 
   };
   try
   {
-    run.cutShort = optimiser(OptimiserVisitor{ std::move(check), &run.steps, budget, bound }) == CGAL::TIME_LIMIT_REACHED;
+    run.cutShort =
+      optimiser(OptimiserVisitor{ std::move(check), &run.steps, budget, &deadline, phase, bound }) == CGAL::TIME_LIMIT_REACHED;
   }
   catch (const BudgetReached&)
   {
@@ -559,11 +619,12 @@ protected:
 /// at a bound after `failuresPerBound` vertices it could not move plus 1% of its attempts there
 /// (0 = never).
 OptimiserRun perturb(C3t3& c3t3, const MeshDomain& domain, double timeLimit, std::size_t budget,
-  double failuresPerBound, std::function<void()> check)
+  double failuresPerBound, std::function<void()> check, const MeshingDeadline& deadline)
 {
-  const auto criterion = CGAL::parameters::default_values_for_mesh_3::default_sliver_criterion(
-    c3t3, CGAL::parameters::default_values_for_mesh_3::perturb_sliver_bound);
-  using Criterion = std::remove_const_t<decltype(criterion)>;
+  // as CGAL's default_sliver_criterion, watched
+  using Criterion = WatchedDihedralCriterion;
+  const Criterion criterion(
+    CGAL::parameters::default_values_for_mesh_3::perturb_sliver_bound, c3t3.triangulation(), deadline, "perturbation");
   CGAL::Mesh_3::Sliver_perturber<C3t3, MeshDomain, Criterion, OptimiserVisitor> perturber(c3t3, domain, criterion);
   PerturbationBound bound;
   bound.allowed = failuresPerBound;
@@ -576,18 +637,19 @@ OptimiserRun perturb(C3t3& c3t3, const MeshDomain& domain, double timeLimit, std
   last->bound = &bound;
   perturber.add_perturbation(last);
   perturber.set_time_limit(timeLimit);
-  return runOptimiser(c3t3, perturber, budget, std::move(check), &bound);
+  return runOptimiser(c3t3, perturber, budget, std::move(check), deadline, "perturbation", &bound);
 }
 
 /// As CGAL::exude_mesh_3, pumping the cells below `sliverBound` degrees (0 = every cell, CGAL's
 /// default), abortable, stopped as perturb().
-OptimiserRun exude(C3t3& c3t3, double timeLimit, std::size_t budget, double sliverBound, std::function<void()> check)
+OptimiserRun exude(C3t3& c3t3, double timeLimit, std::size_t budget, double sliverBound, std::function<void()> check,
+  const MeshingDeadline& deadline)
 {
-  using Criterion = CGAL::Mesh_3::Min_dihedral_angle_criterion<Tr>;
-  Criterion criterion(sliverBound, c3t3.triangulation());
+  using Criterion = WatchedDihedralCriterion;
+  Criterion criterion(sliverBound, c3t3.triangulation(), deadline, "exudation");
   CGAL::Mesh_3::Slivers_exuder<C3t3, Criterion, OptimiserVisitor> exuder(c3t3, criterion);
   exuder.set_time_limit(timeLimit);
-  return runOptimiser(c3t3, exuder, budget, std::move(check));
+  return runOptimiser(c3t3, exuder, budget, std::move(check), deadline, "exudation");
 }
 
 /// Converts the complex to the output mesh.
@@ -661,7 +723,9 @@ public:
     : oracle_(oracle)
     , given_(givenFeatures)
     , options_(options)
+    , deadline_(effectiveTimeLimit(options))
   {
+    deadline_.setMeasure([this](std::map<std::string, double>& st) { measure(st); });
   }
 
   TetMesh run(const std::vector<Vec3>& seedPoints)
@@ -683,18 +747,30 @@ private:
       throw MeshingAborted();
   }
 
+  /// How far the run got, for the message and statistics of TimeLimitReached.
+  void measure(std::map<std::string, double>& st) const
+  {
+    st["vertices"] = c3t3_ ? static_cast<double>(c3t3_->triangulation().number_of_vertices()) : 0.0;
+    st["tetrahedra"] = c3t3_ ? static_cast<double>(c3t3_->number_of_cells_in_complex()) : 0.0;
+    st["feature_points"] =
+      static_cast<double>(segments_ ? segments_->segments().points.size() : conformed_.points.size());
+    st["refinement_steps"] = static_cast<double>(steps_);
+  }
+
   /// Resampled feature lines (if asked), criteria and feature lines checked.
   void prepareInputs()
   {
     inner_ = oracle_.bounds(); // throws for an empty or unbounded oracle
     resampled_ = resampledFeatures(given_, options_, inner_, warnings_);
     features_ = resampled_ ? &*resampled_ : &given_;
+    deadline_.check("feature-line resampling");
     checkCriteria(options_.criteria, warnings_);
     g_ = options_.criteria.globalValues();
     if (!features_->empty())
     {
       auto w = features_->validate(oracle_, g_.cellRadiusEdgeRatio);
       warnings_.insert(warnings_.end(), w.begin(), w.end());
+      deadline_.check("feature-line validation");
     }
     report(0.0, "initialisation");
   }
@@ -726,7 +802,8 @@ private:
     }
     FacetCriteria facetCriteria(0.0, 0.0, 0.0, CGAL::FACET_VERTICES_ON_SURFACE);
     CellCriteria cellCriteria(0.0, 0.0);
-    criteria_ = std::make_unique<Criteria>(EdgeCriteria(edgeSize > 0 ? edgeSize : 1.0), facetCriteria, cellCriteria);
+    criteria_ = std::make_unique<Criteria>(
+      EdgeCriteria(StoppableEdgeSize{ edgeSize > 0 ? edgeSize : 1.0, &stopProtection_ }), facetCriteria, cellCriteria);
     criteria_->add_facet_criterion(new MaterialFacetCriterion(options_.criteria));
     criteria_->add_cell_criterion(
       new MaterialCellCriterion(options_.criteria, options_.sliverAngle, options_.interfaceSliverAngle));
@@ -741,7 +818,8 @@ private:
     if (!conforming_)
       return;
     const size_t budget = options_.maximumNumberOfVertices ? options_.maximumNumberOfVertices : 1000000;
-    conformed_ = conformSegments(*features_, g_.edgeSize, budget, warnings_);
+    conformed_ =
+      conformSegments(*features_, g_.edgeSize, budget, warnings_, [this] { deadline_.tick("feature-line conformation"); });
     domain_->avoidInitialPointsNear(conformed_.points);
   }
 
@@ -754,7 +832,10 @@ private:
     const auto initStart = Clock::now();
     addFarPoints();
     if (protect_)
+    {
+      initialPointsAwayFromFeatures();
       protectFeatures();
+    }
     else
       CGAL::Mesh_3::internal::init_c3t3(*c3t3_, *domain_, *criteria_, 20);
     insertSeedPoints(seedPoints);
@@ -776,21 +857,47 @@ private:
     }
   }
 
+  /// ProtectingBalls: the seed chooses the domain's initial surface points, as with the other
+  /// strategies (after protection CGAL adds them only where the balls alone give no surface facet:
+  /// the seed changed nothing). They go in first, away from the feature lines; the balls then
+  /// leave them out, as they leave out the far points.
+  void initialPointsAwayFromFeatures()
+  {
+    std::vector<Vec3> alongFeatures;
+    const double spacing = 0.01 * norm(inner_.size());
+    const FeatureSegments& f = *features_;
+    for (size_t s = 0; s < f.segments.size(); ++s)
+    {
+      const Vec3 a = f.points[f.segments[s][0]], b = f.points[f.segments[s][1]];
+      const int n = static_cast<int>(std::min(1e4, std::ceil(norm(b - a) / spacing)));
+      for (int k = 0; k <= n; ++k)
+        alongFeatures.push_back(lerp(a, b, static_cast<double>(k) / std::max(n, 1)));
+    }
+    domain_->avoidInitialPointsNear(std::move(alongFeatures));
+    CGAL::Mesh_3::internal::init_c3t3(*c3t3_, *domain_, *criteria_, 20);
+  }
+
   /// ProtectingBalls: CGAL's protection of the polylines. The vertex budget also bounds it (CGAL's
   /// ball refinement can run long on small angles). It reports no progress of its own: it runs in
-  /// a worker thread while this one keeps asking the progress callback, and stops through CGAL's
-  /// stop flag.
+  /// a worker thread while this one keeps asking the progress callback and the deadline, and stops
+  /// through CGAL's stop flag (read between passes) and StoppableEdgeSize (at the next ball).
   void protectFeatures()
   {
-    std::atomic<bool> stop{ false };
+    std::atomic<bool>& stop = stopProtection_;
     CGAL::parameters::internal::Mesh_3_options meshOptions;
     meshOptions.maximal_number_of_vertices = options_.maximumNumberOfVertices;
     meshOptions.pointer_to_stop_atomic_boolean = &stop;
     auto protection = std::async(std::launch::async, [&] {
       // CGAL's default random generator is per thread and seeded from the clock: seed this one
       CGAL::get_default_random() = CGAL::Random(options_.seed);
-      CGAL::Mesh_3::internal::C3t3_initializer<C3t3, MeshDomain, Criteria, true, MeshDomain::Has_features>()(
-        *c3t3_, *domain_, *criteria_, true, meshOptions);
+      try
+      {
+        CGAL::Mesh_3::internal::C3t3_initializer<C3t3, MeshDomain, Criteria, true, MeshDomain::Has_features>()(
+          *c3t3_, *domain_, *criteria_, true, meshOptions);
+      }
+      catch (const ProtectionStopped&) // asked to stop: the calling thread says why
+      {
+      }
     });
     while (protection.wait_for(std::chrono::milliseconds(50)) != std::future_status::ready)
     {
@@ -803,6 +910,12 @@ private:
         stop = true;
         protection.wait();
         throw;
+      }
+      if (deadline_.passed()) // stop the worker first: it writes the complex the message measures
+      {
+        stop = true;
+        protection.wait();
+        deadline_.fail("feature protection (protecting balls)");
       }
     }
     protection.get(); // rethrows what the worker threw
@@ -837,7 +950,8 @@ private:
     if (!conforming_)
       return;
     segments_ = std::make_unique<SegmentState<C3t3>>(*c3t3_, std::move(conformed_));
-    segments_->insertPoints(*domain_);
+    // collinear points: an insertion can take milliseconds
+    segments_->insertPoints(*domain_, [this] { deadline_.check("inserting the feature-line points"); });
     c3t3_->rescan_after_load_of_triangulation();
   }
 
@@ -876,6 +990,8 @@ private:
     while (!mesher.is_algorithm_done() || (more && more()))
     {
       mesher.one_step();
+      if (steps_ % 16 == 0)
+        deadline_.check(refinePhase_); // also where steps insert nothing
       if (++steps_ % 512 == 0)
       {
         const size_t count = c3t3_->triangulation().number_of_vertices();
@@ -984,13 +1100,14 @@ private:
       const size_t max = stepBudget(options_.perturbationStepsPerVertex, c3t3_->triangulation().number_of_vertices());
       size_t checks = 0;
       perturbed_ = perturb(*c3t3_, *domain_, optLimit_, max, options_.perturbationFailuresPerBound,
-        [&] { report(0.45 + 0.35 * phaseProgress(256 * ++checks, max), "perturbation"); });
+        [&] { report(0.45 + 0.35 * phaseProgress(256 * ++checks, max), "perturbation"); }, deadline_);
       repairSegmentsAfterPerturbation();
     }
     if (options_.exude)
       exudeKeepingSegments();
     optTime_ = seconds(optStart);
     optCpu_ = threadCpu() - optCpuStart;
+    deadline_.check("optimisation");
   }
 
   /// The perturber never moves segment vertices, but a moved neighbour can land in a diametral
@@ -1014,6 +1131,7 @@ private:
       return;
     const Counters& count = segments_->counters();
     const size_t before = count.splitsEncroached + count.splitsVetoed;
+    refinePhase_ = "refinement after perturbation (segment repair)";
     refineOnce();
     repaired_ = count.splitsEncroached + count.splitsVetoed - before;
     c3t3_->clear_manifold_info();
@@ -1035,7 +1153,7 @@ private:
       c3t3_->number_of_cells_in_complex());
     size_t checks = 0;
     exuded_ = exude(*c3t3_, optLimit_, max, options_.exudationSliverBound,
-      [&] { report(0.8 + 0.18 * phaseProgress(256 * ++checks, max), "exudation"); });
+      [&] { report(0.8 + 0.18 * phaseProgress(256 * ++checks, max), "exudation"); }, deadline_);
     if (!conforming_)
       return;
     segments_->locateVertices(); // the exuder re-creates vertices: find the segment points again
@@ -1054,6 +1172,7 @@ private:
   {
     TetMesh mesh = toTetMesh(*c3t3_);
     mesh.segments = locateFeatureSegments(mesh, *features_);
+    deadline_.check("locating the feature lines in the mesh");
     const double coverage = featureCoverage(mesh.segments, *features_);
     if (!features_->empty() && coverage < 0.9999)
     {
@@ -1065,8 +1184,13 @@ private:
     // Missing feature-line pieces are defects only where the strategy promises them (not None).
     ValidityThresholds thresholds;
     thresholds.segmentsRequired = options_.strategy != FeatureStrategy::None;
-    const MeshValidity validity =
-      checkMeshValidity(mesh, [this](const Vec3& p) { return oracle_.material(p); }, thresholds, &defects);
+    const MeshValidity validity = checkMeshValidity(
+      mesh,
+      [this](const Vec3& p) {
+        deadline_.tick("validation");
+        return oracle_.material(p);
+      },
+      thresholds, &defects);
     mesh.tetDefects = std::move(defects);
     if (!validity.valid())
       warnings_.push_back("mesh validity: " + validity.describe());
@@ -1146,6 +1270,7 @@ private:
     st["time.refinement"] = refineTime_;
     st["time.optimisation"] = optTime_;
     st["time.total"] = seconds(started_);
+    st["time_limit"] = deadline_.limit();
     // CPU seconds of the calling thread (the wall times above depend on the machine's load)
     st["cpu.refinement"] = refineCpu_;
     st["cpu.perturbation"] = perturbed_.cpuSeconds;
@@ -1157,6 +1282,10 @@ private:
   const FeatureSegments& given_;
   const MesherOptions& options_;
   const Clock::time_point started_ = Clock::now();
+  MeshingDeadline deadline_; ///< asked by every phase: between steps, and inside the long ones
+  /// Stops CGAL's feature protection at its next ball (StoppableEdgeSize), set when the deadline passed.
+  std::atomic<bool> stopProtection_{ false };
+  const char* refinePhase_ = "refinement"; ///< the deadline's name for the current refinement round
   std::vector<std::string> warnings_;
   BoundingBox inner_, box_;
   std::optional<FeatureSegments> resampled_;

@@ -3,6 +3,7 @@
 
 #include "FeatureSegments.h"
 #include "MeshCriteria.h"
+#include "MeshingDeadline.h"
 #include "TetMesh.h"
 
 #include <cstddef>
@@ -74,10 +75,25 @@ struct MesherOptions
   int elementOrder = 1;
   unsigned seed = 0;                  ///< same input + same seed = identical mesh
   std::size_t maximumNumberOfVertices = 2000000; ///< 0 = unlimited; reaching it ends refinement with a warning
+  /// Wall-clock seconds for the whole run, every phase (feature conformation and protection,
+  /// refinement, optimisation, validation): reaching it throws TimeLimitReached (a failure naming the
+  /// phase, with the statistics so far), for inputs whose criteria no budget of vertices bounds
+  /// (refinement steps that insert nothing, optimiser steps on huge vertex stars).
+  /// 0 = automatic: kTimeLimitBase + kTimeLimitPerVertex x maximumNumberOfVertices (10,060 s, 2.8 h, at
+  /// the default budget; none with an unlimited budget); < 0 = none. See effectiveTimeLimit().
+  double timeLimit = 0.0;
   /// Called during the work with a fraction in [0, 1] and the phase name; return false to abort
   /// (the call then throws MeshingAborted). Called from the calling thread.
   std::function<bool(double, const char*)> progress;
 };
+
+/// The automatic time limit (MesherOptions::timeLimit 0): seconds, plus seconds per vertex of the
+/// budget. A generous multiple of the slowest rate measured (see the README's "Time limit").
+constexpr double kTimeLimitBase = 60.0;
+constexpr double kTimeLimitPerVertex = 0.005;
+
+/// The time limit a run with `options` gets, in seconds (0 = none).
+double effectiveTimeLimit(const MesherOptions& options);
 
 /// Thrown when the progress callback asked to stop.
 struct MeshingAborted : std::runtime_error

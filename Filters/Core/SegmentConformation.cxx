@@ -185,8 +185,8 @@ private:
 namespace
 {
 /// T1.1 on the input segments: every segment at a star vertex p_i gets a point at l_min,i / 3
-/// from p_i (scaled as the shells of its small-angle cluster).
-void trimAtStarVertices(SegmentSet& set, const FeatureSegments& f)
+/// from p_i (scaled as the shells of its small-angle cluster). Calls `check` at every segment.
+void trimAtStarVertices(SegmentSet& set, const FeatureSegments& f, const std::function<void()>& check)
 {
   const std::vector<bool> star = f.starVertices();
   std::vector<double> lmin(f.points.size(), std::numeric_limits<double>::infinity());
@@ -195,6 +195,8 @@ void trimAtStarVertices(SegmentSet& set, const FeatureSegments& f)
       lmin[end] = std::min(lmin[end], f.length(s));
   for (size_t s = 0, n = set.subs.size(); s < n; ++s)
   {
+    if (check)
+      check();
     for (int side = 0; side < 2; ++side)
     {
       const int a = set.subs[s][0], b = set.subs[s][1];
@@ -221,8 +223,9 @@ void trimAtStarVertices(SegmentSet& set, const FeatureSegments& f)
 
 /// T1.2 on the segments alone: midpoint splits until no sub-segment is encroached by a segment
 /// point (or longer than `edgeSize`), mirrored in small-angle clusters. Returns false when it
-/// stopped at `maxPoints`.
-bool splitEncroached(SegmentSet& set, double edgeSize, size_t maxPoints, std::vector<std::string>& warnings)
+/// stopped at `maxPoints`. Calls `check` at every sub-segment it looks at.
+bool splitEncroached(SegmentSet& set, double edgeSize, size_t maxPoints, std::vector<std::string>& warnings,
+  const std::function<void()>& check)
 {
   std::vector<double> lengths;
   for (size_t s = 0; s < set.subs.size(); ++s)
@@ -245,6 +248,8 @@ bool splitEncroached(SegmentSet& set, double edgeSize, size_t maxPoints, std::ve
     changed = false;
     for (size_t s = 0; s < set.subs.size(); ++s)
     {
+      if (check)
+        check();
       if (s < given.size() && given[s])
         continue;
       const Vec3 a = set.points[set.subs[s][0]], b = set.points[set.subs[s][1]];
@@ -285,11 +290,12 @@ bool splitEncroached(SegmentSet& set, double edgeSize, size_t maxPoints, std::ve
 }
 }
 
-SegmentSet conformSegments(const FeatureSegments& f, double edgeSize, size_t maxPoints, std::vector<std::string>& warnings)
+SegmentSet conformSegments(const FeatureSegments& f, double edgeSize, size_t maxPoints, std::vector<std::string>& warnings,
+  const std::function<void()>& check)
 {
   SegmentSet set(f);
-  trimAtStarVertices(set, f);
-  splitEncroached(set, edgeSize, maxPoints, warnings);
+  trimAtStarVertices(set, f, check);
+  splitEncroached(set, edgeSize, maxPoints, warnings, check);
   return set;
 }
 }

@@ -11,6 +11,7 @@
 #include "SegmentRules.h"
 
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <unordered_map>
 #include <vector>
@@ -56,12 +57,15 @@ public:
   /// (dimension 0), the others on the curve (dimension 1); CGAL's perturber moves neither.
   /// Sub-segments are never split below 1/64 of the shortest conformed one: a surface or a
   /// segment meeting a segment at a tiny angle would otherwise split it without end.
+  /// Calls `check` (which may throw: the mesher's deadline) before every 16th point.
   template <class Domain>
-  void insertPoints(const Domain& domain)
+  void insertPoints(const Domain& domain, const std::function<void()>& check = {})
   {
     vertexOf_.resize(segs_.points.size());
     for (size_t p = 0; p < segs_.points.size(); ++p)
     {
+      if (check && p % 16 == 0)
+        check();
       Vertex_handle v = tr_.insert(typename Tr::Point(toPoint(segs_.points[p])));
       c3t3_.set_dimension(v, segs_.corner[p] ? 0 : 1);
       c3t3_.set_index(v, segs_.corner[p] ? domain.index_from_corner_index(static_cast<int>(p) + 1)

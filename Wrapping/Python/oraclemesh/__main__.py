@@ -9,7 +9,7 @@
   batch SCENES   mesh many cases (scenes, a study's sweeps), each in its own process, locally or on
                  Dask distributed, with a folder per case and a summary CSV; resumable
 
-Exit codes: 0 done, 2 bad input (the message names it), 3 meshing failed (or --strict found
+Exit codes: 0 done, 2 bad input (the message names it), 3 meshing failed (its time limit too; or --strict found
 defects or warnings about the inputs), 130 interrupted (SIGINT or SIGTERM), 1 an internal error (a bug; ORACLEMESH_TRACEBACK=1
 shows where).
 """
@@ -151,7 +151,10 @@ def _settings(items):
 def _mesh(args):
     from .report import VALIDITY_ITEMS, save_histogram, save_section, statistics
 
-    scene = load_scene(args.scene, _settings(args.set))
+    settings = _settings(args.set)
+    if args.time_limit is not None:
+        settings["time_limit"] = args.time_limit
+    scene = load_scene(args.scene, settings)
     outputs = args.output or scene.outputs.get("mesh")
     if not outputs:
         raise OracleMeshError(f"{args.scene}: no output: give -o OUT (or \"outputs\": {{\"mesh\": ...}} in the scene)")
@@ -297,6 +300,10 @@ def main(argv=None):
     p.add_argument("--set", action="append", metavar="KEY=VALUE",
                    help="set a key of the scene's mesh block (dotted, the value as JSON or a string), e.g. "
                         "criteria.cell_size=2, strategy=None, materials.3.cell_size=1; repeat for several")
+    p.add_argument("--time-limit", type=float, metavar="SECONDS",
+                   help="wall-clock seconds for the meshing, every phase (the scene's mesh.time_limit); reaching "
+                        "it is a failure (exit 3) naming the phase, with the figures so far and no mesh written. "
+                        "0 = automatic (the default: from the vertex budget), -1 = none")
     p.add_argument("--progress", action="store_true", help="show the mesher's progress on stderr")
     p.add_argument("--progress-lines", action="store_true", help=argparse.SUPPRESS)
     p.add_argument("--summary", help=argparse.SUPPRESS)  # JSON of the figures batch puts in its CSV
@@ -350,6 +357,9 @@ def main(argv=None):
     except MeshingError as e:
         if e.aborted and SIGNALS.received:
             return _interrupted()
+        if e.statistics:
+            print("partial statistics: " + ", ".join(f"{k} {v:g}" for k, v in sorted(e.statistics.items())),
+                  file=sys.stderr)
         print(f"oraclemesh: error: {e}", file=sys.stderr)
         return 3
     except OracleMeshError as e:

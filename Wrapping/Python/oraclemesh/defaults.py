@@ -32,7 +32,8 @@ MESH_PROPERTIES = {
     "exudation_sliver_bound": "ExudationSliverBound",
     "perturbation_steps_per_vertex": "PerturbationStepsPerVertex",
     "exudation_steps_per_cell": "ExudationStepsPerCell", "optimisation_time_limit": "OptimisationTimeLimit",
-    "seed": "Seed", "maximum_number_of_vertices": "MaximumNumberOfVertices", "element_order": "ElementOrder",
+    "seed": "Seed", "maximum_number_of_vertices": "MaximumNumberOfVertices", "time_limit": "TimeLimit",
+    "element_order": "ElementOrder",
 }
 BOOLEAN_PROPERTIES = {"Perturb", "Exude", "ResampleFeatureLines"}
 

@@ -186,7 +186,8 @@ def mesh(scene, strategy=None, progress=None, base_dir=None, updater=update, ele
     scene's "mesh.features.use", else Given);
     `progress`, if given, is called with the mesher's progress (0..1); `updater` runs the mesher
     (default errors.update; the command line passes one that signals can abort). Bad scenes and failed meshing
-    raise OracleMeshError naming the problem."""
+    raise OracleMeshError naming the problem; failed meshing raises MeshingError, whose ``statistics`` hold
+    the figures so far (after the scene's "time_limit": vertices, tetrahedra, time.elapsed, time_limit)."""
     started = time.perf_counter()
     scene = as_scene(scene, base_dir)
     mesher = mesher_for(scene, strategy, element_order, features)

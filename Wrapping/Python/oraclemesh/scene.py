@@ -16,7 +16,7 @@ write the results (the README's "Scene files" section documents every key):
        {"name": "block", "type": "box", "bounds": [xmin, xmax, ymin, ymax, zmin, zmax], "material": 6}],
      "mesh": {"strategy": "Conforming", "criteria": {...}, "materials": {"3": {...}},
               "features": {"use": "Both", "from_surface": "implant", "feature_angle": 60, "files": [...]},
-              "seed": 1, "maximum_number_of_vertices": 200000},
+              "seed": 1, "maximum_number_of_vertices": 200000, "time_limit": 600},
      "outputs": {"mesh": ["out.vtu", "out.inp"], "report": "report.txt", "histogram": "dihedral.png"},
      "reference_volumes": {"5": 523.6}}
 
@@ -50,7 +50,7 @@ TOP_KEYS = {"description", "comment", "space", "domains", "mesh", "outputs", "re
 MESH_KEYS = {"strategy", "criteria", "materials", "features", "seed", "maximum_number_of_vertices", "comment",
              "perturb", "exude", "sliver_angle", "interface_sliver_angle", "perturbation_steps_per_vertex",
              "exudation_steps_per_cell", "optimisation_time_limit", "perturbation_failures_per_bound",
-             "exudation_sliver_bound", "element_order"}
+             "exudation_sliver_bound", "time_limit", "element_order"}
 FEATURE_KEYS = {"use", "from_surface", "feature_angle", "files", "resample", "comment"}
 OUTPUT_KEYS = {"mesh", "report", "histogram", "comment"}
 INT_MIN, INT_MAX = -2**31, 2**31 - 1  # the C int of material ids, labels and the seed
@@ -298,7 +298,7 @@ def _mesh_block(problems, spec, scene):
                 mesh[key] = angle
     for key, low, high in (("perturbation_steps_per_vertex", 0, 1e6), ("exudation_steps_per_cell", 0, 1e6),
                            ("optimisation_time_limit", -1, 1e6), ("perturbation_failures_per_bound", 0, 1e6),
-                           ("exudation_sliver_bound", 0, 90)):
+                           ("exudation_sliver_bound", 0, 90), ("time_limit", -1, 1e9)):
         value = _number(problems, spec, "$.mesh", key, required=False)
         if value is not None:
             if not low <= value <= high:
