@@ -1019,21 +1019,8 @@ private:
   }
 
   /// A sub-segment missing from the mesh is worth splitting only where a material touches it (not
-  /// on a feature line outside every domain): probes around its midpoint.
-  bool touchesMaterial(const Vec3& a, const Vec3& b) const
-  {
-    const Vec3 m = 0.5 * (a + b);
-    const double h = 1e-3 * norm(b - a);
-    for (int axis = 0; axis < 3; ++axis)
-      for (double sign : { -1.0, 1.0 })
-      {
-        Vec3 p = m;
-        p[axis] += sign * h;
-        if (oracle_.material(p) != kOutside)
-          return true;
-      }
-    return false;
-  }
+  /// on a feature line outside every domain).
+  bool touchesMaterial(const Vec3& a, const Vec3& b) const { return oracle_.touchesMaterial(a, b); }
 
   /// One refinement round: Conforming with the segment level below the facets, else CGAL's
   /// Mesher_3.
