@@ -18,8 +18,6 @@
 #include <limits>
 #include <numeric>
 #include <tuple>
-#include <cstdio>
-#include <cstdlib>
 
 namespace omesh
 {
@@ -239,7 +237,6 @@ std::size_t snapUntilStable(FeatureSegments& f, double d, double minAngle, int r
   for (int r = 0; r < rounds; ++r)
   {
     const std::size_t n = snapPointsToSegments(f, d, minAngle);
-    if (getenv("OM_DEBUG")) fprintf(stderr, "snap round %d: %zu (segments %zu)\n", r, n, f.segments.size());
     total += n;
     if (!n)
       break;
@@ -345,6 +342,70 @@ void dropSpurs(FeatureSegments& f, double s, FeatureNetworkReport& report)
   }
 }
 
+/// The lines without their separate pieces (connected parts) shorter than `s`, and the length of those.
+std::pair<FeatureSegments, double> withoutShortPieces(const FeatureSegments& f, double s)
+{
+  std::vector<int> root(f.points.size());
+  std::iota(root.begin(), root.end(), 0);
+  auto find = [&](int x) {
+    while (root[x] != x)
+      x = root[x] = root[root[x]];
+    return x;
+  };
+  for (const auto& seg : f.segments)
+    root[find(seg[0])] = find(seg[1]);
+  std::vector<double> length(f.points.size(), 0.0);
+  for (std::size_t i = 0; i < f.segments.size(); ++i)
+    length[find(f.segments[i][0])] += f.length(i);
+  FeatureSegments kept;
+  kept.points = f.points;
+  double dropped = 0.0;
+  for (std::size_t i = 0; i < f.segments.size(); ++i)
+    if (length[find(f.segments[i][0])] >= s)
+      kept.segments.push_back(f.segments[i]);
+    else
+      dropped += f.length(i);
+  return { kept, dropped };
+}
+
+/// Step 6: a chord between two points of a noisy surface can pass outside it, where it cannot be a
+/// mesh edge: segments with an interior sample (at most h / 8 apart) outside the domain are dropped.
+std::size_t dropSegmentsLeavingDomain(FeatureSegments& f, const FeatureNetworkTolerances& tol)
+{
+  const auto near = [&](const Vec3& p, double eps) {
+    if (tol.inDomain(p))
+      return true;
+    for (int axis = 0; axis < 3; ++axis)
+      for (double sign : { -1.0, 1.0 })
+      {
+        Vec3 q = p;
+        q[axis] += sign * eps;
+        if (tol.inDomain(q))
+          return true;
+      }
+    return false;
+  };
+  std::vector<std::array<int, 2>> kept;
+  for (std::size_t s = 0; s < f.segments.size(); ++s)
+  {
+    const Vec3& a = f.points[f.segments[s][0]];
+    const Vec3& b = f.points[f.segments[s][1]];
+    const int n = std::max(3, static_cast<int>(std::ceil(8.0 * f.length(s) / tol.edgeLength)));
+    bool inside = true;
+    for (int k = 1; inside && k < n; ++k)
+      inside = near(lerp(a, b, static_cast<double>(k) / n), 1e-3 * f.length(s));
+    if (inside)
+      kept.push_back(f.segments[s]);
+  }
+  const std::size_t dropped = f.segments.size() - kept.size();
+  if (dropped)
+  {
+    f.segments = std::move(kept);
+    mergeFeatureSegments(f);
+  }
+  return dropped;
+}
+
 double shortestSegment(const FeatureSegments& f)
 {
   double shortest = f.segments.empty() ? 0.0 : std::numeric_limits<double>::infinity();
@@ -393,7 +454,16 @@ FeatureNetworkReport simplifyFeatureNetwork(FeatureSegments& f, const FeatureNet
   report.pointsResampled = resampleFeatureLines(f, h, std::max(0.0, tol.chordTolerance));
   if (d > 0)
     report.pointsSnapped += snapUntilStable(f, d, tol.minAngle);
-  report.givenToSimplified = featureLinesDistance(given, f, h / 50.0);
+  if (tol.inDomain)
+  {
+    report.segmentsOutside = dropSegmentsLeavingDomain(f, tol);
+    if (report.segmentsOutside && tol.spurLength() > 0)
+      dropSpurs(f, tol.spurLength(), report);
+  }
+  // Separate pieces shorter than the spur length are dropped on purpose: measured apart.
+  const auto [kept, shortLength] = withoutShortPieces(given, tol.spurLength());
+  report.shortPiecesLength = shortLength;
+  report.givenToSimplified = featureLinesDistance(kept, f, h / 50.0);
   report.simplifiedToGiven = featureLinesDistance(f, given, h / 50.0);
   report.smallestAngle = f.smallestAngle();
   report.shortestSegment = shortestSegment(f);

@@ -632,7 +632,8 @@ namespace
 /// (simplifyFeatureNetwork: chords up to the edge size, else the facet size, else 1/40 of the
 /// diagonal, within half the smallest facet distance), or nothing when it does not.
 std::optional<FeatureSegments> resampledFeatures(const FeatureSegments& given, const MesherOptions& options,
-  const BoundingBox& inner, std::vector<std::string>& warnings, FeatureNetworkReport& report)
+  const HierarchicalOracle& oracle, const BoundingBox& inner, std::vector<std::string>& warnings,
+  FeatureNetworkReport& report)
 {
   if (!options.resampleFeatureLines || given.empty())
     return std::nullopt;
@@ -644,6 +645,7 @@ std::optional<FeatureSegments> resampledFeatures(const FeatureSegments& given, c
   FeatureNetworkTolerances tolerances;
   tolerances.edgeLength = g.edgeSize > 0 ? g.edgeSize : g.facetSize > 0 ? g.facetSize : norm(inner.size()) / 40.0;
   tolerances.chordTolerance = distance > 0 ? 0.5 * distance : 0.05 * tolerances.edgeLength;
+  tolerances.inDomain = [&oracle](const Vec3& p) { return oracle.material(p) != kOutside; };
   FeatureSegments resampled = given;
   report = simplifyFeatureNetwork(resampled, tolerances);
   if (resampled.segments.size() != given.segments.size() || resampled.points.size() != given.points.size())
@@ -697,7 +699,7 @@ private:
   void prepareInputs()
   {
     inner_ = oracle_.bounds(); // throws for an empty or unbounded oracle
-    resampled_ = resampledFeatures(given_, options_, inner_, warnings_, network_);
+    resampled_ = resampledFeatures(given_, options_, oracle_, inner_, warnings_, network_);
     features_ = resampled_ ? &*resampled_ : &given_;
     checkCriteria(options_.criteria, warnings_);
     g_ = options_.criteria.globalValues();
@@ -1129,6 +1131,8 @@ private:
       st["feature_network.points_snapped"] = static_cast<double>(network_.pointsSnapped);
       st["feature_network.spurs_dropped"] = static_cast<double>(network_.spursDropped);
       st["feature_network.pieces_dropped"] = static_cast<double>(network_.piecesDropped);
+      st["feature_network.segments_outside_dropped"] = static_cast<double>(network_.segmentsOutside);
+      st["feature_network.short_pieces_length"] = network_.shortPiecesLength;
       st["feature_network.given_to_simplified"] = network_.givenToSimplified;
       st["feature_network.simplified_to_given"] = network_.simplifiedToGiven;
       st["feature_network.smallest_angle"] = network_.smallestAngle;

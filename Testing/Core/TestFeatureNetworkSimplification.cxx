@@ -107,7 +107,9 @@ TEST(FeatureNetworkSimplification, NoisyNetworkBecomesCoarseWithinTheBound)
   EXPECT_LE(r.simplifiedToGiven, bound);
   EXPECT_LE(r.givenToSimplified, bound);
   EXPECT_NEAR(r.simplifiedToGiven, featureLinesDistance(f, input, 0.002), 0.002);
-  EXPECT_NEAR(r.givenToSimplified, featureLinesDistance(input, f, 0.002), 0.002);
+  // measured without the given lines' separate pieces shorter than the spur length
+  EXPECT_LE(r.givenToSimplified, featureLinesDistance(input, f, 0.002) + 0.002);
+  EXPECT_GT(r.givenToSimplified, 0.0);
 }
 
 // Whiskers: a dangling chain shorter than the spur length goes, a long one stays; a separate short
@@ -177,4 +179,29 @@ TEST(FeatureNetworkSimplification, CoarseNetworkLeftAlone)
   EXPECT_EQ(g.segments.size(), f.segments.size());
   EXPECT_EQ(r.givenToSimplified, 0.0);
   EXPECT_EQ(r.simplifiedToGiven, 0.0);
+}
+
+// With a domain: a chord that leaves it (it could be no mesh edge) is dropped, the lines inside stay.
+TEST(FeatureNetworkSimplification, SegmentsLeavingTheDomainDropped)
+{
+  FeatureSegments f;
+  // an inside line along x at y = 0 and a segment from it that pokes out of the unit ball
+  for (int i = 0; i <= 8; ++i)
+    f.points.push_back({ -0.8 + 0.2 * i, 0, 0 });
+  for (int i = 0; i < 8; ++i)
+    f.segments.push_back({ i, i + 1 });
+  f.points.push_back({ 0.0, 0.99, 0.5 }); // 9: outside the ball (|p| > 1), joined to the middle point
+  f.segments.push_back({ 4, 9 });
+  FeatureNetworkTolerances tol;
+  tol.edgeLength = 0.25;
+  tol.chordTolerance = 0.01;
+  tol.inDomain = [](const Vec3& p) { return norm(p) < 1.0; };
+  const FeatureNetworkReport r = simplifyFeatureNetwork(f, tol);
+  EXPECT_EQ(r.segmentsOutside, 1u);
+  for (size_t s = 0; s < f.segments.size(); ++s)
+    for (double t : { 0.25, 0.5, 0.75 })
+      EXPECT_LT(norm(lerp(f.points[f.segments[s][0]], f.points[f.segments[s][1]], t)), 1.0);
+  EXPECT_TRUE(isInputPoint(f, { -0.8, 0, 0 }));
+  EXPECT_TRUE(isInputPoint(f, { 0.8, 0, 0 }));
+  EXPECT_FALSE(isInputPoint(f, { 0.0, 0.99, 0.5 }));
 }
