@@ -55,6 +55,24 @@ std::vector<std::size_t> degrees(const FeatureSegments& f)
   return d;
 }
 
+/// Only the points some segment uses, renumbered.
+void keepUsedPoints(FeatureSegments& f)
+{
+  std::vector<int> index(f.points.size(), -1);
+  std::vector<Vec3> points;
+  for (auto& s : f.segments)
+    for (int& e : s)
+    {
+      if (index[e] < 0)
+      {
+        index[e] = static_cast<int>(points.size());
+        points.push_back(f.points[e]);
+      }
+      e = index[e];
+    }
+  f.points = std::move(points);
+}
+
 /// Segments renumbered by `to`, without the ones that became a point, then repeated points and
 /// segments merged and unused points removed (mergeFeatureSegments).
 void remapSegments(FeatureSegments& f, const std::vector<int>& to)
@@ -338,7 +356,7 @@ void dropSpurs(FeatureSegments& f, double s, FeatureNetworkReport& report)
   if (kept.size() != f.segments.size())
   {
     f.segments = std::move(kept);
-    mergeFeatureSegments(f); // removes the points no segment uses
+    keepUsedPoints(f);
   }
 }
 
@@ -401,7 +419,7 @@ std::size_t dropSegmentsLeavingDomain(FeatureSegments& f, const FeatureNetworkTo
   if (dropped)
   {
     f.segments = std::move(kept);
-    mergeFeatureSegments(f);
+    keepUsedPoints(f);
   }
   return dropped;
 }

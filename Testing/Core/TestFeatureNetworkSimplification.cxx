@@ -195,6 +195,7 @@ TEST(FeatureNetworkSimplification, SegmentsLeavingTheDomainDropped)
   FeatureNetworkTolerances tol;
   tol.edgeLength = 0.25;
   tol.chordTolerance = 0.01;
+  tol.mergeFraction = 0.5; // the line's points (0.2 apart) stay
   tol.inDomain = [](const Vec3& p) { return norm(p) < 1.0; };
   const FeatureNetworkReport r = simplifyFeatureNetwork(f, tol);
   EXPECT_EQ(r.segmentsOutside, 1u);
