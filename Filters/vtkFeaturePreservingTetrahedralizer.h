@@ -170,10 +170,11 @@ public:
   ///@}
 
   ///@{
-  /// Resample the feature lines before meshing: keep their corners and, between them, only the
-  /// points needed for chords of at most the edge size within half the smallest facet distance
-  /// of the dropped points. For lines made of many tiny noisy segments (sharp edges of scanned
-  /// surfaces), which otherwise cost a point per wiggle and meet at small angles all along.
+  /// Simplify and resample the feature lines before meshing, at the edge size h (core:
+  /// simplifyFeatureNetwork): points closer than h merged, lines at less than 30 degrees sharing a
+  /// trunk, spurs, short pieces and segments leaving the domain dropped, chords of at most h within
+  /// half the smallest facet distance. For lines made of many tiny noisy segments (sharp edges of
+  /// scanned surfaces), which otherwise cost a point per wiggle and meet at small angles all along.
   vtkSetMacro(ResampleFeatureLines, bool);
   vtkGetMacro(ResampleFeatureLines, bool);
   vtkBooleanMacro(ResampleFeatureLines, bool);

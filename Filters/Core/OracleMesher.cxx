@@ -5,6 +5,7 @@
 #include "OracleMesher.h"
 
 #include "HierarchicalOracle.h"
+#include "FeatureNetworkSimplification.h"
 #include "InputError.h"
 #include "MeshQuality.h"
 #include "MeshValidity.h"
@@ -689,11 +690,12 @@ TetMesh toTetMesh(const C3t3& c3t3)
 
 namespace
 {
-/// The feature lines resampled as MesherOptions::resampleFeatureLines asks (chords up to the edge
-/// size, else the facet size, else 1/40 of the diagonal, within half the smallest facet distance),
-/// or nothing when it does not.
+/// The feature lines simplified and resampled as MesherOptions::resampleFeatureLines asks
+/// (simplifyFeatureNetwork: chords up to the edge size, else the facet size, else 1/40 of the
+/// diagonal, within half the smallest facet distance), or nothing when it does not.
 std::optional<FeatureSegments> resampledFeatures(const FeatureSegments& given, const MesherOptions& options,
-  const BoundingBox& inner, std::vector<std::string>& warnings)
+  const HierarchicalOracle& oracle, const BoundingBox& inner, std::vector<std::string>& warnings,
+  FeatureNetworkReport& report)
 {
   if (!options.resampleFeatureLines || given.empty())
     return std::nullopt;
@@ -702,11 +704,21 @@ std::optional<FeatureSegments> resampledFeatures(const FeatureSegments& given, c
   for (const auto& [m, unused] : options.criteria.perMaterial)
     if (const double d = options.criteria.of(m).facetDistance; d > 0 && (distance <= 0 || d < distance))
       distance = d;
-  const double length = g.edgeSize > 0 ? g.edgeSize : g.facetSize > 0 ? g.facetSize : norm(inner.size()) / 40.0;
+  FeatureNetworkTolerances tolerances;
+  tolerances.edgeLength = g.edgeSize > 0 ? g.edgeSize : g.facetSize > 0 ? g.facetSize : norm(inner.size()) / 40.0;
+  tolerances.chordTolerance = distance > 0 ? 0.5 * distance : 0.05 * tolerances.edgeLength;
+  tolerances.inDomain = [&oracle](const Vec3& p) { return oracle.material(p) != kOutside; };
   FeatureSegments resampled = given;
-  if (resampleFeatureLines(resampled, length, distance > 0 ? 0.5 * distance : 0.05 * length) > 0)
-    warnings.push_back("feature lines resampled: " + std::to_string(given.segments.size()) + " segments became " +
-      std::to_string(resampled.segments.size()) + " (chords up to " + std::to_string(length) + ")");
+  report = simplifyFeatureNetwork(resampled, tolerances);
+  if (resampled.segments.size() != given.segments.size() || resampled.points.size() != given.points.size())
+  {
+    std::ostringstream o;
+    o << "feature lines simplified: " << given.segments.size() << " segments became " << resampled.segments.size()
+      << " (chords up to " << tolerances.edgeLength << "; points closer than " << tolerances.mergeDistance()
+      << " merged, spurs shorter than " << tolerances.spurLength() << " dropped; the lines moved by at most "
+      << std::max(report.givenToSimplified, report.simplifiedToGiven) << ")";
+    warnings.push_back(o.str());
+  }
   return resampled;
 }
 
@@ -761,7 +773,7 @@ private:
   void prepareInputs()
   {
     inner_ = oracle_.bounds(); // throws for an empty or unbounded oracle
-    resampled_ = resampledFeatures(given_, options_, inner_, warnings_);
+    resampled_ = resampledFeatures(given_, options_, oracle_, inner_, warnings_, network_);
     features_ = resampled_ ? &*resampled_ : &given_;
     deadline_.check("feature-line resampling");
     checkCriteria(options_.criteria, warnings_);
@@ -1167,6 +1179,7 @@ private:
       o << "feature lines: " << 100.0 * coverage << "% of their length is present as mesh edges";
       warnings_.push_back(o.str());
     }
+    warnMissingPieces();
     std::vector<unsigned char> defects;
     // Missing feature-line pieces are defects only where the strategy promises them (not None).
     ValidityThresholds thresholds;
@@ -1189,6 +1202,22 @@ private:
     return mesh;
   }
 
+  /// Never silent: pieces the segment level could not make mesh edges, how many, why and where.
+  void warnMissingPieces()
+  {
+    if (!missing_.short_ && !missing_.refused)
+      return;
+    std::ostringstream o;
+    o << "segment level: " << missing_.short_ + missing_.refused << " feature-line piece(s) are no mesh edges";
+    if (missing_.short_)
+      o << "; " << missing_.short_ << " shorter than the split floor (shortest " << missing_.shortest
+        << ", first at (" << missing_.firstShort.x << ", " << missing_.firstShort.y << ", " << missing_.firstShort.z
+        << "))";
+    if (missing_.refused)
+      o << "; " << missing_.refused << " whose split failed or was refused";
+    warnings_.push_back(o.str());
+  }
+
   /// The mesh's size and angles, what each rule did, the optimisers' runs and the times.
   void addStatistics(TetMesh& mesh, double coverage) const
   {
@@ -1207,7 +1236,19 @@ private:
     st["feature_coverage"] = coverage;
     st["feature_segments"] = static_cast<double>(features_->segments.size());
     if (resampled_)
+    {
       st["feature_segments_before_resampling"] = static_cast<double>(given_.segments.size());
+      st["feature_network.points_merged"] = static_cast<double>(network_.pointsMerged);
+      st["feature_network.points_snapped"] = static_cast<double>(network_.pointsSnapped);
+      st["feature_network.spurs_dropped"] = static_cast<double>(network_.spursDropped);
+      st["feature_network.pieces_dropped"] = static_cast<double>(network_.piecesDropped);
+      st["feature_network.segments_outside_dropped"] = static_cast<double>(network_.segmentsOutside);
+      st["feature_network.short_pieces_length"] = network_.shortPiecesLength;
+      st["feature_network.given_to_simplified"] = network_.givenToSimplified;
+      st["feature_network.simplified_to_given"] = network_.simplifiedToGiven;
+      st["feature_network.smallest_angle"] = network_.smallestAngle;
+      st["feature_network.shortest_segment"] = network_.shortestSegment;
+    }
     st["refinement_steps"] = static_cast<double>(steps_);
     st["refinement_rounds"] = rounds_;
     addSegmentStatistics(st);
@@ -1276,6 +1317,7 @@ private:
   std::vector<std::string> warnings_;
   BoundingBox inner_, box_;
   std::optional<FeatureSegments> resampled_;
+  FeatureNetworkReport network_;
   const FeatureSegments* features_ = nullptr;
   MeshCriteria::Values g_{};
   std::unique_ptr<MeshDomain> domain_;

@@ -38,11 +38,13 @@ struct MesherOptions
   /// leaves. Raising it bounds the angles before optimisation, at a price in tetrahedra; not covered
   /// by CGAL's termination guarantee (refinement also stops at the vertex budget). 0 = off.
   double sliverAngle = 1.0;
-  /// Resample the feature lines before meshing (resampleFeatureLines in FeatureSegments.h): chords
-  /// of at most the edge size (else the facet size, else 1/40 of the domain's diagonal) within half
-  /// the smallest facet distance (else 1/20 of that length) of the dropped points. For feature
-  /// lines made of many tiny noisy segments (sharp edges of scanned surfaces); the scene files
-  /// turn it on for sharp edges found on a surface.
+  /// Simplify and resample the feature lines before meshing (simplifyFeatureNetwork in
+  /// FeatureNetworkSimplification.h), at h = the edge size (else the facet size, else 1/40 of the
+  /// domain's diagonal): points closer than h merged, segments at less than 30 degrees sharing a
+  /// trunk, spurs and pieces shorter than h dropped, chords of at most h within half the smallest
+  /// facet distance (else h / 20) of the dropped points, segments that leave the domain dropped. For
+  /// feature lines made of many tiny noisy segments (sharp edges of scanned surfaces); the scene
+  /// files turn it on for sharp edges found on a surface. Statistics feature_network.*.
   bool resampleFeatureLines = false;
   /// Tetrahedra with at least three vertices on interfaces or feature lines and a minimal dihedral angle
   /// below this (degrees) are refined like bad cells: the optimisers cannot fix them. 0 = off.

@@ -57,6 +57,8 @@ public:
     size_t short_ = 0;  ///< too short to split
     size_t outside = 0; ///< no material on either side (not wanted)
     size_t other = 0;   ///< none of these: refinement stopped early
+    Vec3 firstShort;       ///< midpoint of the first one too short to split (when short_ > 0)
+    double shortest = 0.0; ///< length of the shortest one too short to split
   };
 
   /// Every segment point is a vertex of the triangulation (SegmentState::insertPoints);
@@ -123,7 +125,15 @@ public:
       if (refused_[s])
         ++c.refused;
       else if (!state_.splittable(s))
-        ++c.short_;
+      {
+        const auto& a = segs.points[segs.subs[s][0]];
+        const auto& b = segs.points[segs.subs[s][1]];
+        const double length = norm(b - a);
+        if (c.short_++ == 0 || length < c.shortest)
+          c.shortest = length;
+        if (c.short_ == 1)
+          c.firstShort = lerp(a, b, 0.5);
+      }
       else if (!wanted(segs.points[segs.subs[s][0]], segs.points[segs.subs[s][1]]))
         ++c.outside;
       else
