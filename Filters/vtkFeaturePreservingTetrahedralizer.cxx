@@ -6,6 +6,7 @@
 #include "HierarchicalOracle.h"
 #include "InputError.h"
 #include "MeshQuality.h"
+#include "MeshSizeEstimate.h"
 #include "OracleBuilder.h"
 #include "OracleMesher.h"
 #include "QuadraticTets.h"
@@ -28,6 +29,7 @@
 #include <vtkStringArray.h>
 #include <vtkUnstructuredGrid.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <exception>
@@ -41,6 +43,27 @@ namespace
 {
 const char* const kCriteriaNames[6] = { "FacetAngle", "FacetSize", "FacetDistance", "CellSize",
   "CellRadiusEdgeRatio", "EdgeSize" };
+
+/// Refuses, before any meshing, a mesh that the criteria (capped by the vertex budget) make too big
+/// for the memory available: an error naming the sizes, not std::bad_alloc or the OOM killer later.
+void checkMeshMemory(
+  const omesh::HierarchicalOracle& oracle, const omesh::FeatureSegments& features, const omesh::MesherOptions& options)
+{
+  const double asked = omesh::estimateMeshVertices(oracle, options.criteria, features);
+  const double budget = options.maximumNumberOfVertices ? static_cast<double>(options.maximumNumberOfVertices) : asked;
+  std::ostringstream what;
+  what << "a mesh of about " << std::min(asked, budget) << " vertices (the criteria ask for about " << asked
+       << (budget < asked ? ", MaximumNumberOfVertices caps it)" : ")");
+  try
+  {
+    OracleBuilder::CheckMemory(
+      "vtkFeaturePreservingTetrahedralizer", what.str(), std::min(asked, budget), omesh::kBytesPerMeshVertex);
+  }
+  catch (const omesh::InputError& e)
+  {
+    throw omesh::InputError(std::string(e.what()) + ": coarsen the criteria or lower MaximumNumberOfVertices");
+  }
+}
 
 /// Throws when a property lies outside [low, high] (or is NaN), naming it.
 void checkRange(const char* property, double value, double low, double high, const char* meaning = "")
@@ -296,6 +319,7 @@ int vtkFeaturePreservingTetrahedralizer::RequestData(
       seeds->GetPoint(i, x);
       seedPoints.push_back({ x[0], x[1], x[2] });
     }
+    checkMeshMemory(*oracle, features, options);
     mesh = omesh::meshOracle(*oracle, features, seedPoints, options);
     if (options.elementOrder == 2)
     {

@@ -366,7 +366,8 @@ def case_surface_with_hole(tmp, **domain):
 
 def case_tiny_facets(tmp):
     """Facet size 1e-9 ran for hours (3 GB with the default budget): ends at --time-limit."""
-    tiny = dict(MESH, criteria=dict(MESH["criteria"], facet_size=1e-9))
+    # a budget the clock reaches first, small enough for the memory check on any machine (below)
+    tiny = dict(MESH, criteria=dict(MESH["criteria"], facet_size=1e-9), maximum_number_of_vertices=500000)
     return ["mesh", scene(tmp, "tiny_facets", mesh=tiny), "-o", os.path.join(tmp, "t.vtu"), "--time-limit", 2]
 
 
@@ -423,6 +424,9 @@ CLI_CASES = {
                                                                       "partial statistics", "time.elapsed"]),
     "dense feature lines end at the time limit": (case_dense_features, 3, ["time limit of 2 s reached in",
                                                                             "partial statistics"]),
+    "mesh too big for the memory": (lambda tmp: ["mesh", scene(tmp, "huge", mesh=dict(
+        MESH, criteria=dict(MESH["criteria"], facet_size=1e-9), maximum_number_of_vertices=2000000000)), "-o",
+        os.path.join(tmp, "h.vtu")], 2, ["a mesh of about", "would need", "available", "coarsen the criteria"]),
     "time limit out of range": (lambda tmp: ["mesh", scene(tmp, "bad_limit", mesh=dict(MESH, time_limit=-3)),
                                              "-o", os.path.join(tmp, "o.vtu")], 2, ["$.mesh.time_limit", "-3"]),
 }
@@ -607,6 +611,7 @@ class PythonApi(unittest.TestCase):
     def test_time_limit_is_an_error_with_the_figures_so_far(self):
         mesher = self.mesher(self.oracle(self.ball()), cell=1.0)
         mesher.SetFacetSize(1e-9)
+        mesher.SetMaximumNumberOfVertices(500000)  # the clock comes first; fits the memory check anywhere
         mesher.SetTimeLimit(1)
         error = self.assertRefused(mesher, "meshing failed", "time limit of 1 s reached in", error=om.MeshingError)
         self.assertFalse(error.aborted)

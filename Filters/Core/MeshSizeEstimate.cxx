@@ -1,0 +1,80 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "MeshSizeEstimate.h"
+
+#include "HierarchicalOracle.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <vector>
+
+namespace omesh
+{
+namespace
+{
+double orDefault(double v, double fallback) { return v > 0 ? v : fallback; }
+}
+
+double estimateMeshVertices(const HierarchicalOracle& oracle, const MaterialCriteria& criteria,
+  const FeatureSegments& features)
+{
+  const BoundingBox box = oracle.bounds();
+  const double diagonal = norm(box.size());
+  const double fallback = diagonal / 20.0;
+  constexpr int n = 24;
+  const Vec3 step = (1.0 / n) * box.size();
+  std::vector<int> label(static_cast<size_t>(n) * n * n);
+  auto at = [&](int i, int j, int k) -> int& { return label[(static_cast<size_t>(k) * n + j) * n + i]; };
+  for (int k = 0; k < n; ++k)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i)
+        at(i, j, k) = oracle.material(box.min + Vec3{ (i + 0.5) * step.x, (j + 0.5) * step.y, (k + 0.5) * step.z });
+
+  // Volume per material; interface area per material (a staircase over-counts a slanted area by
+  // at most sqrt(3), and the box's own faces count as boundary).
+  std::map<int, double> volume, area;
+  const double faceArea[3] = { step.y * step.z, step.x * step.z, step.x * step.y };
+  for (int k = 0; k < n; ++k)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i)
+      {
+        const int m = at(i, j, k);
+        if (m != kOutside)
+          volume[m] += step.x * step.y * step.z;
+        const int next[3] = { i + 1 < n ? at(i + 1, j, k) : kOutside, j + 1 < n ? at(i, j + 1, k) : kOutside,
+          k + 1 < n ? at(i, j, k + 1) : kOutside };
+        for (int axis = 0; axis < 3; ++axis)
+          if (next[axis] != m)
+          {
+            for (int side : { m, next[axis] })
+              if (side != kOutside)
+                area[side] += faceArea[axis];
+          }
+        for (int axis = 0; axis < 3; ++axis)
+        {
+          const int index = axis == 0 ? i : (axis == 1 ? j : k);
+          if (index == 0 && m != kOutside)
+            area[m] += faceArea[axis];
+        }
+      }
+
+  double vertices = 0.0;
+  for (const auto& [m, v] : volume)
+  {
+    const MeshCriteria::Values c = criteria.of(m);
+    const double cell = orDefault(c.cellSize, fallback);
+    vertices += v / (cell * cell * cell);
+  }
+  for (const auto& [m, a] : area)
+  {
+    const MeshCriteria::Values c = criteria.of(m);
+    const double facet = orDefault(c.facetSize, orDefault(c.cellSize, fallback));
+    // triangles of circumradius `facet` have an area of about 1.3 facet^2; two per vertex
+    vertices += a / (2.6 * facet * facet);
+  }
+  const double edge = orDefault(criteria.globalValues().edgeSize, fallback);
+  for (size_t s = 0; s < features.segments.size(); ++s)
+    vertices += features.length(s) / edge;
+  return vertices;
+}
+}
