@@ -102,6 +102,7 @@ vtkFeaturePreservingTetrahedralizer::vtkFeaturePreservingTetrahedralizer()
   this->OptimisationTimeLimit = defaults.optimisationTimeLimit;
   this->Seed = static_cast<int>(defaults.seed);
   this->MaximumNumberOfVertices = static_cast<vtkIdType>(defaults.maximumNumberOfVertices);
+  this->Threads = defaults.threads;
 }
 
 vtkFeaturePreservingTetrahedralizer::~vtkFeaturePreservingTetrahedralizer() = default;
@@ -209,6 +210,7 @@ int vtkFeaturePreservingTetrahedralizer::RequestData(
   options.optimisationTimeLimit = this->OptimisationTimeLimit;
   options.seed = static_cast<unsigned>(this->Seed);
   options.maximumNumberOfVertices = static_cast<std::size_t>(this->MaximumNumberOfVertices);
+  options.threads = this->Threads;
   options.progress = [this](double fraction, const char*) {
     this->UpdateProgress(fraction);
     return !this->GetAbortExecute();
@@ -229,6 +231,7 @@ int vtkFeaturePreservingTetrahedralizer::RequestData(
     if (this->MaximumNumberOfVertices < 0)
       throw omesh::InputError("vtkFeaturePreservingTetrahedralizer: MaximumNumberOfVertices " +
         std::to_string(this->MaximumNumberOfVertices) + " is out of range (>= 0; 0 = unlimited)");
+    checkRange("Threads", this->Threads, 0, 1024, "; 1 = sequential, 0 = every core");
     checkRange("PerturbationFailuresPerBound", this->PerturbationFailuresPerBound, 0.0, 1e6, "; 0 = never give up");
     checkRange("ExudationSliverBound", this->ExudationSliverBound, 0.0, 90.0, " degrees; 0 = every cell");
     checkRange("PerturbationStepsPerVertex", this->PerturbationStepsPerVertex, 0.0, 1e6, "; 0 = no budget");
@@ -434,6 +437,7 @@ void vtkFeaturePreservingTetrahedralizer::PrintSelf(ostream& os, vtkIndent inden
   os << indent << "OptimisationTimeLimit: " << this->OptimisationTimeLimit << "\n";
   os << indent << "Seed: " << this->Seed << "\n";
   os << indent << "MaximumNumberOfVertices: " << this->MaximumNumberOfVertices << "\n";
+  os << indent << "Threads: " << this->Threads << "\n";
   for (const auto& [m, c] : this->MaterialCriteria)
     os << indent << "Material " << m << " criteria: " << c[0] << " " << c[1] << " " << c[2] << " " << c[3]
        << " " << c[4] << " " << c[5] << "\n";

@@ -185,6 +185,15 @@ public:
   vtkGetMacro(MaximumNumberOfVertices, vtkIdType);
   ///@}
 
+  ///@{
+  /// Threads of the refinement. 1 (the default): sequential, the same seed gives the same mesh.
+  /// N > 1 (0 = every core): CGAL's parallel refinement on N threads; the mesh meets the same
+  /// criteria and passes the same checks but differs from run to run. Conforming with feature
+  /// lines refines on one thread (with a warning); the optimisers run on one thread.
+  vtkSetMacro(Threads, int); // >= 0
+  vtkGetMacro(Threads, int);
+  ///@}
+
 protected:
   vtkFeaturePreservingTetrahedralizer();
   ~vtkFeaturePreservingTetrahedralizer() override;
@@ -212,6 +221,7 @@ protected:
   double OptimisationTimeLimit;
   int Seed;
   vtkIdType MaximumNumberOfVertices;
+  int Threads;
 
 private:
   vtkFeaturePreservingTetrahedralizer(const vtkFeaturePreservingTetrahedralizer&) = delete;

@@ -68,7 +68,14 @@ struct MesherOptions
   /// Seconds for each of perturb and exude: 0 = no limit (the default: a limit makes the mesh
   /// depend on the machine's speed), < 0 = stock CGAL's default (the refinement's running time).
   double optimisationTimeLimit = 0.0;
-  unsigned seed = 0;                  ///< same input + same seed = identical mesh
+  unsigned seed = 0;                  ///< same input + same seed = identical mesh (with threads = 1)
+  /// Threads of the refinement. 1: sequential, the same seed gives the same mesh bit for bit.
+  /// N > 1 (0 = every core): CGAL's parallel Mesh_3 refinement (Parallel_tag, TBB) for None,
+  /// ProtectingBalls and Conforming without feature lines; the mesh meets the same criteria and
+  /// passes the same checks (validity, feature lines, quality bounds) but differs from run to run.
+  /// Conforming with feature lines refines on one thread (a warning says so); the optimisers run
+  /// on one thread.
+  int threads = 1;
   std::size_t maximumNumberOfVertices = 2000000; ///< 0 = unlimited; reaching it ends refinement with a warning
   /// Called during the work with a fraction in [0, 1] and the phase name; return false to abort
   /// (the call then throws MeshingAborted). Called from the calling thread.

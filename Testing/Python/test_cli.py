@@ -15,6 +15,7 @@ import unittest
 import numpy as np
 
 import oraclemesh as om
+from oraclemesh.report import statistics
 from oraclemesh.scene import build_scene, load_scene
 from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
 
@@ -312,6 +313,49 @@ class Command(unittest.TestCase):
                                     capture_output=True, encoding="utf-8", env=env, cwd=tmp, check=False)
             self.assertEqual(result.returncode, 0, result.stderr)
             self.assertIn("Tetrahedra", open(out).read())
+
+
+class Threads(unittest.TestCase):
+    """The parallel refinement through every door (--threads, the scene's "threads", threads=), whose
+    default is one and the same at each (the C++'s)."""
+
+    def test_default_is_the_cxx_one_at_every_door(self):
+        from oraclemesh import vtkFeaturePreservingTetrahedralizer
+        from oraclemesh.defaults import mesh_defaults
+
+        self.assertEqual(mesh_defaults()["threads"], vtkFeaturePreservingTetrahedralizer().GetThreads())
+        self.assertEqual(mesh_defaults()["threads"], 1)  # sequential: identical meshes per seed
+        self.assertIn('"threads", else 1)', " ".join(run("mesh", "--help").stdout.split()))
+        self.assertEqual(om.mesh(SMALL_SCENE).statistics["refinement_threads"], 1)
+
+    def test_two_threads_keep_the_volumes_and_validity(self):
+        seq = om.mesh(SMALL_SCENE).statistics
+        par = om.mesh(SMALL_SCENE, threads=2).statistics
+        self.assertEqual(par["refinement_threads"], 2)
+        self.assertEqual(par["validity.defects"], 0)
+        volumes = [key for key in seq if key.startswith("volume.material_")]
+        self.assertEqual(len(volumes), 2)
+        for key in volumes:
+            self.assertAlmostEqual(par[key], seq[key], delta=0.01 * seq[key])
+
+    def test_command_line_and_scene_key(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            scene = write_json(os.path.join(tmp, "threads.json"),
+                               dict(SMALL_SCENE, mesh=dict(SMALL_SCENE["mesh"], threads=2)))
+            out = os.path.join(tmp, "threads.vtu")
+            result = run("mesh", scene, "-o", out)
+            self.assertEqual(result.returncode, 0, result.stderr)
+            self.assertEqual(statistics(read_vtu(out))["refinement_threads"], 2)
+            result = run("mesh", scene, "-o", out, "--threads", 1)
+            self.assertEqual(result.returncode, 0, result.stderr)
+            self.assertEqual(statistics(read_vtu(out))["refinement_threads"], 1)
+            result = run("mesh", scene, "-o", out, "--threads", -1)
+            self.assertEqual(result.returncode, 2)
+            self.assertIn("threads: must be an integer >= 0", result.stderr)
+            bad = write_json(os.path.join(tmp, "bad.json"), dict(SMALL_SCENE, mesh=dict(SMALL_SCENE["mesh"], threads=-1)))
+            result = run("mesh", bad, "-o", out)
+            self.assertEqual(result.returncode, 2)
+            self.assertIn("$.mesh.threads: -1 is out of range", result.stderr)
 
 
 class SceneFormat(unittest.TestCase):

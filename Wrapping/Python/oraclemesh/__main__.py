@@ -196,7 +196,7 @@ def _mesh(args):
         if path:
             check_output_path(path, what)
     progress = _Progress(sys.stderr, machine=args.progress_lines) if args.progress or args.progress_lines else None
-    result = mesh(scene, args.strategy, progress, updater=SIGNALS.update)
+    result = mesh(scene, args.strategy, progress, updater=SIGNALS.update, threads=args.threads)
     started = time.perf_counter()
     written = result.save(*outputs)
     lines = result.report.split("\n")
@@ -310,6 +310,11 @@ def main(argv=None):
                         "(default: the scene's outputs.mesh)")
     p.add_argument("--strategy", choices=STRATEGIES,
                    help=f"feature strategy (default: the scene's, else {mesh_defaults()['strategy']})")
+    p.add_argument("--threads", type=int, metavar="N",
+                   help="threads of the refinement (default: the scene's \"threads\", else "
+                        f"{mesh_defaults()['threads']}): 1 = sequential, the same seed gives the same mesh; "
+                        "N > 1 = parallel (0 = every core): same criteria and checks, but the mesh differs "
+                        "from run to run (Conforming with feature lines refines on one thread)")
     p.add_argument("--report", help="also write the quality report to this text file")
     p.add_argument("--histogram", help="save the dihedral-angle histogram to this PNG")
     p.add_argument("--section", help="save a cross-section of the mesh to this PNG (the plane through its "

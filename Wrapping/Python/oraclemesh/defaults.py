@@ -30,7 +30,7 @@ MESH_PROPERTIES = {
     "exudation_sliver_bound": "ExudationSliverBound",
     "perturbation_steps_per_vertex": "PerturbationStepsPerVertex",
     "exudation_steps_per_cell": "ExudationStepsPerCell", "optimisation_time_limit": "OptimisationTimeLimit",
-    "seed": "Seed", "maximum_number_of_vertices": "MaximumNumberOfVertices",
+    "seed": "Seed", "maximum_number_of_vertices": "MaximumNumberOfVertices", "threads": "Threads",
 }
 BOOLEAN_PROPERTIES = {"Perturb", "Exude", "ResampleFeatureLines"}
 

@@ -16,11 +16,11 @@ from .errors import OracleMeshError, update
 from .scene import Scene, build_scene, load_scene
 
 
-def mesher_for(scene, strategy=None):
+def mesher_for(scene, strategy=None, threads=None):
     """The tetrahedralizer set up from the scene's validated "mesh" block (criteria, the
     "mesh.materials" table, feature lines, strategy, seed, ...); a key the scene leaves out keeps the
     filter's default (defaults.py). The domains carry their own criteria; the core merges them
-    (MeshCriteria.h). `strategy` overrides the scene's."""
+    (MeshCriteria.h). `strategy` and `threads` override the scene's."""
     from vtkmodules.vtkFiltersCore import vtkAppendPolyData, vtkFeatureEdges
 
     from . import vtkFeaturePreservingTetrahedralizer
@@ -59,6 +59,8 @@ def mesher_for(scene, strategy=None):
     for key, prop in MESH_PROPERTIES.items():
         if key in spec:
             getattr(mesher, "Set" + prop)(spec[key])
+    if threads is not None:
+        mesher.SetThreads(threads)
     return mesher
 
 
@@ -162,18 +164,22 @@ class MeshResult:
                 f"min dihedral {self.quality['min_dihedral']:.1f} deg>")
 
 
-def mesh(scene, strategy=None, progress=None, base_dir=None, updater=update):
+def mesh(scene, strategy=None, progress=None, base_dir=None, updater=update, threads=None):
     """Meshes a scene and returns a MeshResult (``.grid``, ``.report``, ``.statistics``, ``.save()``).
 
     `scene`: a JSON scene file path, a dict in the same format (see the README's "Scene files";
     relative file paths resolve against `base_dir`, default the working folder) or a loaded Scene.
     `strategy` overrides the scene's feature strategy ("Conforming", "None", "ProtectingBalls");
     `progress`, if given, is called with the mesher's progress (0..1); `updater` runs the mesher
-    (default errors.update; the command line passes one that signals can abort). Bad scenes and failed meshing
-    raise OracleMeshError naming the problem."""
+    (default errors.update; the command line passes one that signals can abort). `threads` overrides
+    the scene's "threads": 1 = sequential (the same seed gives the same mesh), N > 1 = the refinement
+    on N threads (0 = every core; the mesh then differs from run to run, see the README). Bad scenes
+    and failed meshing raise OracleMeshError naming the problem."""
     started = time.perf_counter()
+    if threads is not None and (not isinstance(threads, int) or isinstance(threads, bool) or threads < 0):
+        raise OracleMeshError(f"threads: must be an integer >= 0 (1 = sequential, 0 = every core), got {threads!r}")
     scene = as_scene(scene, base_dir)
-    mesher = mesher_for(scene, strategy)
+    mesher = mesher_for(scene, strategy, threads)
     if progress is not None:
         mesher.AddObserver("ProgressEvent", lambda algorithm, event: progress(algorithm.GetProgress()))
     grid = updater(mesher)
