@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // The mesher: the translation unit that instantiates CGAL Mesh_3 on the sequential triangulation (it
-// takes about a minute to compile; ParallelRefinement.cxx has the parallel one). Relies on Mesh_3 internals of CGAL 5.5 (Mesher_3 stepping, criteria classes,
-// Mesh_3::internal::init_c3t3*); CMake warns on other CGAL versions.
+// takes about a minute to compile; ParallelRefinement.cxx has the parallel one). Relies on Mesh_3
+// internals of CGAL 5.5 (Mesher_3 stepping, criteria classes, Mesh_3::internal::init_c3t3*); CMake
+// warns on other CGAL versions.
 #include "OracleMesher.h"
 
 #include "HierarchicalOracle.h"

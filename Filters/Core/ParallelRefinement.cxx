@@ -22,7 +22,9 @@
 #include <ctime>
 #include <future>
 #include <thread>
+#include <iterator>
 #include <unordered_map>
+#include <vector>
 
 #ifndef CGAL_LINKED_WITH_TBB
 #error "the parallel refinement needs CGAL with TBB (CGAL::TBB_support)"
@@ -56,6 +58,11 @@ namespace omesh::cgal
 namespace
 {
 using Clock = std::chrono::steady_clock;
+
+/// A parallel refinement that adds no vertex for this long is stopped as stalled (the sequential
+/// one counts steps; the parallel one has no step to count). Long enough for CGAL's scan of the
+/// cells of a 2M-vertex mesh on a loaded machine.
+constexpr auto kStallTime = std::chrono::minutes(5);
 
 double cpuSeconds(clockid_t clock)
 {
@@ -141,10 +148,18 @@ void copyComplex(const Src& src, Dst& dst)
     dst.remove_from_complex(handle(corner));
     dst.add_to_complex(handle(corner), src.corner_index(corner));
   }
-  for (auto e = src.edges_in_complex_begin(); e != src.edges_in_complex_end(); ++e)
+  // Feature edges join vertices on curves (dimension <= 1): their neighbours only, not every edge
+  // of the triangulation (CGAL's edges_in_complex filters them all: half the copy's time).
+  std::vector<typename SrcTr::Vertex_handle> around;
+  for (auto v = from.finite_vertices_begin(); src.number_of_edges_in_complex() > 0 && v != from.finite_vertices_end(); ++v)
   {
-    const auto a = e->first->vertex(e->second), b = e->first->vertex(e->third);
-    dst.add_to_complex(handle(a), handle(b), src.curve_index(*e));
+    if (v->in_dimension() < 0 || v->in_dimension() > 1)
+      continue;
+    around.clear();
+    from.finite_adjacent_vertices(v, std::back_inserter(around));
+    for (const auto& w : around)
+      if (&*v < &*w && src.is_in_complex(v, w))
+        dst.add_to_complex(handle(v), handle(w), src.curve_index(v, w));
   }
   for (auto v = from.finite_vertices_begin(); v != from.finite_vertices_end(); ++v)
     if (v->in_dimension() == -1)
@@ -204,7 +219,7 @@ ParallelRefinementRun refineInParallel(SequentialC3t3& c3t3, const MeshDomain& d
         last = n;
         lastChange = Clock::now();
       }
-      else if (!stop && Clock::now() - lastChange > std::chrono::minutes(1))
+      else if (!stop && Clock::now() - lastChange > kStallTime)
       {
         run.stalled = true;
         stop = true;

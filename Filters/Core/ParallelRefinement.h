@@ -19,7 +19,7 @@ using SequentialC3t3 = MeshTriangulation3<CGAL::Sequential_tag>::C3t3;
 struct ParallelRefinementRun
 {
   bool budgetHit = false;  ///< stopped at MesherOptions::maximumNumberOfVertices
-  bool stalled = false;    ///< stopped after a minute without a new vertex (see refineInParallel)
+  bool stalled = false;    ///< stopped after 5 minutes without a new vertex (see refineInParallel)
   double cpuSeconds = 0.0; ///< CPU seconds of the threads other than the calling one, during the call
 };
 
@@ -33,7 +33,7 @@ int requestedThreads(const MesherOptions& options);
 /// `progress` is called from the calling thread about every 50 ms with the (approximate) number of
 /// vertices; when it throws, the refinement is stopped and the exception passed on.
 /// Not deterministic: the order of insertions depends on the threads' timing. A run whose vertex
-/// count stays the same for a minute (a refinement point that repeats a vertex) is stopped
+/// count stays the same for 5 minutes (a refinement point that repeats a vertex) is stopped
 /// (`stalled`). After a stop (budget, stall) the cells may not all be in the complex yet: the
 /// caller scans them (Mesher_3::fix_c3t3), as after a sequential stop.
 ParallelRefinementRun refineInParallel(SequentialC3t3& c3t3, const MeshDomain& domain, const MesherOptions& options,

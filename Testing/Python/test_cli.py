@@ -329,14 +329,17 @@ class Threads(unittest.TestCase):
         self.assertEqual(om.mesh(SMALL_SCENE).statistics["refinement_threads"], 1)
 
     def test_two_threads_keep_the_volumes_and_validity(self):
-        seq = om.mesh(SMALL_SCENE).statistics
-        par = om.mesh(SMALL_SCENE, threads=2).statistics
+        """The parallel mesh approximates the materials' volumes as well as the sequential one (its
+        error at most 1.5 times the sequential's, plus 0.5%): a different mesh, the same accuracy."""
+        scene = json.loads(json.dumps(SMALL_SCENE))
+        scene["mesh"]["criteria"]["facet_distance"] = 0.1
+        seq = om.mesh(scene).statistics
+        par = om.mesh(scene, threads=2).statistics
         self.assertEqual(par["refinement_threads"], 2)
         self.assertEqual(par["validity.defects"], 0)
-        volumes = [key for key in seq if key.startswith("volume.material_")]
-        self.assertEqual(len(volumes), 2)
-        for key in volumes:
-            self.assertAlmostEqual(par[key], seq[key], delta=0.01 * seq[key])
+        ball = 4 / 3 * math.pi * 3 ** 3
+        for key, exact in (("volume.material_2", ball), ("volume.material_1", 10 ** 3 - ball)):
+            self.assertLessEqual(abs(par[key] - exact), 1.5 * abs(seq[key] - exact) + 0.005 * exact, key)
 
     def test_command_line_and_scene_key(self):
         with tempfile.TemporaryDirectory() as tmp:
