@@ -85,6 +85,7 @@ int main(int argc, char* argv[])
           << ", \"after_mesh\": " << (call - stat("time.initialisation") - stat("time.refinement") - stat("time.optimisation"))
           << ", \"warnings\": " << mesh.warnings.size()
           << ", \"refine_cpu\": " << stat("cpu.refinement") << ", \"optimise_cpu\": " << stat("cpu.optimisation")
+          << ", \"refine_critical_cpu\": " << stat("cpu.refinement_critical_path")
           << ", \"min_refined\": " << stat("optimisation.min_dihedral_before");
     peer::report("OracleMesh", a, mesh, setup, stat("time.initialisation") + stat("time.refinement"),
       stat("time.perturbation"), stat("time.exudation"), stat("time.optimisation"), call, rss, cpu, features, extra.str());

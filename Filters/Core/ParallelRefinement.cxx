@@ -16,11 +16,14 @@
 #include <CGAL/Mesh_3/Mesher_3.h>
 
 #include <tbb/task_arena.h>
+#include <tbb/task_scheduler_observer.h>
 
 #include <atomic>
 #include <chrono>
 #include <ctime>
 #include <future>
+#include <map>
+#include <mutex>
 #include <thread>
 #include <iterator>
 #include <unordered_map>
@@ -76,6 +79,46 @@ double otherThreadsCpu()
 {
   return cpuSeconds(CLOCK_PROCESS_CPUTIME_ID) - cpuSeconds(CLOCK_THREAD_CPUTIME_ID);
 }
+
+/// CPU seconds of each thread in a TBB arena (entries and exits of a thread add up): the busiest
+/// thread's bounds the arena's work on idle cores, whatever the machine's load.
+class ArenaThreadCpu : public tbb::task_scheduler_observer
+{
+public:
+  explicit ArenaThreadCpu(tbb::task_arena& arena)
+    : tbb::task_scheduler_observer(arena)
+  {
+    observe(true);
+  }
+  ~ArenaThreadCpu() override { observe(false); }
+  void on_scheduler_entry(bool) override
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    entered_[std::this_thread::get_id()] = cpuSeconds(CLOCK_THREAD_CPUTIME_ID);
+  }
+  void on_scheduler_exit(bool) override
+  {
+    const double now = cpuSeconds(CLOCK_THREAD_CPUTIME_ID);
+    std::lock_guard<std::mutex> lock(mutex_);
+    const auto entry = entered_.find(std::this_thread::get_id());
+    if (entry != entered_.end())
+      spent_[entry->first] += now - entry->second;
+  }
+  /// Call after the arena's work ended (observe(false) first: threads may still be leaving).
+  double busiest()
+  {
+    observe(false);
+    std::lock_guard<std::mutex> lock(mutex_);
+    double most = 0.0;
+    for (const auto& [id, seconds] : spent_)
+      most = std::max(most, seconds);
+    return most;
+  }
+
+private:
+  std::mutex mutex_;
+  std::map<std::thread::id, double> entered_, spent_;
+};
 
 /// Copies a complex between the sequential and the parallel triangulation types (same traits, same
 /// vertex and cell bases): the triangulation with the Mesh_3 data of its vertices (dimension, index,
@@ -191,6 +234,8 @@ ParallelRefinementRun refineInParallel(SequentialC3t3& c3t3, const MeshDomain& d
       par, domain, criteria, CGAL::FACET_VERTICES_ON_SURFACE, options.maximumNumberOfVertices, nullptr, &stop);
     // TBB's tasks of this refinement run in an arena of `threads` slots, whatever the machine has.
     tbb::task_arena arena(threads);
+    arena.initialize();
+    ArenaThreadCpu threadCpu(arena);
     auto refinement = std::async(std::launch::async, [&] { arena.execute([&] { mesher.refine_mesh(); }); });
     const auto vertices = [&] { return par.triangulation().tds().vertices().approximate_size(); };
     std::size_t last = 0;
@@ -226,6 +271,7 @@ ParallelRefinementRun refineInParallel(SequentialC3t3& c3t3, const MeshDomain& d
       }
     }
     refinement.get(); // rethrows what the refinement threw
+    run.busiestThreadCpu = threadCpu.busiest();
     run.budgetHit = run.budgetHit || (options.maximumNumberOfVertices && vertices() >= options.maximumNumberOfVertices);
   }
   copyComplex(par, c3t3);

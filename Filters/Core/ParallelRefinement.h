@@ -21,6 +21,9 @@ struct ParallelRefinementRun
   bool budgetHit = false;  ///< stopped at MesherOptions::maximumNumberOfVertices
   bool stalled = false;    ///< stopped after 5 minutes without a new vertex (see refineInParallel)
   double cpuSeconds = 0.0; ///< CPU seconds of the threads other than the calling one, during the call
+  /// CPU seconds of the busiest refinement thread: with the calling thread's (the copies), what
+  /// the refinement takes on idle cores (a shared machine's load hides it from the wall time)
+  double busiestThreadCpu = 0.0;
 };
 
 /// The number of threads MesherOptions::threads asks for (0 = every core of the machine).
