@@ -22,10 +22,10 @@
 #include <chrono>
 #include <ctime>
 #include <future>
+#include <iterator>
 #include <map>
 #include <mutex>
 #include <thread>
-#include <iterator>
 #include <unordered_map>
 #include <vector>
 
@@ -253,7 +253,7 @@ ParallelRefinementRun refineInParallel(SequentialC3t3& c3t3, const MeshDomain& d
         refinement.wait();
         throw;
       }
-      // CGAL checks the vertex budget only between its refinement phases in parallel: here too
+      // CGAL's parallel levels look at the vertex budget only while queueing a batch: checked here too
       if (options.maximumNumberOfVertices && n >= options.maximumNumberOfVertices && !stop)
       {
         run.budgetHit = true;
