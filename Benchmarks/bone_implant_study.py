@@ -29,6 +29,7 @@ from concurrent.futures import ThreadPoolExecutor
 import numpy as np
 
 from oraclemesh import cases
+from oraclemesh.fielddata import strings
 from oraclemesh.report import statistics, validity
 
 SPECIAL = ("bbox_centre_on_face", "face_on_cut_plane", "face_on_voxel_boundary", "inside", "outside")
@@ -141,6 +142,7 @@ def mesh_case(case, strategy, timeout):
     vol = np.abs(np.einsum("ij,ij->i", p[:, 1] - p[:, 0], np.cross(p[:, 2] - p[:, 0], p[:, 3] - p[:, 0]))) / 6
     stats = statistics(grid)
     v = validity(grid)
+    warnings = strings(grid.GetFieldData(), "Warnings")
     implant = float(vol[material == IMPLANT].sum())
     bone = float(vol[np.isin(material, BONE)].sum())
     row.update(tets=len(tets), vertices=int(len(np.unique(tets))), min_dihedral=float(lo.min()),
@@ -149,6 +151,8 @@ def mesh_case(case, strategy, timeout):
                implant_error=implant / case["implant_volume"] - 1 if case["implant_volume"] else None,
                bone_error=bone / case["bone_volume"] - 1 if case["bone_volume"] else None,
                cut_short=int(stats.get("optimisation.perturbation_cut_short", 0)),
+               budget_hit=any("refinement stopped at MaximumNumberOfVertices" in w for w in warnings),
+               stalled=any("refinement stalled" in w for w in warnings),
                refine_s=stats.get("time.refinement", 0.0), optimise_s=stats.get("time.optimisation", 0.0))
     return row
 
@@ -191,7 +195,16 @@ def print_table(rows):
               f"{r['max_dihedral']:>6.1f} {r['defects']:>7} {cover:>6} {r['seconds']:>7.1f} {r['refine_s']:>7.1f} "
               f"{r['optimise_s']:>7.1f} {r['peak_mib']:>6.0f} "
               f"{fmt(100 * r['implant_error'], '+.2f'):>7}% {fmt(100 * r['bone_error'], '+.2f'):>6}%"
-              f"  {'perturbation cut short' if r['cut_short'] else ''}")
+              f"  {_note(r)}")
+
+
+def _note(row):
+    notes = ["vertex budget reached: refinement unfinished"] if row.get("budget_hit") else []
+    if row.get("stalled"):
+        notes.append("refinement stalled")
+    if row["cut_short"]:
+        notes.append("perturbation cut short")
+    return "; ".join(notes)
 
 
 def summarise(rows, strategies):
@@ -201,7 +214,10 @@ def summarise(rows, strategies):
     for s in strategies:
         ok = [by[(n, s)] for n in names if (n, s) in by and not by[(n, s)]["error"]]
         valid = [r for r in ok if r["defects"] == 0]
-        lines.append(f"{s}: {len(ok)}/{len(names)} meshed, {len(valid)} valid, min dihedral "
+        budget = sum(1 for r in ok if r.get("budget_hit"))
+        stalled = sum(1 for r in ok if r.get("stalled"))
+        lines.append(f"{s}: {len(ok)}/{len(names)} meshed, {len(valid)} valid, {budget} stopped at the vertex budget, "
+                     f"{stalled} stalled, min dihedral "
                      f"{min((r['min_dihedral'] for r in ok), default=float('nan')):.2f}°, time "
                      f"{sum(r['seconds'] for r in ok):.0f} s")
     for s in strategies:

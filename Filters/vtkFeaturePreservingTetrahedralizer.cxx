@@ -2,11 +2,13 @@
 #include "vtkFeaturePreservingTetrahedralizer.h"
 
 #include "FeatureMerge.h"
+#include "FeatureSelection.h"
 #include "HierarchicalOracle.h"
 #include "InputError.h"
 #include "MeshQuality.h"
 #include "OracleBuilder.h"
 #include "OracleMesher.h"
+#include "QuadraticTets.h"
 
 #include <vtkCellArray.h>
 #include <vtkCellArrayIterator.h>
@@ -26,6 +28,7 @@
 #include <vtkStringArray.h>
 #include <vtkUnstructuredGrid.h>
 
+#include <chrono>
 #include <cmath>
 #include <exception>
 #include <map>
@@ -83,6 +86,7 @@ vtkFeaturePreservingTetrahedralizer::vtkFeaturePreservingTetrahedralizer()
   this->FeatureStrategy = defaults.strategy == omesh::FeatureStrategy::Conforming ? CONFORMING
     : defaults.strategy == omesh::FeatureStrategy::None                          ? NONE
                                                                                  : PROTECTING_BALLS;
+  this->Features = static_cast<int>(omesh::kDefaultFeatureSource); // the enums share their order
   const omesh::MeshCriteria::Values c = defaults.criteria.globalValues();
   this->FacetAngle = c.facetAngle;
   this->FacetSize = c.facetSize;
@@ -100,9 +104,11 @@ vtkFeaturePreservingTetrahedralizer::vtkFeaturePreservingTetrahedralizer()
   this->PerturbationStepsPerVertex = defaults.perturbationStepsPerVertex;
   this->ExudationStepsPerCell = defaults.exudationStepsPerCell;
   this->OptimisationTimeLimit = defaults.optimisationTimeLimit;
+  this->ElementOrder = defaults.elementOrder;
   this->Seed = static_cast<int>(defaults.seed);
   this->MaximumNumberOfVertices = static_cast<vtkIdType>(defaults.maximumNumberOfVertices);
   this->Threads = defaults.threads;
+  this->TimeLimit = defaults.timeLimit;
 }
 
 vtkFeaturePreservingTetrahedralizer::~vtkFeaturePreservingTetrahedralizer() = default;
@@ -208,15 +214,18 @@ int vtkFeaturePreservingTetrahedralizer::RequestData(
   options.perturbationStepsPerVertex = this->PerturbationStepsPerVertex;
   options.exudationStepsPerCell = this->ExudationStepsPerCell;
   options.optimisationTimeLimit = this->OptimisationTimeLimit;
+  options.elementOrder = this->ElementOrder;
   options.seed = static_cast<unsigned>(this->Seed);
   options.maximumNumberOfVertices = static_cast<std::size_t>(this->MaximumNumberOfVertices);
   options.threads = this->Threads;
+  options.timeLimit = this->TimeLimit;
   options.progress = [this](double fraction, const char*) {
     this->UpdateProgress(fraction);
     return !this->GetAbortExecute();
   };
 
   omesh::TetMesh mesh;
+  omesh::QuadraticTetMesh quadratic; // with ElementOrder 2
   omesh::FeatureSegments features;
   std::vector<std::string> notes; // this adapter's warnings, listed before the mesher's
   std::vector<std::string> inputNotes; // of them, those about the inputs (field data InputWarnings)
@@ -226,6 +235,9 @@ int vtkFeaturePreservingTetrahedralizer::RequestData(
     // Properties and inputs first, before any heavy work.
     checkRange("FeatureStrategy", this->FeatureStrategy, CONFORMING, PROTECTING_BALLS,
       ": 0 Conforming, 1 None, 2 ProtectingBalls");
+    checkRange("ElementOrder", this->ElementOrder, 1, 2, ": 1 linear, 2 quadratic tetrahedra");
+    checkRange("Features", this->Features, FEATURES_NONE, FEATURES_BOTH,
+      ": 0 None, 1 Given, 2 Automatic, 3 Both");
     checkRange("SliverAngle", this->SliverAngle, 0.0, 30.0, " degrees; 0 = off");
     checkRange("InterfaceSliverAngle", this->InterfaceSliverAngle, 0.0, 30.0, " degrees; 0 = off");
     if (this->MaximumNumberOfVertices < 0)
@@ -237,6 +249,7 @@ int vtkFeaturePreservingTetrahedralizer::RequestData(
     checkRange("PerturbationStepsPerVertex", this->PerturbationStepsPerVertex, 0.0, 1e6, "; 0 = no budget");
     checkRange("ExudationStepsPerCell", this->ExudationStepsPerCell, 0.0, 1e6, "; 0 = no budget");
     checkRange("OptimisationTimeLimit", this->OptimisationTimeLimit, -1.0, 1e9, " seconds; 0 = none, -1 = CGAL's");
+    checkRange("TimeLimit", this->TimeLimit, -1.0, 1e9, " seconds; 0 = automatic, -1 = none");
     checkCriteria({ this->FacetAngle, this->FacetSize, this->FacetDistance, this->CellSize,
                     this->CellRadiusEdgeRatio, this->EdgeSize },
       "vtkFeaturePreservingTetrahedralizer");
@@ -272,6 +285,11 @@ int vtkFeaturePreservingTetrahedralizer::RequestData(
                                               this->FacetDistance, this->CellSize, this->CellRadiusEdgeRatio,
                                               this->EdgeSize },
       { &domainLevel, &tableLevel });
+    // The lines to keep: given, found where the inputs meet, or both.
+    const omesh::FeatureSelection selection = omesh::selectFeatures(*oracle, features,
+      static_cast<omesh::FeatureSource>(this->Features), options.criteria, [this](double) { return !this->GetAbortExecute(); });
+    features = selection.segments;
+    notes.insert(notes.end(), selection.warnings.begin(), selection.warnings.end());
     std::vector<omesh::Vec3> seedPoints;
     if (seeds)
       OracleBuilder::CheckCoordinates(seeds->GetPoints(), "seed points (input port 2)", "");
@@ -282,10 +300,41 @@ int vtkFeaturePreservingTetrahedralizer::RequestData(
       seedPoints.push_back({ x[0], x[1], x[2] });
     }
     mesh = omesh::meshOracle(*oracle, features, seedPoints, options);
+    if (options.elementOrder == 2)
+    {
+      const auto started = std::chrono::steady_clock::now();
+      quadratic = omesh::makeQuadraticTets(mesh, *oracle);
+      quadratic.statistics["time.quadratic"] =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+      mesh.statistics.insert(quadratic.statistics.begin(), quadratic.statistics.end());
+    }
   }
   catch (const omesh::InputError& e)
   {
     vtkErrorMacro(<< e.what());
+    return 0;
+  }
+  catch (const omesh::FeatureSearchAborted&)
+  {
+    vtkErrorMacro(<< "meshing aborted (AbortExecute) while finding feature lines: no mesh");
+    return 0;
+  }
+  catch (const omesh::TimeLimitReached& e)
+  {
+    // an error (no partial mesh: one cut by the clock depends on the machine's load), with the
+    // figures so far in the otherwise empty output
+    vtkErrorMacro(<< "meshing failed: " << e.what());
+    vtkNew<vtkStringArray> names;
+    names->SetName("StatisticNames");
+    vtkNew<vtkDoubleArray> values;
+    values->SetName("StatisticValues");
+    for (const auto& [name, value] : e.statistics)
+    {
+      names->InsertNextValue(name);
+      values->InsertNextValue(value);
+    }
+    grid->GetFieldData()->AddArray(names);
+    grid->GetFieldData()->AddArray(values);
     return 0;
   }
   catch (const omesh::MeshingAborted&)
@@ -310,10 +359,12 @@ int vtkFeaturePreservingTetrahedralizer::RequestData(
   for (const auto& w : mesh.warnings)
     vtkWarningMacro(<< w);
 
-  // Port 0: tetrahedra, positively oriented.
-  grid->SetPoints(toPoints(mesh.points));
+  // Port 0: tetrahedra, positively oriented; with ElementOrder 2 the core's 10-node ones (oriented too).
+  const bool secondOrder = options.elementOrder == 2;
+  grid->SetPoints(toPoints(secondOrder ? quadratic.points : mesh.points));
+  const vtkIdType nodes = secondOrder ? 10 : 4;
   vtkNew<vtkCellArray> tets;
-  tets->AllocateExact(static_cast<vtkIdType>(mesh.tets.size()), 4 * static_cast<vtkIdType>(mesh.tets.size()));
+  tets->AllocateExact(static_cast<vtkIdType>(mesh.tets.size()), nodes * static_cast<vtkIdType>(mesh.tets.size()));
   vtkNew<vtkIntArray> material;
   material->SetName("Material");
   vtkNew<vtkDoubleArray> dihedral;
@@ -326,13 +377,15 @@ int vtkFeaturePreservingTetrahedralizer::RequestData(
     const auto& P = mesh.points;
     if (omesh::signedVolume(P[k[0]], P[k[1]], P[k[2]], P[k[3]]) < 0)
       std::swap(k[0], k[1]);
-    const vtkIdType ids[4] = { k[0], k[1], k[2], k[3] };
-    tets->InsertNextCell(4, ids);
+    vtkIdType ids[10] = { k[0], k[1], k[2], k[3] };
+    if (secondOrder)
+      std::copy(quadratic.tets[t].begin(), quadratic.tets[t].end(), ids);
+    tets->InsertNextCell(nodes, ids);
     material->InsertNextValue(mesh.tetMaterial[t]);
     dihedral->InsertNextValue(omesh::minDihedralAngle(P[k[0]], P[k[1]], P[k[2]], P[k[3]]));
     ratio->InsertNextValue(omesh::radiusEdgeRatio(P[k[0]], P[k[1]], P[k[2]], P[k[3]]));
   }
-  grid->SetCells(VTK_TETRA, tets);
+  grid->SetCells(secondOrder ? VTK_QUADRATIC_TETRA : VTK_TETRA, tets);
   if (mesh.tetDefects.size() == mesh.tets.size())
   {
     vtkNew<vtkUnsignedCharArray> defects; // bits as vtkMeshValidityCheck's
@@ -348,7 +401,7 @@ int vtkFeaturePreservingTetrahedralizer::RequestData(
   grid->GetCellData()->AddArray(ratio);
   vtkNew<vtkIntArray> dimension;
   dimension->SetName("Dimension");
-  for (int d : mesh.pointDimension)
+  for (int d : secondOrder ? quadratic.pointDimension : mesh.pointDimension)
     dimension->InsertNextValue(d);
   grid->GetPointData()->AddArray(dimension);
   vtkNew<vtkStringArray> names;
@@ -419,6 +472,7 @@ void vtkFeaturePreservingTetrahedralizer::PrintSelf(ostream& os, vtkIndent inden
 {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "FeatureStrategy: " << this->FeatureStrategy << "\n";
+  os << indent << "Features: " << this->Features << "\n";
   os << indent << "FacetAngle: " << this->FacetAngle << "\n";
   os << indent << "FacetSize: " << this->FacetSize << "\n";
   os << indent << "FacetDistance: " << this->FacetDistance << "\n";
@@ -435,9 +489,11 @@ void vtkFeaturePreservingTetrahedralizer::PrintSelf(ostream& os, vtkIndent inden
   os << indent << "PerturbationStepsPerVertex: " << this->PerturbationStepsPerVertex << "\n";
   os << indent << "ExudationStepsPerCell: " << this->ExudationStepsPerCell << "\n";
   os << indent << "OptimisationTimeLimit: " << this->OptimisationTimeLimit << "\n";
+  os << indent << "ElementOrder: " << this->ElementOrder << "\n";
   os << indent << "Seed: " << this->Seed << "\n";
   os << indent << "MaximumNumberOfVertices: " << this->MaximumNumberOfVertices << "\n";
   os << indent << "Threads: " << this->Threads << "\n";
+  os << indent << "TimeLimit: " << this->TimeLimit << "\n";
   for (const auto& [m, c] : this->MaterialCriteria)
     os << indent << "Material " << m << " criteria: " << c[0] << " " << c[1] << " " << c[2] << " " << c[3]
        << " " << c[4] << " " << c[5] << "\n";

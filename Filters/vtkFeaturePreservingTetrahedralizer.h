@@ -4,7 +4,8 @@
  * @brief Multi-material tetrahedral mesh of a hierarchical oracle, keeping given feature lines.
  *
  * Inputs: port 0, the output of vtkHierarchicalOracle (or one domain); port 1 (optional),
- * vtkPolyData lines: the constrained segments (polylines are split into segments, shared points are
+ * vtkPolyData lines: the given constrained segments (Features says whether these, the lines found
+ * where the inputs meet, or both are kept) (polylines are split into segments, shared points are
  * shared vertices); port 2 (optional), vtkPolyData points inserted first (a-priori points).
  *
  * Delaunay refinement on CGAL Mesh_3 with the oracle's exact intersections; each tetrahedron takes
@@ -26,7 +27,7 @@
  * higher-priority domains hide completely is reported as a warning. An abort (AbortExecute) or a
  * failure ends the update with an error and an empty output, never an empty mesh as success.
  *
- * Outputs: port 0, vtkUnstructuredGrid of tetrahedra with cell data Material, MinDihedralAngle
+ * Outputs: port 0, vtkUnstructuredGrid of tetrahedra (4 nodes, or 10 with ElementOrder 2) with cell data Material, MinDihedralAngle
  * (degrees) and RadiusEdgeRatio, point data Dimension (0 corner, 1 segment, 2 interface,
  * 3 volume), field data StatisticNames/StatisticValues and Warnings; port 1, the interface
  * triangles with cell data Materials (2 components: the materials on the two sides, -1 outside);
@@ -66,6 +67,28 @@ public:
   void SetFeatureStrategyToConforming() { this->SetFeatureStrategy(CONFORMING); }
   void SetFeatureStrategyToNone() { this->SetFeatureStrategy(NONE); }
   void SetFeatureStrategyToProtectingBalls() { this->SetFeatureStrategy(PROTECTING_BALLS); }
+  ///@}
+
+  enum FeatureSources
+  {
+    FEATURES_NONE = 0,
+    FEATURES_GIVEN = 1,
+    FEATURES_AUTOMATIC = 2,
+    FEATURES_BOTH = 3
+  };
+
+  ///@{
+  /// Which feature lines are kept: none, the given ones (port 1), the ones found where the inputs
+  /// meet (cut rims, entry curves, triple lines: omesh::findFeatureLines, as vtkOracleFeatureLines
+  /// shows them, resampled to the edge size of the materials they separate), or both. Default
+  /// Given (see omesh::kDefaultFeatureSource for why). Automatic segments that cross given ones are
+  /// dropped with a warning. With Conforming they are kept like given ones.
+  vtkSetMacro(Features, int);
+  vtkGetMacro(Features, int);
+  void SetFeaturesToNone() { this->SetFeatures(FEATURES_NONE); }
+  void SetFeaturesToGiven() { this->SetFeatures(FEATURES_GIVEN); }
+  void SetFeaturesToAutomatic() { this->SetFeatures(FEATURES_AUTOMATIC); }
+  void SetFeaturesToBoth() { this->SetFeatures(FEATURES_BOTH); }
   ///@}
 
   ///@{
@@ -147,10 +170,11 @@ public:
   ///@}
 
   ///@{
-  /// Resample the feature lines before meshing: keep their corners and, between them, only the
-  /// points needed for chords of at most the edge size within half the smallest facet distance
-  /// of the dropped points. For lines made of many tiny noisy segments (sharp edges of scanned
-  /// surfaces), which otherwise cost a point per wiggle and meet at small angles all along.
+  /// Simplify and resample the feature lines before meshing, at the edge size h (core:
+  /// simplifyFeatureNetwork): points closer than h merged, lines at less than 30 degrees sharing a
+  /// trunk, spurs, short pieces and segments leaving the domain dropped, chords of at most h within
+  /// half the smallest facet distance. For lines made of many tiny noisy segments (sharp edges of
+  /// scanned surfaces), which otherwise cost a point per wiggle and meet at small angles all along.
   vtkSetMacro(ResampleFeatureLines, bool);
   vtkGetMacro(ResampleFeatureLines, bool);
   vtkBooleanMacro(ResampleFeatureLines, bool);
@@ -174,6 +198,16 @@ public:
   ///@}
 
   ///@{
+  /// 1 (default): linear tetrahedra (VTK_TETRA). 2: quadratic tetrahedra (VTK_QUADRATIC_TETRA,
+  /// 10 nodes): the mid-edge nodes of edges on interfaces and the boundary are moved onto the
+  /// oracle's true surfaces, then pulled back where a curved tetrahedron's Jacobian gets too small
+  /// (statistics quadratic.*); feature-line and interior edges stay straight. Port 1 keeps linear
+  /// interface triangles on the corner nodes.
+  vtkSetMacro(ElementOrder, int); // 1 or 2
+  vtkGetMacro(ElementOrder, int);
+  ///@}
+
+  ///@{
   /// Seed of the random choices: same input and seed give an identical mesh. Default 0.
   vtkSetMacro(Seed, int);
   vtkGetMacro(Seed, int);
@@ -194,6 +228,15 @@ public:
   vtkGetMacro(Threads, int);
   ///@}
 
+  ///@{
+  /// Wall-clock seconds for the whole run (every phase): reaching it fails the update with an
+  /// error naming the phase and how far it got (vertices, tetrahedra, seconds); the output then
+  /// holds no cells, only those statistics (StatisticNames/StatisticValues). 0 = automatic (the
+  /// default: 60 s + 5 ms per vertex of MaximumNumberOfVertices, none when that is 0), -1 = none.
+  vtkSetMacro(TimeLimit, double); // -1 to 1e9
+  vtkGetMacro(TimeLimit, double);
+  ///@}
+
 protected:
   vtkFeaturePreservingTetrahedralizer();
   ~vtkFeaturePreservingTetrahedralizer() override;
@@ -203,6 +246,7 @@ protected:
 
   // Set by the constructor from the core's defaults (omesh::MesherOptions).
   int FeatureStrategy;
+  int Features;
   bool ResampleFeatureLines;
   double SliverAngle;
   double InterfaceSliverAngle;
@@ -219,9 +263,11 @@ protected:
   double PerturbationStepsPerVertex;
   double ExudationStepsPerCell;
   double OptimisationTimeLimit;
+  int ElementOrder;
   int Seed;
   vtkIdType MaximumNumberOfVertices;
   int Threads;
+  double TimeLimit;
 
 private:
   vtkFeaturePreservingTetrahedralizer(const vtkFeaturePreservingTetrahedralizer&) = delete;

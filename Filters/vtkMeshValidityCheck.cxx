@@ -22,7 +22,7 @@ vtkStandardNewMacro(vtkMeshValidityCheck);
 
 namespace
 {
-/// The tetrahedra of `grid` as a core mesh; `tetCell` maps each back to its cell id.
+/// The tetrahedra of `grid` (corners of the quadratic ones) as a core mesh; `tetCell` maps each back to its cell id.
 omesh::TetMesh toTetMesh(vtkUnstructuredGrid* grid, std::vector<vtkIdType>& tetCell, vtkIdType& others)
 {
   omesh::TetMesh mesh;
@@ -42,7 +42,8 @@ omesh::TetMesh toTetMesh(vtkUnstructuredGrid* grid, std::vector<vtkIdType>& tetC
   others = 0;
   for (vtkIdType c = 0; c < grid->GetNumberOfCells(); ++c)
   {
-    if (grid->GetCellType(c) != VTK_TETRA)
+    // a 10-node tetrahedron is checked on its corners (its straight-sided skeleton)
+    if (grid->GetCellType(c) != VTK_TETRA && grid->GetCellType(c) != VTK_QUADRATIC_TETRA)
     {
       ++others;
       continue;

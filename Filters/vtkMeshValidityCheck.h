@@ -7,7 +7,8 @@
  * on demand: duplicate vertices (closer than DuplicateTolerance x the median edge), micro
  * tetrahedra (longest edge below MicroTolerance x the median edge), flat tetrahedra (|volume| below
  * FlatTolerance x longest edge cubed), inverted tetrahedra (negative VTK orientation), faces shared
- * by more than two tetrahedra, cells with repeated or bad point ids. Cells other than tetrahedra
+ * by more than two tetrahedra, cells with repeated or bad point ids. Quadratic tetrahedra are checked
+ * on their corners (the curved shape is the tetrahedralizer's Jacobian check). Cells other than tetrahedra
  * are counted (NonTetrahedra) but not checked.
  *
  * Output: the input with the cell array "Defects" (bits: 1 duplicate vertex, 2 micro, 4 flat,

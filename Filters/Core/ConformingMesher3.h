@@ -6,6 +6,8 @@
 
 #include "SegmentRefinementLevel.h"
 
+#include <functional>
+
 #include <CGAL/Mesh_3/Mesher_3.h>
 #include <CGAL/Mesh_3/Refine_cells_3.h>
 #include <CGAL/Mesh_3/Refine_facets_3.h>
@@ -23,22 +25,44 @@ template <class FacetsLevel, class SegmentLevel>
 class FacetsLevelWithSegments : public FacetsLevel
 {
 public:
-  template <class... Args>
-  explicit FacetsLevelWithSegments(SegmentLevel& segments, Args&&... args)
-    : FacetsLevel(std::forward<Args>(args)...)
+  template <class Tr, class... Args>
+  explicit FacetsLevelWithSegments(SegmentLevel& segments, Tr& tr, Args&&... args)
+    : FacetsLevel(tr, std::forward<Args>(args)...)
     , segments_(segments)
+    , vertices_([&tr] { return tr.number_of_vertices(); })
   {
   }
 
+  /// T3.2 can cycle: the cell's point encroaches a restricted facet, which is queued; the facet's
+  /// own point lies in the ball of a sub-segment too short to split and is dropped (T2.1), nothing
+  /// is inserted, and the cell asks again with the same point, forever (seen as "refinement
+  /// stalled" on noisy feature networks). The same point asking again with no vertex inserted
+  /// since is dropped instead: the cell stays as it is.
   template <class P, class Z>
   CGAL::Mesher_level_conflict_status test_point_conflict_from_superior(const P& p, Z& zone)
   {
     const auto r = segments_.test_point_conflict_from_superior(p, zone);
-    return r != CGAL::NO_CONFLICT ? r : FacetsLevel::test_point_conflict_from_superior(p, zone);
+    if (r != CGAL::NO_CONFLICT)
+      return r;
+    const auto f = FacetsLevel::test_point_conflict_from_superior(p, zone);
+    if (f != CGAL::CONFLICT_BUT_ELEMENT_CAN_BE_RECONSIDERED)
+      return f;
+    const size_t vertices = vertices_();
+    if (p == lastPoint_ && vertices == lastVertices_)
+    {
+      ++segments_.counters().cyclesBroken;
+      return CGAL::CONFLICT_AND_ELEMENT_SHOULD_BE_DROPPED;
+    }
+    lastPoint_ = p;
+    lastVertices_ = vertices;
+    return f;
   }
 
 private:
   SegmentLevel& segments_;
+  std::function<size_t()> vertices_;
+  typename SegmentLevel::Weighted_point lastPoint_;
+  size_t lastVertices_ = 0;
 };
 
 template <class C3t3, class Criteria, class MeshDomain>

@@ -35,18 +35,11 @@ struct UnionFind
 };
 }
 
-FeatureMergeCounts mergeFeatureSegments(FeatureSegments& f)
+namespace
 {
-  FeatureMergeCounts counts;
-  for (const Vec3& p : f.points)
-    if (!isFinite(p))
-      return counts;
-  for (const auto& s : f.segments)
-    for (int v : s)
-      if (v < 0 || v >= static_cast<int>(f.points.size()))
-        return counts; // validate names it
-
-  // 1. One vertex per coordinate triple.
+/// 1. One vertex per coordinate triple.
+void mergeRepeatedPoints(FeatureSegments& f, FeatureMergeCounts& counts)
+{
   std::map<std::tuple<double, double, double>, int> byCoordinates;
   std::vector<int> same(f.points.size());
   for (std::size_t i = 0; i < f.points.size(); ++i)
@@ -58,8 +51,11 @@ FeatureMergeCounts mergeFeatureSegments(FeatureSegments& f)
   }
   for (auto& s : f.segments)
     s = { same[s[0]], same[s[1]] };
+}
 
-  // 2. Repeated segments (either direction); zero-length ones stay for validate to name.
+/// 2. Repeated segments (either direction); zero-length ones stay for validate to name.
+std::vector<std::array<int, 2>> withoutRepeatedSegments(const FeatureSegments& f, FeatureMergeCounts& counts)
+{
   std::set<std::pair<int, int>> seen;
   std::vector<std::array<int, 2>> unique;
   unique.reserve(f.segments.size());
@@ -72,8 +68,12 @@ FeatureMergeCounts mergeFeatureSegments(FeatureSegments& f)
     }
     unique.push_back(s);
   }
+  return unique;
+}
 
-  // 3. Collinear overlapping segments: groups by union-find, each replaced by its union.
+/// 3a. Collinear overlapping segments, grouped by union-find; `overlaps` marks the segments in a group.
+UnionFind overlapGroups(const FeatureSegments& f, const std::vector<std::array<int, 2>>& unique, std::vector<bool>& overlaps)
+{
   const auto P = [&](int i) { return K::Point_3(f.points[i].x, f.points[i].y, f.points[i].z); };
   std::vector<Box> boxes;
   boxes.reserve(unique.size());
@@ -86,7 +86,7 @@ FeatureMergeCounts mergeFeatureSegments(FeatureSegments& f)
     boxes.emplace_back(lo, hi, s);
   }
   UnionFind groups(unique.size());
-  std::vector<bool> overlaps(unique.size(), false);
+  overlaps.assign(unique.size(), false);
   auto check = [&](const Box& x, const Box& y) {
     const auto& a = unique[x.info()];
     const auto& b = unique[y.info()];
@@ -115,7 +115,15 @@ FeatureMergeCounts mergeFeatureSegments(FeatureSegments& f)
     }
   };
   CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), check);
+  return groups;
+}
 
+/// 3b. The segments with each overlap group replaced by its union.
+std::vector<std::array<int, 2>> withOverlapsMerged(
+  const FeatureSegments& f, const std::vector<std::array<int, 2>>& unique, FeatureMergeCounts& counts)
+{
+  std::vector<bool> overlaps;
+  UnionFind groups = overlapGroups(f, unique, overlaps);
   std::map<std::size_t, std::vector<std::size_t>> members;
   std::vector<std::array<int, 2>> merged;
   merged.reserve(unique.size());
@@ -151,14 +159,15 @@ FeatureMergeCounts mergeFeatureSegments(FeatureSegments& f)
         merged.push_back({ vertices[k], vertices[k + 1] });
     }
   }
+  return merged;
+}
 
-  if (!counts.changed())
-    return counts; // as given: same points, same order
-
-  // 4. Drop the points no segment uses.
+/// 4. `segments` as f's, without the points no segment uses.
+void keepUsedPoints(FeatureSegments& f, std::vector<std::array<int, 2>> segments)
+{
   std::vector<int> renumber(f.points.size(), -1);
   std::vector<Vec3> points;
-  for (auto& s : merged)
+  for (auto& s : segments)
     for (int& v : s)
     {
       if (renumber[v] < 0)
@@ -169,7 +178,26 @@ FeatureMergeCounts mergeFeatureSegments(FeatureSegments& f)
       v = renumber[v];
     }
   f.points = std::move(points);
-  f.segments = std::move(merged);
+  f.segments = std::move(segments);
+}
+}
+
+FeatureMergeCounts mergeFeatureSegments(FeatureSegments& f)
+{
+  FeatureMergeCounts counts;
+  for (const Vec3& p : f.points)
+    if (!isFinite(p))
+      return counts;
+  for (const auto& s : f.segments)
+    for (int v : s)
+      if (v < 0 || v >= static_cast<int>(f.points.size()))
+        return counts; // validate names it
+  mergeRepeatedPoints(f, counts);
+  const std::vector<std::array<int, 2>> unique = withoutRepeatedSegments(f, counts);
+  std::vector<std::array<int, 2>> merged = withOverlapsMerged(f, unique, counts);
+  if (!counts.changed())
+    return counts; // as given: same points, same order
+  keepUsedPoints(f, std::move(merged));
   return counts;
 }
 }

@@ -78,38 +78,16 @@ double FeatureSegments::smallestAngle() const
   return smallest;
 }
 
-std::vector<std::string> FeatureSegments::validate(const HierarchicalOracle& oracle, double radiusEdgeBound) const
+std::vector<std::pair<size_t, size_t>> FeatureSegments::crossingPairs() const
 {
-  const int n = static_cast<int>(points.size());
-  for (int i = 0; i < n; ++i)
-  {
-    if (!isFinite(points[i]))
-      throw InputError("feature lines: point " + std::to_string(i) + " has a NaN or infinite coordinate");
-    const Vec3& p = points[i];
-    if (std::max({ std::abs(p.x), std::abs(p.y), std::abs(p.z) }) > 1e15)
-    {
-      std::ostringstream o;
-      o << "feature lines: point " << i << " (" << p.x << ", " << p.y << ", " << p.z
-        << ") has a coordinate beyond 1e15 in magnitude (absurd; check the units)";
-      throw InputError(o.str());
-    }
-  }
-  for (size_t s = 0; s < segments.size(); ++s)
-  {
-    const auto& seg = segments[s];
-    if (seg[0] < 0 || seg[0] >= n || seg[1] < 0 || seg[1] >= n)
-      throw InputError("feature lines: segment " + std::to_string(s) + " refers to a point out of range");
-    if (seg[0] == seg[1] || !(length(s) > 0.0))
-      throw InputError("feature lines: " + describeSegment(*this, s) + " has zero length");
-  }
-
   // Segments may meet only at shared end points: any other contact is a crossing.
+  const FeatureSegments& f = *this;
   std::vector<Box> boxes;
-  boxes.reserve(segments.size());
-  for (size_t s = 0; s < segments.size(); ++s)
+  boxes.reserve(f.segments.size());
+  for (size_t s = 0; s < f.segments.size(); ++s)
   {
-    const Vec3& a = points[segments[s][0]];
-    const Vec3& b = points[segments[s][1]];
+    const Vec3& a = f.points[f.segments[s][0]];
+    const Vec3& b = f.points[f.segments[s][1]];
     double lo[3] = { std::min(a.x, b.x), std::min(a.y, b.y), std::min(a.z, b.z) };
     double hi[3] = { std::max(a.x, b.x), std::max(a.y, b.y), std::max(a.z, b.z) };
     boxes.emplace_back(lo, hi, s);
@@ -117,9 +95,9 @@ std::vector<std::string> FeatureSegments::validate(const HierarchicalOracle& ora
   std::vector<std::pair<size_t, size_t>> crossings;
   auto check = [&](const Box& x, const Box& y) {
     const size_t s = x.info(), t = y.info();
-    const auto& a = segments[s];
-    const auto& b = segments[t];
-    const auto P = [&](int i) { return K::Point_3(points[i].x, points[i].y, points[i].z); };
+    const auto& a = f.segments[s];
+    const auto& b = f.segments[t];
+    const auto P = [&](int i) { return K::Point_3(f.points[i].x, f.points[i].y, f.points[i].z); };
     const K::Segment_3 ss(P(a[0]), P(a[1])), tt(P(b[0]), P(b[1]));
     int shared = -1;
     for (int i : a)
@@ -140,34 +118,74 @@ std::vector<std::string> FeatureSegments::validate(const HierarchicalOracle& ora
       crossings.emplace_back(std::min(s, t), std::max(s, t));
   };
   CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), check);
+  std::sort(crossings.begin(), crossings.end());
+  return crossings;
+}
+
+namespace
+{
+/// Finite, sane coordinates and segments between two distinct points in range; throws InputError.
+void checkPointsAndIndices(const FeatureSegments& f)
+{
+  const int n = static_cast<int>(f.points.size());
+  for (int i = 0; i < n; ++i)
+  {
+    if (!isFinite(f.points[i]))
+      throw InputError("feature lines: point " + std::to_string(i) + " has a NaN or infinite coordinate");
+    const Vec3& p = f.points[i];
+    if (std::max({ std::abs(p.x), std::abs(p.y), std::abs(p.z) }) > 1e15)
+    {
+      std::ostringstream o;
+      o << "feature lines: point " << i << " (" << p.x << ", " << p.y << ", " << p.z
+        << ") has a coordinate beyond 1e15 in magnitude (absurd; check the units)";
+      throw InputError(o.str());
+    }
+  }
+  for (size_t s = 0; s < f.segments.size(); ++s)
+  {
+    const auto& seg = f.segments[s];
+    if (seg[0] < 0 || seg[0] >= n || seg[1] < 0 || seg[1] >= n)
+      throw InputError("feature lines: segment " + std::to_string(s) + " refers to a point out of range");
+    if (seg[0] == seg[1] || !(f.length(s) > 0.0))
+      throw InputError("feature lines: " + describeSegment(f, s) + " has zero length");
+  }
+}
+
+/// Segments may meet only at shared end points: any other contact is a crossing; throws InputError.
+void checkNoCrossings(const FeatureSegments& f)
+{
+  const std::vector<std::pair<size_t, size_t>> crossings = f.crossingPairs();
   if (!crossings.empty())
   {
-    std::sort(crossings.begin(), crossings.end());
     std::ostringstream msg;
     msg << "feature lines: " << crossings.size() << " pair(s) of segments cross or overlap; first: "
-        << describeSegment(*this, crossings[0].first) << " and " << describeSegment(*this, crossings[0].second);
+        << describeSegment(f, crossings[0].first) << " and " << describeSegment(f, crossings[0].second);
     throw InputError(msg.str());
   }
+}
 
-  std::vector<std::string> warnings;
-  const auto inc = incidence(*this);
+/// Warnings for segments meeting at less than 60 degrees and for a radius-edge bound below what
+/// the smallest angle needs.
+void warnSmallAngles(const FeatureSegments& f, double radiusEdgeBound, std::vector<std::string>& warnings)
+{
+  const auto inc = incidence(f);
   size_t sharp = 0;
   std::string firstSharp;
   double alpha0 = 180.0;
-  for (size_t v = 0; v < points.size(); ++v)
+  for (size_t v = 0; v < f.points.size(); ++v)
   {
     for (size_t i = 0; i < inc[v].size(); ++i)
       for (size_t j = i + 1; j < inc[v].size(); ++j)
       {
-        const auto& si = segments[inc[v][i]];
-        const auto& sj = segments[inc[v][j]];
-        const double angle = angleAt(points[v], points[si[0] == int(v) ? si[1] : si[0]],
-          points[sj[0] == int(v) ? sj[1] : sj[0]]);
+        const auto& si = f.segments[inc[v][i]];
+        const auto& sj = f.segments[inc[v][j]];
+        const double angle = angleAt(f.points[v], f.points[si[0] == int(v) ? si[1] : si[0]],
+          f.points[sj[0] == int(v) ? sj[1] : sj[0]]);
         alpha0 = std::min(alpha0, angle);
         if (angle < 60.0 && sharp++ == 0)
         {
           std::ostringstream o;
-          o << describeSegment(*this, inc[v][i]) << " and " << describeSegment(*this, inc[v][j]) << " meet at "
+          o << describeSegment(f, inc[v][i]) << " and " << describeSegment(f, inc[v][j]) << " meet at "
             << angle << " degrees";
           firstSharp = o.str();
         }
@@ -185,19 +203,33 @@ std::vector<std::string> FeatureSegments::validate(const HierarchicalOracle& ora
       << "; refinement may not terminate (it stops at MaximumNumberOfVertices)";
     warnings.push_back(o.str());
   }
+}
+
+/// A warning for segments outside every domain.
+void warnOutside(const FeatureSegments& f, const HierarchicalOracle& oracle, std::vector<std::string>& warnings)
+{
   size_t outside = 0;
   std::string firstOutside;
-  for (size_t s = 0; s < segments.size(); ++s)
+  for (size_t s = 0; s < f.segments.size(); ++s)
   {
-    const Vec3& a = points[segments[s][0]];
-    const Vec3& b = points[segments[s][1]];
-    if (oracle.material(a) == kOutside && oracle.material(b) == kOutside &&
-      oracle.material(lerp(a, b, 0.5)) == kOutside && !oracle.intersect(a, b).found && outside++ == 0)
-      firstOutside = describeSegment(*this, s);
+    const Vec3& a = f.points[f.segments[s][0]];
+    const Vec3& b = f.points[f.segments[s][1]];
+    if (!oracle.touchesMaterial(a, b) && outside++ == 0)
+      firstOutside = describeSegment(f, s);
   }
   if (outside)
     warnings.push_back("feature lines: " + std::to_string(outside) +
       " segment(s) lie outside every domain and cannot become mesh edges; first: " + firstOutside);
+}
+}
+
+std::vector<std::string> FeatureSegments::validate(const HierarchicalOracle& oracle, double radiusEdgeBound) const
+{
+  checkPointsAndIndices(*this);
+  checkNoCrossings(*this);
+  std::vector<std::string> warnings;
+  warnSmallAngles(*this, radiusEdgeBound, warnings);
+  warnOutside(*this, oracle, warnings);
   return warnings;
 }
 
@@ -239,13 +271,10 @@ std::vector<int> simplifyChain(const std::vector<Vec3>& pts, const std::vector<i
   }
   return kept;
 }
-}
 
-size_t resampleFeatureLines(FeatureSegments& f, double maxLength, double tolerance, double cornerAngle)
+/// Points where a chain ends: degree other than 2, or a turn sharper than `cornerAngle`.
+std::vector<char> chainCorners(const FeatureSegments& f, const std::vector<std::vector<size_t>>& inc, double cornerAngle)
 {
-  if (f.segments.empty() || !(maxLength > 0) || !(tolerance >= 0))
-    return 0;
-  const auto inc = incidence(f);
   auto other = [&](size_t seg, int v) { return f.segments[seg][0] == v ? f.segments[seg][1] : f.segments[seg][0]; };
   std::vector<char> corner(f.points.size(), 0);
   for (size_t v = 0; v < f.points.size(); ++v)
@@ -260,6 +289,36 @@ size_t resampleFeatureLines(FeatureSegments& f, double maxLength, double toleran
       corner[v] = angleAt(f.points[v], f.points[p], f.points[q]) < 180.0 - cornerAngle;
     }
   }
+  return corner;
+}
+
+/// The segments `out` between f's points, with only the points they use, in order of first use.
+FeatureSegments withUsedPoints(const FeatureSegments& f, std::vector<std::array<int, 2>> out)
+{
+  std::vector<int> index(f.points.size(), -1);
+  FeatureSegments r;
+  for (auto& s : out)
+    for (int& e : s)
+    {
+      if (index[e] < 0)
+      {
+        index[e] = static_cast<int>(r.points.size());
+        r.points.push_back(f.points[e]);
+      }
+      e = index[e];
+    }
+  r.segments = std::move(out);
+  return r;
+}
+}
+
+size_t resampleFeatureLines(FeatureSegments& f, double maxLength, double tolerance, double cornerAngle)
+{
+  if (f.segments.empty() || !(maxLength > 0) || !(tolerance >= 0))
+    return 0;
+  const auto inc = incidence(f);
+  auto other = [&](size_t seg, int v) { return f.segments[seg][0] == v ? f.segments[seg][1] : f.segments[seg][0]; };
+  std::vector<char> corner = chainCorners(f, inc, cornerAngle);
   std::vector<char> used(f.segments.size(), 0);
   std::vector<std::array<int, 2>> out;
   // Walks the chain that leaves `start` through segment `first` up to the next corner (or back to start).
@@ -312,19 +371,7 @@ size_t resampleFeatureLines(FeatureSegments& f, double maxLength, double toleran
     walk(start, inc[start][0]);
   }
   // Renumber: only points that end a kept segment remain.
-  std::vector<int> index(f.points.size(), -1);
-  FeatureSegments r;
-  for (auto& s : out)
-    for (int& e : s)
-    {
-      if (index[e] < 0)
-      {
-        index[e] = static_cast<int>(r.points.size());
-        r.points.push_back(f.points[e]);
-      }
-      e = index[e];
-    }
-  r.segments = std::move(out);
+  FeatureSegments r = withUsedPoints(f, std::move(out));
   // two chains between the same corners that both fit one chord become one segment
   mergeFeatureSegments(r);
   const size_t dropped = f.points.size() - r.points.size();

@@ -5,6 +5,7 @@
 
 #include <array>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace omesh
@@ -27,6 +28,10 @@ struct FeatureSegments
   /// segments at a shared vertex, segments outside every domain of `oracle`, and a radius-edge
   /// bound B < 1 / (2 sin alpha0) that contradicts the smallest angle alpha0.
   std::vector<std::string> validate(const HierarchicalOracle& oracle, double radiusEdgeBound) const;
+
+  /// Pairs (s, t), s < t, of segments that cross, touch other than at a shared end point, or
+  /// overlap (exact predicates), sorted. Expects finite points and valid indices.
+  std::vector<std::pair<size_t, size_t>> crossingPairs() const;
 
   /// Points that end at least two segments (the paper's star vertices).
   std::vector<bool> starVertices() const;

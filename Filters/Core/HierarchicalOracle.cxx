@@ -57,6 +57,23 @@ Intersection HierarchicalOracle::intersect(const Vec3& a, const Vec3& b) const
   return result;
 }
 
+bool HierarchicalOracle::touchesMaterial(const Vec3& a, const Vec3& b) const
+{
+  const Vec3 m = lerp(a, b, 0.5);
+  if (material(a) != kOutside || material(b) != kOutside || material(m) != kOutside || intersect(a, b).found)
+    return true;
+  const double h = 1e-3 * norm(b - a);
+  for (int axis = 0; axis < 3; ++axis)
+    for (double sign : { -1.0, 1.0 })
+    {
+      Vec3 p = m;
+      p[axis] += sign * h;
+      if (material(p) != kOutside)
+        return true;
+    }
+  return false;
+}
+
 BoundingBox HierarchicalOracle::bounds() const
 {
   if (domains_.empty())

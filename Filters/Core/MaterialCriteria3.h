@@ -203,15 +203,16 @@ private:
   MaterialCriteria criteria_;
 };
 /// The mesher's criteria: ours per material (MaterialFacetCriterion, MaterialCellCriterion) and
-/// CGAL's topology criterion (facet vertices on the surface, T2); `edgeSize` bounds the protecting
-/// balls (their edge criterion).
+/// CGAL's topology criterion (facet vertices on the surface, T2); `edges` bounds the protecting
+/// balls (the sequential mesher's stops its feature protection on time: StoppableEdgeSize).
 template <class Tr>
-CGAL::Mesh_criteria_3<Tr> materialMeshCriteria(const MesherOptions& options, double edgeSize)
+CGAL::Mesh_criteria_3<Tr> materialMeshCriteria(
+  const MesherOptions& options, const typename CGAL::Mesh_criteria_3<Tr>::Edge_criteria& edges)
 {
   using Criteria = CGAL::Mesh_criteria_3<Tr>;
   typename Criteria::Facet_criteria facetCriteria(0.0, 0.0, 0.0, CGAL::FACET_VERTICES_ON_SURFACE);
   typename Criteria::Cell_criteria cellCriteria(0.0, 0.0);
-  Criteria criteria(typename Criteria::Edge_criteria(edgeSize > 0 ? edgeSize : 1.0), facetCriteria, cellCriteria);
+  Criteria criteria(edges, facetCriteria, cellCriteria);
   criteria.add_facet_criterion(new MaterialFacetCriterion<Tr>(options.criteria));
   criteria.add_cell_criterion(
     new MaterialCellCriterion<Tr>(options.criteria, options.sliverAngle, options.interfaceSliverAngle));

@@ -6,6 +6,7 @@
 #include "OracleMesher.h"
 
 #include "HierarchicalOracle.h"
+#include "FeatureNetworkSimplification.h"
 #include "InputError.h"
 #include "MeshQuality.h"
 #include "MeshValidity.h"
@@ -15,6 +16,7 @@
 #include "OracleMeshDomain.h"
 #include "ParallelRefinement.h"
 #include "SegmentConformation.h"
+#include "SegmentState.h"
 
 #include <CGAL/Mesh_complex_3_in_triangulation_3.h>
 #include <CGAL/Mesh_criteria_3.h>
@@ -42,6 +44,15 @@
 
 namespace omesh
 {
+double effectiveTimeLimit(const MesherOptions& options)
+{
+  if (options.timeLimit != 0)
+    return options.timeLimit > 0 ? options.timeLimit : 0.0;
+  return options.maximumNumberOfVertices
+    ? kTimeLimitBase + kTimeLimitPerVertex * static_cast<double>(options.maximumNumberOfVertices)
+    : 0.0;
+}
+
 const char* toString(FeatureStrategy s)
 {
   switch (s)
@@ -123,6 +134,26 @@ double threadCpu()
   clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
   return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
 }
+
+/// Thrown inside CGAL's feature protection (its worker thread) once it was asked to stop.
+struct ProtectionStopped
+{
+};
+
+/// The edge size of CGAL's feature protection, constant, reading the stop flag too: CGAL reads
+/// its own flag only between passes, and one pass took minutes (148 s past a 20 s time limit, balls
+/// on feature lines meeting at 1 degree), while it asks the size at every ball it places or checks.
+struct StoppableEdgeSize
+{
+  double size;
+  const std::atomic<bool>* stop;
+  double operator()(const K::Point_3&, int, const MeshDomain::Index&) const
+  {
+    if (stop->load(std::memory_order_relaxed))
+      throw ProtectionStopped{};
+    return size;
+  }
+};
 
 /// Maximal polylines through the segments, broken at points of degree != 2 and at bends sharper
 /// than kPolylineCorner: CGAL protects a polyline as one smooth curve, and through a sharp bend
@@ -215,16 +246,19 @@ struct PerturbationBound
 };
 
 /// CGAL's optimiser visitors: count the steps (a perturbation attempt on one vertex, or one cell
-/// pumped), stop at `budget` steps (0 = none) and ask `check` (which may throw MeshingAborted)
-/// every 256 steps. Copied by CGAL: the counts live outside.
+/// pumped), stop at `budget` steps (0 = none), ask the deadline at every step and `check` (which
+/// may throw MeshingAborted) every 256 steps. Copied by CGAL: the counts live outside.
 struct OptimiserVisitor
 {
   std::function<void()> check;
   std::size_t* steps;
   std::size_t budget;
+  const MeshingDeadline* deadline;
+  const char* phase;
   PerturbationBound* bound = nullptr; ///< the perturber's
   void step()
   {
+    deadline->check(phase);
     if (++*steps % 256 == 0)
       check();
     if (budget && *steps >= budget)
@@ -242,6 +276,33 @@ struct OptimiserVisitor
       bound->step();
   }
   void after_cell_pumped(std::size_t) { step(); }
+};
+
+/// CGAL's sliver criterion of the optimisers (smallest dihedral angle), which also asks the
+/// deadline: one perturbation or one pump evaluates the whole star of a vertex, with no visitor
+/// call in between, and next to a cluster of tiny facets (refinement stopped at the vertex budget)
+/// such a star took minutes.
+class WatchedDihedralCriterion : public CGAL::Mesh_3::Min_dihedral_angle_criterion<Tr>
+{
+  using Base = CGAL::Mesh_3::Min_dihedral_angle_criterion<Tr>;
+
+public:
+  WatchedDihedralCriterion(double bound, const Tr& tr, const MeshingDeadline& deadline, const char* phase)
+    : Base(bound, tr)
+    , deadline_(&deadline)
+    , phase_(phase)
+  {
+  }
+  using Base::operator();
+  double operator()(const typename Base::Tetrahedron_3& t) const override
+  {
+    deadline_->tick(phase_);
+    return Base::operator()(t);
+  }
+
+private:
+  const MeshingDeadline* deadline_;
+  const char* phase_;
 };
 
 /// Smallest dihedral angle (degrees) of the cells of the complex.
@@ -268,7 +329,7 @@ struct OptimiserRun
 /// Runs a CGAL optimiser (perturber or exuder) with an OptimiserVisitor and its budget.
 template <class Optimiser>
 OptimiserRun runOptimiser(C3t3& c3t3, Optimiser& optimiser, std::size_t budget, std::function<void()> check,
-  PerturbationBound* bound = nullptr)
+  const MeshingDeadline& deadline, const char* phase, PerturbationBound* bound = nullptr)
 {
   const auto started = Clock::now();
   const double cpuStart = threadCpu();
@@ -280,7 +341,8 @@ OptimiserRun runOptimiser(C3t3& c3t3, Optimiser& optimiser, std::size_t budget, 
   };
   try
   {
-    run.cutShort = optimiser(OptimiserVisitor{ std::move(check), &run.steps, budget, bound }) == CGAL::TIME_LIMIT_REACHED;
+    run.cutShort =
+      optimiser(OptimiserVisitor{ std::move(check), &run.steps, budget, &deadline, phase, bound }) == CGAL::TIME_LIMIT_REACHED;
   }
   catch (const BudgetReached&)
   {
@@ -325,11 +387,12 @@ protected:
 /// at a bound after `failuresPerBound` vertices it could not move plus 1% of its attempts there
 /// (0 = never).
 OptimiserRun perturb(C3t3& c3t3, const MeshDomain& domain, double timeLimit, std::size_t budget,
-  double failuresPerBound, std::function<void()> check)
+  double failuresPerBound, std::function<void()> check, const MeshingDeadline& deadline)
 {
-  const auto criterion = CGAL::parameters::default_values_for_mesh_3::default_sliver_criterion(
-    c3t3, CGAL::parameters::default_values_for_mesh_3::perturb_sliver_bound);
-  using Criterion = std::remove_const_t<decltype(criterion)>;
+  // as CGAL's default_sliver_criterion, watched
+  using Criterion = WatchedDihedralCriterion;
+  const Criterion criterion(
+    CGAL::parameters::default_values_for_mesh_3::perturb_sliver_bound, c3t3.triangulation(), deadline, "perturbation");
   CGAL::Mesh_3::Sliver_perturber<C3t3, MeshDomain, Criterion, OptimiserVisitor> perturber(c3t3, domain, criterion);
   PerturbationBound bound;
   bound.allowed = failuresPerBound;
@@ -342,44 +405,19 @@ OptimiserRun perturb(C3t3& c3t3, const MeshDomain& domain, double timeLimit, std
   last->bound = &bound;
   perturber.add_perturbation(last);
   perturber.set_time_limit(timeLimit);
-  return runOptimiser(c3t3, perturber, budget, std::move(check), &bound);
+  return runOptimiser(c3t3, perturber, budget, std::move(check), deadline, "perturbation", &bound);
 }
 
 /// As CGAL::exude_mesh_3, pumping the cells below `sliverBound` degrees (0 = every cell, CGAL's
 /// default), abortable, stopped as perturb().
-OptimiserRun exude(C3t3& c3t3, double timeLimit, std::size_t budget, double sliverBound, std::function<void()> check)
+OptimiserRun exude(C3t3& c3t3, double timeLimit, std::size_t budget, double sliverBound, std::function<void()> check,
+  const MeshingDeadline& deadline)
 {
-  using Criterion = CGAL::Mesh_3::Min_dihedral_angle_criterion<Tr>;
-  Criterion criterion(sliverBound, c3t3.triangulation());
+  using Criterion = WatchedDihedralCriterion;
+  Criterion criterion(sliverBound, c3t3.triangulation(), deadline, "exudation");
   CGAL::Mesh_3::Slivers_exuder<C3t3, Criterion, OptimiserVisitor> exuder(c3t3, criterion);
   exuder.set_time_limit(timeLimit);
-  return runOptimiser(c3t3, exuder, budget, std::move(check));
-}
-
-/// Sub-segments of `segs` that are not edges of the triangulation, minus `missingBefore`; the
-/// segment points are located anew (the exuder re-creates the vertices it pumps).
-size_t brokenByExudation(const C3t3& c3t3, const SegmentSet& segs, size_t missingBefore)
-{
-  const Tr& tr = c3t3.triangulation();
-  std::vector<Tr::Vertex_handle> vertex(segs.points.size());
-  Tr::Cell_handle hint;
-  for (size_t p = 0; p < segs.points.size(); ++p)
-  {
-    Tr::Locate_type lt;
-    int i, j;
-    hint = tr.locate(Tr::Point(toPoint(segs.points[p])), lt, i, j, hint);
-    if (lt == Tr::VERTEX)
-      vertex[p] = hint->vertex(i);
-  }
-  size_t missing = 0;
-  for (const auto& sub : segs.subs)
-  {
-    Tr::Cell_handle c;
-    int i, j;
-    const auto a = vertex[sub[0]], b = vertex[sub[1]];
-    missing += a == Tr::Vertex_handle() || b == Tr::Vertex_handle() || !tr.is_edge(a, b, c, i, j);
-  }
-  return missing > missingBefore ? missing - missingBefore : 0;
+  return runOptimiser(c3t3, exuder, budget, std::move(check), deadline, "exudation");
 }
 
 /// Converts the complex to the output mesh.
@@ -419,11 +457,12 @@ TetMesh toTetMesh(const C3t3& c3t3)
 
 namespace
 {
-/// The feature lines resampled as MesherOptions::resampleFeatureLines asks (chords up to the edge
-/// size, else the facet size, else 1/40 of the diagonal, within half the smallest facet distance),
-/// or nothing when it does not.
+/// The feature lines simplified and resampled as MesherOptions::resampleFeatureLines asks
+/// (simplifyFeatureNetwork: chords up to the edge size, else the facet size, else 1/40 of the
+/// diagonal, within half the smallest facet distance), or nothing when it does not.
 std::optional<FeatureSegments> resampledFeatures(const FeatureSegments& given, const MesherOptions& options,
-  const BoundingBox& inner, std::vector<std::string>& warnings)
+  const HierarchicalOracle& oracle, const BoundingBox& inner, std::vector<std::string>& warnings,
+  FeatureNetworkReport& report)
 {
   if (!options.resampleFeatureLines || given.empty())
     return std::nullopt;
@@ -432,106 +471,215 @@ std::optional<FeatureSegments> resampledFeatures(const FeatureSegments& given, c
   for (const auto& [m, unused] : options.criteria.perMaterial)
     if (const double d = options.criteria.of(m).facetDistance; d > 0 && (distance <= 0 || d < distance))
       distance = d;
-  const double length = g.edgeSize > 0 ? g.edgeSize : g.facetSize > 0 ? g.facetSize : norm(inner.size()) / 40.0;
+  FeatureNetworkTolerances tolerances;
+  tolerances.edgeLength = g.edgeSize > 0 ? g.edgeSize : g.facetSize > 0 ? g.facetSize : norm(inner.size()) / 40.0;
+  tolerances.chordTolerance = distance > 0 ? 0.5 * distance : 0.05 * tolerances.edgeLength;
+  tolerances.inDomain = [&oracle](const Vec3& p) { return oracle.material(p) != kOutside; };
   FeatureSegments resampled = given;
-  if (resampleFeatureLines(resampled, length, distance > 0 ? 0.5 * distance : 0.05 * length) > 0)
-    warnings.push_back("feature lines resampled: " + std::to_string(given.segments.size()) + " segments became " +
-      std::to_string(resampled.segments.size()) + " (chords up to " + std::to_string(length) + ")");
+  report = simplifyFeatureNetwork(resampled, tolerances);
+  if (resampled.segments.size() != given.segments.size() || resampled.points.size() != given.points.size())
+  {
+    std::ostringstream o;
+    o << "feature lines simplified: " << given.segments.size() << " segments became " << resampled.segments.size()
+      << " (chords up to " << tolerances.edgeLength << "; points closer than " << tolerances.mergeDistance()
+      << " merged, spurs shorter than " << tolerances.spurLength() << " dropped; the lines moved by at most "
+      << std::max(report.givenToSimplified, report.simplifiedToGiven) << ")";
+    warnings.push_back(o.str());
+  }
   return resampled;
 }
 
-TetMesh meshOracleUnguarded(const HierarchicalOracle& oracle, const FeatureSegments& givenFeatures,
-  const std::vector<Vec3>& seedPoints, const MesherOptions& options)
+/// One call of meshOracle, as the paper's chain of phases: the inputs, rule T1 on the segments
+/// alone, the initial points, refinement (the segment, facet and cell levels together, rules
+/// T1.2, T2, T3), optimisation, then the output mesh with its validity check and statistics.
+class MeshingRun
 {
-  const auto started = Clock::now();
-  std::vector<std::string> warnings;
-  const BoundingBox inner = oracle.bounds(); // throws for an empty or unbounded oracle
-  const std::optional<FeatureSegments> resampled = resampledFeatures(givenFeatures, options, inner, warnings);
-  const FeatureSegments& features = resampled ? *resampled : givenFeatures;
-  checkCriteria(options.criteria, warnings);
-  const MeshCriteria::Values g = options.criteria.globalValues();
-  if (!features.empty())
+public:
+  using Segments = SegmentRefinementLevel<C3t3>;
+  using Counters = SegmentState<C3t3>::Counters;
+
+  MeshingRun(const HierarchicalOracle& oracle, const FeatureSegments& givenFeatures, const MesherOptions& options)
+    : oracle_(oracle)
+    , given_(givenFeatures)
+    , options_(options)
+    , deadline_(effectiveTimeLimit(options))
   {
-    auto w = features.validate(oracle, g.cellRadiusEdgeRatio);
-    warnings.insert(warnings.end(), w.begin(), w.end());
+    deadline_.setMeasure([this](std::map<std::string, double>& st) { measure(st); });
   }
-  auto report = [&](double fraction, const char* phase) {
-    if (options.progress && !options.progress(fraction, phase))
+
+  TetMesh run(const std::vector<Vec3>& seedPoints)
+  {
+    prepareInputs();
+    buildDomainAndCriteria();
+    conformSegmentsT1();
+    initialPoints(seedPoints);
+    refineAllLevels();
+    optimise();
+    return validatedMesh();
+  }
+
+private:
+  /// Progress for the caller; throws MeshingAborted when it asks to stop.
+  void report(double fraction, const char* phase) const
+  {
+    if (options_.progress && !options_.progress(fraction, phase))
       throw MeshingAborted();
-  };
-  report(0.0, "initialisation");
-
-  // A little room around the materials, so the boundary never touches the domain's box.
-  BoundingBox box = inner;
-  const Vec3 pad = 0.02 * box.size() + (1e-9 * (1.0 + norm(box.size()))) * Vec3{ 1, 1, 1 };
-  box.add(box.min - pad);
-  box.add(box.max + pad);
-  MeshDomain domain(oracle, box, options.seed);
-  const bool protect = options.strategy == FeatureStrategy::ProtectingBalls && !features.empty();
-  if (protect)
-  {
-    auto lines = toPolylines(features);
-    domain.add_features(lines.begin(), lines.end());
   }
 
-  // Criteria: ours per material; CGAL's topology criterion (facet vertices on the surface, T2).
-  double edgeSize = g.edgeSize;
-  if (protect && edgeSize <= 0)
+  /// How far the run got, for the message and statistics of TimeLimitReached.
+  void measure(std::map<std::string, double>& st) const
   {
-    edgeSize = norm(inner.size()) / 50.0;
-    for (double v : { g.facetSize, g.cellSize })
-      if (v > 0)
-        edgeSize = std::min(edgeSize, v);
-    warnings.push_back("EdgeSize not set: protecting balls use " + std::to_string(edgeSize));
-  }
-  Criteria criteria = materialMeshCriteria<Tr>(options, edgeSize);
-
-  // Conforming: rule T1 on the segments alone first; the domain's initial points keep away from
-  // their points (a near-coincident pair seeds a cluster of micro tetrahedra).
-  const bool conforming = options.strategy == FeatureStrategy::Conforming && !features.empty();
-  // CGAL's parallel refinement (ParallelRefinement.h) serves every strategy but Conforming with
-  // feature lines, whose segment level is ours and sequential.
-  const int threads = conforming ? 1 : requestedThreads(options);
-  if (conforming && requestedThreads(options) > 1)
-    warnings.push_back("Threads = " + std::to_string(options.threads) + ": the Conforming strategy with feature "
-      "lines refines on one thread (None and ProtectingBalls refine in parallel)");
-  SegmentSet segs;
-  if (conforming)
-  {
-    const size_t budget = options.maximumNumberOfVertices ? options.maximumNumberOfVertices : 1000000;
-    segs = conformSegments(features, g.edgeSize, budget, warnings);
-    domain.avoidInitialPointsNear(segs.points);
+    // during a parallel refinement the sequential complex holds its start: its vertex count is the last seen
+    st["vertices"] = std::max(c3t3_ ? static_cast<double>(c3t3_->triangulation().number_of_vertices()) : 0.0,
+      static_cast<double>(parallelVertices_));
+    st["tetrahedra"] = c3t3_ ? static_cast<double>(c3t3_->number_of_cells_in_complex()) : 0.0;
+    st["feature_points"] =
+      static_cast<double>(segments_ ? segments_->segments().points.size() : conformed_.points.size());
+    st["refinement_steps"] = static_cast<double>(steps_);
   }
 
-  CGAL::get_default_random() = CGAL::Random(options.seed);
-  C3t3 c3t3;
-  const auto initStart = Clock::now();
-  // First, far points around the domain keep the triangulation's hull away from the material boundary:
-  // a circumcentre on a convex domain's boundary would otherwise land on the hull (CGAL adds such
-  // points itself only in parallel mode, and not after feature protection).
+  /// Resampled feature lines (if asked), criteria and feature lines checked.
+  void prepareInputs()
   {
-    const Vec3 c = 0.5 * (box.min + box.max);
-    const double r = 2.0 * norm(box.size());
+    inner_ = oracle_.bounds(); // throws for an empty or unbounded oracle
+    resampled_ = resampledFeatures(given_, options_, oracle_, inner_, warnings_, network_);
+    features_ = resampled_ ? &*resampled_ : &given_;
+    deadline_.check("feature-line resampling");
+    checkCriteria(options_.criteria, warnings_);
+    g_ = options_.criteria.globalValues();
+    if (!features_->empty())
+    {
+      auto w = features_->validate(oracle_, g_.cellRadiusEdgeRatio);
+      warnings_.insert(warnings_.end(), w.begin(), w.end());
+      deadline_.check("feature-line validation");
+    }
+    report(0.0, "initialisation");
+  }
+
+  /// The oracle as CGAL's mesh domain (with the polylines to protect for ProtectingBalls) and the
+  /// criteria: ours per material; CGAL's topology criterion (facet vertices on the surface, T2).
+  void buildDomainAndCriteria()
+  {
+    // A little room around the materials, so the boundary never touches the domain's box.
+    box_ = inner_;
+    const Vec3 pad = 0.02 * box_.size() + (1e-9 * (1.0 + norm(box_.size()))) * Vec3{ 1, 1, 1 };
+    box_.add(box_.min - pad);
+    box_.add(box_.max + pad);
+    domain_ = std::make_unique<MeshDomain>(oracle_, box_, options_.seed);
+    protect_ = options_.strategy == FeatureStrategy::ProtectingBalls && !features_->empty();
+    if (protect_)
+    {
+      auto lines = toPolylines(*features_);
+      domain_->add_features(lines.begin(), lines.end());
+    }
+    edgeSize_ = g_.edgeSize;
+    if (protect_ && edgeSize_ <= 0)
+    {
+      edgeSize_ = norm(inner_.size()) / 50.0;
+      for (double v : { g_.facetSize, g_.cellSize })
+        if (v > 0)
+          edgeSize_ = std::min(edgeSize_, v);
+      warnings_.push_back("EdgeSize not set: protecting balls use " + std::to_string(edgeSize_));
+    }
+    criteria_ = std::make_unique<Criteria>(materialMeshCriteria<Tr>(
+      options_, Criteria::Edge_criteria(StoppableEdgeSize{ edgeSize_ > 0 ? edgeSize_ : 1.0, &stopProtection_ })));
+  }
+
+  /// Conforming: rule T1 on the segments alone first (SegmentConformation.h); the domain's
+  /// initial points keep away from their points (a near-coincident pair seeds a cluster of micro
+  /// tetrahedra).
+  void conformSegmentsT1()
+  {
+    conforming_ = options_.strategy == FeatureStrategy::Conforming && !features_->empty();
+    // CGAL's parallel refinement (ParallelRefinement.h) serves every strategy but Conforming with
+    // feature lines, whose segment level is ours and sequential.
+    threads_ = conforming_ ? 1 : requestedThreads(options_);
+    if (conforming_ && requestedThreads(options_) > 1)
+      warnings_.push_back("Threads = " + std::to_string(options_.threads) + ": the Conforming strategy with feature "
+        "lines refines on one thread (None and ProtectingBalls refine in parallel)");
+    if (!conforming_)
+      return;
+    const size_t budget = options_.maximumNumberOfVertices ? options_.maximumNumberOfVertices : 1000000;
+    conformed_ =
+      conformSegments(*features_, g_.edgeSize, budget, warnings_, [this] { deadline_.tick("feature-line conformation"); });
+    domain_->avoidInitialPointsNear(conformed_.points);
+  }
+
+  /// The initial point set: far points, then CGAL's initial points (or its protecting balls), the
+  /// caller's seed points, and (Conforming) the conformed segment points.
+  void initialPoints(const std::vector<Vec3>& seedPoints)
+  {
+    CGAL::get_default_random() = CGAL::Random(options_.seed);
+    c3t3_ = std::make_unique<C3t3>();
+    const auto initStart = Clock::now();
+    addFarPoints();
+    if (protect_)
+    {
+      initialPointsAwayFromFeatures();
+      protectFeatures();
+    }
+    else
+      CGAL::Mesh_3::internal::init_c3t3(*c3t3_, *domain_, *criteria_, 20);
+    insertSeedPoints(seedPoints);
+    initTime_ = seconds(initStart);
+    insertSegmentPoints();
+  }
+
+  /// Far points around the domain keep the triangulation's hull away from the material boundary:
+  /// a circumcentre on a convex domain's boundary would otherwise land on the hull (CGAL adds such
+  /// points itself only in parallel mode, and not after feature protection).
+  void addFarPoints()
+  {
+    const Vec3 c = 0.5 * (box_.min + box_.max);
+    const double r = 2.0 * norm(box_.size());
     for (int i = 0; i < 8; ++i)
     {
       const Vec3 dir{ (i & 1) ? 1.0 : -1.0, (i & 2) ? 1.0 : -1.0, (i & 4) ? 1.0 : -1.0 };
-      c3t3.add_far_point(Tr::Point(toPoint(c + (r / std::sqrt(3.0)) * dir)));
+      c3t3_->add_far_point(Tr::Point(toPoint(c + (r / std::sqrt(3.0)) * dir)));
     }
   }
-  if (protect)
+
+  /// ProtectingBalls: the seed chooses the domain's initial surface points, as with the other
+  /// strategies (after protection CGAL adds them only where the balls alone give no surface facet:
+  /// the seed changed nothing). They go in first, away from the feature lines; the balls then
+  /// leave them out, as they leave out the far points.
+  void initialPointsAwayFromFeatures()
   {
-    // The vertex budget also bounds the protection of the features (CGAL's ball refinement can
-    // run long on small angles). It reports no progress of its own: it runs in a worker thread
-    // while this one keeps asking the progress callback, and stops through CGAL's stop flag.
-    std::atomic<bool> stop{ false };
+    std::vector<Vec3> alongFeatures;
+    const double spacing = 0.01 * norm(inner_.size());
+    const FeatureSegments& f = *features_;
+    for (size_t s = 0; s < f.segments.size(); ++s)
+    {
+      const Vec3 a = f.points[f.segments[s][0]], b = f.points[f.segments[s][1]];
+      const int n = static_cast<int>(std::min(1e4, std::ceil(norm(b - a) / spacing)));
+      for (int k = 0; k <= n; ++k)
+        alongFeatures.push_back(lerp(a, b, static_cast<double>(k) / std::max(n, 1)));
+    }
+    domain_->avoidInitialPointsNear(std::move(alongFeatures));
+    CGAL::Mesh_3::internal::init_c3t3(*c3t3_, *domain_, *criteria_, 20);
+  }
+
+  /// ProtectingBalls: CGAL's protection of the polylines. The vertex budget also bounds it (CGAL's
+  /// ball refinement can run long on small angles). It reports no progress of its own: it runs in
+  /// a worker thread while this one keeps asking the progress callback and the deadline, and stops
+  /// through CGAL's stop flag (read between passes) and StoppableEdgeSize (at the next ball).
+  void protectFeatures()
+  {
+    std::atomic<bool>& stop = stopProtection_;
     CGAL::parameters::internal::Mesh_3_options meshOptions;
-    meshOptions.maximal_number_of_vertices = options.maximumNumberOfVertices;
+    meshOptions.maximal_number_of_vertices = options_.maximumNumberOfVertices;
     meshOptions.pointer_to_stop_atomic_boolean = &stop;
     auto protection = std::async(std::launch::async, [&] {
       // CGAL's default random generator is per thread and seeded from the clock: seed this one
-      CGAL::get_default_random() = CGAL::Random(options.seed);
-      CGAL::Mesh_3::internal::C3t3_initializer<C3t3, MeshDomain, Criteria, true, MeshDomain::Has_features>()(
-        c3t3, domain, criteria, true, meshOptions);
+      CGAL::get_default_random() = CGAL::Random(options_.seed);
+      try
+      {
+        CGAL::Mesh_3::internal::C3t3_initializer<C3t3, MeshDomain, Criteria, true, MeshDomain::Has_features>()(
+          *c3t3_, *domain_, *criteria_, true, meshOptions);
+      }
+      catch (const ProtectionStopped&) // asked to stop: the calling thread says why
+      {
+      }
     });
     while (protection.wait_for(std::chrono::milliseconds(50)) != std::future_status::ready)
     {
@@ -545,336 +693,457 @@ TetMesh meshOracleUnguarded(const HierarchicalOracle& oracle, const FeatureSegme
         protection.wait();
         throw;
       }
+      if (deadline_.passed()) // stop the worker first: it writes the complex the message measures
+      {
+        stop = true;
+        protection.wait();
+        deadline_.fail("feature protection (protecting balls)");
+      }
     }
     protection.get(); // rethrows what the worker threw
   }
-  else
-    CGAL::Mesh_3::internal::init_c3t3(c3t3, domain, criteria, 20);
-  for (const Vec3& p : seedPoints)
+
+  /// The paper's a-priori points, in the material the oracle gives them.
+  void insertSeedPoints(const std::vector<Vec3>& seedPoints)
   {
-    const int m = oracle.material(p);
-    if (m == kOutside)
+    for (const Vec3& p : seedPoints)
     {
-      warnings.push_back("seed point outside every material ignored");
-      continue;
-    }
-    Tr::Vertex_handle v = c3t3.triangulation().insert(Tr::Point(toPoint(p)));
-    if (v != Tr::Vertex_handle())
-    {
-      c3t3.set_dimension(v, 3);
-      c3t3.set_index(v, domain.index_from_subdomain_index(subdomainOf(m)));
+      const int m = oracle_.material(p);
+      if (m == kOutside)
+      {
+        warnings_.push_back("seed point outside every material ignored");
+        continue;
+      }
+      Tr::Vertex_handle v = c3t3_->triangulation().insert(Tr::Point(toPoint(p)));
+      if (v != Tr::Vertex_handle())
+      {
+        c3t3_->set_dimension(v, 3);
+        c3t3_->set_index(v, domain_->index_from_subdomain_index(subdomainOf(m)));
+      }
     }
   }
-  const double initTime = seconds(initStart);
 
-  // Conforming: the segments, conformed by rule T1, enter the triangulation first; their points
-  // are mesh vertices of dimension 0 (input points) or 1 (on a segment), which CGAL's perturber
-  // never moves. Refinement then keeps every sub-segment's diametral ball empty (T1.2) and refuses
-  // refinement points inside them (T2.1, T3.1): see SegmentRefinementLevel.
-  using Segments = SegmentRefinementLevel<C3t3>;
-  std::vector<Tr::Vertex_handle> segVertex;
-  typename Segments::Counters segCount;
-  double minSubSegment = 0.0;
-  if (conforming)
+  /// Conforming: the segments, conformed by rule T1, enter the triangulation; their points are
+  /// mesh vertices of dimension 0 (input points) or 1 (on a segment), which CGAL's perturber never
+  /// moves. Refinement then keeps every sub-segment's diametral ball empty (T1.2) and refuses
+  /// refinement points inside them (T2.1, T3.1): see SegmentRefinementLevel.
+  void insertSegmentPoints()
   {
-    segVertex.resize(segs.points.size());
-    for (size_t p = 0; p < segs.points.size(); ++p)
-    {
-      Tr::Vertex_handle v = c3t3.triangulation().insert(Tr::Point(toPoint(segs.points[p])));
-      c3t3.set_dimension(v, segs.corner[p] ? 0 : 1);
-      c3t3.set_index(v, segs.corner[p] ? domain.index_from_corner_index(static_cast<int>(p) + 1)
-                                       : domain.index_from_curve_index(1));
-      segVertex[p] = v;
-    }
-    c3t3.rescan_after_load_of_triangulation();
-    // Sub-segments are never split below 1/64 of the shortest conformed one: a surface or a
-    // segment meeting a segment at a tiny angle would otherwise split it without end.
-    minSubSegment = std::numeric_limits<double>::infinity();
-    for (size_t s = 0; s < segs.subs.size(); ++s)
-      minSubSegment = std::min(minSubSegment, segs.length(s) / 64.0);
+    if (!conforming_)
+      return;
+    segments_ = std::make_unique<SegmentState<C3t3>>(*c3t3_, std::move(conformed_));
+    // collinear points: an insertion can take milliseconds
+    segments_->insertPoints(*domain_, [this] { deadline_.check("inserting the feature-line points"); });
+    c3t3_->rescan_after_load_of_triangulation();
   }
 
-  // Refinement, one step at a time: progress, abort and the vertex budget in our hands.
-  const auto refineStart = Clock::now();
-  const double refineCpuStart = threadCpu();
-  double parallelCpu = 0.0, parallelBusiestCpu = 0.0; // of every thread, of the busiest one
-  size_t steps = 0;
-  int rounds = 0;
-  bool budgetHit = false;
-  // Expected number of vertices, for the progress bar only: about one per cell-size cube of each
-  // material (measured on the demo scene), from a coarse sampling of the oracle.
-  const double expected = [&] {
+  /// Expected number of vertices, for the progress bar only: about one per cell-size cube of each
+  /// material (measured on the demo scene), from a coarse sampling of the oracle.
+  double expectedVertices() const
+  {
     std::map<int, double> volume;
     const int n = 24;
-    const Vec3 step = (1.0 / n) * inner.size();
+    const Vec3 step = (1.0 / n) * inner_.size();
     for (int k = 0; k < n; ++k)
       for (int j = 0; j < n; ++j)
         for (int i = 0; i < n; ++i)
         {
-          const int m = oracle.material(inner.min + Vec3{ (i + 0.5) * step.x, (j + 0.5) * step.y, (k + 0.5) * step.z });
+          const int m = oracle_.material(inner_.min + Vec3{ (i + 0.5) * step.x, (j + 0.5) * step.y, (k + 0.5) * step.z });
           if (m != kOutside)
             volume[m] += step.x * step.y * step.z;
         }
     double sum = 0.0;
     for (const auto& [m, v] : volume)
     {
-      const MeshCriteria::Values c = options.criteria.of(m);
-      const double size = c.cellSize > 0 ? c.cellSize : norm(inner.size()) / 20.0;
+      const MeshCriteria::Values c = options_.criteria.of(m);
+      const double size = c.cellSize > 0 ? c.cellSize : norm(inner_.size()) / 20.0;
       sum += v / (size * size * size);
     }
     return std::max(1000.0, sum);
-  }();
+  }
 
-  bool stalled = false;
-  // `more` (after the mesher is done) may queue more work: then refinement goes on.
-  auto drive = [&](auto& mesher, const std::function<bool()>& more) {
+  /// Steps `mesher` until it is done and `more` (asked when it is) queues nothing more: progress,
+  /// abort and the vertex budget in our hands.
+  template <class M>
+  void drive(M& mesher, const std::function<bool()>& more)
+  {
     mesher.initialize();
     size_t lastCount = 0, idleChecks = 0;
     while (!mesher.is_algorithm_done() || (more && more()))
     {
       mesher.one_step();
-      if (++steps % 512 == 0)
+      if (steps_ % 16 == 0)
+        deadline_.check(refinePhase_); // also where steps insert nothing
+      if (++steps_ % 512 == 0)
       {
-        const size_t count = c3t3.triangulation().number_of_vertices();
+        const size_t count = c3t3_->triangulation().number_of_vertices();
         // A refinement point that repeats an existing vertex inserts nothing and is tried again
         // forever (seen with protecting balls): stop after ~100k idle steps instead of hanging.
         idleChecks = count == lastCount ? idleChecks + 1 : 0;
         lastCount = count;
         if (idleChecks >= 200)
         {
-          stalled = true;
+          stalled_ = true;
           mesher.fix_c3t3();
           break;
         }
         const double n = static_cast<double>(count);
-        report(0.05 + 0.4 * std::min(1.0, n / expected), "refinement");
-        if (options.maximumNumberOfVertices && n >= options.maximumNumberOfVertices)
+        report(0.05 + 0.4 * std::min(1.0, n / expected_), "refinement");
+        if (options_.maximumNumberOfVertices && n >= options_.maximumNumberOfVertices)
         {
-          budgetHit = true;
+          budgetHit_ = true;
           break;
         }
       }
     }
-    if (budgetHit)
+    if (budgetHit_)
       mesher.fix_c3t3();
-  };
-  // A sub-segment missing from the mesh is worth splitting only where a material touches it (not
-  // on a feature line outside every domain): probes around its midpoint.
-  auto touchesMaterial = [&oracle](const Vec3& a, const Vec3& b) {
-    const Vec3 m = 0.5 * (a + b);
-    const double h = 1e-3 * norm(b - a);
-    for (int axis = 0; axis < 3; ++axis)
-      for (double sign : { -1.0, 1.0 })
-      {
-        Vec3 p = m;
-        p[axis] += sign * h;
-        if (oracle.material(p) != kOutside)
-          return true;
-      }
-    return false;
-  };
-  auto refine = [&]() {
-    if (conforming)
+  }
+
+  /// A sub-segment missing from the mesh is worth splitting only where a material touches it (not
+  /// on a feature line outside every domain).
+  bool touchesMaterial(const Vec3& a, const Vec3& b) const { return oracle_.touchesMaterial(a, b); }
+
+  /// One refinement round: Conforming with the segment level below the facets, else CGAL's
+  /// Mesher_3.
+  void refineOnce()
+  {
+    if (conforming_)
     {
-      Segments level(c3t3, segs, segVertex, domain.index_from_curve_index(1), minSubSegment, segCount);
-      ConformingMesher3<C3t3, Criteria, MeshDomain> mesher(c3t3, domain, criteria, level, CGAL::FACET_VERTICES_ON_SURFACE);
-      drive(mesher, [&] { return level.queueMissingFromComplex(touchesMaterial) > 0; });
+      const auto wanted = [this](const Vec3& a, const Vec3& b) { return touchesMaterial(a, b); };
+      Segments level(*c3t3_, *segments_, domain_->index_from_curve_index(1));
+      ConformingMesher3<C3t3, Criteria, MeshDomain> mesher(*c3t3_, *domain_, *criteria_, level, CGAL::FACET_VERTICES_ON_SURFACE);
+      drive(mesher, [&] { return level.queueMissingFromComplex(wanted) > 0; });
+      missing_ = level.missingCensus(wanted);
     }
-    else if (threads > 1)
-    {
-      const ParallelRefinementRun run = refineInParallel(c3t3, domain, options, edgeSize, threads,
-        [&](size_t n) { report(0.05 + 0.4 * std::min(1.0, static_cast<double>(n) / expected), "refinement"); });
-      budgetHit = run.budgetHit;
-      stalled = run.stalled;
-      parallelCpu += run.cpuSeconds;
-      parallelBusiestCpu += run.busiestThreadCpu;
-      if (budgetHit || stalled) // the cells a stop left out of the complex, as drive() does
-        Mesher(c3t3, domain, criteria, CGAL::FACET_VERTICES_ON_SURFACE).fix_c3t3();
-    }
+    else if (threads_ > 1)
+      refineInParallelOnce();
     else
     {
-      Mesher mesher(c3t3, domain, criteria, CGAL::FACET_VERTICES_ON_SURFACE);
+      Mesher mesher(*c3t3_, *domain_, *criteria_, CGAL::FACET_VERTICES_ON_SURFACE);
       drive(mesher, {});
     }
-    ++rounds;
-  };
-  // Sub-segments that are no longer Delaunay edges of the mesh.
-  auto missingSubSegments = [&]() {
-    size_t missing = 0;
-    for (const auto& sub : segs.subs)
-    {
-      Tr::Cell_handle c;
-      int i, j;
-      missing += !c3t3.triangulation().is_edge(segVertex[sub[0]], segVertex[sub[1]], c, i, j);
-    }
-    return missing;
-  };
-  refine();
-  if (stalled)
-    warnings.push_back("refinement stalled (100k steps without a new vertex: a refinement point "
-                       "repeats an existing vertex); the criteria are not met everywhere");
-  if (budgetHit)
-  {
-    warnings.push_back("refinement stopped at MaximumNumberOfVertices = " +
-      std::to_string(options.maximumNumberOfVertices) + ": the criteria are not met everywhere");
+    ++rounds_;
   }
-  c3t3.clear_manifold_info();
-  const double refineTime = seconds(refineStart);
-  const double callingThreadRefineCpu = threadCpu() - refineCpuStart;
-  const double refineCpu = callingThreadRefineCpu + parallelCpu;
 
-  const auto optStart = Clock::now();
-  const double optCpuStart = threadCpu();
-  const double minBefore = options.perturb || options.exude ? complexMinAngle(c3t3) : 0.0;
-  // Bounded by step budgets that scale with the mesh (deterministic: the same seed gives the same
-  // mesh on any machine); a time limit is optional (< 0: stock CGAL's, the refinement's time).
-  const double optLimit = options.optimisationTimeLimit < 0 ? refineTime : options.optimisationTimeLimit;
-  size_t repaired = 0;
-  OptimiserRun perturbed, exuded;
-  auto budget = [](double perUnit, size_t units) {
-    return perUnit > 0 ? static_cast<size_t>(std::ceil(perUnit * static_cast<double>(units))) + 1000 : 0;
-  };
-  // progress within a phase: the share of its budget, or a creep toward its end without one
-  auto phaseProgress = [](size_t steps, size_t max) {
-    return max ? static_cast<double>(steps) / static_cast<double>(max) : 1.0 - 1.0 / (1.0 + 1e-3 * steps / 256.0);
-  };
-  if (options.perturb)
+  /// CGAL's parallel refinement on threads_ threads, from and back into the sequential complex.
+  /// Progress, abort and the deadline are asked from this thread every 50 ms (a throw stops the
+  /// refinement); the vertex budget and a stall stop it as they stop drive().
+  void refineInParallelOnce()
   {
-    report(0.45, "perturbation");
-    const size_t max = budget(options.perturbationStepsPerVertex, c3t3.triangulation().number_of_vertices());
-    size_t checks = 0;
-    perturbed = perturb(c3t3, domain, optLimit, max, options.perturbationFailuresPerBound,
-      [&] { report(0.45 + 0.35 * phaseProgress(256 * ++checks, max), "perturbation"); });
-    // The perturber never moves segment vertices, but a moved neighbour can land in a diametral
-    // ball and so break a sub-segment: refine again (the segment level splits what was
-    // encroached; weights are still zero here, after the exuder they are not).
-    const bool encroached = conforming && !budgetHit && !stalled && [&] {
-      Segments level(c3t3, segs, segVertex, domain.index_from_curve_index(1), minSubSegment, segCount);
-      if (level.removeEncroachersOfShortSubSegments() > 0)
-      {
-        c3t3.rescan_after_load_of_triangulation(); // the removals deleted cells of the complex
-        return true;
-      }
-      return level.countEncroached() > 0 || level.countMissingFromComplex(touchesMaterial) > 0;
-    }();
-    if (encroached)
-    {
-      const size_t before = segCount.splitsEncroached + segCount.splitsVetoed;
-      refine();
-      repaired = segCount.splitsEncroached + segCount.splitsVetoed - before;
-      c3t3.clear_manifold_info();
-    }
+    const ParallelRefinementRun run =
+      refineInParallel(*c3t3_, *domain_, options_, edgeSize_, threads_, [this](size_t n) {
+        parallelVertices_ = n;
+        deadline_.check(refinePhase_);
+        report(0.05 + 0.4 * std::min(1.0, static_cast<double>(n) / expected_), "refinement");
+      });
+    parallelVertices_ = 0; // the complex holds them again
+    budgetHit_ = run.budgetHit;
+    stalled_ = run.stalled;
+    parallelCpu_ += run.cpuSeconds;
+    parallelBusiestCpu_ += run.busiestThreadCpu;
+    if (budgetHit_ || stalled_) // the cells a stop left out of the complex, as drive() does
+      Mesher(*c3t3_, *domain_, *criteria_, CGAL::FACET_VERTICES_ON_SURFACE).fix_c3t3();
   }
-  if (options.exude)
+
+  /// The segment, facet and cell levels together (rules T1.2, T2, T3), one step at a time.
+  void refineAllLevels()
+  {
+    const auto refineStart = Clock::now();
+    const double refineCpuStart = threadCpu();
+    expected_ = expectedVertices();
+    refineOnce();
+    if (stalled_)
+      warnings_.push_back("refinement stalled (100k steps without a new vertex: a refinement point "
+                          "repeats an existing vertex); the criteria are not met everywhere");
+    if (budgetHit_)
+    {
+      warnings_.push_back("refinement stopped at MaximumNumberOfVertices = " +
+        std::to_string(options_.maximumNumberOfVertices) + ": the criteria are not met everywhere");
+    }
+    c3t3_->clear_manifold_info();
+    refineTime_ = seconds(refineStart);
+    callingThreadRefineCpu_ = threadCpu() - refineCpuStart;
+    refineCpu_ = callingThreadRefineCpu_ + parallelCpu_;
+  }
+
+  /// Bounded by step budgets that scale with the mesh (deterministic: the same seed gives the same
+  /// mesh on any machine); a time limit is optional (< 0: stock CGAL's, the refinement's time).
+  static size_t stepBudget(double perUnit, size_t units)
+  {
+    return perUnit > 0 ? static_cast<size_t>(std::ceil(perUnit * static_cast<double>(units))) + 1000 : 0;
+  }
+  /// Progress within a phase: the share of its budget, or a creep toward its end without one.
+  static double phaseProgress(size_t steps, size_t max)
+  {
+    return max ? static_cast<double>(steps) / static_cast<double>(max) : 1.0 - 1.0 / (1.0 + 1e-3 * steps / 256.0);
+  }
+
+  /// Sliver optimisation: CGAL's perturber, the segments repaired after it, then its exuder.
+  void optimise()
+  {
+    const auto optStart = Clock::now();
+    const double optCpuStart = threadCpu();
+    minBefore_ = options_.perturb || options_.exude ? complexMinAngle(*c3t3_) : 0.0;
+    optLimit_ = options_.optimisationTimeLimit < 0 ? refineTime_ : options_.optimisationTimeLimit;
+    if (options_.perturb)
+    {
+      report(0.45, "perturbation");
+      const size_t max = stepBudget(options_.perturbationStepsPerVertex, c3t3_->triangulation().number_of_vertices());
+      size_t checks = 0;
+      perturbed_ = perturb(*c3t3_, *domain_, optLimit_, max, options_.perturbationFailuresPerBound,
+        [&] { report(0.45 + 0.35 * phaseProgress(256 * ++checks, max), "perturbation"); }, deadline_);
+      repairSegmentsAfterPerturbation();
+    }
+    if (options_.exude)
+      exudeKeepingSegments();
+    optTime_ = seconds(optStart);
+    optCpu_ = threadCpu() - optCpuStart;
+    deadline_.check("optimisation");
+  }
+
+  /// The perturber never moves segment vertices, but a moved neighbour can land in a diametral
+  /// ball and so break a sub-segment: refine again (the segment level splits what was encroached;
+  /// weights are still zero here, after the exuder they are not).
+  void repairSegmentsAfterPerturbation()
+  {
+    if (!conforming_ || budgetHit_ || stalled_)
+      return;
+    segments_->reindex();
+    bool encroached = false;
+    if (segments_->removeEncroachersOfShortSubSegments() > 0)
+    {
+      c3t3_->rescan_after_load_of_triangulation(); // the removals deleted cells of the complex
+      encroached = true;
+    }
+    else
+      encroached = segments_->countEncroached() > 0 ||
+        segments_->countMissingFromComplex([this](const Vec3& a, const Vec3& b) { return touchesMaterial(a, b); }) > 0;
+    if (!encroached)
+      return;
+    const Counters& count = segments_->counters();
+    const size_t before = count.splitsEncroached + count.splitsVetoed;
+    refinePhase_ = "refinement after perturbation (segment repair)";
+    refineOnce();
+    repaired_ = count.splitsEncroached + count.splitsVetoed - before;
+    c3t3_->clear_manifold_info();
+  }
+
+  /// CGAL's exuder changes weights, which can flip a sub-segment out of the (regular)
+  /// triangulation: it is undone when it would break a segment the refinement kept.
+  void exudeKeepingSegments()
   {
     report(0.8, "exudation");
-    // The exuder changes weights, which can flip a sub-segment out of the (regular) triangulation.
-    // It is undone when it would break a segment the refinement kept.
     std::unique_ptr<C3t3> kept;
-    const size_t missingBefore = conforming ? missingSubSegments() : 0;
-    if (conforming)
-      kept = std::make_unique<C3t3>(c3t3);
+    const size_t missingBefore = conforming_ ? segments_->countNotEdges() : 0;
+    if (conforming_)
+      kept = std::make_unique<C3t3>(*c3t3_);
     // The budget also ends CGAL's exuder where it cycles (seen next to protecting balls); it stops
     // between two cells, where the mesh is consistent. Without a budget, 10 pumps per cell still
     // end a cycle.
-    const size_t max = budget(options.exudationStepsPerCell > 0 ? options.exudationStepsPerCell : 10.0,
-      c3t3.number_of_cells_in_complex());
+    const size_t max = stepBudget(options_.exudationStepsPerCell > 0 ? options_.exudationStepsPerCell : 10.0,
+      c3t3_->number_of_cells_in_complex());
     size_t checks = 0;
-    exuded = exude(c3t3, optLimit, max, options.exudationSliverBound, [&] { report(0.8 + 0.18 * phaseProgress(256 * ++checks, max), "exudation"); });
-    if (conforming)
+    exuded_ = exude(*c3t3_, optLimit_, max, options_.exudationSliverBound,
+      [&] { report(0.8 + 0.18 * phaseProgress(256 * ++checks, max), "exudation"); }, deadline_);
+    if (!conforming_)
+      return;
+    segments_->locateVertices(); // the exuder re-creates vertices: find the segment points again
+    const size_t missing = segments_->countNotEdges();
+    if (const size_t broken = missing > missingBefore ? missing - missingBefore : 0)
     {
-      segVertex.clear(); // the exuder re-creates vertices: find the segment points again
-      if (const size_t broken = brokenByExudation(c3t3, segs, missingBefore))
-      {
-        c3t3.swap(*kept);
-        warnings.push_back("exudation undone: it would have removed " + std::to_string(broken) +
-          " constrained sub-segments from the mesh");
-      }
+      c3t3_->swap(*kept);
+      warnings_.push_back("exudation undone: it would have removed " + std::to_string(broken) +
+        " constrained sub-segments from the mesh");
     }
   }
-  const double optTime = seconds(optStart);
-  const double optCpu = threadCpu() - optCpuStart;
 
-
-  TetMesh mesh = toTetMesh(c3t3);
-  mesh.segments = locateFeatureSegments(mesh, features);
-  const double coverage = featureCoverage(mesh.segments, features);
-  if (!features.empty() && coverage < 0.9999)
+  /// The output mesh, checked on its own (what a finite-element code would reject), with the
+  /// statistics of the run.
+  TetMesh validatedMesh()
   {
+    TetMesh mesh = toTetMesh(*c3t3_);
+    mesh.segments = locateFeatureSegments(mesh, *features_);
+    deadline_.check("locating the feature lines in the mesh");
+    const double coverage = featureCoverage(mesh.segments, *features_);
+    if (!features_->empty() && coverage < 0.9999)
+    {
+      std::ostringstream o;
+      o << "feature lines: " << 100.0 * coverage << "% of their length is present as mesh edges";
+      warnings_.push_back(o.str());
+    }
+    warnMissingPieces();
+    std::vector<unsigned char> defects;
+    // Missing feature-line pieces are defects only where the strategy promises them (not None).
+    ValidityThresholds thresholds;
+    thresholds.segmentsRequired = options_.strategy != FeatureStrategy::None;
+    const MeshValidity validity = checkMeshValidity(
+      mesh,
+      [this](const Vec3& p) {
+        deadline_.tick("validation");
+        return oracle_.material(p);
+      },
+      thresholds, &defects);
+    mesh.tetDefects = std::move(defects);
+    if (!validity.valid())
+      warnings_.push_back("mesh validity: " + validity.describe());
+    for (const auto& [name, value] : validity.asStatistics())
+      mesh.statistics[name] = value;
+    addStatistics(mesh, coverage);
+    mesh.warnings = std::move(warnings_);
+    report(1.0, "done");
+    return mesh;
+  }
+
+  /// Never silent: pieces the segment level could not make mesh edges, how many, why and where.
+  void warnMissingPieces()
+  {
+    if (!missing_.short_ && !missing_.refused)
+      return;
     std::ostringstream o;
-    o << "feature lines: " << 100.0 * coverage << "% of their length is present as mesh edges";
-    warnings.push_back(o.str());
+    o << "segment level: " << missing_.short_ + missing_.refused << " feature-line piece(s) are no mesh edges";
+    if (missing_.short_)
+      o << "; " << missing_.short_ << " shorter than the split floor (shortest " << missing_.shortest
+        << ", first at (" << missing_.firstShort.x << ", " << missing_.firstShort.y << ", " << missing_.firstShort.z
+        << "))";
+    if (missing_.refused)
+      o << "; " << missing_.refused << " whose split failed or was refused";
+    warnings_.push_back(o.str());
   }
-  double minAngle = 180.0, sumAngle = 0.0;
-  for (const auto& t : mesh.tets)
+
+  /// The mesh's size and angles, what each rule did, the optimisers' runs and the times.
+  void addStatistics(TetMesh& mesh, double coverage) const
   {
-    const double a = minDihedralAngle(mesh.points[t[0]], mesh.points[t[1]], mesh.points[t[2]], mesh.points[t[3]]);
-    minAngle = std::min(minAngle, a);
-    sumAngle += a;
+    double minAngle = 180.0, sumAngle = 0.0;
+    for (const auto& t : mesh.tets)
+    {
+      const double a = minDihedralAngle(mesh.points[t[0]], mesh.points[t[1]], mesh.points[t[2]], mesh.points[t[3]]);
+      minAngle = std::min(minAngle, a);
+      sumAngle += a;
+    }
+    auto& st = mesh.statistics;
+    st["tetrahedra"] = static_cast<double>(mesh.tets.size());
+    st["vertices"] = static_cast<double>(mesh.points.size());
+    st["min_dihedral_angle"] = mesh.tets.empty() ? 0.0 : minAngle;
+    st["mean_min_dihedral_angle"] = mesh.tets.empty() ? 0.0 : sumAngle / mesh.tets.size();
+    st["feature_coverage"] = coverage;
+    st["feature_segments"] = static_cast<double>(features_->segments.size());
+    if (resampled_)
+    {
+      st["feature_segments_before_resampling"] = static_cast<double>(given_.segments.size());
+      st["feature_network.points_merged"] = static_cast<double>(network_.pointsMerged);
+      st["feature_network.points_snapped"] = static_cast<double>(network_.pointsSnapped);
+      st["feature_network.spurs_dropped"] = static_cast<double>(network_.spursDropped);
+      st["feature_network.pieces_dropped"] = static_cast<double>(network_.piecesDropped);
+      st["feature_network.segments_outside_dropped"] = static_cast<double>(network_.segmentsOutside);
+      st["feature_network.short_pieces_length"] = network_.shortPiecesLength;
+      st["feature_network.given_to_simplified"] = network_.givenToSimplified;
+      st["feature_network.simplified_to_given"] = network_.simplifiedToGiven;
+      st["feature_network.smallest_angle"] = network_.smallestAngle;
+      st["feature_network.shortest_segment"] = network_.shortestSegment;
+    }
+    st["refinement_steps"] = static_cast<double>(steps_);
+    st["refinement_threads"] = threads_;
+    st["refinement_rounds"] = rounds_;
+    addSegmentStatistics(st);
+    addOptimisationStatistics(st);
+    for (const auto& [m, v] : materialVolumes(mesh))
+      st["volume.material_" + std::to_string(m)] = v;
+    for (int m : mesh.tetMaterial)
+      st["tetrahedra.material_" + std::to_string(m)] += 1.0;
   }
-  // Independent of how the mesh was made: what a finite-element code would reject.
-  std::vector<unsigned char> defects;
-  // Missing feature-line pieces are defects only where the strategy promises them (not None).
-  ValidityThresholds thresholds;
-  thresholds.segmentsRequired = options.strategy != FeatureStrategy::None;
-  const MeshValidity validity =
-    checkMeshValidity(mesh, [&oracle](const Vec3& p) { return oracle.material(p); }, thresholds, &defects);
-  mesh.tetDefects = std::move(defects);
-  if (!validity.valid())
-    warnings.push_back("mesh validity: " + validity.describe());
-  auto& st = mesh.statistics;
-  for (const auto& [name, value] : validity.asStatistics())
-    st[name] = value;
-  st["tetrahedra"] = static_cast<double>(mesh.tets.size());
-  st["vertices"] = static_cast<double>(mesh.points.size());
-  st["min_dihedral_angle"] = mesh.tets.empty() ? 0.0 : minAngle;
-  st["mean_min_dihedral_angle"] = mesh.tets.empty() ? 0.0 : sumAngle / mesh.tets.size();
-  st["feature_coverage"] = coverage;
-  if (resampled)
-    st["feature_segments_before_resampling"] = static_cast<double>(givenFeatures.segments.size());
-  st["refinement_steps"] = static_cast<double>(steps);
-  st["refinement_threads"] = threads;
-  st["refinement_rounds"] = rounds;
-  st["segment_trims_T1.1"] = static_cast<double>(segs.trims);
-  st["segment_splits_T1.2"] = static_cast<double>(segs.splits);
-  st["segment_splits_encroached"] = static_cast<double>(segCount.splitsEncroached);
-  st["segment_splits_for_refused_points_T2.1_T3.1"] = static_cast<double>(segCount.splitsVetoed);
-  st["refinement_points_refused_T2.1_T3.1"] = static_cast<double>(segCount.vetoes);
-  st["refinement_points_dropped_at_short_segments"] = static_cast<double>(segCount.dropped);
-  st["segment_splits_missing_from_mesh"] = static_cast<double>(segCount.missingSplits);
-  st["segment_splits_mirrored_in_small_angle_clusters"] = static_cast<double>(segs.mirrored + segCount.mirrored);
-  st["segment_splits_after_optimisation"] = static_cast<double>(repaired);
-  st["vertices_removed_from_segment_balls_after_perturbation"] = static_cast<double>(segCount.removedEncroachers);
-  if (options.perturb || options.exude)
-    st["optimisation.min_dihedral_before"] = minBefore;
-  st["optimisation.perturbation_steps"] = static_cast<double>(perturbed.steps);
-  st["optimisation.perturbation_cut_short"] = perturbed.cutShort;
-  st["optimisation.perturbation_gave_up"] = perturbed.gaveUp;
-  st["optimisation.perturbation_last_bound"] = perturbed.lastBound;
-  st["optimisation.exudation_steps"] = static_cast<double>(exuded.steps);
-  st["optimisation.exudation_cut_short"] = exuded.cutShort;
-  st["time.perturbation"] = perturbed.seconds;
-  st["time.exudation"] = exuded.seconds;
-  st["time.initialisation"] = initTime;
-  st["time.refinement"] = refineTime;
-  st["time.optimisation"] = optTime;
-  st["time.total"] = seconds(started);
-  // CPU seconds of the calling thread, and of the refinement's threads for a parallel refinement
-  // (the wall times above depend on the machine's load)
-  st["cpu.refinement"] = refineCpu;
-  // the refinement's CPU seconds along its critical path (the calling thread's plus the busiest
-  // refinement thread's): its time on idle cores, the same as cpu.refinement when sequential
-  st["cpu.refinement_critical_path"] = callingThreadRefineCpu + parallelBusiestCpu;
-  st["cpu.perturbation"] = perturbed.cpuSeconds;
-  st["cpu.exudation"] = exuded.cpuSeconds;
-  st["cpu.optimisation"] = optCpu;
-  for (const auto& [m, v] : materialVolumes(mesh))
-    st["volume.material_" + std::to_string(m)] = v;
-  for (int m : mesh.tetMaterial)
-    st["tetrahedra.material_" + std::to_string(m)] += 1.0;
-  mesh.warnings = std::move(warnings);
-  report(1.0, "done");
-  return mesh;
+
+  void addSegmentStatistics(std::map<std::string, double>& st) const
+  {
+    const Counters count = segments_ ? segments_->counters() : Counters{};
+    const SegmentSet& segs = segments_ ? segments_->segments() : conformed_;
+    st["segment_trims_T1.1"] = static_cast<double>(segs.trims);
+    st["segment_splits_T1.2"] = static_cast<double>(segs.splits);
+    st["segment_splits_encroached"] = static_cast<double>(count.splitsEncroached);
+    st["segment_splits_for_refused_points_T2.1_T3.1"] = static_cast<double>(count.splitsVetoed);
+    st["refinement_points_refused_T2.1_T3.1"] = static_cast<double>(count.vetoes);
+    st["refinement_points_dropped_at_short_segments"] = static_cast<double>(count.dropped);
+    st["segment_splits_missing_from_mesh"] = static_cast<double>(count.missingSplits);
+    st["segment_splits_mirrored_in_small_angle_clusters"] = static_cast<double>(segs.mirrored + count.mirrored);
+    st["segment_splits_after_optimisation"] = static_cast<double>(repaired_);
+    st["vertices_removed_from_segment_balls_after_perturbation"] = static_cast<double>(count.removedEncroachers);
+    st["cell_points_dropped_in_facet_cycles"] = static_cast<double>(count.cyclesBroken);
+    st["segment_missing_edge_checks"] = static_cast<double>(count.missingChecks);
+    // why refinement left sub-segments out of the complex (before optimisation)
+    st["segment_pieces_missing_too_short"] = static_cast<double>(missing_.short_);
+    st["segment_pieces_missing_refused"] = static_cast<double>(missing_.refused);
+    st["segment_pieces_missing_outside"] = static_cast<double>(missing_.outside);
+    st["segment_pieces_missing_unfinished"] = static_cast<double>(missing_.other);
+  }
+
+  void addOptimisationStatistics(std::map<std::string, double>& st) const
+  {
+    if (options_.perturb || options_.exude)
+      st["optimisation.min_dihedral_before"] = minBefore_;
+    st["optimisation.perturbation_steps"] = static_cast<double>(perturbed_.steps);
+    st["optimisation.perturbation_cut_short"] = perturbed_.cutShort;
+    st["optimisation.perturbation_gave_up"] = perturbed_.gaveUp;
+    st["optimisation.perturbation_last_bound"] = perturbed_.lastBound;
+    st["optimisation.exudation_steps"] = static_cast<double>(exuded_.steps);
+    st["optimisation.exudation_cut_short"] = exuded_.cutShort;
+    st["time.perturbation"] = perturbed_.seconds;
+    st["time.exudation"] = exuded_.seconds;
+    st["time.initialisation"] = initTime_;
+    st["time.refinement"] = refineTime_;
+    st["time.optimisation"] = optTime_;
+    st["time.total"] = seconds(started_);
+    st["time_limit"] = deadline_.limit();
+    // CPU seconds of the calling thread, and of the refinement's threads for a parallel refinement
+    // (the wall times above depend on the machine's load)
+    st["cpu.refinement"] = refineCpu_;
+    // the refinement's CPU seconds along its critical path (the calling thread's plus the busiest
+    // refinement thread's): its time on idle cores, the same as cpu.refinement when sequential
+    st["cpu.refinement_critical_path"] = callingThreadRefineCpu_ + parallelBusiestCpu_;
+    st["cpu.perturbation"] = perturbed_.cpuSeconds;
+    st["cpu.exudation"] = exuded_.cpuSeconds;
+    st["cpu.optimisation"] = optCpu_;
+  }
+
+  const HierarchicalOracle& oracle_;
+  const FeatureSegments& given_;
+  const MesherOptions& options_;
+  const Clock::time_point started_ = Clock::now();
+  MeshingDeadline deadline_; ///< asked by every phase: between steps, and inside the long ones
+  /// Stops CGAL's feature protection at its next ball (StoppableEdgeSize), set when the deadline passed.
+  std::atomic<bool> stopProtection_{ false };
+  const char* refinePhase_ = "refinement"; ///< the deadline's name for the current refinement round
+  std::vector<std::string> warnings_;
+  BoundingBox inner_, box_;
+  std::optional<FeatureSegments> resampled_;
+  FeatureNetworkReport network_;
+  const FeatureSegments* features_ = nullptr;
+  MeshCriteria::Values g_{};
+  std::unique_ptr<MeshDomain> domain_;
+  std::unique_ptr<Criteria> criteria_;
+  bool protect_ = false, conforming_ = false;
+  double edgeSize_ = 0.0; ///< of the protecting balls (0 = none asked)
+  int threads_ = 1;       ///< of the refinement (MesherOptions::threads; 1 for Conforming with feature lines)
+  /// Vertices of a running parallel refinement, as last seen (0 otherwise).
+  size_t parallelVertices_ = 0;
+  SegmentSet conformed_;                       ///< rule T1's result, until the state owns it
+  std::unique_ptr<C3t3> c3t3_;
+  std::unique_ptr<SegmentState<C3t3>> segments_; ///< Conforming only
+  Segments::MissingCensus missing_;
+  double expected_ = 1000.0;
+  size_t steps_ = 0, repaired_ = 0;
+  int rounds_ = 0;
+  bool budgetHit_ = false, stalled_ = false;
+  double initTime_ = 0.0, refineTime_ = 0.0, refineCpu_ = 0.0, optTime_ = 0.0, optCpu_ = 0.0;
+  double callingThreadRefineCpu_ = 0.0;
+  double parallelCpu_ = 0.0, parallelBusiestCpu_ = 0.0; ///< of every refinement thread, of the busiest one
+  double minBefore_ = 0.0, optLimit_ = 0.0;
+  OptimiserRun perturbed_, exuded_;
+};
+
+TetMesh meshOracleUnguarded(const HierarchicalOracle& oracle, const FeatureSegments& givenFeatures,
+  const std::vector<Vec3>& seedPoints, const MesherOptions& options)
+{
+  return MeshingRun(oracle, givenFeatures, options).run(seedPoints);
 }
 }
 

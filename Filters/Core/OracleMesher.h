@@ -3,6 +3,7 @@
 
 #include "FeatureSegments.h"
 #include "MeshCriteria.h"
+#include "MeshingDeadline.h"
 #include "TetMesh.h"
 
 #include <cstddef>
@@ -37,11 +38,13 @@ struct MesherOptions
   /// leaves. Raising it bounds the angles before optimisation, at a price in tetrahedra; not covered
   /// by CGAL's termination guarantee (refinement also stops at the vertex budget). 0 = off.
   double sliverAngle = 1.0;
-  /// Resample the feature lines before meshing (resampleFeatureLines in FeatureSegments.h): chords
-  /// of at most the edge size (else the facet size, else 1/40 of the domain's diagonal) within half
-  /// the smallest facet distance (else 1/20 of that length) of the dropped points. For feature
-  /// lines made of many tiny noisy segments (sharp edges of scanned surfaces); the scene files
-  /// turn it on for sharp edges found on a surface.
+  /// Simplify and resample the feature lines before meshing (simplifyFeatureNetwork in
+  /// FeatureNetworkSimplification.h), at h = the edge size (else the facet size, else 1/40 of the
+  /// domain's diagonal): points closer than h merged, segments at less than 30 degrees sharing a
+  /// trunk, spurs and pieces shorter than h dropped, chords of at most h within half the smallest
+  /// facet distance (else h / 20) of the dropped points, segments that leave the domain dropped. For
+  /// feature lines made of many tiny noisy segments (sharp edges of scanned surfaces); the scene
+  /// files turn it on for sharp edges found on a surface. Statistics feature_network.*.
   bool resampleFeatureLines = false;
   /// Tetrahedra with at least three vertices on interfaces or feature lines and a minimal dihedral angle
   /// below this (degrees) are refined like bad cells: the optimisers cannot fix them. 0 = off.
@@ -68,6 +71,10 @@ struct MesherOptions
   /// Seconds for each of perturb and exude: 0 = no limit (the default: a limit makes the mesh
   /// depend on the machine's speed), < 0 = stock CGAL's default (the refinement's running time).
   double optimisationTimeLimit = 0.0;
+  /// 1: 4-node tetrahedra; 2: 10-node tetrahedra whose mid-edge nodes on interfaces lie on the
+  /// oracle's surfaces (makeQuadraticTets in QuadraticTets.h). meshOracle makes the linear mesh either
+  /// way; the VTK filter adds the mid-edge nodes.
+  int elementOrder = 1;
   unsigned seed = 0;                  ///< same input + same seed = identical mesh (with threads = 1)
   /// Threads of the refinement. 1: sequential, the same seed gives the same mesh bit for bit.
   /// N > 1 (0 = every core): CGAL's parallel Mesh_3 refinement (Parallel_tag, TBB) for None,
@@ -77,10 +84,25 @@ struct MesherOptions
   /// on one thread.
   int threads = 1;
   std::size_t maximumNumberOfVertices = 2000000; ///< 0 = unlimited; reaching it ends refinement with a warning
+  /// Wall-clock seconds for the whole run, every phase (feature conformation and protection,
+  /// refinement, optimisation, validation): reaching it throws TimeLimitReached (a failure naming the
+  /// phase, with the statistics so far), for inputs whose criteria no budget of vertices bounds
+  /// (refinement steps that insert nothing, optimiser steps on huge vertex stars).
+  /// 0 = automatic: kTimeLimitBase + kTimeLimitPerVertex x maximumNumberOfVertices (10,060 s, 2.8 h, at
+  /// the default budget; none with an unlimited budget); < 0 = none. See effectiveTimeLimit().
+  double timeLimit = 0.0;
   /// Called during the work with a fraction in [0, 1] and the phase name; return false to abort
   /// (the call then throws MeshingAborted). Called from the calling thread.
   std::function<bool(double, const char*)> progress;
 };
+
+/// The automatic time limit (MesherOptions::timeLimit 0): seconds, plus seconds per vertex of the
+/// budget. A generous multiple of the slowest rate measured (see the README's "Time limit").
+constexpr double kTimeLimitBase = 60.0;
+constexpr double kTimeLimitPerVertex = 0.005;
+
+/// The time limit a run with `options` gets, in seconds (0 = none).
+double effectiveTimeLimit(const MesherOptions& options);
 
 /// Thrown when the progress callback asked to stop.
 struct MeshingAborted : std::runtime_error

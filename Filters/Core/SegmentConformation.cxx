@@ -2,12 +2,14 @@
 #include "SegmentConformation.h"
 
 #include "BoundingBox.h"
+#include "SegmentRules.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <limits>
 #include <numeric>
+#include <optional>
 #include <unordered_map>
 
 namespace omesh
@@ -135,16 +137,12 @@ public:
   }
   void add(int p) { cells_[key(coord(points_[p]))].push_back(p); }
 
-  /// A point other than `skipA`, `skipB` strictly inside the ball (centre, squared radius r2).
-  bool anyInside(const Vec3& centre, double r2, int skipA, int skipB) const
+  /// A point other than the segment's ends `skipA`, `skipB` encroaches the segment ab.
+  bool anyEncroaching(const Vec3& a, const Vec3& b, int skipA, int skipB) const
   {
-    auto inside = [&](int p) {
-      if (p == skipA || p == skipB)
-        return false;
-      const Vec3 d = points_[p] - centre;
-      return dot(d, d) < r2 * (1.0 - 1e-12);
-    };
-    const double r = std::sqrt(r2);
+    auto inside = [&](int p) { return p != skipA && p != skipB && rules::encroaches(a, b, points_[p]); };
+    const Vec3 centre = 0.5 * (a + b);
+    const double r = std::sqrt(0.25 * dot(b - a, b - a));
     const std::array<long long, 3> lo = coord(centre - Vec3{ r, r, r }), hi = coord(centre + Vec3{ r, r, r });
     const double cells = double(hi[0] - lo[0] + 1) * double(hi[1] - lo[1] + 1) * double(hi[2] - lo[2] + 1);
     if (cells > static_cast<double>(points_.size()))
@@ -184,40 +182,51 @@ private:
 };
 }
 
-SegmentSet conformSegments(const FeatureSegments& f, double edgeSize, size_t maxPoints, std::vector<std::string>& warnings)
+namespace
 {
-  SegmentSet set(f);
+/// T1.1 on the input segments: every segment at a star vertex p_i gets a point at l_min,i / 3
+/// from p_i (scaled as the shells of its small-angle cluster). Calls `check` at every segment.
+void trimAtStarVertices(SegmentSet& set, const FeatureSegments& f, const std::function<void()>& check)
+{
   const std::vector<bool> star = f.starVertices();
   std::vector<double> lmin(f.points.size(), std::numeric_limits<double>::infinity());
   for (size_t s = 0; s < f.segments.size(); ++s)
     for (int end : f.segments[s])
       lmin[end] = std::min(lmin[end], f.length(s));
-  // T1.1: every segment at a star vertex p_i gets a point at l_min,i / 3 from p_i.
   for (size_t s = 0, n = set.subs.size(); s < n; ++s)
   {
+    if (check)
+      check();
     for (int side = 0; side < 2; ++side)
     {
       const int a = set.subs[s][0], b = set.subs[s][1];
       const int at = side == 0 ? a : b;
       if (at >= static_cast<int>(star.size()) || !star[at])
         continue;
-      const double len = set.length(s), cut = set.shellDistance(set.subs[s][2], at, lmin[at] / 3.0);
-      if (len <= cut * (1.0 + 1e-9))
+      const std::optional<double> t =
+        rules::trimAtStarVertexT11(set.length(s), set.shellDistance(set.subs[s][2], at, lmin[at] / 3.0));
+      if (!t)
         continue;
       // split so that the piece touching `at` has length cut; keep sub-segment s as the piece
       // away from already-trimmed ends
       if (at == a)
       {
-        const int m = set.split(s, cut / len); // s = (a, m), new = (m, b)
+        set.split(s, *t); // s = (a, m), new = (m, b)
         std::swap(set.subs[s], set.subs.back()); // s = (m, b) continues, the trimmed piece is done
-        (void)m;
       }
       else
-        set.split(s, 1.0 - cut / len); // s = (a, m), new = (m, b) is the trimmed piece
+        set.split(s, 1.0 - *t); // s = (a, m), new = (m, b) is the trimmed piece
       ++set.trims;
     }
   }
-  // T1.2: midpoint splits until no sub-segment is encroached by a segment point (or too long).
+}
+
+/// T1.2 on the segments alone: midpoint splits until no sub-segment is encroached by a segment
+/// point (or longer than `edgeSize`), mirrored in small-angle clusters. Returns false when it
+/// stopped at `maxPoints`. Calls `check` at every sub-segment it looks at.
+bool splitEncroached(SegmentSet& set, double edgeSize, size_t maxPoints, std::vector<std::string>& warnings,
+  const std::function<void()>& check)
+{
   std::vector<double> lengths;
   for (size_t s = 0; s < set.subs.size(); ++s)
     lengths.push_back(set.length(s));
@@ -239,44 +248,54 @@ SegmentSet conformSegments(const FeatureSegments& f, double edgeSize, size_t max
     changed = false;
     for (size_t s = 0; s < set.subs.size(); ++s)
     {
-      const Vec3 a = set.points[set.subs[s][0]], b = set.points[set.subs[s][1]];
-      const double r2 = 0.25 * dot(b - a, b - a);
+      if (check)
+        check();
       if (s < given.size() && given[s])
         continue;
-      bool bad = edgeSize > 0 && 4.0 * r2 > edgeSize * edgeSize;
-      if (!bad && grid.anyInside(0.5 * (a + b), r2, set.subs[s][0], set.subs[s][1]))
+      const Vec3 a = set.points[set.subs[s][0]], b = set.points[set.subs[s][1]];
+      const bool tooLong = edgeSize > 0 && dot(b - a, b - a) > edgeSize * edgeSize;
+      const bool encroached = !tooLong && grid.anyEncroaching(a, b, set.subs[s][0], set.subs[s][1]);
+      const std::optional<double> t = rules::splitEncroachedT12(a, b, encroached, edgeSize, floor);
+      if (!t)
       {
-        bad = std::sqrt(r2) >= floor; // halves would fall below the floor
-        if (!bad)
+        if (encroached)
         {
           given.resize(set.subs.size(), 0);
           given[s] = 1;
           ++unresolved;
         }
+        continue;
       }
-      if (bad)
+      if (set.points.size() >= maxPoints)
       {
-        if (set.points.size() >= maxPoints)
-        {
-          warnings.push_back("feature lines: segment refinement stopped at " + std::to_string(maxPoints) +
-            " points (segments meeting at small angles keep encroaching each other)");
-          return set;
-        }
-        const auto mirrors = set.mirrorSplits(s, 0.5);
-        splitAt(s, 0.5);
-        for (const auto& [x, t] : mirrors)
-        {
-          splitAt(static_cast<size_t>(x), t);
-          ++set.mirrored;
-        }
-        changed = true;
+        warnings.push_back("feature lines: segment refinement stopped at " + std::to_string(maxPoints) +
+          " points (segments meeting at small angles keep encroaching each other)");
+        return false;
       }
+      const auto mirrors = set.mirrorSplits(s, *t);
+      splitAt(s, *t);
+      for (const auto& [x, u] : mirrors)
+      {
+        splitAt(static_cast<size_t>(x), u);
+        ++set.mirrored;
+      }
+      changed = true;
     }
   }
   if (unresolved)
     warnings.push_back("feature lines: " + std::to_string(unresolved) +
       " sub-segment(s) stay encroached by a point closer to them than 1/64 of the shortest segment piece; "
       "splitting stopped there");
+  return true;
+}
+}
+
+SegmentSet conformSegments(const FeatureSegments& f, double edgeSize, size_t maxPoints, std::vector<std::string>& warnings,
+  const std::function<void()>& check)
+{
+  SegmentSet set(f);
+  trimAtStarVertices(set, f, check);
+  splitEncroached(set, edgeSize, maxPoints, warnings, check);
   return set;
 }
 }

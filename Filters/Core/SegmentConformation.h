@@ -4,6 +4,7 @@
 #include "FeatureSegments.h"
 
 #include <array>
+#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -68,7 +69,8 @@ private:
 /// Rule T1 applied to the segments alone (the paper's initial conformation, before any other
 /// point): trims the segments at star vertices to l_min/3 (T1.1), then splits at midpoints every
 /// sub-segment encroached by a segment point or longer than `edgeSize` (T1.2), mirrored in
-/// small-angle clusters. Stops with a warning at `maxPoints` points.
-SegmentSet conformSegments(
-  const FeatureSegments& f, double edgeSize, size_t maxPoints, std::vector<std::string>& warnings);
+/// small-angle clusters. Stops with a warning at `maxPoints` points. Calls `check` (which may throw:
+/// the mesher's deadline) at every sub-segment it looks at.
+SegmentSet conformSegments(const FeatureSegments& f, double edgeSize, size_t maxPoints,
+  std::vector<std::string>& warnings, const std::function<void()>& check = {});
 }

@@ -131,3 +131,22 @@ TEST(HierarchicalOracle, EmptyOrUnboundedOraclesAreErrors)
     EXPECT_NE(std::string(e.what()).find("'floor' (Plane) is unbounded"), std::string::npos) << e.what();
   }
 }
+
+TEST(HierarchicalOracle, SegmentsOnACutPlaneTouchTheMaterialBelowIt)
+{
+  // A cut plane through a ball: the rim's chords lie on the closed cut, so every point of them is
+  // "outside", yet the ball is right below them (the mesh keeps them as boundary edges).
+  HierarchicalOracle o;
+  auto cut = std::make_shared<HalfSpaceDomain>(Vec3{ 0, 0, 0.3 }, Vec3{ 0, 0, -1 }, 0, "cut");
+  cut->setCut(true);
+  o.add(cut);
+  o.add(std::make_shared<SphereDomain>(Vec3{ 0, 0, 0 }, 1.0, 1, "ball"));
+  const double r = std::sqrt(1.0 - 0.09);
+  const Vec3 a{ r, 0, 0.3 }, b{ r * std::cos(0.2), r * std::sin(0.2), 0.3 };
+  ASSERT_EQ(o.material(a), kOutside);
+  ASSERT_EQ(o.material(0.5 * (a + b)), kOutside);
+  EXPECT_TRUE(o.touchesMaterial(a, b));
+  EXPECT_TRUE(o.touchesMaterial(Vec3{ -2, 0, 0 }, Vec3{ 2, 0, 0 })); // crosses the ball
+  EXPECT_FALSE(o.touchesMaterial(Vec3{ 2, 2, 0 }, Vec3{ 3, 2, 0 }));
+  EXPECT_FALSE(o.touchesMaterial(Vec3{ 0, 0, 0.5 }, Vec3{ 0.2, 0, 0.5 })); // cut away, not next to the ball
+}

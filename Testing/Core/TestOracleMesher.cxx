@@ -13,6 +13,10 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
+#include <cmath>
+#include <set>
+
 using namespace omesh;
 
 namespace
@@ -672,3 +676,149 @@ TEST(OracleMesher, ProtectingBallsMeshAFlatFacedPart)
   EXPECT_NEAR(materialVolumes(m).at(3), part.signedVolume(), 0.02 * part.signedVolume());
 }
 
+
+namespace
+{
+/// A sphere in a box, meshed with `opt` under a time limit of `seconds`: the run must fail with
+/// TimeLimitReached, with a message that names the phase and says how far it got. (Which phase
+/// depends on the machine's load: 20,000 vertices take 1 to 10 s to insert here.)
+void expectTimeLimit(const FeatureSegments& features, MesherOptions opt, const std::string& phase = "")
+{
+  const double seconds = 2.0;
+  const std::set<std::string> phases = { "feature-line conformation", "inserting the feature-line points",
+    "feature protection (protecting balls)", "refinement", "perturbation", "exudation", "optimisation", "locating the feature lines in the mesh", "validation" };
+  HierarchicalOracle o;
+  o.add(std::make_shared<SphereDomain>(Vec3{ 0, 0, 0 }, 3.0, 2));
+  o.add(std::make_shared<BoxDomain>(Vec3{ -5, -5, -5 }, Vec3{ 5, 5, 5 }, 1));
+  opt.timeLimit = seconds;
+  const auto started = std::chrono::steady_clock::now();
+  try
+  {
+    meshOracle(o, features, {}, opt);
+    ADD_FAILURE() << "meshed within " << seconds << " s: no longer a case for the time limit";
+  }
+  catch (const TimeLimitReached& e)
+  {
+    const std::string what = e.what();
+    EXPECT_TRUE(phases.count(e.phase)) << what;
+    if (!phase.empty())
+      EXPECT_EQ(e.phase, phase) << what;
+    EXPECT_NE(what.find("time limit of 2 s reached in " + e.phase + " after "), std::string::npos) << what;
+    EXPECT_GE(e.statistics.at("time.elapsed"), seconds);
+    EXPECT_EQ(e.statistics.at("time_limit"), seconds);
+    EXPECT_TRUE(e.statistics.count("vertices") && e.statistics.count("tetrahedra")) << what;
+  }
+  // These ran for more than 120 s before the limit (issue 14): the limit ends them in any phase.
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count(), 60.0);
+}
+
+MesherOptions formerHang(FeatureStrategy s = FeatureStrategy::None)
+{
+  MesherOptions o;
+  o.strategy = s;
+  o.criteria.global = { 25.0, 2.0, 0.5, 2.0, 3.0, 0.0 }; // angle, facet size, distance, cell size, radius-edge, edge
+  o.seed = 1;
+  o.maximumNumberOfVertices = 20000; // as the issue's runs: the budget alone did not end them
+  return o;
+}
+
+/// Points on a circle of radius 4 in the plane z = 0, joined in a closed loop.
+FeatureSegments denseCircle(int n)
+{
+  FeatureSegments f;
+  for (int i = 0; i < n; ++i)
+    f.points.push_back({ 4.0 * std::cos(2 * M_PI * i / n), 4.0 * std::sin(2 * M_PI * i / n), 0.0 });
+  for (int i = 0; i < n; ++i)
+    f.segments.push_back({ i, (i + 1) % n });
+  return f;
+}
+}
+
+TEST(OracleMesherTimeLimit, TinyFacetSize)
+{
+  MesherOptions opt = formerHang();
+  opt.criteria.global.facetSize = 1e-9;
+  expectTimeLimit({}, opt); // refinement ends at the budget, one pump of the exuder then took minutes
+  opt.maximumNumberOfVertices = MesherOptions().maximumNumberOfVertices;
+  expectTimeLimit({}, opt); // 3 GB and counting
+}
+
+TEST(OracleMesherTimeLimit, TinyFacetDistance)
+{
+  MesherOptions opt = formerHang();
+  opt.criteria.global.facetDistance = 1e-12;
+  expectTimeLimit({}, opt);
+}
+
+TEST(OracleMesherTimeLimit, FacetAngle89)
+{
+  MesherOptions opt = formerHang();
+  opt.criteria.global.facetAngle = 89;
+  expectTimeLimit({}, opt);
+}
+
+TEST(OracleMesherTimeLimit, TinyEdgeSizeWithFeatures)
+{
+  const FeatureSegments line = star({ -4, 0, 0 }, { { 1, 0, 0 } }, 8.0);
+  MesherOptions opt = formerHang(FeatureStrategy::Conforming);
+  opt.criteria.global.edgeSize = 1e-9;
+  expectTimeLimit(line, opt); // 20,000 collinear points entered the triangulation for 20 s and more
+}
+
+TEST(OracleMesherTimeLimit, DenseFeatureSegments)
+{
+  expectTimeLimit(denseCircle(10000), formerHang(FeatureStrategy::Conforming));
+}
+
+// A thin triangle of feature lines (1 degree at one corner, through the sphere's boundary) keeps
+// CGAL's protection placing balls for minutes; it read its stop flag only between passes (148 s
+// past a 20 s limit), and now stops at the next ball (StoppableEdgeSize).
+TEST(OracleMesherTimeLimit, FeatureProtectionAtOneDegree)
+{
+  FeatureSegments thin;
+  thin.points = { { 1.698744, 2.718398, -2.539265 }, { 8.801943, 2.641747, -4.801912 }, { 2.730728, 2.713205, -2.886918 } };
+  thin.segments = { { 0, 1 }, { 0, 2 }, { 1, 2 } };
+  MesherOptions opt = formerHang(FeatureStrategy::ProtectingBalls);
+  opt.maximumNumberOfVertices = MesherOptions().maximumNumberOfVertices;
+  opt.criteria.global.edgeSize = 0.2;
+  expectTimeLimit(thin, opt, "feature protection (protecting balls)");
+}
+
+TEST(OracleMesherTimeLimit, AutomaticFromTheVertexBudget)
+{
+  MesherOptions opt;
+  EXPECT_EQ(opt.timeLimit, 0.0); // automatic
+  EXPECT_DOUBLE_EQ(effectiveTimeLimit(opt), kTimeLimitBase + kTimeLimitPerVertex * 2e6);
+  opt.maximumNumberOfVertices = 0; // unlimited, as asked: no limit either
+  EXPECT_EQ(effectiveTimeLimit(opt), 0.0);
+  opt.timeLimit = 5;
+  EXPECT_EQ(effectiveTimeLimit(opt), 5.0);
+  opt.timeLimit = -1;
+  EXPECT_EQ(effectiveTimeLimit(opt), 0.0);
+  // a run that ends well within its limit says which limit it had
+  HierarchicalOracle o;
+  o.add(std::make_shared<SphereDomain>(Vec3{ 0, 0, 0 }, 1.0, 1));
+  MesherOptions quick = options(FeatureStrategy::None, 0.3);
+  quick.timeLimit = 600;
+  EXPECT_EQ(meshOracle(o, {}, {}, quick).statistics.at("time_limit"), 600.0);
+}
+
+TEST(OracleMesher, ProtectingBallsHonourTheSeed)
+{
+  HierarchicalOracle o;
+  o.add(std::make_shared<SurfaceDomain>(test::cube(0, 1), 1));
+  const FeatureSegments edges = cubeEdges(0, 1);
+  auto points = [&](unsigned seed) {
+    MesherOptions opt = options(FeatureStrategy::ProtectingBalls, 0.25);
+    opt.seed = seed;
+    const TetMesh m = meshOracle(o, edges, {}, opt);
+    EXPECT_NEAR(featureCoverage(m.segments, edges), 1.0, 1e-12);
+    std::vector<double> xyz;
+    for (const Vec3& p : m.points)
+      xyz.insert(xyz.end(), { p.x, p.y, p.z });
+    return xyz;
+  };
+  const auto a = points(7);
+  EXPECT_EQ(a, points(7)); // same seed, same mesh
+  EXPECT_NE(a, points(8)); // the seed chooses the initial surface points (it used to change nothing)
+}

@@ -16,6 +16,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <chrono>
 
 using namespace omesh;
 
@@ -205,4 +206,30 @@ TEST(ParallelRefinement, AbortVertexBudgetAndBadThreads)
   {
     EXPECT_NE(std::string(e.what()).find("Threads = -1"), std::string::npos) << e.what();
   }
+}
+
+// The time limit (MeshingDeadline) stops a parallel refinement too: asked where the progress and
+// the vertex budget are, every 50 ms. Refinement to a tiny size with no vertex budget would run for
+// minutes; the limit ends it in the refinement phase, with the vertices seen so far.
+TEST(ParallelRefinement, TimeLimitStopsTheRefinement)
+{
+  HierarchicalOracle o;
+  o.add(std::make_shared<SphereDomain>(Vec3{ 0, 0, 0 }, 1.0, 1));
+  MesherOptions opt = ballOverBoxOptions(2);
+  opt.criteria.global.cellSize = opt.criteria.global.facetSize = 0.002;
+  opt.maximumNumberOfVertices = 0;
+  opt.timeLimit = 1.0;
+  const auto started = std::chrono::steady_clock::now();
+  try
+  {
+    meshOracle(o, {}, {}, opt);
+    ADD_FAILURE() << "meshed within 1 s: no longer a case for the time limit";
+  }
+  catch (const TimeLimitReached& e)
+  {
+    EXPECT_EQ(e.phase, "refinement") << e.what();
+    EXPECT_GE(e.statistics.at("time.elapsed"), 1.0);
+    EXPECT_GT(e.statistics.at("vertices"), 100.0) << e.what(); // the parallel complex's, not the initial points
+  }
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count(), 30.0);
 }

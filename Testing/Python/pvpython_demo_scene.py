@@ -63,4 +63,25 @@ grid = servermanager.Fetch(mesher)
 if grid.GetNumberOfCells() < 100 or grid.GetCellData().GetArray("Material") is None:
     print("the tetrahedralizer proxy produced no mesh")
     sys.exit(1)
-print("2 passed, 0 failed")
+
+# Oracle Feature Lines shows the rim where the resection plane cuts a ball (issue 13), and the
+# tetrahedralizer's Features property keeps it.
+rim_cut = ImplicitDomain()
+rim_cut.Shape = "Plane"
+rim_cut.Shape.Origin = [0.0, 0.0, 0.5]
+rim_cut.Shape.Normal = [0.0, 0.0, -1.0]
+rim_cut.Cut = 1
+rim_oracle = HierarchicalOracle(Input=[rim_cut, ball])
+lines = servermanager.Fetch(OracleFeatureLines(Input=rim_oracle))
+if lines.GetNumberOfLines() != 1 or any(abs(lines.GetPoint(i)[2] - 0.5) > 1e-6 for i in range(lines.GetNumberOfPoints())):
+    print("Oracle Feature Lines did not give the rim at z = 0.5:", lines.GetNumberOfLines(), "lines")
+    sys.exit(1)
+kept = FeaturePreservingTetrahedralizer(Input=rim_oracle)
+kept.Features = "Automatic"
+kept.CellSize = 0.3
+kept.FacetSize = 0.3
+segments = servermanager.Fetch(kept, idx=2)
+if segments.GetNumberOfCells() < 10:
+    print("Features = Automatic kept no rim:", segments.GetNumberOfCells(), "segments")
+    sys.exit(1)
+print("3 passed, 0 failed")

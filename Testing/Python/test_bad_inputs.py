@@ -364,6 +364,22 @@ def case_surface_with_hole(tmp, **domain):
     return ["mesh", surface_scene(tmp, "holed", path, **domain), "-o", os.path.join(tmp, "holed.vtu")]
 
 
+def case_tiny_facets(tmp):
+    """Facet size 1e-9 ran for hours (3 GB with the default budget): ends at --time-limit."""
+    tiny = dict(MESH, criteria=dict(MESH["criteria"], facet_size=1e-9))
+    return ["mesh", scene(tmp, "tiny_facets", mesh=tiny), "-o", os.path.join(tmp, "t.vtu"), "--time-limit", 2]
+
+
+def case_dense_features(tmp):
+    """10,000 feature segments on a circle with Conforming ran past 120 s: ends at the scene's time_limit."""
+    n = 10000
+    points = [(2 * math.cos(2 * math.pi * i / n), 2 * math.sin(2 * math.pi * i / n), 0) for i in range(n)]
+    lines = write_vtp(os.path.join(tmp, "dense.vtp"), polyline_data(points, [(i, (i + 1) % n) for i in range(n)]))
+    dense = dict(MESH, strategy="Conforming", features={"files": lines}, maximum_number_of_vertices=20000,
+                 time_limit=2)
+    return ["mesh", scene(tmp, "dense", mesh=dense), "-o", os.path.join(tmp, "d.vtu")]
+
+
 # name -> (make, exit code, words that must all appear in stderr+stdout, case-insensitive)
 CLI_CASES = {
     "binary scene file": (case_binary_scene, 2, ["binary.json", "binary", "not utf-8"]),
@@ -403,6 +419,12 @@ CLI_CASES = {
                                             0, ["warning", "'part'", "1 hole(s)", "wrote"]),
     "unknown inside test": (lambda tmp: case_surface_with_hole(tmp, inside_test="parity"), 2,
                             ["$.domains[0].inside_test", "winding_number"]),
+    "facet size 1e-9 ends at the time limit": (case_tiny_facets, 3, ["time limit of 2 s reached in", "vertices",
+                                                                      "partial statistics", "time.elapsed"]),
+    "dense feature lines end at the time limit": (case_dense_features, 3, ["time limit of 2 s reached in",
+                                                                            "partial statistics"]),
+    "time limit out of range": (lambda tmp: ["mesh", scene(tmp, "bad_limit", mesh=dict(MESH, time_limit=-3)),
+                                             "-o", os.path.join(tmp, "o.vtu")], 2, ["$.mesh.time_limit", "-3"]),
 }
 
 
@@ -535,6 +557,7 @@ class PythonApi(unittest.TestCase):
                                      ("SetMaximumNumberOfVertices", -1, ["MaximumNumberOfVertices", "-1"]),
                                      ("SetPerturbationStepsPerVertex", -2, ["PerturbationStepsPerVertex"]),
                                      ("SetOptimisationTimeLimit", -5, ["OptimisationTimeLimit"]),
+                                     ("SetTimeLimit", -5, ["TimeLimit", "-5"]),
                                      ("SetFacetSize", math.nan, ["FacetSize", "nan"])):
             with self.subTest(setter):
                 mesher = self.mesher(self.oracle(self.ball()))
@@ -580,6 +603,18 @@ class PythonApi(unittest.TestCase):
         sampler.SetDimensions(64, 64, 64)
         sampler.AddObserver("ProgressEvent", lambda alg, event: alg.SetAbortExecute(1))
         self.assertRefused(sampler, "aborted")
+
+    def test_time_limit_is_an_error_with_the_figures_so_far(self):
+        mesher = self.mesher(self.oracle(self.ball()), cell=1.0)
+        mesher.SetFacetSize(1e-9)
+        mesher.SetTimeLimit(1)
+        error = self.assertRefused(mesher, "meshing failed", "time limit of 1 s reached in", error=om.MeshingError)
+        self.assertFalse(error.aborted)
+        self.assertEqual(mesher.GetOutputDataObject(0).GetNumberOfCells(), 0)  # no mesh, only the figures
+        figures = error.statistics
+        self.assertEqual(figures["time_limit"], 1)
+        self.assertGreaterEqual(figures["time.elapsed"], 1)
+        self.assertGreater(figures["vertices"], 0)
 
     def test_abort_is_an_error(self):
         mesher = self.mesher(self.oracle(self.ball()), cell=0.1)

@@ -1,8 +1,10 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // The VTK adapters: C++ pipelines, volumes through the sampler, metadata round trips, bad input.
+#include "vtkFeaturePreservingTetrahedralizer.h"
 #include "vtkHierarchicalOracle.h"
 #include "vtkImplicitDomain.h"
 #include "vtkLabelMapDomain.h"
+#include "vtkMeshValidityCheck.h"
 #include "vtkOracleSampler.h"
 #include "vtkSphereDomain.h"
 #include "vtkSurfaceDomain.h"
@@ -32,6 +34,7 @@
 #include <vtkTriangleFilter.h>
 #include <vtkTrivialProducer.h>
 #include <vtkUnsignedCharArray.h>
+#include <vtkUnstructuredGrid.h>
 #include <vtkXMLMultiBlockDataReader.h>
 #include <vtkXMLMultiBlockDataWriter.h>
 
@@ -360,6 +363,60 @@ TEST(OracleFilters, CombinedOutputRoundTripsThroughAFile)
   EXPECT_EQ(differences, 0);
   EXPECT_GT(seven, 0);
   EXPECT_GT(one, 0);
+}
+
+TEST(OracleFilters, QuadraticElementsAreTheLinearMeshWithCurvedBoundaryEdges)
+{
+  vtkNew<vtkSphereDomain> sphere;
+  sphere->SetRadius(1.0);
+  vtkNew<vtkFeaturePreservingTetrahedralizer> linear, quadratic;
+  for (vtkFeaturePreservingTetrahedralizer* m : { linear.Get(), quadratic.Get() })
+  {
+    m->SetInputConnection(sphere->GetOutputPort());
+    m->SetFeatureStrategyToNone();
+    m->SetCellSize(0.4);
+    m->SetFacetSize(0.4);
+    m->SetFacetDistance(0.03);
+  }
+  EXPECT_EQ(linear->GetElementOrder(), 1); // the default
+  quadratic->SetElementOrder(2);
+  ASSERT_EQ(UpdateAndCatch(linear, { sphere }), "");
+  ASSERT_EQ(UpdateAndCatch(quadratic, { sphere }), "");
+  vtkUnstructuredGrid* a = linear->GetOutput();
+  vtkUnstructuredGrid* b = quadratic->GetOutput();
+  ASSERT_EQ(a->GetNumberOfCells(), b->GetNumberOfCells());
+  ASSERT_GT(b->GetNumberOfPoints(), a->GetNumberOfPoints());
+  EXPECT_EQ(b->GetPointData()->GetArray("Dimension")->GetNumberOfTuples(), b->GetNumberOfPoints());
+  int onSphere = 0;
+  for (vtkIdType c = 0; c < b->GetNumberOfCells(); ++c)
+  {
+    ASSERT_EQ(b->GetCellType(c), VTK_QUADRATIC_TETRA);
+    vtkIdType na, nb;
+    const vtkIdType *pa, *pb;
+    a->GetCellPoints(c, na, pa);
+    b->GetCellPoints(c, nb, pb);
+    ASSERT_EQ(nb, 10);
+    for (int k = 0; k < 4; ++k) // same corners, in the same (positive) order
+      ASSERT_EQ(pa[k], pb[k]) << "cell " << c;
+    double x[3];
+    for (int k = 4; k < 10; ++k)
+    {
+      b->GetPoint(pb[k], x);
+      onSphere += std::abs(vtkMath::Norm(x) - 1.0) < 1e-9;
+    }
+  }
+  EXPECT_GT(onSphere, 100);
+  for (const char* name : { "Material", "MinDihedralAngle", "RadiusEdgeRatio" })
+    EXPECT_EQ(a->GetCellData()->GetArray(name)->GetRange()[0], b->GetCellData()->GetArray(name)->GetRange()[0]) << name;
+  // the validity check takes the quadratic tetrahedra (on their corners)
+  vtkNew<vtkMeshValidityCheck> check;
+  check->SetInputData(b);
+  ASSERT_EQ(UpdateAndCatch(check), "");
+  EXPECT_EQ(check->GetNumberOfDefects(), 0);
+  EXPECT_EQ(check->GetNonTetrahedra(), 0);
+
+  quadratic->SetElementOrder(3);
+  EXPECT_NE(UpdateAndCatch(quadratic, { sphere }).find("ElementOrder 3 is out of range"), std::string::npos);
 }
 
 TEST(OracleFilters, BadInputGivesClearErrors)

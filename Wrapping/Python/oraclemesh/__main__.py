@@ -9,7 +9,7 @@
   batch SCENES   mesh many cases (scenes, a study's sweeps), each in its own process, locally or on
                  Dask distributed, with a folder per case and a summary CSV; resumable
 
-Exit codes: 0 done, 2 bad input (the message names it), 3 meshing failed (or --strict found
+Exit codes: 0 done, 2 bad input (the message names it), 3 meshing failed (its time limit too; or --strict found
 defects or warnings about the inputs), 130 interrupted (SIGINT or SIGTERM), 1 an internal error (a bug; ORACLEMESH_TRACEBACK=1
 shows where).
 """
@@ -25,10 +25,9 @@ from .atomic import write_text
 from .defaults import mesh_defaults
 from .errors import MeshingError, OracleMeshError, update
 from .meshing import mesh
-from .scene import STRATEGIES, load_scene
+from .progress import ProgressPrinter
+from .scene import FEATURE_SOURCES, STRATEGIES, load_scene
 from .writers import MESH_FORMATS, write_vtk_xml
-
-PROGRESS_PREFIX = "oraclemesh-progress "  # machine-readable progress lines (batch reads them)
 
 
 class Interrupted(Exception):
@@ -134,34 +133,6 @@ def _sample(args):
     return 0
 
 
-class _Progress:
-    """Reports a filter's ProgressEvent: a bar redrawn in place on a terminal, else a line every 10 %,
-    or machine-readable lines (``--progress-lines``, read by ``batch``)."""
-
-    def __init__(self, stream, machine=False):
-        self.stream, self.machine = stream, machine
-        self.tty = not machine and stream.isatty()
-        self.last, self.last_time = -1.0, 0.0
-
-    def __call__(self, fraction):
-        now = time.monotonic()
-        if self.machine or self.tty:
-            if fraction - self.last < 0.01 and now - self.last_time < 1.0 and fraction < 1.0:
-                return
-            if self.machine:
-                self.stream.write(f"{PROGRESS_PREFIX}{fraction:.4f}\n")
-            else:
-                filled = int(30 * fraction)
-                self.stream.write(f"\rmeshing [{'#' * filled}{'-' * (30 - filled)}] {100 * fraction:5.1f}%"
-                                  + ("\n" if fraction >= 1.0 else ""))
-        elif int(10 * fraction) > int(10 * max(self.last, 0)) or self.last < 0:
-            self.stream.write(f"meshing: {100 * fraction:.0f}%\n")
-        else:
-            return
-        self.stream.flush()
-        self.last, self.last_time = fraction, now
-
-
 def _settings(items):
     """--set KEY=VALUE items as {dotted key: value}: the value read as JSON, else taken as a string."""
     settings = {}
@@ -180,7 +151,10 @@ def _settings(items):
 def _mesh(args):
     from .report import VALIDITY_ITEMS, save_histogram, save_section, statistics
 
-    scene = load_scene(args.scene, _settings(args.set))
+    settings = _settings(args.set)
+    if args.time_limit is not None:
+        settings["time_limit"] = args.time_limit
+    scene = load_scene(args.scene, settings)
     outputs = args.output or scene.outputs.get("mesh")
     if not outputs:
         raise OracleMeshError(f"{args.scene}: no output: give -o OUT (or \"outputs\": {{\"mesh\": ...}} in the scene)")
@@ -195,8 +169,9 @@ def _mesh(args):
                        (args.summary, "summary")):
         if path:
             check_output_path(path, what)
-    progress = _Progress(sys.stderr, machine=args.progress_lines) if args.progress or args.progress_lines else None
-    result = mesh(scene, args.strategy, progress, updater=SIGNALS.update, threads=args.threads)
+    progress = ProgressPrinter(sys.stderr, machine=args.progress_lines) if args.progress or args.progress_lines else None
+    result = mesh(scene, args.strategy, progress, updater=SIGNALS.update, element_order=args.order,
+                  features=args.features, threads=args.threads)
     started = time.perf_counter()
     written = result.save(*outputs)
     lines = result.report.split("\n")
@@ -315,6 +290,14 @@ def main(argv=None):
                         f"{mesh_defaults()['threads']}): 1 = sequential, the same seed gives the same mesh; "
                         "N > 1 = parallel (0 = every core): same criteria and checks, but the mesh differs "
                         "from run to run (Conforming with feature lines refines on one thread)")
+    p.add_argument("--order", type=int, choices=(1, 2),
+                   help="element order: 1 = 4-node, 2 = 10-node tetrahedra with the mid-edge nodes of interface "
+                        f"edges on the true surfaces (default: the scene's \"element_order\", else "
+                        f"{mesh_defaults()['element_order']})")
+    p.add_argument("--features", choices=FEATURE_SOURCES,
+                   help="which feature lines are kept: given (the scene's), found where the inputs meet (cut "
+                        "rims, entry curves, triple lines), or both (default: the scene's mesh.features.use, "
+                        f"else {mesh_defaults()['features']})")
     p.add_argument("--report", help="also write the quality report to this text file")
     p.add_argument("--histogram", help="save the dihedral-angle histogram to this PNG")
     p.add_argument("--section", help="save a cross-section of the mesh to this PNG (the plane through its "
@@ -322,6 +305,10 @@ def main(argv=None):
     p.add_argument("--set", action="append", metavar="KEY=VALUE",
                    help="set a key of the scene's mesh block (dotted, the value as JSON or a string), e.g. "
                         "criteria.cell_size=2, strategy=None, materials.3.cell_size=1; repeat for several")
+    p.add_argument("--time-limit", type=float, metavar="SECONDS",
+                   help="wall-clock seconds for the meshing, every phase (the scene's mesh.time_limit); reaching "
+                        "it is a failure (exit 3) naming the phase, with the figures so far and no mesh written. "
+                        "0 = automatic (the default: from the vertex budget), -1 = none")
     p.add_argument("--progress", action="store_true", help="show the mesher's progress on stderr")
     p.add_argument("--progress-lines", action="store_true", help=argparse.SUPPRESS)
     p.add_argument("--summary", help=argparse.SUPPRESS)  # JSON of the figures batch puts in its CSV
@@ -375,6 +362,9 @@ def main(argv=None):
     except MeshingError as e:
         if e.aborted and SIGNALS.received:
             return _interrupted()
+        if e.statistics:
+            print("partial statistics: " + ", ".join(f"{k} {v:g}" for k, v in sorted(e.statistics.items())),
+                  file=sys.stderr)
         print(f"oraclemesh: error: {e}", file=sys.stderr)
         return 3
     except OracleMeshError as e:

@@ -26,6 +26,7 @@ import time
 import uuid
 from concurrent.futures import ThreadPoolExecutor
 
+from .progress import PROGRESS_PREFIX
 from .errors import OracleMeshError
 
 RESULT_VERSION = 1  # of result.json; a change redoes every case
@@ -243,7 +244,6 @@ def run_case(case, on_progress=None, on_process=None):
     last, result.json; returns the CSV row. Meshing failures are rows with status "failed", not
     exceptions. `on_progress(fraction)` gets the mesher's progress; `on_process(process)` the child
     (returning False stops it: the batch is being interrupted). This is the Dask task."""
-    from .__main__ import PROGRESS_PREFIX
     from .atomic import write_text
 
     files = _files(case)

@@ -21,6 +21,8 @@ CRITERIA_KEYS = {
 }
 # The tetrahedralizer's FeatureStrategy values, in the C++ enum's order.
 STRATEGIES = ("Conforming", "None", "ProtectingBalls")
+# The tetrahedralizer's Features values (which feature lines are kept), in the C++ enum's order.
+FEATURE_SOURCES = ("None", "Given", "Automatic", "Both")
 # Scene "mesh" keys that are plain tetrahedralizer properties.
 MESH_PROPERTIES = {
     "perturb": "Perturb", "exude": "Exude", "sliver_angle": "SliverAngle",
@@ -30,7 +32,8 @@ MESH_PROPERTIES = {
     "exudation_sliver_bound": "ExudationSliverBound",
     "perturbation_steps_per_vertex": "PerturbationStepsPerVertex",
     "exudation_steps_per_cell": "ExudationStepsPerCell", "optimisation_time_limit": "OptimisationTimeLimit",
-    "seed": "Seed", "maximum_number_of_vertices": "MaximumNumberOfVertices", "threads": "Threads",
+    "seed": "Seed", "maximum_number_of_vertices": "MaximumNumberOfVertices", "time_limit": "TimeLimit",
+    "element_order": "ElementOrder", "threads": "Threads",
 }
 BOOLEAN_PROPERTIES = {"Perturb", "Exude", "ResampleFeatureLines"}
 
@@ -40,7 +43,7 @@ def _mesh_defaults():
     from . import vtkFeaturePreservingTetrahedralizer
 
     fresh = vtkFeaturePreservingTetrahedralizer()
-    out = {"strategy": STRATEGIES[fresh.GetFeatureStrategy()],
+    out = {"strategy": STRATEGIES[fresh.GetFeatureStrategy()], "features": FEATURE_SOURCES[fresh.GetFeatures()],
            "criteria": {key: float(getattr(fresh, "Get" + prop)()) for key, prop in CRITERIA_KEYS.items()}}
     for key, prop in MESH_PROPERTIES.items():
         value = getattr(fresh, "Get" + prop)()
@@ -49,7 +52,8 @@ def _mesh_defaults():
 
 
 def mesh_defaults():
-    """{scene "mesh" key: default}: "strategy", "criteria" {criterion: value} and every key of
+    """{scene "mesh" key: default}: "strategy", "features" (which lines are kept: the scene's
+    "mesh.features.use"), "criteria" {criterion: value} and every key of
     MESH_PROPERTIES, as a fresh vtkFeaturePreservingTetrahedralizer has them."""
     import copy
 

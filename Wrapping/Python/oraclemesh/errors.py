@@ -16,6 +16,7 @@ class MeshingError(OracleMeshError):
     (``aborted`` is then True). The command line exits with 3 (130 when a signal aborted it)."""
 
     aborted = False
+    statistics = {}  # the mesher's figures so far, when it left some (its time limit reached)
 
 
 def _pipeline(algorithm):
@@ -59,6 +60,13 @@ def _error_for(message):
     return OracleMeshError(message)
 
 
+def _statistics(output):
+    """The mesher's statistics {name: value} in `output`'s field data (empty without)."""
+    from .fielddata import labelled
+
+    return dict(labelled(output.GetFieldData(), "StatisticValues")) if output is not None else {}
+
+
 def update(algorithm, port=0):
     """Update ``algorithm`` and return its output data object on ``port``.
 
@@ -89,6 +97,8 @@ def update(algorithm, port=0):
     if messages:
         error = _error_for(messages[0])
         error.messages = messages
+        if isinstance(error, MeshingError):  # a time limit leaves the figures so far in the empty output
+            error.statistics = _statistics(algorithm.GetOutputDataObject(port))
         raise error
     if not ok:
         error = OracleMeshError(

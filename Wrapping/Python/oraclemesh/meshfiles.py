@@ -3,6 +3,9 @@
 as the vtkUnstructuredGrid the report works on: the tetrahedra, cell data Material and
 MinDihedralAngle, field data MaterialIds/MaterialNames.
 
+Meshes of 10-node tetrahedra come back as VTK_QUADRATIC_TETRA (the .mesh ``TetrahedraP2`` that
+meshio 5.0 does not read by a small reader here).
+
 The material of a tetrahedron comes from the .vtu's Material array, the Gmsh physical tag, the Medit
 reference, or the Abaqus element set it is in (its id from the writer's ``** OracleMesh material``
 comments, else the sets numbered 1, 2, ... in file order); the names from the field data, the Gmsh
@@ -36,7 +39,7 @@ def min_dihedral_angles(points, cells):
 def _grid(points, cells, material, names):
     import numpy as np
     from vtkmodules.util.numpy_support import numpy_to_vtk
-    from vtkmodules.util.vtkConstants import VTK_TETRA
+    from vtkmodules.util.vtkConstants import VTK_QUADRATIC_TETRA, VTK_TETRA
     from vtkmodules.vtkCommonCore import vtkPoints
     from vtkmodules.vtkCommonDataModel import vtkCellArray, vtkUnstructuredGrid
 
@@ -45,9 +48,10 @@ def _grid(points, cells, material, names):
     vtk_points.SetData(numpy_to_vtk(np.ascontiguousarray(points, dtype=np.float64), deep=True))
     grid.SetPoints(vtk_points)
     tets = vtkCellArray()
-    tets.SetData(numpy_to_vtk(np.arange(0, 4 * len(cells) + 1, 4, dtype=np.int64), deep=True),
+    width = cells.shape[1]  # 4, or 10 for quadratic tetrahedra
+    tets.SetData(numpy_to_vtk(np.arange(0, width * len(cells) + 1, width, dtype=np.int64), deep=True),
                  numpy_to_vtk(np.ascontiguousarray(cells, dtype=np.int64).ravel(), deep=True))
-    grid.SetCells(VTK_TETRA, tets)
+    grid.SetCells(VTK_QUADRATIC_TETRA if width == 10 else VTK_TETRA, tets)
     array = numpy_to_vtk(np.asarray(material, dtype=np.int32), deep=True)
     array.SetName("Material")
     grid.GetCellData().AddArray(array)
@@ -67,15 +71,52 @@ def _comments(path, prefix):
     return found
 
 
+def _medit_p2(path):
+    """(points, 10-node tetrahedra, their references) of an ASCII Medit file with TetrahedraP2, which
+    meshio 5.0 does not read; None for other files."""
+    import numpy as np
+
+    with open(path, encoding="utf-8", errors="replace") as f:
+        lines = [line for line in f if not line.lstrip().startswith("#")]
+    tokens = " ".join(lines).split()
+    if "TetrahedraP2" not in tokens:
+        return None
+    found, i = {}, 0
+    widths = {"Vertices": 4, "TrianglesP2": 7, "TetrahedraP2": 11, "Triangles": 4, "Tetrahedra": 5, "Edges": 3}
+    try:
+        while i < len(tokens):
+            word = tokens[i]
+            if word in widths:
+                count = int(tokens[i + 1])
+                values = np.array(tokens[i + 2:i + 2 + count * widths[word]], dtype=np.float64)
+                found[word] = values.reshape(count, widths[word])
+                i += 2 + count * widths[word]
+            else:  # MeshVersionFormatted 2, Dimension 3, End, ...
+                i += 1
+    except (ValueError, IndexError) as e:
+        raise OracleMeshError(f"{path}: not a readable .mesh file ({type(e).__name__}: {e})") from None
+    if "Vertices" not in found:
+        raise OracleMeshError(f"{path}: no Vertices in the file")
+    tets = found["TetrahedraP2"]
+    return found["Vertices"][:, :3], tets[:, :10].astype(np.int64) - 1, tets[:, 10].astype(np.int64)
+
+
 def _from_meshio(path, ext):
     import meshio
     import numpy as np
 
+    if ext == ".mesh":
+        p2 = _medit_p2(path)
+        if p2 is not None:
+            names = {m: name for m, name in _comments(path, "# material").items() if name}
+            return _grid(p2[0], p2[1], p2[2], names)
     try:
         mesh = meshio.read(path, file_format={".msh": "gmsh", ".mesh": "medit", ".inp": "abaqus"}[ext])
     except (Exception, SystemExit) as e:  # meshio raises (and on some files exits) with its own types
         raise OracleMeshError(f"{path}: not a readable {ext} file ({type(e).__name__}: {e})") from None
     blocks = [i for i, block in enumerate(mesh.cells) if block.type == "tetra"]
+    if not blocks:
+        blocks = [i for i, block in enumerate(mesh.cells) if block.type == "tetra10"]
     if not blocks:
         raise OracleMeshError(f"{path}: no tetrahedra in the file")
     cells = np.concatenate([mesh.cells[i].data for i in blocks]).astype(np.int64)

@@ -5,22 +5,24 @@
     result = om.mesh("scene.json")       # or a dict in the scene format, or a loaded Scene
     print(result.report)                 # the quality report `oraclemesh mesh` prints
     result.save("out.inp", "out.vtu")    # any of MESH_FORMATS, with the boundary and interface sets
+    om.mesh("scene.json", element_order=2)  # 10-node tetrahedra, curved on the interfaces
     grid = result.grid                   # the vtkUnstructuredGrid
 """
 import os
 import time
 
-from .defaults import CRITERIA_KEYS, MESH_PROPERTIES, domain_criteria_unset, mesh_defaults
+from .defaults import CRITERIA_KEYS, FEATURE_SOURCES, MESH_PROPERTIES, domain_criteria_unset, mesh_defaults
 from .fielddata import add_material_names
 from .errors import OracleMeshError, update
 from .scene import Scene, build_scene, load_scene
 
 
-def mesher_for(scene, strategy=None, threads=None):
+def mesher_for(scene, strategy=None, element_order=None, features=None, threads=None):
     """The tetrahedralizer set up from the scene's validated "mesh" block (criteria, the
     "mesh.materials" table, feature lines, strategy, seed, ...); a key the scene leaves out keeps the
     filter's default (defaults.py). The domains carry their own criteria; the core merges them
-    (MeshCriteria.h). `strategy` and `threads` override the scene's."""
+    (MeshCriteria.h). `strategy`, `element_order` (1 or 2) and `threads` override the scene's, `features`
+    (None, Given, Automatic, Both: which feature lines are kept) the scene's "mesh.features.use"."""
     from vtkmodules.vtkFiltersCore import vtkAppendPolyData, vtkFeatureEdges
 
     from . import vtkFeaturePreservingTetrahedralizer
@@ -36,8 +38,14 @@ def mesher_for(scene, strategy=None, threads=None):
     for material, overrides in sorted(spec.get("materials", {}).items()):
         values = [overrides.get(key, unset) for key in CRITERIA_KEYS]
         mesher.SetMaterialCriteria(material, *values)
+    use = features or (spec.get("features") or {}).get("use")
+    if use:
+        sources = {v.lower(): v for v in FEATURE_SOURCES}
+        if str(use).lower() not in sources:
+            raise OracleMeshError(f"features: must be one of {', '.join(FEATURE_SOURCES)}, got {use!r}")
+        getattr(mesher, "SetFeaturesTo" + sources[str(use).lower()])()
     features = spec.get("features")
-    if features:
+    if features and (features["from_surface"] or features["files"]):
         parts = []
         for index in features["from_surface"]:
             edges = vtkFeatureEdges()
@@ -59,6 +67,10 @@ def mesher_for(scene, strategy=None, threads=None):
     for key, prop in MESH_PROPERTIES.items():
         if key in spec:
             getattr(mesher, "Set" + prop)(spec[key])
+    if element_order is not None:
+        if element_order not in (1, 2) or isinstance(element_order, bool):
+            raise OracleMeshError(f"element_order: must be 1 (linear) or 2 (quadratic tetrahedra), got {element_order!r}")
+        mesher.SetElementOrder(element_order)
     if threads is not None:
         mesher.SetThreads(threads)
     return mesher
@@ -164,22 +176,29 @@ class MeshResult:
                 f"min dihedral {self.quality['min_dihedral']:.1f} deg>")
 
 
-def mesh(scene, strategy=None, progress=None, base_dir=None, updater=update, threads=None):
+def mesh(scene, strategy=None, progress=None, base_dir=None, updater=update, element_order=None, features=None,
+         threads=None):
     """Meshes a scene and returns a MeshResult (``.grid``, ``.report``, ``.statistics``, ``.save()``).
 
     `scene`: a JSON scene file path, a dict in the same format (see the README's "Scene files";
     relative file paths resolve against `base_dir`, default the working folder) or a loaded Scene.
     `strategy` overrides the scene's feature strategy ("Conforming", "None", "ProtectingBalls");
+    `element_order` its "element_order" (1: 4-node tetrahedra, 2: 10-node ones with the mid-edge nodes
+    of interface edges on the true surfaces);
+    `features` which feature lines are kept ("None", "Given", "Automatic", "Both"; default the
+    scene's "mesh.features.use", else Given);
     `progress`, if given, is called with the mesher's progress (0..1); `updater` runs the mesher
     (default errors.update; the command line passes one that signals can abort). `threads` overrides
     the scene's "threads": 1 = sequential (the same seed gives the same mesh), N > 1 = the refinement
     on N threads (0 = every core; the mesh then differs from run to run, see the README). Bad scenes
-    and failed meshing raise OracleMeshError naming the problem."""
+    and failed meshing raise OracleMeshError naming the problem; failed meshing raises MeshingError, whose
+    ``statistics`` hold the figures so far (after the scene's "time_limit": vertices, tetrahedra,
+    time.elapsed, time_limit)."""
     started = time.perf_counter()
     if threads is not None and (not isinstance(threads, int) or isinstance(threads, bool) or threads < 0):
         raise OracleMeshError(f"threads: must be an integer >= 0 (1 = sequential, 0 = every core), got {threads!r}")
     scene = as_scene(scene, base_dir)
-    mesher = mesher_for(scene, strategy, threads)
+    mesher = mesher_for(scene, strategy, element_order, features, threads)
     if progress is not None:
         mesher.AddObserver("ProgressEvent", lambda algorithm, event: progress(algorithm.GetProgress()))
     grid = updater(mesher)

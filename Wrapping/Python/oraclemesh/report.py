@@ -6,7 +6,7 @@ histogram as text and as a PNG (matplotlib, Agg: no display needed)."""
 from .errors import OracleMeshError
 from .fielddata import labelled, strings
 from .meshfiles import read_mesh  # noqa: F401  (the report's reader; kept here for its users)
-from .writers import tetrahedra
+from .writers import element_nodes, tetrahedra
 
 # Text histogram bins [degrees]: a tetrahedron's minimal dihedral angle is at most 70.53 degrees.
 TEXT_BINS = (0, 5, 10, 20, 30, 40, 50, 60, 90)
@@ -78,27 +78,38 @@ def validity_line(counts):
 
 def quality(grid, source="mesh"):
     """Per-material quality of a tetrahedral mesh: {"materials": {id: {"tets", "volume",
-    "min_dihedral", "mean_min_dihedral"}}, "tets", "vertices", "volume", "min_dihedral",
-    "angles" (per-tet minimal dihedral angles), "material" (per-tet material)}.
-    Volumes come from the geometry, so any tetrahedral .vtu with Material and MinDihedralAngle works."""
+    "min_dihedral", "mean_min_dihedral"}}, "tets", "vertices" (corners), "nodes" (with the mid-edge
+    ones), "volume", "min_dihedral", "angles" (per-tet minimal dihedral angles, of the corners),
+    "material" (per-tet material), "order" (1 or 2) and for 10-node tetrahedra "min_jacobian_ratio"
+    (quadratic.jacobian_ratios)}.
+    Volumes come from the geometry (curved for 10-node tetrahedra), so any tetrahedral .vtu with
+    Material and MinDihedralAngle works."""
     import numpy as np
     from vtkmodules.util.numpy_support import vtk_to_numpy
 
-    points, cells, material = tetrahedra(grid, source)
+    from .quadratic import jacobian_ratios, volumes as curved_volumes
+
+    points, nodes, material = element_nodes(grid, source)
+    cells = nodes[:, :4]
     array = grid.GetCellData().GetArray("MinDihedralAngle")
     if array is None:
         raise OracleMeshError(f"{source}: no cell array 'MinDihedralAngle' (write meshes with 'oraclemesh mesh')")
     angles = vtk_to_numpy(array).astype(np.float64)
     p = points[cells]
-    volumes = np.abs(np.einsum("ij,ij->i", p[:, 1] - p[:, 0], np.cross(p[:, 2] - p[:, 0], p[:, 3] - p[:, 0]))) / 6
+    quadratic = nodes.shape[1] == 10
+    volumes = curved_volumes(points, nodes) if quadratic else \
+        np.abs(np.einsum("ij,ij->i", p[:, 1] - p[:, 0], np.cross(p[:, 2] - p[:, 0], p[:, 3] - p[:, 0]))) / 6
     materials = {}
     for m in sorted(set(material.tolist())):
         sel = material == m
         materials[m] = {"tets": int(sel.sum()), "volume": float(volumes[sel].sum()),
                         "min_dihedral": float(angles[sel].min()), "mean_min_dihedral": float(angles[sel].mean())}
-    return {"materials": materials, "tets": int(len(cells)), "vertices": int(grid.GetNumberOfPoints()),
-            "volume": float(volumes.sum()), "min_dihedral": float(angles.min()), "angles": angles,
-            "material": material}
+    q = {"materials": materials, "tets": int(len(cells)), "vertices": int(len(np.unique(cells))) if quadratic else int(grid.GetNumberOfPoints()),
+         "nodes": int(grid.GetNumberOfPoints()), "volume": float(volumes.sum()), "min_dihedral": float(angles.min()),
+         "angles": angles, "material": material, "order": 2 if quadratic else 1}
+    if quadratic:
+        q["min_jacobian_ratio"] = float(jacobian_ratios(points, nodes).min())
+    return q
 
 
 def report_lines(grid, title, names=None, source="mesh", recheck=True):
@@ -108,7 +119,8 @@ def report_lines(grid, title, names=None, source="mesh", recheck=True):
     q = quality(grid, source)
     names = {**material_names(grid), **(names or {})}
     stats = statistics(grid)
-    lines = [f"{title}: {q['tets']} tetrahedra, {q['vertices']} vertices",
+    lines = [f"{title}: {q['tets']} {'10-node ' if q['order'] == 2 else ''}tetrahedra, {q['vertices']} vertices"
+             + (f", {q['nodes']} nodes" if q["order"] == 2 else ""),
              f"{'material':>8}  {'name':<18} {'tets':>9} {'volume [mm^3]':>14} {'min dihedral':>13} {'mean min':>9}"]
     for m, row in q["materials"].items():
         lines.append(f"{m:>8}  {names.get(m, '?'):<18} {row['tets']:>9} {row['volume']:>14.1f} "
@@ -126,6 +138,14 @@ def report_lines(grid, title, names=None, source="mesh", recheck=True):
                      + (f" ({segments.GetValue(0)} segments)" if segments is not None else ""))
     q["validity"] = validity(grid, recheck)
     lines.append(validity_line(q["validity"]))
+    if q["order"] == 2:
+        line = (f"quadratic tetrahedra: smallest Jacobian ratio {q['min_jacobian_ratio']:.3g} (det J at the 10 nodes "
+                f"and 4 Gauss points over the straight tetrahedron's; <= 0 is inverted)")
+        if "quadratic.snapped_nodes" in stats:
+            line += (f"; {int(stats['quadratic.snapped_nodes'])} of {int(stats['quadratic.interface_edges'])} interface "
+                     f"mid-edge nodes on the true surfaces, {int(stats['quadratic.relaxed_nodes'])} pulled back for "
+                     f"validity, {int(stats['quadratic.unsnapped_interface_edges'])} straight (junctions, creases)")
+        lines.append(line)
     phases = [(phase, stats[f"optimisation.{phase}_steps"], stats.get(f"optimisation.{phase}_cut_short"),
                stats.get(f"time.{phase}", 0.0)) for phase in ("perturbation", "exudation")
               if f"optimisation.{phase}_steps" in stats]

@@ -15,8 +15,8 @@ write the results (the README's "Scene files" section documents every key):
        {"name": "ball", "type": "sphere", "center": [...], "radius": 5, "material": 5},
        {"name": "block", "type": "box", "bounds": [xmin, xmax, ymin, ymax, zmin, zmax], "material": 6}],
      "mesh": {"strategy": "Conforming", "criteria": {...}, "materials": {"3": {...}},
-              "features": {"from_surface": "implant", "feature_angle": 60, "files": [...]},
-              "seed": 1, "maximum_number_of_vertices": 200000, "threads": 1},
+              "features": {"use": "Both", "from_surface": "implant", "feature_angle": 60, "files": [...]},
+              "seed": 1, "maximum_number_of_vertices": 200000, "time_limit": 600, "threads": 1},
      "outputs": {"mesh": ["out.vtu", "out.inp"], "report": "report.txt", "histogram": "dihedral.png"},
      "reference_volumes": {"5": 523.6}}
 
@@ -32,7 +32,7 @@ import json
 import math
 import os
 
-from .defaults import CRITERIA_KEYS, STRATEGIES, cut_default  # noqa: F401 (CRITERIA_KEYS, STRATEGIES re-exported)
+from .defaults import CRITERIA_KEYS, FEATURE_SOURCES, STRATEGIES, cut_default  # noqa: F401 (re-exported)
 from .errors import OracleMeshError
 from .readers import SPACES, label_map_frame, label_map_reader, surface_frame, surface_reader
 
@@ -50,8 +50,8 @@ TOP_KEYS = {"description", "comment", "space", "domains", "mesh", "outputs", "re
 MESH_KEYS = {"strategy", "criteria", "materials", "features", "seed", "maximum_number_of_vertices", "comment",
              "perturb", "exude", "sliver_angle", "interface_sliver_angle", "perturbation_steps_per_vertex",
              "exudation_steps_per_cell", "optimisation_time_limit", "perturbation_failures_per_bound",
-             "exudation_sliver_bound", "threads"}
-FEATURE_KEYS = {"from_surface", "feature_angle", "files", "resample", "comment"}
+             "exudation_sliver_bound", "time_limit", "element_order", "threads"}
+FEATURE_KEYS = {"use", "from_surface", "feature_angle", "files", "resample", "comment"}
 OUTPUT_KEYS = {"mesh", "report", "histogram", "comment"}
 INT_MIN, INT_MAX = -2**31, 2**31 - 1  # the C int of material ids, labels and the seed
 ID_MAX = 2**63 - 1  # vtkIdType: the vertex budget
@@ -298,13 +298,19 @@ def _mesh_block(problems, spec, scene):
                 mesh[key] = angle
     for key, low, high in (("perturbation_steps_per_vertex", 0, 1e6), ("exudation_steps_per_cell", 0, 1e6),
                            ("optimisation_time_limit", -1, 1e6), ("perturbation_failures_per_bound", 0, 1e6),
-                           ("exudation_sliver_bound", 0, 90)):
+                           ("exudation_sliver_bound", 0, 90), ("time_limit", -1, 1e9)):
         value = _number(problems, spec, "$.mesh", key, required=False)
         if value is not None:
             if not low <= value <= high:
                 problems.add(f"$.mesh.{key}", f"must be between {low} and {high:g}, got {value}")
             else:
                 mesh[key] = value
+    order = spec.get("element_order")
+    if order is not None:
+        if order not in (1, 2) or isinstance(order, bool):
+            problems.add("$.mesh.element_order", f"must be 1 (linear) or 2 (quadratic tetrahedra), got {order!r}")
+        else:
+            mesh["element_order"] = order
     limit = _number(problems, spec, "$.mesh", "maximum_number_of_vertices", positive=True, required=False,
                     integer=True, low=1, high=ID_MAX)
     if limit is not None:
@@ -316,11 +322,21 @@ def _mesh_block(problems, spec, scene):
     features = spec.get("features")
     if features is None:
         return
+    if isinstance(features, str):  # "features": "Automatic" is short for {"use": "Automatic"}
+        features = {"use": features}
     if not isinstance(features, dict):
-        problems.add("$.mesh.features", "must be an object")
+        problems.add("$.mesh.features", f"must be an object or one of {', '.join(FEATURE_SOURCES)}")
         return
     _unknown_keys(problems, features, "$.mesh.features", FEATURE_KEYS)
     out = {"from_surface": [], "files": []}
+    if "use" in features:
+        use = features["use"]
+        sources = {v.lower(): v for v in FEATURE_SOURCES}
+        if not isinstance(use, str) or use.lower() not in sources:
+            problems.add("$.mesh.features.use", f"must be one of {', '.join(FEATURE_SOURCES)} (which feature lines "
+                                                f"are kept: given, found where the inputs meet, or both), got {use!r}")
+        else:
+            out["use"] = sources[use.lower()]
     if "from_surface" in features:
         names = features["from_surface"]
         names = [names] if isinstance(names, str) else names
@@ -349,8 +365,9 @@ def _mesh_block(problems, spec, scene):
                 where = "$.mesh.features.files" + (f"[{k}]" if isinstance(features["files"], list) else "")
                 problems.add(where, str(e))
             out["files"].append(file)
-    if "from_surface" not in features and "files" not in features:
-        problems.add("$.mesh.features", "give 'from_surface' (a surface domain's name) and/or 'files' (polylines)")
+    if "from_surface" not in features and "files" not in features and "use" not in features:
+        problems.add("$.mesh.features", "give 'use' (which lines: None, Given, Automatic, Both), 'from_surface' "
+                                        "(a surface domain's name) and/or 'files' (polylines)")
     # Sharp edges found on a surface are often many tiny noisy segments: resampled unless asked not to.
     resample = features.get("resample", bool(out["from_surface"]))
     if not isinstance(resample, bool):

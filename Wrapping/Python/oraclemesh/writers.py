@@ -17,6 +17,13 @@ surfaces (``surfaces.py``: one set per material pair, ``CORTICAL_BONE__IMPLANT``
 - ``.mesh`` Medit: tetrahedron references are the material ids, triangle references the surface
   tags; ``#`` comments name both.
 
+10-node tetrahedra (``element_order`` 2, VTK_QUADRATIC_TETRA) are written as such: .vtu quadratic
+tetrahedra with ``_surfaces.vtu`` 6-node triangles (VTK_QUADRATIC_TRIANGLE); .inp C3D10 (the
+element-face ``*SURFACE`` works unchanged, each ``*NSET`` gets the faces' mid-edge nodes too); .msh
+Gmsh tetrahedra of 10 nodes and triangles of 6; .mesh ``TetrahedraP2`` and ``TrianglesP2`` (libMeshb's
+keywords; node order corners, then edges 12 23 31 (14 24 34), said in a comment; gmsh and
+``oraclemesh report`` read them, meshio 5.0 cannot).
+
 Surface tags are the largest material id + 1, + 2, ... in the surfaces' order (sorted by material
 pair, the exterior last), the same in every format. Every file is written atomically (``atomic.py``).
 """
@@ -24,6 +31,7 @@ import os
 
 from .atomic import atomic_output
 from .errors import OracleMeshError
+from .quadratic import face_nodes
 from .surfaces import abaqus_set_name, material_set_names, surface_sets  # noqa: F401  (abaqus_set_name: API)
 
 MESH_FORMATS = (".vtu", ".inp", ".msh", ".mesh")
@@ -70,35 +78,50 @@ def write_vtk_xml(data, path, writer_class):
             raise OracleMeshError(f"{path}: could not be written: {reason.replace(temporary, path)}")
 
 
-def tetrahedra(grid, source="mesh"):
-    """(points [n x 3], tetrahedra [m x 4] point ids, Material [m]) of a tetrahedral vtkUnstructuredGrid."""
+def element_nodes(grid, source="mesh"):
+    """(points [n x 3], element nodes [m x 4] or, for 10-node tetrahedra, [m x 10] point ids (VTK
+    order), Material [m]) of a tetrahedral vtkUnstructuredGrid: all linear or all quadratic."""
     import numpy as np
     from vtkmodules.util.numpy_support import vtk_to_numpy
-    from vtkmodules.util.vtkConstants import VTK_TETRA
+    from vtkmodules.util.vtkConstants import VTK_QUADRATIC_TETRA, VTK_TETRA
 
     if grid.GetNumberOfCells() == 0:
         raise OracleMeshError(f"{source}: the mesh has no cells")
     types = vtk_to_numpy(grid.GetCellTypesArray())
-    if (types != VTK_TETRA).any():
-        raise OracleMeshError(f"{source}: cell {int(np.argmax(types != VTK_TETRA))} is not a tetrahedron "
-                              f"(VTK cell type {int(types[types != VTK_TETRA][0])})")
+    kind = VTK_QUADRATIC_TETRA if types[0] == VTK_QUADRATIC_TETRA else VTK_TETRA
+    if (types != kind).any():
+        wrong = int(np.argmax(types != kind))
+        raise OracleMeshError(f"{source}: cell {wrong} is not a {'quadratic ' if kind != VTK_TETRA else ''}"
+                              f"tetrahedron like cell 0 (VTK cell type {int(types[wrong])})")
     material = grid.GetCellData().GetArray("Material")
     if material is None:
         raise OracleMeshError(f"{source}: no cell array 'Material' (write meshes with 'oraclemesh mesh')")
     points = vtk_to_numpy(grid.GetPoints().GetData()).astype(np.float64)
-    cells = vtk_to_numpy(grid.GetCells().GetConnectivityArray()).reshape(-1, 4).astype(np.int64)
-    return points, cells, vtk_to_numpy(material).astype(np.int64)
+    width = 10 if kind == VTK_QUADRATIC_TETRA else 4
+    nodes = vtk_to_numpy(grid.GetCells().GetConnectivityArray()).reshape(-1, width).astype(np.int64)
+    return points, nodes, vtk_to_numpy(material).astype(np.int64)
+
+
+def tetrahedra(grid, source="mesh"):
+    """(points [n x 3], tetrahedra [m x 4] point ids, Material [m]) of a tetrahedral vtkUnstructuredGrid;
+    of 10-node tetrahedra, their corners."""
+    points, nodes, material = element_nodes(grid, source)
+    return points, nodes[:, :4], material
 
 
 class MeshArrays:
-    """What every format needs, computed once per mesh: points, cells, material, {id: name}, the
-    SurfaceSets and each surface's tag."""
+    """What every format needs, computed once per mesh: points, cells (corners), nodes (all nodes:
+    the cells, or 10 per 10-node tetrahedron), quadratic, material, {id: name}, the SurfaceSets and
+    each surface's tag, face_nodes (the surface triangles' nodes: 3, or 6 for quadratic meshes)."""
 
     def __init__(self, grid, names=None, source="mesh"):
-        self.points, self.cells, self.material = tetrahedra(grid, source)
+        self.points, self.nodes, self.material = element_nodes(grid, source)
+        self.cells = self.nodes[:, :4]
+        self.quadratic = self.nodes.shape[1] == 10
         self.names = dict(names or {})
         self.ids = sorted(set(self.material.tolist()))
         self.sets = surface_sets(self.points, self.cells, self.material, self.names)
+        self.face_nodes = face_nodes(self.sets.faces, self.nodes) if self.quadratic else self.sets.faces
         first = max(self.ids) + 1
         self.tags = [first + i for i in range(len(self.sets))]
 
@@ -113,7 +136,7 @@ class MeshArrays:
 def _write_vtu(grid, path, arrays):
     import numpy as np
     from vtkmodules.util.numpy_support import numpy_to_vtk
-    from vtkmodules.util.vtkConstants import VTK_TRIANGLE
+    from vtkmodules.util.vtkConstants import VTK_QUADRATIC_TRIANGLE, VTK_TRIANGLE
     from vtkmodules.vtkCommonCore import vtkIntArray, vtkPoints
     from vtkmodules.vtkCommonDataModel import vtkCellArray, vtkUnstructuredGrid
     from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridWriter
@@ -122,15 +145,16 @@ def _write_vtu(grid, path, arrays):
 
     write_vtk_xml(without_strings(grid), path, vtkXMLUnstructuredGridWriter)
     sets = arrays.sets
-    used, local = np.unique(sets.faces, return_inverse=True)  # only the surfaces' points
+    used, local = np.unique(arrays.face_nodes, return_inverse=True)  # only the surfaces' points
     surfaces = vtkUnstructuredGrid()
     points = vtkPoints()
     points.SetData(numpy_to_vtk(arrays.points[used], deep=True))
     surfaces.SetPoints(points)
     triangles = vtkCellArray()
-    offsets = np.arange(0, 3 * len(sets.faces) + 1, 3, dtype=np.int64)
+    width = arrays.face_nodes.shape[1]
+    offsets = np.arange(0, width * len(sets.faces) + 1, width, dtype=np.int64)
     triangles.SetData(numpy_to_vtk(offsets, deep=True), numpy_to_vtk(local.ravel().astype(np.int64), deep=True))
-    surfaces.SetCells(VTK_TRIANGLE, triangles)
+    surfaces.SetCells(VTK_QUADRATIC_TRIANGLE if arrays.quadratic else VTK_TRIANGLE, triangles)
     tag = numpy_to_vtk(arrays.surface_tag().astype(np.int32), deep=True)
     tag.SetName("Surface")
     surfaces.GetCellData().AddArray(tag)
@@ -166,17 +190,29 @@ def _abaqus_surfaces(arrays):
     return "\n".join(lines) + "\n"
 
 
+def _plain_c3d10(path):
+    """meshio names 10-node tetrahedra C3D10MH (hybrid, modified: the last of its aliases); the plain
+    C3D10 is what a user asking for quadratic tetrahedra expects."""
+    with open(path, encoding="utf-8") as f:
+        text = f.read()
+    with open(path, "w", encoding="utf-8") as f:
+        f.write(text.replace("*ELEMENT, TYPE=C3D10MH\n", "*ELEMENT, TYPE=C3D10\n", 1))
+
+
 def _write_inp(path, arrays):
     import meshio
     import numpy as np
 
     set_names = material_set_names(arrays.ids, arrays.names)
     cell_sets = {set_names[m]: [np.flatnonzero(arrays.material == m)] for m in arrays.ids}
-    point_sets = {name: np.unique(arrays.sets.faces[arrays.sets.select(i)])
+    point_sets = {name: np.unique(arrays.face_nodes[arrays.sets.select(i)])
                   for i, name in enumerate(arrays.sets.names)}
-    mesh = meshio.Mesh(arrays.points, [("tetra", arrays.cells)], cell_sets=cell_sets, point_sets=point_sets)
+    kind = "tetra10" if arrays.quadratic else "tetra"
+    mesh = meshio.Mesh(arrays.points, [(kind, arrays.nodes)], cell_sets=cell_sets, point_sets=point_sets)
     with atomic_output(path) as temporary:
         meshio.abaqus.write(temporary, mesh)
+        if arrays.quadratic:
+            _plain_c3d10(temporary)
         with open(temporary, "a", encoding="utf-8") as f:
             f.write(_abaqus_surfaces(arrays))
     return [path]
@@ -197,7 +233,8 @@ def _write_msh(path, arrays):
     for tag, name in zip(arrays.tags, arrays.sets.names):
         field_data[name if name not in field_data else f"{name}_{tag}"] = np.array([tag, 2])
     tets, tris = arrays.material.astype(np.int32), arrays.surface_tag().astype(np.int32)
-    mesh = meshio.Mesh(arrays.points, [("tetra", arrays.cells), ("triangle", arrays.sets.faces)],
+    volume, face = ("tetra10", "triangle6") if arrays.quadratic else ("tetra", "triangle")
+    mesh = meshio.Mesh(arrays.points, [(volume, arrays.nodes), (face, arrays.face_nodes)],
                        cell_data={"gmsh:physical": [tets, tris], "gmsh:geometrical": [tets, tris]},
                        field_data=field_data)
     with atomic_output(path) as temporary:
@@ -214,6 +251,9 @@ def _write_medit(path, arrays):
 
     with atomic_output(path) as temporary, open(temporary, "w", encoding="utf-8") as f:
         f.write("# OracleMesh: tetrahedron references are material ids, triangle references surface tags\n")
+        if arrays.quadratic:
+            f.write("# OracleMesh: P2 nodes: corners, then the mid-edge nodes of edges 12 23 31 (triangles), "
+                    "12 23 31 14 24 34 (tetrahedra)\n")
         for m in arrays.ids:
             f.write(f"# material {m} {arrays.names.get(m, '')}".rstrip().replace("\n", " ") + "\n")
         for tag, name in zip(arrays.tags, arrays.sets.names):
@@ -221,8 +261,9 @@ def _write_medit(path, arrays):
         f.write("MeshVersionFormatted 2\nDimension 3\n")
         block(f, "Vertices", np.column_stack([arrays.points, np.zeros(len(arrays.points))]),
               ["%.17g"] * 3 + ["%d"])
-        block(f, "Triangles", np.column_stack([arrays.sets.faces + 1, arrays.surface_tag()]), "%d")
-        block(f, "Tetrahedra", np.column_stack([arrays.cells + 1, arrays.material]), "%d")
+        p2 = "P2" if arrays.quadratic else ""  # libMeshb's keywords of 6-node triangles, 10-node tetrahedra
+        block(f, "Triangles" + p2, np.column_stack([arrays.face_nodes + 1, arrays.surface_tag()]), "%d")
+        block(f, "Tetrahedra" + p2, np.column_stack([arrays.nodes + 1, arrays.material]), "%d")
         f.write("End\n")
     return [path]
 

@@ -1,0 +1,490 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "FeatureNetworkSimplification.h"
+
+#include "FeatureMerge.h"
+
+#include <CGAL/AABB_segment_primitive.h>
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Fuzzy_sphere.h>
+#include <CGAL/Kd_tree.h>
+#include <CGAL/Search_traits_3.h>
+#include <CGAL/Search_traits_adapter.h>
+#include <CGAL/property_map.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <tuple>
+
+namespace omesh
+{
+namespace
+{
+using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Point = K::Point_3;
+using Segment = K::Segment_3;
+using SegmentIterator = std::vector<Segment>::const_iterator;
+using Tree = CGAL::AABB_tree<CGAL::AABB_traits<K, CGAL::AABB_segment_primitive<K, SegmentIterator>>>;
+using PointMap = CGAL::Pointer_property_map<Point>::const_type;
+using KdTraits = CGAL::Search_traits_adapter<std::size_t, PointMap, CGAL::Search_traits_3<K>>;
+using KdTree = CGAL::Kd_tree<KdTraits>;
+using Sphere = CGAL::Fuzzy_sphere<KdTraits>;
+
+Point toPoint(const Vec3& v) { return { v.x, v.y, v.z }; }
+
+std::vector<Segment> cgalSegments(const FeatureSegments& f)
+{
+  std::vector<Segment> s;
+  s.reserve(f.segments.size());
+  for (const auto& seg : f.segments)
+    s.emplace_back(toPoint(f.points[seg[0]]), toPoint(f.points[seg[1]]));
+  return s;
+}
+
+std::vector<std::size_t> degrees(const FeatureSegments& f)
+{
+  std::vector<std::size_t> d(f.points.size(), 0);
+  for (const auto& s : f.segments)
+  {
+    ++d[s[0]];
+    ++d[s[1]];
+  }
+  return d;
+}
+
+/// Only the points some segment uses, renumbered.
+void keepUsedPoints(FeatureSegments& f)
+{
+  std::vector<int> index(f.points.size(), -1);
+  std::vector<Vec3> points;
+  for (auto& s : f.segments)
+    for (int& e : s)
+    {
+      if (index[e] < 0)
+      {
+        index[e] = static_cast<int>(points.size());
+        points.push_back(f.points[e]);
+      }
+      e = index[e];
+    }
+  f.points = std::move(points);
+}
+
+/// Segments renumbered by `to`, without the ones that became a point, then repeated points and
+/// segments merged and unused points removed (mergeFeatureSegments).
+void remapSegments(FeatureSegments& f, const std::vector<int>& to)
+{
+  std::vector<std::array<int, 2>> kept;
+  kept.reserve(f.segments.size());
+  for (const auto& s : f.segments)
+    if (to[s[0]] != to[s[1]])
+      kept.push_back({ to[s[0]], to[s[1]] });
+  f.segments = std::move(kept);
+  mergeFeatureSegments(f);
+}
+
+/// Step 1: greedy clustering, highest degree first: each point not yet taken keeps its place and
+/// takes every untaken point within `d` (a kd-tree range query). Returns the points merged.
+std::size_t mergeNearbyPoints(FeatureSegments& f, double d)
+{
+  const std::size_t n = f.points.size();
+  std::vector<Point> pts(n);
+  for (std::size_t i = 0; i < n; ++i)
+    pts[i] = toPoint(f.points[i]);
+  std::vector<std::size_t> ids(n);
+  std::iota(ids.begin(), ids.end(), 0);
+  KdTree tree(ids.begin(), ids.end(), KdTree::Splitter(), KdTraits(PointMap(pts.data())));
+  const auto deg = degrees(f);
+  std::vector<std::size_t> order = ids;
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return deg[a] > deg[b]; });
+  std::vector<int> to(n, -1);
+  std::size_t merged = 0;
+  std::vector<std::size_t> near;
+  for (std::size_t v : order)
+  {
+    if (to[v] >= 0)
+      continue;
+    to[v] = static_cast<int>(v);
+    near.clear();
+    tree.search(std::back_inserter(near), Sphere(pts[v], d, 0.0, KdTraits(PointMap(pts.data()))));
+    for (std::size_t w : near)
+      if (to[w] < 0 && CGAL::squared_distance(pts[v], pts[w]) < d * d)
+      {
+        to[w] = static_cast<int>(v);
+        ++merged;
+      }
+  }
+  if (merged)
+    remapSegments(f, to);
+  return merged;
+}
+
+/// For each point, its neighbours along the segments, sorted.
+std::vector<std::vector<int>> neighbours(const FeatureSegments& f)
+{
+  std::vector<std::vector<int>> n(f.points.size());
+  for (const auto& s : f.segments)
+  {
+    n[s[0]].push_back(s[1]);
+    n[s[1]].push_back(s[0]);
+  }
+  for (auto& v : n)
+    std::sort(v.begin(), v.end());
+  return n;
+}
+
+/// Snapping p (closer than d to segment ab) into ab helps where p is no neighbour of a or b (a
+/// near-touch becomes a junction), or where it is one at an angle below 45 degrees (the pair then
+/// shares a trunk; the total length of the lines drops, so such snaps cannot cycle). Three
+/// neighbours at wider angles (a small fat triangle) are left as they are.
+bool worthSnapping(const FeatureSegments& f, const std::vector<std::vector<int>>& adjacent, int p, int a, int b)
+{
+  const auto& n = adjacent[p];
+  const bool nextToA = std::binary_search(n.begin(), n.end(), a);
+  const bool nextToB = std::binary_search(n.begin(), n.end(), b);
+  if (!nextToA && !nextToB)
+    return true;
+  constexpr double trunkAngle = 45.0;
+  return (nextToA && angleAt(f.points[a], f.points[p], f.points[b]) < trunkAngle) ||
+    (nextToB && angleAt(f.points[b], f.points[p], f.points[a]) < trunkAngle);
+}
+
+/// Step 2, one round: the closest (point, segment) pairs first, each split only where none of its
+/// three points took part in a split of this round (so the splits are independent, as if made one
+/// after the other, and two segments cannot split each other back and forth). Returns the splits.
+std::size_t snapPointsToSegments(FeatureSegments& f, double d, double minAngle)
+{
+  const std::vector<Segment> segs = cgalSegments(f);
+  if (segs.empty())
+    return 0;
+  Tree tree(segs.begin(), segs.end());
+  struct Candidate
+  {
+    double distance;
+    std::size_t segment;
+    int point;
+    bool operator<(const Candidate& o) const { return std::tie(distance, segment, point) < std::tie(o.distance, o.segment, o.point); }
+  };
+  std::vector<Candidate> candidates;
+  std::vector<Tree::Primitive_id> hits;
+  const auto deg = degrees(f);
+  const auto adjacent = neighbours(f);
+  for (std::size_t p = 0; p < f.points.size(); ++p)
+  {
+    if (deg[p] == 0)
+      continue;
+    const Point q = toPoint(f.points[p]);
+    hits.clear();
+    tree.all_intersected_primitives(
+      CGAL::Bbox_3(q.x() - d, q.y() - d, q.z() - d, q.x() + d, q.y() + d, q.z() + d), std::back_inserter(hits));
+    for (const auto& it : hits)
+    {
+      const std::size_t s = static_cast<std::size_t>(it - segs.begin());
+      const auto& e = f.segments[s];
+      const int pi = static_cast<int>(p);
+      if (e[0] == pi || e[1] == pi)
+        continue;
+      const double dist2 = CGAL::squared_distance(q, *it);
+      if (dist2 < d * d && worthSnapping(f, adjacent, pi, e[0], e[1]))
+        candidates.push_back({ std::sqrt(dist2), s, pi });
+    }
+  }
+  // Small angles at shared points, at any distance: the shorter segment's far end goes into the longer.
+  if (minAngle > 0)
+  {
+    std::vector<std::vector<std::size_t>> inc(f.points.size());
+    for (std::size_t i = 0; i < f.segments.size(); ++i)
+    {
+      inc[f.segments[i][0]].push_back(i);
+      inc[f.segments[i][1]].push_back(i);
+    }
+    for (std::size_t v = 0; v < f.points.size(); ++v)
+      for (std::size_t i = 0; i < inc[v].size(); ++i)
+        for (std::size_t j = i + 1; j < inc[v].size(); ++j)
+        {
+          std::size_t shorter = inc[v][i], longer = inc[v][j];
+          if (f.length(longer) < f.length(shorter))
+            std::swap(shorter, longer);
+          const int vi = static_cast<int>(v);
+          const int p = f.segments[shorter][0] == vi ? f.segments[shorter][1] : f.segments[shorter][0];
+          const int q = f.segments[longer][0] == vi ? f.segments[longer][1] : f.segments[longer][0];
+          const double angle = angleAt(f.points[v], f.points[p], f.points[q]);
+          if (angle < minAngle)
+            candidates.push_back({ f.length(shorter) * std::sin(angle * M_PI / 180.0), longer, p });
+        }
+  }
+  std::sort(candidates.begin(), candidates.end());
+  std::vector<char> taken(f.points.size(), 0);
+  std::vector<int> splitAt(f.segments.size(), -1);
+  std::size_t count = 0;
+  for (const Candidate& c : candidates)
+  {
+    const auto& e = f.segments[c.segment];
+    if (taken[e[0]] || taken[e[1]] || taken[c.point])
+      continue;
+    taken[e[0]] = taken[e[1]] = taken[c.point] = 1;
+    splitAt[c.segment] = c.point;
+    ++count;
+  }
+  if (!count)
+    return 0;
+  std::vector<std::array<int, 2>> out;
+  out.reserve(f.segments.size() + count);
+  for (std::size_t s = 0; s < f.segments.size(); ++s)
+  {
+    if (splitAt[s] < 0)
+      out.push_back(f.segments[s]);
+    else
+    {
+      out.push_back({ f.segments[s][0], splitAt[s] });
+      out.push_back({ splitAt[s], f.segments[s][1] });
+    }
+  }
+  f.segments = std::move(out);
+  mergeFeatureSegments(f);
+  return count;
+}
+
+/// Step 2 until nothing moves (at most `rounds`, a backstop): a split can bring a new segment near a point.
+std::size_t snapUntilStable(FeatureSegments& f, double d, double minAngle, int rounds = 64)
+{
+  std::size_t total = 0;
+  for (int r = 0; r < rounds; ++r)
+  {
+    const std::size_t n = snapPointsToSegments(f, d, minAngle);
+    total += n;
+    if (!n)
+      break;
+  }
+  return total;
+}
+
+/// Step 3: whiskers and small separate pieces. Chains run between points of degree other than 2.
+void dropSpurs(FeatureSegments& f, double s, FeatureNetworkReport& report)
+{
+  const auto deg = degrees(f);
+  std::vector<std::vector<std::size_t>> inc(f.points.size());
+  for (std::size_t i = 0; i < f.segments.size(); ++i)
+  {
+    inc[f.segments[i][0]].push_back(i);
+    inc[f.segments[i][1]].push_back(i);
+  }
+  auto other = [&](std::size_t seg, int v) { return f.segments[seg][0] == v ? f.segments[seg][1] : f.segments[seg][0]; };
+  struct Chain
+  {
+    std::vector<std::size_t> segs;
+    double length = 0.0;
+    int end = -1; ///< the point of degree other than 2 it reaches (-1: a loop)
+  };
+  // The chain from `v` through `first` to the next point of degree other than 2.
+  auto walk = [&](int v, std::size_t first) {
+    Chain c;
+    const int start = v;
+    for (std::size_t seg = first;;)
+    {
+      c.segs.push_back(seg);
+      c.length += f.length(seg);
+      v = other(seg, v);
+      if (deg[v] != 2)
+        return c.end = v, c;
+      if (v == start)
+        return c;
+      seg = inc[v][0] == seg ? inc[v][1] : inc[v][0];
+    }
+  };
+  std::vector<char> drop(f.segments.size(), 0), seen(f.segments.size(), 0);
+  // Spurs, grouped by their branch point: a branch point whose chains are all spurs keeps its longest.
+  std::vector<std::vector<Chain>> spursAt(f.points.size());
+  for (std::size_t v = 0; v < f.points.size(); ++v)
+  {
+    if (deg[v] != 1 || seen[inc[v][0]])
+      continue;
+    Chain c = walk(static_cast<int>(v), inc[v][0]);
+    for (std::size_t seg : c.segs)
+      seen[seg] = 1;
+    if (c.length >= s)
+      continue;
+    if (deg[c.end] == 1) // a separate short chain
+    {
+      for (std::size_t seg : c.segs)
+        drop[seg] = 1;
+      ++report.piecesDropped;
+    }
+    else
+      spursAt[c.end].push_back(std::move(c));
+  }
+  for (std::size_t b = 0; b < f.points.size(); ++b)
+  {
+    auto& spurs = spursAt[b];
+    if (spurs.empty())
+      continue;
+    if (spurs.size() == deg[b])
+    {
+      // keep the longest
+      auto longest = std::max_element(spurs.begin(), spurs.end(),
+        [](const Chain& x, const Chain& y) { return x.length < y.length; });
+      spurs.erase(longest);
+    }
+    for (const Chain& c : spurs)
+      for (std::size_t seg : c.segs)
+        drop[seg] = 1;
+    report.spursDropped += spurs.size();
+  }
+  // Separate loops (every point of degree 2) shorter than s.
+  for (std::size_t i = 0; i < f.segments.size(); ++i)
+  {
+    const int v = f.segments[i][0];
+    if (seen[i] || deg[v] != 2)
+      continue;
+    Chain c = walk(v, i);
+    for (std::size_t seg : c.segs)
+      seen[seg] = 1;
+    if (c.end < 0 && c.length < s)
+    {
+      for (std::size_t seg : c.segs)
+        drop[seg] = 1;
+      ++report.piecesDropped;
+    }
+  }
+  std::vector<std::array<int, 2>> kept;
+  for (std::size_t i = 0; i < f.segments.size(); ++i)
+    if (!drop[i])
+      kept.push_back(f.segments[i]);
+  if (kept.size() != f.segments.size())
+  {
+    f.segments = std::move(kept);
+    keepUsedPoints(f);
+  }
+}
+
+/// The lines without their separate pieces (connected parts) shorter than `s`, and the length of those.
+std::pair<FeatureSegments, double> withoutShortPieces(const FeatureSegments& f, double s)
+{
+  std::vector<int> root(f.points.size());
+  std::iota(root.begin(), root.end(), 0);
+  auto find = [&](int x) {
+    while (root[x] != x)
+      x = root[x] = root[root[x]];
+    return x;
+  };
+  for (const auto& seg : f.segments)
+    root[find(seg[0])] = find(seg[1]);
+  std::vector<double> length(f.points.size(), 0.0);
+  for (std::size_t i = 0; i < f.segments.size(); ++i)
+    length[find(f.segments[i][0])] += f.length(i);
+  FeatureSegments kept;
+  kept.points = f.points;
+  double dropped = 0.0;
+  for (std::size_t i = 0; i < f.segments.size(); ++i)
+    if (length[find(f.segments[i][0])] >= s)
+      kept.segments.push_back(f.segments[i]);
+    else
+      dropped += f.length(i);
+  return { kept, dropped };
+}
+
+/// Step 6: a chord between two points of a noisy surface can pass outside it, where it cannot be a
+/// mesh edge: segments with an interior sample (at most h / 8 apart) outside the domain are dropped.
+std::size_t dropSegmentsLeavingDomain(FeatureSegments& f, const FeatureNetworkTolerances& tol)
+{
+  const auto near = [&](const Vec3& p, double eps) {
+    if (tol.inDomain(p))
+      return true;
+    for (int axis = 0; axis < 3; ++axis)
+      for (double sign : { -1.0, 1.0 })
+      {
+        Vec3 q = p;
+        q[axis] += sign * eps;
+        if (tol.inDomain(q))
+          return true;
+      }
+    return false;
+  };
+  std::vector<std::array<int, 2>> kept;
+  for (std::size_t s = 0; s < f.segments.size(); ++s)
+  {
+    const Vec3& a = f.points[f.segments[s][0]];
+    const Vec3& b = f.points[f.segments[s][1]];
+    const int n = std::max(3, static_cast<int>(std::ceil(8.0 * f.length(s) / tol.edgeLength)));
+    bool inside = true;
+    for (int k = 1; inside && k < n; ++k)
+      inside = near(lerp(a, b, static_cast<double>(k) / n), 1e-3 * f.length(s));
+    if (inside)
+      kept.push_back(f.segments[s]);
+  }
+  const std::size_t dropped = f.segments.size() - kept.size();
+  if (dropped)
+  {
+    f.segments = std::move(kept);
+    keepUsedPoints(f);
+  }
+  return dropped;
+}
+
+double shortestSegment(const FeatureSegments& f)
+{
+  double shortest = f.segments.empty() ? 0.0 : std::numeric_limits<double>::infinity();
+  for (std::size_t s = 0; s < f.segments.size(); ++s)
+    shortest = std::min(shortest, f.length(s));
+  return shortest;
+}
+}
+
+double featureLinesDistance(const FeatureSegments& from, const FeatureSegments& to, double spacing)
+{
+  if (from.empty())
+    return 0.0;
+  if (to.empty())
+    return std::numeric_limits<double>::infinity();
+  const std::vector<Segment> segs = cgalSegments(to);
+  Tree tree(segs.begin(), segs.end());
+  tree.accelerate_distance_queries();
+  double worst = 0.0;
+  for (std::size_t s = 0; s < from.segments.size(); ++s)
+  {
+    const Vec3& a = from.points[from.segments[s][0]];
+    const Vec3& b = from.points[from.segments[s][1]];
+    const int n = std::max(1, static_cast<int>(std::ceil(from.length(s) / spacing)));
+    for (int k = 0; k <= n; ++k)
+      worst = std::max(worst, tree.squared_distance(toPoint(lerp(a, b, static_cast<double>(k) / n))));
+  }
+  return std::sqrt(worst);
+}
+
+FeatureNetworkReport simplifyFeatureNetwork(FeatureSegments& f, const FeatureNetworkTolerances& tol)
+{
+  FeatureNetworkReport report;
+  const double h = tol.edgeLength;
+  if (f.empty() || !(h > 0))
+    return report;
+  const FeatureSegments given = f;
+  const double d = tol.mergeDistance();
+  if (d > 0)
+  {
+    report.pointsMerged = mergeNearbyPoints(f, d);
+    report.pointsSnapped = snapUntilStable(f, d, tol.minAngle);
+  }
+  if (tol.spurLength() > 0)
+    dropSpurs(f, tol.spurLength(), report);
+  report.pointsResampled = resampleFeatureLines(f, h, std::max(0.0, tol.chordTolerance));
+  if (d > 0)
+    report.pointsSnapped += snapUntilStable(f, d, tol.minAngle);
+  if (tol.inDomain)
+  {
+    report.segmentsOutside = dropSegmentsLeavingDomain(f, tol);
+    if (report.segmentsOutside && tol.spurLength() > 0)
+      dropSpurs(f, tol.spurLength(), report);
+  }
+  // Separate pieces shorter than the spur length are dropped on purpose: measured apart.
+  const auto [kept, shortLength] = withoutShortPieces(given, tol.spurLength());
+  report.shortPiecesLength = shortLength;
+  report.givenToSimplified = featureLinesDistance(kept, f, h / 50.0);
+  report.simplifiedToGiven = featureLinesDistance(f, given, h / 50.0);
+  report.smallestAngle = f.smallestAngle();
+  report.shortestSegment = shortestSegment(f);
+  return report;
+}
+}

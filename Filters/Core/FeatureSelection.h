@@ -1,0 +1,57 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#pragma once
+
+#include "FeatureSegments.h"
+#include "OracleFeatureLines.h"
+
+#include <cstddef>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace omesh
+{
+class HierarchicalOracle;
+struct MaterialCriteria;
+
+/// Which feature lines the mesher keeps: none, the given ones (user polylines, sharp edges of a
+/// surface), the ones found where the inputs meet (findFeatureLines), or both.
+enum class FeatureSource
+{
+  None,
+  Given,
+  Automatic,
+  Both
+};
+
+/// The default, the one source of it (the VTK filter, the plugin XML, the scene loader and the
+/// command line take theirs from here): Given, the meshes of before. Not Both (Automatic when no
+/// lines are given), which issue 13 suggests: on the demo scene (a tray seated on the resection
+/// plane, coplanar with it) the lines found meet at angles down to 0 degrees, and the mesher then
+/// ran into the vertex budget (the demo, the bone/implant cases and the doors timed out at 300-600 s).
+/// Automatic lines are one option away until the mesher copes with such angles.
+constexpr FeatureSource kDefaultFeatureSource = FeatureSource::Given;
+
+const char* toString(FeatureSource s);
+
+/// The lines to mesh and what was done to get them.
+struct FeatureSelection
+{
+  FeatureSegments segments;           ///< given (as they are) then automatic, vertices shared where equal
+  FeatureLines automatic;             ///< the lines found (all of them, before dropping any)
+  std::size_t droppedAutomatic = 0;   ///< automatic segments dropped because they cross a given one
+  std::vector<std::string> warnings;  ///< the search's (small angles), the drops
+};
+
+/// The lines the mesher gets for `source`. Automatic lines are resampled to the edge size of the
+/// materials they separate (their smallest; else the facet size, else 1/40 of the oracle's diagonal,
+/// as MesherOptions::resampleFeatureLines) within a tenth of the smallest facet distance; the search grid
+/// is half that fine. Given lines win: an automatic segment that crosses a given one is dropped
+/// (with a warning), so a rim given by hand and found again does not make the lines invalid.
+/// `progress` as FeatureLineOptions::progress.
+FeatureSelection selectFeatures(const HierarchicalOracle& oracle, const FeatureSegments& given, FeatureSource source,
+  const MaterialCriteria& criteria, const std::function<bool(double)>& progress = {});
+
+/// The search options selectFeatures derives from the criteria (see there).
+FeatureLineOptions featureLineOptions(const HierarchicalOracle& oracle, const MaterialCriteria& criteria);
+}

@@ -1,0 +1,623 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "OracleFeatureLines.h"
+
+#include "HierarchicalOracle.h"
+#include "InputError.h"
+
+#include <algorithm>
+#include <array>
+#include <climits>
+#include <cmath>
+#include <cstdint>
+#include <map>
+#include <set>
+#include <sstream>
+#include <unordered_map>
+
+namespace omesh
+{
+namespace
+{
+using Region = Decision;
+using Signature = std::vector<Region>; // the regions around a curve, sorted
+
+/// The regions met along a segment: r[0] up to t[0], r[1] up to t[1], ..., r.back() up to 1.
+struct EdgeRegions
+{
+  std::vector<double> t;
+  std::vector<Region> r;
+};
+
+/// Exact: every domain lists where its material may change, and the region is evaluated between
+/// consecutive candidates (as HierarchicalOracle::intersect does).
+EdgeRegions regionsAlong(const HierarchicalOracle& oracle, const Vec3& a, const Vec3& b)
+{
+  std::vector<double> ts;
+  for (const auto& d : oracle.domains())
+    d->crossings(a, b, ts);
+  std::sort(ts.begin(), ts.end());
+  ts.push_back(1.0);
+  EdgeRegions e;
+  double previous = 0.0;
+  for (double t : ts)
+  {
+    t = std::min(t, 1.0);
+    if (!(t > previous))
+      continue;
+    const Region r = oracle.decide(lerp(a, b, 0.5 * (previous + t)));
+    if (e.r.empty())
+      e.r.push_back(r);
+    else if (r != e.r.back())
+    {
+      e.t.push_back(previous);
+      e.r.push_back(r);
+    }
+    previous = t;
+  }
+  if (e.r.empty())
+    e.r.push_back(oracle.decide(lerp(a, b, 0.5)));
+  return e;
+}
+
+/// The part [lo, hi] of an edge, reparametrised to [0, 1].
+EdgeRegions restrictTo(const EdgeRegions& e, double lo, double hi)
+{
+  EdgeRegions out;
+  size_t k = std::upper_bound(e.t.begin(), e.t.end(), lo) - e.t.begin();
+  out.r.push_back(e.r[k]);
+  for (; k < e.t.size() && e.t[k] < hi; ++k)
+  {
+    out.t.push_back((e.t[k] - lo) / (hi - lo));
+    out.r.push_back(e.r[k + 1]);
+  }
+  return out;
+}
+
+/// A rectangle o + s U + t V (s, t in [0, 1]) with the regions along its four edges; bottom and top
+/// run along U, left and right along V.
+struct Rect
+{
+  Vec3 o, U, V;
+  EdgeRegions bottom, top, left, right;
+};
+
+/// The regions met walking once around the rectangle, consecutive repeats merged.
+std::vector<Region> loopOf(const Rect& q)
+{
+  std::vector<Region> loop;
+  auto push = [&](const Region& r) {
+    if (loop.empty() || loop.back() != r)
+      loop.push_back(r);
+  };
+  for (const Region& r : q.bottom.r)
+    push(r);
+  for (const Region& r : q.right.r)
+    push(r);
+  for (auto it = q.top.r.rbegin(); it != q.top.r.rend(); ++it)
+    push(*it);
+  for (auto it = q.left.r.rbegin(); it != q.left.r.rend(); ++it)
+    push(*it);
+  while (loop.size() > 1 && loop.back() == loop.front())
+    loop.pop_back();
+  return loop;
+}
+
+/// A curve where regions meet passes through the rectangle when some boundary between two regions
+/// crosses its edges an odd number of times (a boundary that only enters and leaves crosses twice).
+bool holdsCurve(const std::vector<Region>& loop)
+{
+  if (loop.size() < 3)
+    return false;
+  std::map<std::pair<Region, Region>, int> count;
+  for (size_t k = 0; k < loop.size(); ++k)
+  {
+    Region a = loop[k], b = loop[(k + 1) % loop.size()];
+    if (b < a)
+      std::swap(a, b);
+    ++count[{ a, b }];
+  }
+  for (const auto& [pair, n] : count)
+    if (n % 2)
+      return true;
+  return false;
+}
+
+/// Halves the rectangle across U (acrossU) or V; the new edge comes from the oracle.
+std::pair<Rect, Rect> split(const HierarchicalOracle& oracle, const Rect& q, bool acrossU)
+{
+  Rect a, b;
+  if (acrossU)
+  {
+    const Vec3 hU = 0.5 * q.U;
+    const EdgeRegions mid = regionsAlong(oracle, q.o + hU, q.o + hU + q.V);
+    a = { q.o, hU, q.V, restrictTo(q.bottom, 0, 0.5), restrictTo(q.top, 0, 0.5), q.left, mid };
+    b = { q.o + hU, hU, q.V, restrictTo(q.bottom, 0.5, 1), restrictTo(q.top, 0.5, 1), mid, q.right };
+  }
+  else
+  {
+    const Vec3 hV = 0.5 * q.V;
+    const EdgeRegions mid = regionsAlong(oracle, q.o + hV, q.o + hV + q.U);
+    a = { q.o, q.U, hV, q.bottom, mid, restrictTo(q.left, 0, 0.5), restrictTo(q.right, 0, 0.5) };
+    b = { q.o + hV, q.U, hV, mid, q.top, restrictTo(q.left, 0.5, 1), restrictTo(q.right, 0.5, 1) };
+  }
+  return { a, b };
+}
+
+struct Crossing
+{
+  Vec3 point;
+  Signature regions;
+};
+
+/// Bisects a rectangle that holds a curve down to `precision`; the centre of the last one and the
+/// regions around it.
+Crossing locate(const HierarchicalOracle& oracle, Rect q, double precision)
+{
+  for (int step = 0; step < 200 && std::max(norm(q.U), norm(q.V)) > precision; ++step)
+  {
+    auto [a, b] = split(oracle, q, norm(q.U) >= norm(q.V));
+    if (holdsCurve(loopOf(a)))
+      q = std::move(a);
+    else if (holdsCurve(loopOf(b)))
+      q = std::move(b);
+    else
+      break; // rounding at the last digits: the curve is within this rectangle
+  }
+  Crossing c;
+  c.point = q.o + 0.5 * q.U + 0.5 * q.V;
+  c.regions = loopOf(q);
+  std::sort(c.regions.begin(), c.regions.end());
+  c.regions.erase(std::unique(c.regions.begin(), c.regions.end()), c.regions.end());
+  return c;
+}
+
+/// The materials meeting at a curve, ascending.
+std::vector<int> materialsOf(const Signature& s)
+{
+  std::vector<int> m;
+  for (const Region& r : s)
+    m.push_back(r.material);
+  std::sort(m.begin(), m.end());
+  m.erase(std::unique(m.begin(), m.end()), m.end());
+  return m;
+}
+
+/// A curve is a feature when three or more materials meet there, or when the interfaces meeting
+/// there belong to two different inputs' boundaries: the boundary between two regions of different
+/// materials is the boundary of the higher-priority deciding domain of the two.
+bool isFeature(const Signature& s)
+{
+  if (materialsOf(s).size() >= 3)
+    return true;
+  std::set<int> sheets;
+  for (size_t i = 0; i < s.size(); ++i)
+    for (size_t j = i + 1; j < s.size(); ++j)
+      if (s[i].material != s[j].material)
+      {
+        const int di = s[i].domain < 0 ? INT_MAX : s[i].domain;
+        const int dj = s[j].domain < 0 ? INT_MAX : s[j].domain;
+        sheets.insert(std::min(di, dj));
+      }
+  return sheets.size() >= 2;
+}
+
+/// The point nearest (least squares) to lines through p[i] along unit d[i]; false when they are
+/// (nearly) parallel.
+bool nearestToLines(const std::vector<Vec3>& p, const std::vector<Vec3>& d, Vec3& x)
+{
+  double A[3][3] = {}, b[3] = {};
+  for (size_t k = 0; k < p.size(); ++k)
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j)
+      {
+        const double m = (i == j ? 1.0 : 0.0) - d[k][i] * d[k][j];
+        A[i][j] += m;
+        b[i] += m * p[k][j];
+      }
+  const double det = A[0][0] * (A[1][1] * A[2][2] - A[1][2] * A[2][1]) -
+    A[0][1] * (A[1][0] * A[2][2] - A[1][2] * A[2][0]) + A[0][2] * (A[1][0] * A[2][1] - A[1][1] * A[2][0]);
+  if (!(std::abs(det) > 1e-6 * std::pow(static_cast<double>(p.size()), 3)))
+    return false;
+  for (int c = 0; c < 3; ++c)
+  {
+    double M[3][3];
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j)
+        M[i][j] = j == c ? b[i] : A[i][j];
+    x[c] = (M[0][0] * (M[1][1] * M[2][2] - M[1][2] * M[2][1]) - M[0][1] * (M[1][0] * M[2][2] - M[1][2] * M[2][0]) +
+             M[0][2] * (M[1][0] * M[2][1] - M[1][1] * M[2][0])) /
+      det;
+  }
+  return isFinite(x);
+}
+
+/// The points of a resampled single curve in order (a closed one repeats its first point).
+std::vector<int> chainOrder(const FeatureSegments& f)
+{
+  std::vector<std::vector<int>> inc(f.points.size());
+  for (size_t s = 0; s < f.segments.size(); ++s)
+    for (int v : f.segments[s])
+      inc[v].push_back(static_cast<int>(s));
+  int start = 0;
+  for (size_t v = 0; v < inc.size(); ++v)
+    if (inc[v].size() == 1)
+    {
+      start = static_cast<int>(v);
+      break;
+    }
+  std::vector<int> chain{ start };
+  std::vector<char> used(f.segments.size(), 0);
+  for (int v = start;;)
+  {
+    int next = -1;
+    for (int s : inc[v])
+      if (!used[s])
+      {
+        used[s] = 1;
+        next = f.segments[s][0] == v ? f.segments[s][1] : f.segments[s][0];
+        break;
+      }
+    if (next < 0)
+      break;
+    chain.push_back(next);
+    v = next;
+  }
+  return chain;
+}
+
+std::string describe(const Vec3& p)
+{
+  std::ostringstream o;
+  o << "(" << p.x << ", " << p.y << ", " << p.z << ")";
+  return o.str();
+}
+}
+
+FeatureLines findFeatureLines(const HierarchicalOracle& oracle, const FeatureLineOptions& options)
+{
+  FeatureLines result;
+  const BoundingBox box = oracle.bounds(); // throws for an empty or unbounded oracle
+  const double diagonal = norm(box.size());
+  double h = options.spacing > 0 ? options.spacing
+    : options.maxSegmentLength > 0 ? 0.5 * options.maxSegmentLength
+                                   : diagonal / 64.0;
+  h = std::min(h, diagonal / 4.0);
+  if (!(h > 0) || !std::isfinite(h))
+    throw InputError("feature lines: the search grid's spacing " + std::to_string(h) + " is not a positive number");
+  // Two grid steps of room around the materials; the origin is shifted by odd fractions of a step
+  // so that grid planes do not fall on the round coordinates inputs like to have.
+  const Vec3 shift{ 0.5 + 0.1234567, 0.5 + 0.2718282, 0.5 + 0.3141593 };
+  auto gridSize = [&](double step) {
+    std::array<int, 3> n;
+    for (int i = 0; i < 3; ++i)
+      n[i] = static_cast<int>(std::ceil(box.size()[i] / step + 2 * shift[i])) + 2;
+    return n;
+  };
+  std::array<int, 3> n = gridSize(h);
+  const double wanted = h;
+  while (static_cast<double>(n[0]) * n[1] * n[2] > static_cast<double>(options.maximumGridPoints))
+    n = gridSize(h *= 1.1);
+  if (h > wanted)
+    result.warnings.push_back("feature lines: the search grid's spacing was widened from " + std::to_string(wanted) +
+      " to " + std::to_string(h) + " (at most " + std::to_string(options.maximumGridPoints) +
+      " grid points): curves shorter or closer than that can be missed");
+  result.spacing = h;
+  const Vec3 origin{ box.min.x - shift.x * h, box.min.y - shift.y * h, box.min.z - shift.z * h };
+  const std::int64_t nx = n[0], ny = n[1], nz = n[2];
+  const std::int64_t stride[3] = { 1, nx, nx * ny };
+  auto index = [&](std::int64_t i, std::int64_t j, std::int64_t k) { return i + nx * (j + ny * k); };
+  auto pointAt = [&](std::int64_t id) {
+    const std::int64_t i = id % nx, j = (id / nx) % ny, k = id / (nx * ny);
+    return Vec3{ origin.x + i * h, origin.y + j * h, origin.z + k * h };
+  };
+  auto report = [&](double fraction) {
+    if (options.progress && !options.progress(fraction))
+      throw FeatureSearchAborted();
+  };
+
+  // 1. Regions at the grid points.
+  std::vector<Region> region(static_cast<size_t>(nx * ny * nz));
+  for (std::int64_t k = 0; k < nz; ++k)
+  {
+    for (std::int64_t j = 0; j < ny; ++j)
+      for (std::int64_t i = 0; i < nx; ++i)
+      {
+        const std::int64_t id = index(i, j, k);
+        region[id] = oracle.decide(pointAt(id));
+      }
+    report(0.4 * (k + 1) / nz);
+  }
+
+  // 2. Grid faces of mixed cubes: walked along their edges (cached: each edge is shared by four
+  // faces), then bisected where a curve passes.
+  std::unordered_map<std::int64_t, EdgeRegions> edges;
+  auto edge = [&](std::int64_t p, int axis) -> const EdgeRegions& {
+    const std::int64_t key = 3 * p + axis;
+    auto it = edges.find(key);
+    if (it == edges.end())
+      it = edges.emplace(key, regionsAlong(oracle, pointAt(p), pointAt(p + stride[axis]))).first;
+    return it->second;
+  };
+  const double precision = 1e-10 * diagonal;
+  std::vector<Crossing> crossings;
+  std::unordered_map<std::int64_t, int> faceCrossing; // 3 * lowest corner + normal axis -> crossing or -1
+  auto face = [&](std::int64_t p, int axis) {
+    const std::int64_t key = 3 * p + axis;
+    if (auto it = faceCrossing.find(key); it != faceCrossing.end())
+      return it->second;
+    const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+    Vec3 U, V;
+    U[u] = h;
+    V[v] = h;
+    Rect q{ pointAt(p), U, V, edge(p, u), edge(p + stride[v], u), edge(p, v), edge(p + stride[u], v) };
+    int found = -1;
+    if (holdsCurve(loopOf(q)))
+    {
+      Crossing c = locate(oracle, std::move(q), precision);
+      if (c.regions.size() >= 3 && isFeature(c.regions))
+      {
+        found = static_cast<int>(crossings.size());
+        crossings.push_back(std::move(c));
+      }
+    }
+    faceCrossing.emplace(key, found);
+    return found;
+  };
+
+  struct Link
+  {
+    int a, b;
+  };
+  std::vector<Link> links;
+  std::vector<std::pair<std::int64_t, std::vector<int>>> junctionCubes; // cube, curves ending in it
+  for (std::int64_t k = 0; k + 1 < nz; ++k)
+  {
+    for (std::int64_t j = 0; j + 1 < ny; ++j)
+      for (std::int64_t i = 0; i + 1 < nx; ++i)
+      {
+        const std::int64_t p = index(i, j, k);
+        bool mixed = false;
+        for (int c = 1; c < 8 && !mixed; ++c)
+          mixed = region[p + (c & 1) * stride[0] + ((c >> 1) & 1) * stride[1] + ((c >> 2) & 1) * stride[2]] != region[p];
+        if (!mixed)
+          continue;
+        std::map<Signature, std::vector<int>> bySignature;
+        for (int axis = 0; axis < 3; ++axis)
+          for (std::int64_t side : { std::int64_t(0), stride[axis] })
+          {
+            const int c = face(p + side, axis);
+            if (c >= 0)
+              bySignature[crossings[c].regions].push_back(c);
+          }
+        std::vector<int> ending;
+        for (const auto& [signature, ids] : bySignature)
+        {
+          if (ids.size() == 2)
+            links.push_back({ ids[0], ids[1] });
+          else
+            ending.insert(ending.end(), ids.begin(), ids.end());
+        }
+        if (ending.size() >= 2)
+          junctionCubes.push_back({ p, ending });
+      }
+    report(0.4 + 0.5 * (k + 1) / nz);
+  }
+  result.gridFacesCrossed = crossings.size();
+
+  // Between two crossings joined in a cube the curve may bend (a corner of a box, a tight curve):
+  // the crossing on the plane halfway between them, where it lies off their chord, is inserted, and
+  // so on down to the tolerance; corners are then kept within a 256th of a grid step.
+  const double tolerance = options.tolerance > 0 ? options.tolerance
+    : options.maxSegmentLength > 0            ? 0.05 * options.maxSegmentLength
+                                              : 0.01 * h;
+  std::function<void(int, int, int, std::vector<int>&)> refine = [&](int a, int b, int depth, std::vector<int>& path) {
+    const Vec3 pa = crossings[a].point, pb = crossings[b].point;
+    const Vec3 d = pb - pa;
+    const double L = norm(d);
+    if (depth == 0 || !(L > 4 * precision))
+      return;
+    const Vec3 t = (1.0 / L) * d;
+    const int axis = std::abs(t.x) <= std::abs(t.y) && std::abs(t.x) <= std::abs(t.z) ? 0 : std::abs(t.y) <= std::abs(t.z) ? 1 : 2;
+    Vec3 e;
+    e[axis] = 1.0;
+    Vec3 e1 = cross(t, e);
+    e1 = (1.0 / norm(e1)) * e1;
+    const Vec3 e2 = cross(t, e1);
+    const Vec3 o = 0.5 * (pa + pb) - (0.5 * L) * (e1 + e2);
+    Rect q{ o, L * e1, L * e2, regionsAlong(oracle, o, o + L * e1), regionsAlong(oracle, o + L * e2, o + L * (e1 + e2)),
+      regionsAlong(oracle, o, o + L * e2), regionsAlong(oracle, o + L * e1, o + L * (e1 + e2)) };
+    if (!holdsCurve(loopOf(q)))
+      return;
+    Crossing m = locate(oracle, std::move(q), precision);
+    const double off = norm(m.point - 0.5 * (pa + pb));
+    if (m.regions != crossings[a].regions || !(off > tolerance))
+      return;
+    const int id = static_cast<int>(crossings.size());
+    crossings.push_back(std::move(m));
+    refine(a, id, depth - 1, path);
+    path.push_back(id);
+    refine(id, b, depth - 1, path);
+  };
+  {
+    std::vector<Link> refined;
+    for (const Link& l : links)
+    {
+      std::vector<int> path{ l.a };
+      refine(l.a, l.b, 8, path);
+      path.push_back(l.b);
+      for (size_t k = 0; k + 1 < path.size(); ++k)
+        refined.push_back({ path[k], path[k + 1] });
+    }
+    links = std::move(refined);
+  }
+
+  // 3. The graph: crossings, then one junction vertex per cube where curves end.
+  const int crossingCount = static_cast<int>(crossings.size());
+  std::vector<Vec3> nodes;
+  for (const Crossing& c : crossings)
+    nodes.push_back(c.point);
+  std::vector<std::vector<int>> adjacent(nodes.size());
+  for (const Link& l : links)
+  {
+    adjacent[l.a].push_back(l.b);
+    adjacent[l.b].push_back(l.a);
+  }
+  for (const auto& [cube, ending] : junctionCubes)
+  {
+    // the meeting point of the curves' tangents (exact for straight curves), else their mean
+    std::vector<Vec3> at, along;
+    Vec3 mean;
+    for (int c : ending)
+    {
+      mean = mean + (1.0 / ending.size()) * nodes[c];
+      if (adjacent[c].size() == 1 && adjacent[c][0] < crossingCount)
+      {
+        const Vec3 d = nodes[c] - nodes[adjacent[c][0]];
+        if (norm(d) > 0)
+        {
+          at.push_back(nodes[c]);
+          along.push_back((1.0 / norm(d)) * d);
+        }
+      }
+    }
+    Vec3 x;
+    const Vec3 centre = pointAt(cube) + Vec3{ 0.5 * h, 0.5 * h, 0.5 * h };
+    if (at.size() < 2 || !nearestToLines(at, along, x) || norm(x - centre) > h)
+      x = mean;
+    const int junction = static_cast<int>(nodes.size());
+    nodes.push_back(x);
+    adjacent.emplace_back();
+    for (int c : ending)
+    {
+      adjacent[c].push_back(junction);
+      adjacent[junction].push_back(c);
+    }
+  }
+
+  // 4. Curves: chains between vertices that do not continue exactly one curve, then loops.
+  std::set<std::pair<int, int>> walked;
+  auto take = [&](int a, int b) { return walked.insert({ std::min(a, b), std::max(a, b) }).second; };
+  std::vector<std::vector<int>> chains;
+  auto walk = [&](int start, int next) {
+    std::vector<int> chain{ start, next };
+    for (int previous = start, v = next; adjacent[v].size() == 2 && v != start;)
+    {
+      const int w = adjacent[v][0] == previous ? adjacent[v][1] : adjacent[v][0];
+      if (!take(v, w))
+        break;
+      chain.push_back(w);
+      previous = v;
+      v = w;
+    }
+    chains.push_back(std::move(chain));
+  };
+  for (int v = 0; v < static_cast<int>(nodes.size()); ++v)
+    if (adjacent[v].size() != 2)
+      for (int w : adjacent[v])
+        if (take(v, w))
+          walk(v, w);
+  for (int v = 0; v < static_cast<int>(nodes.size()); ++v)
+    for (int w : adjacent[v])
+      if (take(v, w))
+        walk(v, w);
+
+  // 5. Each curve resampled on its own (its ends stay, being ends), then shared end vertices.
+  std::map<int, int> sharedPoint; // node -> point of result.segments
+  auto pointOfNode = [&](int node) {
+    auto [it, added] = sharedPoint.emplace(node, static_cast<int>(result.segments.points.size()));
+    if (added)
+      result.segments.points.push_back(nodes[node]);
+    return it->second;
+  };
+  for (const auto& chain : chains)
+  {
+    if (chain.size() < 2)
+      continue;
+    const int tagged = chain[chain[0] < crossingCount ? 0 : 1];
+    if (tagged >= crossingCount)
+      continue; // two junctions joined directly: no crossing tells the regions (does not happen)
+    FeatureLine line;
+    line.materials = materialsOf(crossings[tagged].regions);
+    line.triple = line.materials.size() >= 3;
+    // A loop through a junction stays open there, so the junction is kept as its two ends.
+    const bool closed = chain.back() == chain.front() && adjacent[chain.front()].size() == 2;
+    const size_t m = closed ? chain.size() - 1 : chain.size();
+    if (closed && m < 3)
+      continue;
+    FeatureSegments piece;
+    for (size_t k = 0; k < m; ++k)
+      piece.points.push_back(nodes[chain[k]]);
+    for (size_t k = 0; k + 1 < m; ++k)
+      piece.segments.push_back({ static_cast<int>(k), static_cast<int>(k + 1) });
+    if (closed)
+      piece.segments.push_back({ static_cast<int>(m - 1), 0 });
+    double length = options.maxSegmentLength;
+    for (int material : line.materials)
+      if (auto it = options.materialSegmentLength.find(material); it != options.materialSegmentLength.end())
+        length = length > 0 ? std::min(length, it->second) : it->second;
+    if (length > 0)
+      resampleFeatureLines(piece, length, options.tolerance > 0 ? options.tolerance : 0.05 * length, options.smallAngle);
+    std::vector<int> order = chainOrder(piece);
+    if (!closed && norm(piece.points[order.front()] - nodes[chain.front()]) > 0)
+      std::reverse(order.begin(), order.end());
+    for (size_t k = 0; k < order.size(); ++k)
+    {
+      if (!closed && k == 0)
+        line.points.push_back(pointOfNode(chain.front()));
+      else if (!closed && k + 1 == order.size())
+        line.points.push_back(pointOfNode(chain.back()));
+      else if (closed && k + 1 == order.size() && order[k] == order[0])
+        line.points.push_back(line.points.front());
+      else
+      {
+        line.points.push_back(static_cast<int>(result.segments.points.size()));
+        result.segments.points.push_back(piece.points[order[k]]);
+      }
+    }
+    for (size_t k = 0; k + 1 < line.points.size(); ++k)
+      if (line.points[k] != line.points[k + 1])
+        result.segments.segments.push_back({ line.points[k], line.points[k + 1] });
+    result.lines.push_back(std::move(line));
+  }
+
+  // 6. Small angles: between curves at a shared vertex, and where one curve turns sharply.
+  const auto& P = result.segments.points;
+  std::vector<std::vector<int>> neighbours(P.size());
+  for (const auto& s : result.segments.segments)
+  {
+    neighbours[s[0]].push_back(s[1]);
+    neighbours[s[1]].push_back(s[0]);
+  }
+  for (size_t v = 0; v < P.size(); ++v)
+  {
+    double smallest = 180.0;
+    for (size_t a = 0; a < neighbours[v].size(); ++a)
+      for (size_t b = a + 1; b < neighbours[v].size(); ++b)
+        smallest = std::min(smallest, angleAt(P[v], P[neighbours[v][a]], P[neighbours[v][b]]));
+    if (smallest < options.smallAngle)
+    {
+      result.smallAngles.push_back({ static_cast<int>(v), smallest });
+      if (result.smallAngles.size() > 5)
+        continue; // the first five named, the rest counted below
+      std::ostringstream o;
+      o.precision(3);
+      o << "feature lines meet at " << smallest << " degrees at " << describe(P[v]) << " (below "
+        << options.smallAngle << ": refinement may not end there; the vertex budget bounds it)";
+      result.warnings.push_back(o.str());
+    }
+  }
+  if (result.smallAngles.size() > 5)
+  {
+    double smallest = 180.0;
+    for (const auto& a : result.smallAngles)
+      smallest = std::min(smallest, a.degrees);
+    std::ostringstream o;
+    o.precision(3);
+    o << "feature lines meet below " << options.smallAngle << " degrees at " << result.smallAngles.size() - 5
+      << " more vertices (smallest angle of all " << smallest << " degrees)";
+    result.warnings.push_back(o.str());
+  }
+  report(1.0);
+  return result;
+}
+}

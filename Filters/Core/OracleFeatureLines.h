@@ -1,0 +1,95 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Feature lines that arise where the oracle's inputs meet (issue 13, the paper's future work):
+// found with the oracle's own queries, decide(p) and the domains' exact crossings along segments.
+#pragma once
+
+#include "FeatureSegments.h"
+
+#include <cstddef>
+#include <functional>
+#include <map>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace omesh
+{
+class HierarchicalOracle;
+
+/// How findFeatureLines searches and what it returns.
+struct FeatureLineOptions
+{
+  /// Step of the search grid: curves shorter than about this, or closer to each other, can be
+  /// missed. 0 = half of maxSegmentLength, else 1/64 of the oracle's bounding-box diagonal.
+  double spacing = 0.0;
+  /// Each curve is resampled (resampleFeatureLines) to chords of at most this length whose dropped
+  /// points lie within `tolerance` of them; 0 = keep one point per grid face the curve crosses.
+  double maxSegmentLength = 0.0;
+  double tolerance = 0.0; ///< 0 = 0.05 x maxSegmentLength
+  /// Per material: a curve takes the smallest of its materials' lengths listed here (else
+  /// maxSegmentLength): the local edge size.
+  std::map<int, double> materialSegmentLength;
+  /// Curves meeting at a shared vertex, or one curve turning, at less than this angle (degrees)
+  /// are reported: the paper's termination argument needs 60.
+  double smallAngle = 60.0;
+  /// The grid has at most this many points; a finer spacing is widened (with a warning).
+  std::size_t maximumGridPoints = 4000000;
+  /// Called with a fraction in [0, 1]; return false to stop (findFeatureLines then throws
+  /// FeatureSearchAborted).
+  std::function<bool(double)> progress;
+};
+
+/// Thrown when FeatureLineOptions::progress asked to stop.
+struct FeatureSearchAborted : std::runtime_error
+{
+  FeatureSearchAborted()
+    : std::runtime_error("feature line search aborted")
+  {
+  }
+};
+
+/// One curve: a polyline through FeatureLines::segments.points.
+struct FeatureLine
+{
+  std::vector<int> points;    ///< point indices in order; a closed curve repeats its first point last
+  std::vector<int> materials; ///< the materials meeting along it, ascending (kOutside = -1 included)
+  /// true: three or more materials meet (a triple line: implant entering bone, label maps);
+  /// false: two materials, the interface creased where two inputs' boundaries meet (a cut rim).
+  bool triple = false;
+  bool closed() const { return points.size() > 2 && points.front() == points.back(); }
+};
+
+/// A vertex where curves meet (or one turns) at a small angle.
+struct SmallFeatureAngle
+{
+  int point = -1;
+  double degrees = 0.0;
+};
+
+struct FeatureLines
+{
+  FeatureSegments segments;       ///< every curve's chords; a vertex shared by curves is one point
+  std::vector<FeatureLine> lines; ///< the same, curve by curve
+  std::vector<SmallFeatureAngle> smallAngles;
+  std::vector<std::string> warnings; ///< small angles, a widened grid
+  double spacing = 0.0;              ///< the grid step used
+  std::size_t gridFacesCrossed = 0;  ///< crossing points located (before resampling)
+};
+
+/// The curves where three or more regions meet: a region is a material together with the domain
+/// that decides it (HierarchicalOracle::decide), so that a cut-away point and a point outside every
+/// domain differ although both are outside. Kept are the curves where three or more materials meet
+/// and those where a two-material interface passes from one input's boundary to another's (a
+/// crease: a cut plane's rim on the bone); curves where only non-interface boundaries meet (inside
+/// one material) are dropped.
+///
+/// Method: the regions are sampled on a grid; every grid face next to two or more regions is
+/// walked along its edges with the domains' exact crossings, and holds a curve when a pair of
+/// regions changes an odd number of times around it. The crossing point is then located in the face
+/// by bisection with the same test (to 1e-10 of the bounding-box diagonal), so every point found
+/// lies on the true curve. Crossings of one grid cube with the same regions are joined; curves that
+/// end in one cube meet at one shared vertex there (least-squares meeting point of their tangents).
+/// Creases of a single input (sharp edges of a surface, a box's edges) are not found here.
+/// Throws InputError for an empty or unbounded oracle (HierarchicalOracle::bounds).
+FeatureLines findFeatureLines(const HierarchicalOracle& oracle, const FeatureLineOptions& options = {});
+}

@@ -1,0 +1,208 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// simplifyFeatureNetwork (FeatureNetworkSimplification.h): noisy feature networks (nearly every
+// point a branch point, small angles everywhere) made coarse, with the bounds it claims.
+#include "FeatureNetworkSimplification.h"
+#include "HierarchicalOracle.h"
+#include "SphereDomain.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <random>
+#include <set>
+
+using namespace omesh;
+
+namespace
+{
+/// Edges of a jittered triangular lattice (spacing `step` on [0,1]^2, a little out of plane),
+/// about half of them kept at random: a network like the sharp edges of a noisy surface.
+FeatureSegments noisyNetwork(double step, unsigned seed)
+{
+  std::mt19937 random(seed);
+  std::uniform_real_distribution<double> jitter(-0.2 * step, 0.2 * step);
+  std::bernoulli_distribution keep(0.5);
+  const int n = static_cast<int>(1.0 / step);
+  FeatureSegments f;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i)
+      f.points.push_back({ (i + 0.5 * (j % 2)) * step + jitter(random), j * step * 0.866 + jitter(random), jitter(random) });
+  auto id = [&](int i, int j) { return j * (n + 1) + i; };
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i)
+    {
+      if (i < n && keep(random))
+        f.segments.push_back({ id(i, j), id(i + 1, j) });
+      if (j < n)
+      {
+        const int shift = j % 2; // odd rows sit half a step to the right
+        if (keep(random))
+          f.segments.push_back({ id(i, j), id(i, j + 1) });
+        if (i + (shift ? 1 : -1) >= 0 && i + (shift ? 1 : -1) <= n && keep(random))
+          f.segments.push_back({ id(i, j), id(i + (shift ? 1 : -1), j + 1) });
+      }
+    }
+  return f;
+}
+
+double distanceToSegment(const Vec3& p, const Vec3& a, const Vec3& b)
+{
+  const Vec3 ab = b - a;
+  const double t = std::clamp(dot(p - a, ab) / dot(ab, ab), 0.0, 1.0);
+  return norm(p - (a + t * ab));
+}
+
+bool isInputPoint(const FeatureSegments& input, const Vec3& p)
+{
+  return std::any_of(input.points.begin(), input.points.end(), [&](const Vec3& q) { return norm(p - q) == 0.0; });
+}
+}
+
+// The claims of simplifyFeatureNetwork on a noisy network: kept points are input points, at least
+// the merge distance apart and from every segment they do not end; angles at least asin(d / L)
+// (L the longest segment); no crossing; the lines moved (both ways) within the stated bound, and
+// the reported distances are the measured ones.
+TEST(FeatureNetworkSimplification, NoisyNetworkBecomesCoarseWithinTheBound)
+{
+  const FeatureSegments input = noisyNetwork(0.02, 5);
+  FeatureSegments f = input;
+  FeatureNetworkTolerances tol;
+  tol.edgeLength = 0.1;
+  tol.chordTolerance = 0.01;
+  const FeatureNetworkReport r = simplifyFeatureNetwork(f, tol);
+  const double d = tol.mergeDistance();
+  ASSERT_FALSE(f.empty());
+  EXPECT_LT(f.segments.size(), input.segments.size() / 2);
+  EXPECT_GE(r.shortestSegment, d); // kept points are at least d apart
+  EXPECT_GT(r.pointsMerged, 0u);
+  double longest = 0.0;
+  for (size_t s = 0; s < f.segments.size(); ++s)
+    longest = std::max(longest, f.length(s));
+  for (size_t i = 0; i < f.points.size(); ++i)
+  {
+    EXPECT_TRUE(isInputPoint(input, f.points[i]));
+    for (size_t j = i + 1; j < f.points.size(); ++j)
+      EXPECT_GE(norm(f.points[i] - f.points[j]), d);
+    // closer than d to a segment only as a neighbour of one of its ends, at 45 degrees or more there
+    for (const auto& s : f.segments)
+      if (s[0] != static_cast<int>(i) && s[1] != static_cast<int>(i) &&
+        distanceToSegment(f.points[i], f.points[s[0]], f.points[s[1]]) < d)
+      {
+        bool wide = false;
+        for (const auto& t : f.segments)
+          for (int end : { 0, 1 })
+            if (t[1 - end] == static_cast<int>(i) && (t[end] == s[0] || t[end] == s[1]))
+              wide = wide || angleAt(f.points[t[end]], f.points[i], f.points[t[end] == s[0] ? s[1] : s[0]]) >= 45.0;
+        EXPECT_TRUE(wide) << "point " << i << " lies closer than " << d << " to a segment";
+      }
+  }
+  EXPECT_GE(f.smallestAngle(), tol.minAngle);
+  EXPECT_DOUBLE_EQ(r.smallestAngle, f.smallestAngle());
+  HierarchicalOracle o;
+  o.add(std::make_shared<SphereDomain>(Vec3{ 0.5, 0.5, 0 }, 2.0, 1));
+  EXPECT_NO_THROW(f.validate(o, 3.0)); // throws on crossings and zero-length segments
+  const double bound = 9 * d + tol.chordTolerance + tol.spurLength();
+  EXPECT_LE(r.simplifiedToGiven, bound);
+  EXPECT_LE(r.givenToSimplified, bound);
+  EXPECT_NEAR(r.simplifiedToGiven, featureLinesDistance(f, input, 0.002), 0.002);
+  // measured without the given lines' separate pieces shorter than the spur length
+  EXPECT_LE(r.givenToSimplified, featureLinesDistance(input, f, 0.002) + 0.002);
+  EXPECT_GT(r.givenToSimplified, 0.0);
+}
+
+// Whiskers: a dangling chain shorter than the spur length goes, a long one stays; a separate short
+// piece and a short loop go; a star made only of short spurs keeps its longest.
+TEST(FeatureNetworkSimplification, ShortSpursAndPiecesDropped)
+{
+  FeatureSegments f;
+  // a long line along x (0..1 in 10 steps) with a short whisker (0.05) and a long branch (0.5) at x = 0.5
+  for (int i = 0; i <= 10; ++i)
+    f.points.push_back({ 0.1 * i, 0, 0 });
+  for (int i = 0; i < 10; ++i)
+    f.segments.push_back({ i, i + 1 });
+  f.points.push_back({ 0.5, 0.05, 0 });  // 11: whisker end
+  f.segments.push_back({ 5, 11 });
+  f.points.push_back({ 0.5, 0, -0.25 }); // 12, 13: long branch
+  f.points.push_back({ 0.5, 0, -0.5 });
+  f.segments.push_back({ 5, 12 });
+  f.segments.push_back({ 12, 13 });
+  // a separate short piece and a short triangle far away
+  f.points.push_back({ 5, 5, 5 });
+  f.points.push_back({ 5.06, 5, 5 });
+  f.segments.push_back({ 14, 15 });
+  f.points.push_back({ -5, 0, 0 });
+  f.points.push_back({ -5.02, 0, 0 });
+  f.points.push_back({ -5, 0.02, 0 });
+  f.segments.push_back({ 16, 17 });
+  f.segments.push_back({ 17, 18 });
+  f.segments.push_back({ 18, 16 });
+  FeatureNetworkTolerances tol;
+  tol.edgeLength = 0.1;
+  tol.chordTolerance = 0.001;
+  tol.mergeFraction = 0.01; // nothing to merge here
+  const FeatureNetworkReport r = simplifyFeatureNetwork(f, tol);
+  EXPECT_EQ(r.spursDropped, 1u);
+  EXPECT_EQ(r.piecesDropped, 2u);
+  EXPECT_FALSE(isInputPoint(f, { 0.5, 0.05, 0 }));
+  EXPECT_FALSE(isInputPoint(f, { 5, 5, 5 }));
+  EXPECT_FALSE(isInputPoint(f, { -5, 0, 0 }));
+  for (const Vec3& kept : { Vec3{ 0, 0, 0 }, Vec3{ 1, 0, 0 }, Vec3{ 0.5, 0, 0 }, Vec3{ 0.5, 0, -0.5 } })
+    EXPECT_TRUE(isInputPoint(f, kept));
+
+  // a star of three short spurs: the longest stays
+  FeatureSegments star;
+  star.points = { { 0, 0, 0 }, { 0.02, 0, 0 }, { 0, 0.03, 0 }, { 0, 0, -0.04 } };
+  star.segments = { { 0, 1 }, { 0, 2 }, { 0, 3 } };
+  simplifyFeatureNetwork(star, tol);
+  ASSERT_EQ(star.segments.size(), 1u);
+  EXPECT_TRUE(isInputPoint(star, { 0, 0, -0.04 }));
+}
+
+// Feature lines that are already coarse (a cube's edges at a fine edge size) stay as they are.
+TEST(FeatureNetworkSimplification, CoarseNetworkLeftAlone)
+{
+  FeatureSegments f;
+  for (int i = 0; i < 8; ++i)
+    f.points.push_back({ double(i & 1), double((i >> 1) & 1), double((i >> 2) & 1) });
+  for (int i = 0; i < 8; ++i)
+    for (int b = 1; b < 8; b <<= 1)
+      if (!(i & b))
+        f.segments.push_back({ i, i | b });
+  FeatureSegments g = f;
+  FeatureNetworkTolerances tol;
+  tol.edgeLength = 0.2;
+  tol.chordTolerance = 0.01;
+  const FeatureNetworkReport r = simplifyFeatureNetwork(g, tol);
+  EXPECT_EQ(r.pointsMerged + r.pointsSnapped + r.spursDropped + r.piecesDropped, 0u);
+  EXPECT_EQ(g.segments.size(), f.segments.size());
+  EXPECT_EQ(r.givenToSimplified, 0.0);
+  EXPECT_EQ(r.simplifiedToGiven, 0.0);
+}
+
+// With a domain: a chord that leaves it (it could be no mesh edge) is dropped, the lines inside stay.
+TEST(FeatureNetworkSimplification, SegmentsLeavingTheDomainDropped)
+{
+  FeatureSegments f;
+  // an inside line along x at y = 0 and a segment from it that pokes out of the unit ball
+  for (int i = 0; i <= 8; ++i)
+    f.points.push_back({ -0.8 + 0.2 * i, 0, 0 });
+  for (int i = 0; i < 8; ++i)
+    f.segments.push_back({ i, i + 1 });
+  f.points.push_back({ 0.0, 0.99, 0.5 }); // 9: outside the ball (|p| > 1), joined to the middle point
+  f.segments.push_back({ 4, 9 });
+  FeatureNetworkTolerances tol;
+  tol.edgeLength = 0.25;
+  tol.chordTolerance = 0.01;
+  tol.mergeFraction = 0.5; // the line's points (0.2 apart) stay
+  tol.inDomain = [](const Vec3& p) { return norm(p) < 1.0; };
+  const FeatureNetworkReport r = simplifyFeatureNetwork(f, tol);
+  EXPECT_EQ(r.segmentsOutside, 1u);
+  for (size_t s = 0; s < f.segments.size(); ++s)
+    for (double t : { 0.25, 0.5, 0.75 })
+      EXPECT_LT(norm(lerp(f.points[f.segments[s][0]], f.points[f.segments[s][1]], t)), 1.0);
+  EXPECT_TRUE(isInputPoint(f, { -0.8, 0, 0 }));
+  EXPECT_TRUE(isInputPoint(f, { 0.8, 0, 0 }));
+  EXPECT_FALSE(isInputPoint(f, { 0.0, 0.99, 0.5 }));
+}

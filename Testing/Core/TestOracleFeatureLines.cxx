@@ -1,0 +1,319 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Feature lines found where the oracle's inputs meet, checked against curves known exactly.
+#include "CylinderDomain.h"
+#include "FeatureSelection.h"
+#include "HalfSpaceDomain.h"
+#include "HierarchicalOracle.h"
+#include "LabelMapDomain.h"
+#include "MeshValidity.h"
+#include "OracleFeatureLines.h"
+#include "OracleMesher.h"
+#include "SphereDomain.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+#include <memory>
+
+using namespace omesh;
+
+namespace
+{
+const std::array<double, 9> kIdentity{ 1, 0, 0, 0, 1, 0, 0, 0, 1 };
+
+double lineLength(const FeatureLines& f, const FeatureLine& l)
+{
+  double length = 0.0;
+  for (size_t k = 0; k + 1 < l.points.size(); ++k)
+    length += norm(f.segments.points[l.points[k + 1]] - f.segments.points[l.points[k]]);
+  return length;
+}
+
+/// Distance from p to segment ab.
+double toSegment(const Vec3& p, const Vec3& a, const Vec3& b)
+{
+  const Vec3 d = b - a;
+  const double t = std::clamp(dot(p - a, d) / dot(d, d), 0.0, 1.0);
+  return norm(p - (a + t * d));
+}
+
+/// A label map of voxels of size 1 from (0, 0, 0), one label per voxel from `label(i, j, k)`.
+std::shared_ptr<LabelMapDomain> labelMap(const std::array<int, 3>& dims, const std::function<int(int, int, int)>& label)
+{
+  std::vector<int> labels;
+  for (int k = 0; k < dims[2]; ++k)
+    for (int j = 0; j < dims[1]; ++j)
+      for (int i = 0; i < dims[0]; ++i)
+        labels.push_back(label(i, j, k));
+  return std::make_shared<LabelMapDomain>(dims, labels,
+    LabelMapDomain::cellCenteredWorldToVoxel({ 0, 0, 0 }, { 1, 1, 1 }, kIdentity), 0, "labels",
+    LabelInterpolation::Nearest);
+}
+
+/// Every vertex of the curves lies on one of `known` (within 1e-6), and the chords cover each
+/// known segment except for the corners they cut.
+void expectKnownSegments(const FeatureLines& f, const std::vector<std::array<Vec3, 2>>& known)
+{
+  for (const Vec3& p : f.segments.points)
+  {
+    double nearest = 1e300;
+    for (const auto& s : known)
+      nearest = std::min(nearest, toSegment(p, s[0], s[1]));
+    EXPECT_LT(nearest, 1e-6) << "point (" << p.x << ", " << p.y << ", " << p.z << ") is on no known line";
+  }
+  for (const auto& s : known)
+  {
+    // the share of 100 samples of the known segment near a chord
+    int near = 0;
+    for (int k = 0; k < 100; ++k)
+    {
+      const Vec3 x = lerp(s[0], s[1], (k + 0.5) / 100);
+      for (const auto& seg : f.segments.segments)
+        if (toSegment(x, f.segments.points[seg[0]], f.segments.points[seg[1]]) < 1e-6)
+        {
+          ++near;
+          break;
+        }
+    }
+    EXPECT_GE(near, 95) << "known segment (" << s[0].x << ", " << s[0].y << ", " << s[0].z << ") - (" << s[1].x
+                        << ", " << s[1].y << ", " << s[1].z << ") is covered at " << near << "%";
+  }
+}
+}
+
+TEST(OracleFeatureLines, CutPlaneRimOnASphereIsTheCircle)
+{
+  const Vec3 c{ 0.1, 0.2, 0.3 };
+  const double r = 1.0, cutAt = 0.65;
+  HierarchicalOracle oracle;
+  auto cut = std::make_shared<HalfSpaceDomain>(Vec3{ 0, 0, cutAt }, Vec3{ 0, 0, -1 }, 0, "cut");
+  cut->setCut(true);
+  oracle.add(cut);
+  oracle.add(std::make_shared<SphereDomain>(c, r, 1, "ball"));
+  FeatureLineOptions options;
+  options.maxSegmentLength = 0.15;
+  const FeatureLines f = findFeatureLines(oracle, options);
+  ASSERT_EQ(f.lines.size(), 1u);
+  const FeatureLine& rim = f.lines[0];
+  EXPECT_TRUE(rim.closed());
+  EXPECT_FALSE(rim.triple);
+  EXPECT_EQ(rim.materials, (std::vector<int>{ kOutside, 1 }));
+  const double rimRadius = std::sqrt(r * r - (cutAt - c.z) * (cutAt - c.z));
+  for (const Vec3& p : f.segments.points)
+  {
+    EXPECT_NEAR(p.z, cutAt, 1e-6);
+    EXPECT_NEAR(norm(p - c), r, 1e-6);
+  }
+  for (size_t s = 0; s < f.segments.segments.size(); ++s)
+    EXPECT_LE(f.segments.length(s), options.maxSegmentLength + 1e-12);
+  // chords of at most 0.15 on a circle of radius ~0.94: the perimeter within 0.3%
+  EXPECT_NEAR(lineLength(f, rim), 2 * M_PI * rimRadius, 0.003 * 2 * M_PI * rimRadius);
+  EXPECT_TRUE(f.smallAngles.empty());
+}
+
+TEST(OracleFeatureLines, MaterialAloneHidesTheRimAndTheDomainOrderShowsIt)
+{
+  // The same sphere with the plane first as a material: three materials meet at the rim.
+  HierarchicalOracle oracle;
+  auto ball = std::make_shared<SphereDomain>(Vec3{ 0, 0, 0 }, 1.0, 1, "ball");
+  auto lid = std::make_shared<SphereDomain>(Vec3{ 0, 0, 1.2 }, 0.5, 2, "lid");
+  oracle.add(lid);
+  oracle.add(ball);
+  const FeatureLines f = findFeatureLines(oracle);
+  ASSERT_EQ(f.lines.size(), 1u);
+  EXPECT_TRUE(f.lines[0].triple);
+  EXPECT_EQ(f.lines[0].materials, (std::vector<int>{ kOutside, 1, 2 }));
+  // both spheres through every point: z = (1 + 1.44 - 0.25) / 2.4
+  for (const Vec3& p : f.segments.points)
+  {
+    EXPECT_NEAR(norm(p), 1.0, 1e-6);
+    EXPECT_NEAR(norm(p - Vec3{ 0, 0, 1.2 }), 0.5, 1e-6);
+  }
+}
+
+TEST(OracleFeatureLines, OneMaterialOfTwoInputsHasNoLineInside)
+{
+  // A sphere of material 2 inside two overlapping balls of material 1: where the second ball's
+  // boundary meets the first's inside material 1 is no interface, so only the union's crease counts.
+  HierarchicalOracle oracle;
+  oracle.add(std::make_shared<SphereDomain>(Vec3{ 0, 0, 0 }, 0.4, 2, "core"));
+  oracle.add(std::make_shared<SphereDomain>(Vec3{ -0.3, 0, 0 }, 1.0, 1, "left"));
+  oracle.add(std::make_shared<SphereDomain>(Vec3{ 0.3, 0, 0 }, 1.0, 1, "right"));
+  const FeatureLines f = findFeatureLines(oracle);
+  ASSERT_EQ(f.lines.size(), 1u); // the circle x = 0, y^2 + z^2 = 1 - 0.09
+  EXPECT_FALSE(f.lines[0].triple);
+  for (const Vec3& p : f.segments.points)
+  {
+    EXPECT_NEAR(p.x, 0.0, 1e-6);
+    EXPECT_NEAR(p.y * p.y + p.z * p.z, 0.91, 1e-6);
+  }
+}
+
+TEST(OracleFeatureLines, TripleLinesOfThreeBoxesAreTheKnownSegmentsAndShareTheirJunctions)
+{
+  // labels: 1 in [0,2]x[0,2]x[0,2], 2 in [2,4]x[0,2]x[0,2], 3 in [0,4]x[0,2]x[2,4]
+  HierarchicalOracle oracle;
+  oracle.add(labelMap({ 4, 2, 4 }, [](int i, int, int k) { return k >= 2 ? 3 : (i < 2 ? 1 : 2); }));
+  const FeatureLines f = findFeatureLines(oracle, {});
+  // Three or more materials (the outside counts) meet on these; the label map's own outer edges
+  // are one input's creases (sharp edges), not found here.
+  std::vector<std::array<Vec3, 2>> known = {
+    { Vec3{ 2, 0, 2 }, Vec3{ 2, 2, 2 } },                                         // 1, 2, 3
+    { Vec3{ 2, 0, 0 }, Vec3{ 2, 0, 2 } }, { Vec3{ 2, 2, 0 }, Vec3{ 2, 2, 2 } },   // 1, 2, outside
+    { Vec3{ 2, 0, 0 }, Vec3{ 2, 2, 0 } },                                         // 1, 2, outside
+    { Vec3{ 0, 0, 2 }, Vec3{ 4, 0, 2 } }, { Vec3{ 0, 2, 2 }, Vec3{ 4, 2, 2 } },   // 1 or 2, 3, outside
+    { Vec3{ 0, 0, 2 }, Vec3{ 0, 2, 2 } }, { Vec3{ 4, 0, 2 }, Vec3{ 4, 2, 2 } } }; // 1 or 2, 3, outside
+  expectKnownSegments(f, known);
+  // The junctions where four regions meet are one vertex each, ending four curves.
+  for (const Vec3& j : { Vec3{ 2, 0, 2 }, Vec3{ 2, 2, 2 } })
+  {
+    int found = -1;
+    for (size_t p = 0; p < f.segments.points.size(); ++p)
+      if (norm(f.segments.points[p] - j) < 1e-6)
+        found = static_cast<int>(p);
+    ASSERT_GE(found, 0) << "no vertex at the junction (" << j.x << ", " << j.y << ", " << j.z << ")";
+    int ends = 0;
+    for (const FeatureLine& l : f.lines)
+      ends += (l.points.front() == found) + (l.points.back() == found);
+    EXPECT_EQ(ends, 4);
+  }
+  for (const FeatureLine& l : f.lines)
+    EXPECT_TRUE(l.triple);
+  // the corners (2, 0, 0), (0, 0, 2), ... bend one curve by 90 degrees: no small angle, none reported
+  for (const auto& a : f.smallAngles)
+    EXPECT_GE(a.degrees, 60.0);
+}
+
+TEST(OracleFeatureLines, CylinderEnteringASphereGivesTwoClosedCurves)
+{
+  const Vec3 axisAt{ 0.05, 0.03, 0 };
+  const double radius = 0.4;
+  HierarchicalOracle oracle;
+  oracle.add(std::make_shared<CylinderDomain>(axisAt, Vec3{ 0, 0, 1 }, radius, 3.0, 2, "screw"));
+  oracle.add(std::make_shared<SphereDomain>(Vec3{ 0, 0, 0 }, 1.0, 1, "bone"));
+  const FeatureLines f = findFeatureLines(oracle);
+  ASSERT_EQ(f.lines.size(), 2u);
+  for (const FeatureLine& l : f.lines)
+  {
+    EXPECT_TRUE(l.closed());
+    EXPECT_TRUE(l.triple);
+    EXPECT_EQ(l.materials, (std::vector<int>{ kOutside, 1, 2 }));
+    const double z = f.segments.points[l.points[0]].z;
+    for (int p : l.points)
+    {
+      const Vec3& x = f.segments.points[p];
+      EXPECT_NEAR(norm(x), 1.0, 1e-6);
+      EXPECT_NEAR(std::hypot(x.x - axisAt.x, x.y - axisAt.y), radius, 1e-6);
+      EXPECT_GT(x.z * z, 0.0); // each curve on one side
+    }
+  }
+}
+
+TEST(OracleFeatureLines, CutPlaneThroughALabelMap)
+{
+  // labels 1 (x < 2) and 2 in [0,4]x[0,2]x[0,2]; everything above z = 1.3 cut away
+  HierarchicalOracle oracle;
+  auto cut = std::make_shared<HalfSpaceDomain>(Vec3{ 0, 0, 1.3 }, Vec3{ 0, 0, -1 }, 0, "cut");
+  cut->setCut(true);
+  oracle.add(cut);
+  oracle.add(labelMap({ 4, 2, 2 }, [](int i, int, int) { return i < 2 ? 1 : 2; }));
+  const FeatureLines f = findFeatureLines(oracle);
+  std::vector<std::array<Vec3, 2>> known = {
+    // the rim: the cut plane on the label map's sides, and across the 1 | 2 interface
+    { Vec3{ 0, 0, 1.3 }, Vec3{ 4, 0, 1.3 } }, { Vec3{ 4, 0, 1.3 }, Vec3{ 4, 2, 1.3 } },
+    { Vec3{ 4, 2, 1.3 }, Vec3{ 0, 2, 1.3 } }, { Vec3{ 0, 2, 1.3 }, Vec3{ 0, 0, 1.3 } },
+    { Vec3{ 2, 0, 1.3 }, Vec3{ 2, 2, 1.3 } },
+    // where 1, 2 and the outside meet below the cut
+    { Vec3{ 2, 0, 0 }, Vec3{ 2, 0, 1.3 } }, { Vec3{ 2, 2, 0 }, Vec3{ 2, 2, 1.3 } },
+    { Vec3{ 2, 0, 0 }, Vec3{ 2, 2, 0 } } };
+  expectKnownSegments(f, known);
+  int rimCrossingTheInterface = 0;
+  for (const FeatureLine& l : f.lines)
+  {
+    bool across = true; // every point on x = 2, z = 1.3
+    for (int p : l.points)
+      across = across && std::abs(f.segments.points[p].z - 1.3) < 1e-6 && std::abs(f.segments.points[p].x - 2) < 1e-6;
+    if (across)
+    {
+      ++rimCrossingTheInterface;
+      EXPECT_EQ(l.materials, (std::vector<int>{ kOutside, 1, 2 }));
+    }
+    else if (std::abs(f.segments.points[l.points[1]].z - 1.3) < 1e-6)
+      EXPECT_EQ(l.materials.size(), 2u); // the rim on the sides: a crease between a label and the outside
+  }
+  EXPECT_EQ(rimCrossingTheInterface, 1);
+}
+
+TEST(OracleFeatureLines, MeshedRimIsAChainOfMeshEdges)
+{
+  HierarchicalOracle oracle;
+  auto cut = std::make_shared<HalfSpaceDomain>(Vec3{ 0, 0, 0.4 }, Vec3{ 0.1, 0, -1 }, 0, "cut");
+  cut->setCut(true);
+  oracle.add(cut);
+  oracle.add(std::make_shared<SphereDomain>(Vec3{ 0, 0, 0 }, 1.0, 1, "ball"));
+  MesherOptions options;
+  options.criteria.global = { 25.0, 0.3, 0.02, 0.3, 3.0, 0.2 }; // angle, facet size, distance, cell size, radius-edge, edge
+  FeatureLineOptions search;
+  search.maxSegmentLength = 0.2;
+  const FeatureLines f = findFeatureLines(oracle, search);
+  ASSERT_EQ(f.lines.size(), 1u);
+  const TetMesh mesh = meshOracle(oracle, f.segments, {}, options);
+  ASSERT_FALSE(mesh.tets.empty());
+  ASSERT_FALSE(mesh.segments.empty());
+  for (const auto& s : mesh.segments)
+    EXPECT_TRUE(s.present);
+  EXPECT_EQ(checkMeshValidity(mesh).missingSegmentPieces, 0u);
+  // every rim vertex is a mesh vertex
+  for (const Vec3& p : f.segments.points)
+  {
+    double nearest = 1e300;
+    for (const Vec3& q : mesh.points)
+      nearest = std::min(nearest, norm(p - q));
+    EXPECT_LT(nearest, 1e-12);
+  }
+}
+
+TEST(OracleFeatureLines, EmptyOracleIsAnInputError)
+{
+  HierarchicalOracle oracle;
+  EXPECT_ANY_THROW(findFeatureLines(oracle));
+}
+
+TEST(OracleFeatureLines, AGivenLineCrossingACurveSharesOneVertexWithIt)
+{
+  // A given line along the screw's surface (as a sharp edge of an implant would run) passes
+  // through the bone's boundary exactly where the screw's entry curves are.
+  const Vec3 axisAt{ 0.05, 0.03, 0 };
+  const double radius = 0.4;
+  HierarchicalOracle oracle;
+  oracle.add(std::make_shared<CylinderDomain>(axisAt, Vec3{ 0, 0, 1 }, radius, 3.0, 2, "screw"));
+  oracle.add(std::make_shared<SphereDomain>(Vec3{ 0, 0, 0 }, 1.0, 1, "bone"));
+  FeatureSegments given;
+  given.points = { axisAt + Vec3{ radius, 0, -1.4 }, axisAt + Vec3{ radius, 0, 1.4 } };
+  given.segments = { { 0, 1 } };
+  MaterialCriteria criteria;
+  criteria.global.edgeSize = 0.1;
+  const FeatureSelection both = selectFeatures(oracle, given, FeatureSource::Both, criteria);
+  EXPECT_EQ(both.droppedAutomatic, 0u);
+  EXPECT_TRUE(both.segments.crossingPairs().empty());
+  // the two crossings: on the line and on the sphere, each ending two given and two curve segments
+  const double z = std::sqrt(1.0 - dot(axisAt + Vec3{ radius, 0, 0 }, axisAt + Vec3{ radius, 0, 0 }));
+  for (double sign : { -1.0, 1.0 })
+  {
+    const Vec3 x = axisAt + Vec3{ radius, 0, sign * z };
+    int found = -1;
+    for (size_t p = 0; p < both.segments.points.size(); ++p)
+      if (norm(both.segments.points[p] - x) < 1e-9)
+        found = static_cast<int>(p);
+    ASSERT_GE(found, 0);
+    int ends = 0;
+    for (const auto& s : both.segments.segments)
+      ends += (s[0] == found) + (s[1] == found);
+    EXPECT_EQ(ends, 4);
+  }
+  // Given alone is the line as it was; Automatic alone the two curves.
+  EXPECT_EQ(selectFeatures(oracle, given, FeatureSource::Given, criteria).segments.segments.size(), 1u);
+  EXPECT_EQ(selectFeatures(oracle, given, FeatureSource::Automatic, criteria).automatic.lines.size(), 2u);
+  EXPECT_TRUE(selectFeatures(oracle, given, FeatureSource::None, criteria).segments.empty());
+}

@@ -1,0 +1,84 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""Issue 13: feature lines found where the inputs meet (vtkOracleFeatureLines) and the mesher's
+Features option at the Python and scene doors."""
+import json
+import math
+import os
+import subprocess
+import sys
+import tempfile
+import unittest
+
+import oraclemesh as om
+from oraclemesh.defaults import FEATURE_SOURCES, mesh_defaults
+from oraclemesh.scene import build_scene
+
+CENTER, RADIUS, CUT_AT = (0.1, 0.2, 0.3), 1.0, 0.65
+
+
+def rim_scene(**mesh):
+    """A unit ball cut above z = 0.65: its rim is a circle."""
+    return {"domains": [{"name": "cut", "type": "plane", "origin": [0, 0, CUT_AT], "normal": [0, 0, -1], "cut": True},
+                        {"name": "ball", "type": "sphere", "center": list(CENTER), "radius": RADIUS, "material": 1}],
+            "mesh": dict({"criteria": {"cell_size": 0.3, "facet_size": 0.3, "facet_distance": 0.02, "edge_size": 0.2},
+                          "seed": 1}, **mesh)}
+
+
+class FeatureLinesFilter(unittest.TestCase):
+    def test_the_cut_rim_is_one_closed_polyline_on_the_circle(self):
+        scene = build_scene(rim_scene())
+        lines = om.vtkOracleFeatureLines()
+        lines.SetInputConnection(scene.oracle.GetOutputPort())
+        lines.SetMaximumSegmentLength(0.15)
+        out = om.update(lines)
+        self.assertEqual(out.GetNumberOfLines(), 1)
+        ids = out.GetCell(0).GetPointIds()
+        self.assertEqual(ids.GetId(0), ids.GetId(ids.GetNumberOfIds() - 1))  # closed
+        self.assertEqual(out.GetCellData().GetArray("Materials").GetTuple(0), (-1, 1, -2, -2))
+        self.assertEqual(out.GetCellData().GetArray("Triple").GetValue(0), 0)
+        for i in range(out.GetNumberOfPoints()):
+            p = out.GetPoint(i)
+            self.assertAlmostEqual(p[2], CUT_AT, delta=1e-6)
+            self.assertAlmostEqual(math.dist(p, CENTER), RADIUS, delta=1e-6)
+        self.assertEqual(out.GetFieldData().GetAbstractArray("Warnings").GetNumberOfValues(), 0)
+
+    def test_no_input_is_an_error(self):
+        with self.assertRaises(om.OracleMeshError):
+            om.update(om.vtkOracleFeatureLines())
+
+
+class FeaturesOption(unittest.TestCase):
+    def test_the_default_comes_from_the_cxx(self):
+        self.assertEqual(mesh_defaults()["features"], FEATURE_SOURCES[om.vtkFeaturePreservingTetrahedralizer().GetFeatures()])
+        self.assertEqual(mesh_defaults()["features"], "Given")  # the meshes of before (FeatureSelection.h)
+
+    def test_automatic_features_are_mesh_edges_and_given_alone_has_none(self):
+        automatic = om.mesh(rim_scene(features="Automatic"))
+        segments = automatic.grid  # the mesh; the kept lines are the mesher's port 2, counted in field data
+        count = segments.GetFieldData().GetArray("FeatureSegments").GetValue(0)
+        self.assertGreater(count, 20)  # the rim, cut at the mesh vertices on it
+        self.assertEqual(automatic.statistics.get("validity.missing_segment_pieces", 0), 0)
+        given = om.mesh(rim_scene(features={"use": "Given"}))
+        self.assertEqual(given.grid.GetFieldData().GetArray("FeatureSegments").GetValue(0), 0)
+
+    def test_the_command_line_keeps_the_rim_with_features_automatic(self):
+        with tempfile.TemporaryDirectory() as folder:
+            scene = os.path.join(folder, "scene.json")
+            with open(scene, "w") as f:
+                json.dump(rim_scene(), f)
+            out = subprocess.run([sys.executable, "-m", "oraclemesh", "mesh", scene, "-o", os.path.join(folder, "m.vtu"),
+                                  "--features", "Automatic"], capture_output=True, text=True, timeout=100)
+            self.assertEqual(out.returncode, 0, out.stderr)
+            self.assertIn("feature lines present as mesh edges: 100.0%", out.stdout)
+            bad = subprocess.run([sys.executable, "-m", "oraclemesh", "mesh", scene, "-o", os.path.join(folder, "m.vtu"),
+                                  "--features", "Sometimes"], capture_output=True, text=True, timeout=100)
+            self.assertNotEqual(bad.returncode, 0)
+            self.assertIn("--features", bad.stderr)
+
+    def test_a_bad_value_is_named(self):
+        with self.assertRaisesRegex(om.OracleMeshError, r"\$\.mesh\.features\.use: must be one of None, Given"):
+            build_scene(rim_scene(features={"use": "sometimes"}))
+
+
+if __name__ == "__main__":
+    unittest.main()
