@@ -120,6 +120,8 @@ int main(int argc, char* argv[])
   try
   {
     const peer::Args a = peer::parseArgs(argc, argv);
+    if (a.threads != 1)
+      throw std::runtime_error("--threads: the stock CGAL peer meshes on one thread");
     auto criteriaFor = [&](auto tag) {
       using Criteria = decltype(tag);
       if (a.kind == "cad")

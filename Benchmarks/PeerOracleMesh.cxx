@@ -55,6 +55,7 @@ int main(int argc, char* argv[])
     c.cellRadiusEdgeRatio = a.radiusEdge;
     c.edgeSize = a.kind == "cad" ? a.edgeSize : 0.0;
     o.seed = a.seed;
+    o.threads = a.threads;
     if (a.opt == "none")
       o.perturb = o.exude = false;
     else if (a.opt == "previous") // the defaults before issue 12's optimisation policy: step budgets only
@@ -84,6 +85,7 @@ int main(int argc, char* argv[])
           << ", \"after_mesh\": " << (call - stat("time.initialisation") - stat("time.refinement") - stat("time.optimisation"))
           << ", \"warnings\": " << mesh.warnings.size()
           << ", \"refine_cpu\": " << stat("cpu.refinement") << ", \"optimise_cpu\": " << stat("cpu.optimisation")
+          << ", \"refine_critical_cpu\": " << stat("cpu.refinement_critical_path")
           << ", \"min_refined\": " << stat("optimisation.min_dihedral_before");
     peer::report("OracleMesh", a, mesh, setup, stat("time.initialisation") + stat("time.refinement"),
       stat("time.perturbation"), stat("time.exudation"), stat("time.optimisation"), call, rss, cpu, features, extra.str());

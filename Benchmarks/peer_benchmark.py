@@ -10,7 +10,8 @@ for each case and mesh size runs, each in its own process:
   PeerOracleMesh --opt default    OracleMesh's defaults (Conforming, its optimisation policy, no time limit)
   PeerOracleMesh --opt limit:T    CGAL's optimisation policy: perturb and exude each limited to T =
                                   CGAL's refinement time of that case, nothing else
-and prints a Markdown table (raw figures in <work>/results.jsonl). Same criteria for both tools
+and prints a Markdown table (raw figures in <work>/results.jsonl). With --threads 1 2: OracleMesh
+alone per refinement thread count, the best of --repeat runs, and the refinement's speed-up. Same criteria for both tools
 (facet angle 25, radius-edge 3, cell size = facet size = h, facet distance h/4, edge size h/2 for
 the CAD part), same seed. Min dihedral angle, validity and coverage are computed from each output
 by the same code (Filters/Core/MeshQuality, MeshValidity).
@@ -18,6 +19,7 @@ by the same code (Filters/Core/MeshQuality, MeshValidity).
     cmake --build build --target peer_benchmark        # or peer_benchmark_quick
     python3 Benchmarks/peer_benchmark.py --cgal build/bin/PeerCgal --oraclemesh build/bin/PeerOracleMesh \
         --data Data/demo --work build/peer_benchmark [--cases labels surface cad] [--sizes 4 2] [--repeat 3]
+        [--threads 1 2 [--opt none]]
 """
 import argparse
 import json
@@ -36,7 +38,7 @@ SIZES = {
 }
 QUICK_SIZES = {"labels": [4.0], "surface": [3.5], "cad": [2.0]}
 TIME_KEYS = ("setup", "refine", "perturb", "exude", "optimise", "call", "call_cpu", "refine_cpu", "optimise_cpu",
-             "peak_rss")
+             "refine_critical_cpu", "peak_rss")
 
 
 def prepare(data, work):
@@ -114,9 +116,10 @@ def criteria(case, h):
     return c
 
 
-def run(exe, case, paths, h, opt, repeat, log):
+def run(exe, case, paths, h, opt, repeat, log, threads=1, best=False):
+    """Runs one configuration `repeat` times; the timings are the medians (the minima with `best`)."""
     args = [exe, case, paths[case]] + ([paths["cad_features"]] if case == "cad" else []) + criteria(case, h) + \
-        ["--opt", opt, "--seed", "1"]
+        ["--opt", opt, "--seed", "1"] + (["--threads", str(threads)] if threads != 1 else [])
     runs = []
     for _ in range(repeat):
         p = subprocess.run(args, capture_output=True, text=True, timeout=3600)
@@ -124,9 +127,10 @@ def run(exe, case, paths, h, opt, repeat, log):
             sys.exit("failed (%d): %s\n%s" % (p.returncode, " ".join(args), p.stderr[-2000:]))
         runs.append(json.loads(p.stdout.strip().splitlines()[-1]))
     r = dict(runs[0])
-    for k in TIME_KEYS:  # medians of the timings and peak memory
-        r[k] = statistics.median(x.get(k, float("nan")) for x in runs)
-    r.update(case=case, h=h, repeat=repeat, loadavg=os.getloadavg()[0])
+    for k in TIME_KEYS:  # medians (or minima) of the timings and peak memory
+        r[k] = (min if best else statistics.median)(x.get(k, float("nan")) for x in runs)
+    r.update(case=case, h=h, repeat=repeat, loadavg=os.getloadavg()[0], threads=threads,
+             refine_runs=[x["refine"] for x in runs])
     log.write(json.dumps(r) + "\n")
     log.flush()
     print("  %-10s %-9s h=%-5g %9d tets  refine %7.2f s  optimise %7.2f s  %6.0f MiB  min %.1f deg  defects %d"
@@ -166,9 +170,33 @@ def table(rows):
     return "\n".join(out)
 
 
+def threads_table(rows):
+    """OracleMesh alone, per thread count: refinement time (initialisation included; best of the
+    repeats, every run in brackets) and its speed-up over one thread; CPU seconds of the refinement
+    (every thread) and along its critical path (the calling thread's plus the busiest refinement
+    thread's: its time on idle cores, which a shared machine's load hides from the wall time) and
+    the speed-up that gives; what the mesh is like (tets, min dihedral, validity)."""
+    out = ["| case | h | threads | tets | refine s, best (all runs) | wall speed-up | refine CPU s, all threads "
+           "| critical-path CPU s | critical-path speed-up | optimise s | min dihedral (before optimisation) "
+           "| defects | coverage |",
+           "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    one = {(r["case"], r["h"]): r for r in rows if r["threads"] == 1}
+    for r in rows:
+        base = one.get((r["case"], r["h"]))
+        speedup = "%.2fx" % (base["refine"] / r["refine"]) if base else "–"
+        critical = r.get("refine_critical_cpu", float("nan"))
+        cpu_speedup = "%.2fx" % (base["refine_critical_cpu"] / critical) if base and critical > 0 else "–"
+        cov = "–" if r["coverage"] < 0 else "%.0f %%" % (100 * r["coverage"])
+        out.append("| %s | %g | %d | %s | %.2f (%s) | %s | %.2f | %.2f | %s | %.2f | %.1f° (%.1f°) | %d | %s |" % (
+            r["case"], r["h"], r["threads"], f"{r['tets']:,}", r["refine"],
+            ", ".join("%.2f" % x for x in r["refine_runs"]), speedup, r.get("refine_cpu", float("nan")), critical,
+            cpu_speedup, r["optimise"], r["min_dihedral"], r.get("min_refined", float("nan")), r["defects"], cov))
+    return "\n".join(out)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--cgal", required=True)
+    ap.add_argument("--cgal", help="PeerCgal (not needed with --threads)")
     ap.add_argument("--oraclemesh", required=True)
     ap.add_argument("--data", required=True, help="Data/demo")
     ap.add_argument("--work", required=True)
@@ -177,10 +205,27 @@ def main():
     ap.add_argument("--repeat", type=int, default=1, help="runs per configuration; medians are printed")
     ap.add_argument("--quick", action="store_true", help="one small size per case")
     ap.add_argument("--no-same-budget", action="store_true", help="skip the same-budget OracleMesh runs")
+    ap.add_argument("--threads", nargs="+", type=int, metavar="N",
+                    help="instead of the side-by-side table: OracleMesh alone with each of these refinement thread "
+                         "counts (MesherOptions::threads; e.g. 1 2), the best of --repeat runs, and the speed-up")
+    ap.add_argument("--opt", default="default", help="with --threads: the optimisation (default, none, ...)")
     a = ap.parse_args()
     paths = prepare(a.data, a.work)
     started = time.time()
     load0 = os.getloadavg()[0]
+    if not a.threads and not a.cgal:
+        ap.error("--cgal is needed (but with --threads)")
+    if a.threads:
+        rows = []
+        with open(os.path.join(a.work, "results.jsonl"), "a") as log:
+            for case in a.cases:
+                for h in a.sizes or (QUICK_SIZES if a.quick else SIZES)[case]:
+                    for n in a.threads:
+                        rows.append(run(a.oraclemesh, case, paths, h, a.opt, a.repeat, log, threads=n, best=True))
+        print(threads_table(rows))
+        print("\n%.0f s; best of %d run(s) per configuration; load average %.1f at start, %.1f at end (the machine's "
+              "2 cores are shared: times vary)." % (time.time() - started, a.repeat, load0, os.getloadavg()[0]))
+        return
     rows = []
     with open(os.path.join(a.work, "results.jsonl"), "a") as log:
         # smallest sizes of every case first: an interrupted run still has the small end of the table

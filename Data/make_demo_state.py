@@ -29,7 +29,7 @@ MESH_PROPERTIES = {"perturb": "Perturb", "exude": "Exude", "sliver_angle": "Sliv
                    "exudation_steps_per_cell": "ExudationStepsPerCell",
                    "optimisation_time_limit": "OptimisationTimeLimit", "seed": "Seed",
                    "maximum_number_of_vertices": "MaximumNumberOfVertices", "time_limit": "TimeLimit",
-                   "element_order": "ElementOrder"}
+                   "element_order": "ElementOrder", "threads": "Threads"}
 STRATEGIES = {"Conforming": "Conforming", "None": "None", "ProtectingBalls": "Protecting Balls"}
 UNSET = -1.0  # a criterion not set in a domain or a table row (the core's std::nullopt)
 

@@ -130,6 +130,7 @@ vtkFeaturePreservingTetrahedralizer::vtkFeaturePreservingTetrahedralizer()
   this->ElementOrder = defaults.elementOrder;
   this->Seed = static_cast<int>(defaults.seed);
   this->MaximumNumberOfVertices = static_cast<vtkIdType>(defaults.maximumNumberOfVertices);
+  this->Threads = defaults.threads;
   this->TimeLimit = defaults.timeLimit;
 }
 
@@ -239,6 +240,7 @@ int vtkFeaturePreservingTetrahedralizer::RequestData(
   options.elementOrder = this->ElementOrder;
   options.seed = static_cast<unsigned>(this->Seed);
   options.maximumNumberOfVertices = static_cast<std::size_t>(this->MaximumNumberOfVertices);
+  options.threads = this->Threads;
   options.timeLimit = this->TimeLimit;
   options.progress = [this](double fraction, const char*) {
     this->UpdateProgress(fraction);
@@ -264,6 +266,7 @@ int vtkFeaturePreservingTetrahedralizer::RequestData(
     if (this->MaximumNumberOfVertices < 0)
       throw omesh::InputError("vtkFeaturePreservingTetrahedralizer: MaximumNumberOfVertices " +
         std::to_string(this->MaximumNumberOfVertices) + " is out of range (>= 0; 0 = unlimited)");
+    checkRange("Threads", this->Threads, 0, 1024, "; 1 = sequential, 0 = every core");
     checkRange("PerturbationFailuresPerBound", this->PerturbationFailuresPerBound, 0.0, 1e6, "; 0 = never give up");
     checkRange("ExudationSliverBound", this->ExudationSliverBound, 0.0, 90.0, " degrees; 0 = every cell");
     checkRange("PerturbationStepsPerVertex", this->PerturbationStepsPerVertex, 0.0, 1e6, "; 0 = no budget");
@@ -513,6 +516,7 @@ void vtkFeaturePreservingTetrahedralizer::PrintSelf(ostream& os, vtkIndent inden
   os << indent << "ElementOrder: " << this->ElementOrder << "\n";
   os << indent << "Seed: " << this->Seed << "\n";
   os << indent << "MaximumNumberOfVertices: " << this->MaximumNumberOfVertices << "\n";
+  os << indent << "Threads: " << this->Threads << "\n";
   os << indent << "TimeLimit: " << this->TimeLimit << "\n";
   for (const auto& [m, c] : this->MaterialCriteria)
     os << indent << "Material " << m << " criteria: " << c[0] << " " << c[1] << " " << c[2] << " " << c[3]

@@ -220,6 +220,15 @@ public:
   ///@}
 
   ///@{
+  /// Threads of the refinement. 1 (the default): sequential, the same seed gives the same mesh.
+  /// N > 1 (0 = every core): CGAL's parallel refinement on N threads; the mesh meets the same
+  /// criteria and passes the same checks but differs from run to run. Conforming with feature
+  /// lines refines on one thread (with a warning); the optimisers run on one thread.
+  vtkSetMacro(Threads, int); // >= 0
+  vtkGetMacro(Threads, int);
+  ///@}
+
+  ///@{
   /// Wall-clock seconds for the whole run (every phase): reaching it fails the update with an
   /// error naming the phase and how far it got (vertices, tetrahedra, seconds); the output then
   /// holds no cells, only those statistics (StatisticNames/StatisticValues). 0 = automatic (the
@@ -257,6 +266,7 @@ protected:
   int ElementOrder;
   int Seed;
   vtkIdType MaximumNumberOfVertices;
+  int Threads;
   double TimeLimit;
 
 private:

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// The mesher: the only translation unit that instantiates CGAL Mesh_3 (it takes about a minute to
-// compile). Relies on Mesh_3 internals of CGAL 5.5 (Mesher_3 stepping, criteria classes,
-// Mesh_3::internal::init_c3t3*); CMake warns on other CGAL versions.
+// The mesher: the translation unit that instantiates CGAL Mesh_3 on the sequential triangulation (it
+// takes about a minute to compile; ParallelRefinement.cxx has the parallel one). Relies on Mesh_3
+// internals of CGAL 5.5 (Mesher_3 stepping, criteria classes, Mesh_3::internal::init_c3t3*); CMake
+// warns on other CGAL versions.
 #include "OracleMesher.h"
 
 #include "HierarchicalOracle.h"
@@ -10,7 +11,10 @@
 #include "MeshQuality.h"
 #include "MeshValidity.h"
 #include "ConformingMesher3.h"
+#include "MaterialCriteria3.h"
+#include "MeshTriangulation3.h"
 #include "OracleMeshDomain.h"
+#include "ParallelRefinement.h"
 #include "SegmentConformation.h"
 #include "SegmentState.h"
 
@@ -66,66 +70,10 @@ const char* toString(FeatureStrategy s)
 namespace
 {
 using namespace omesh::cgal;
-using MeshDomain = CGAL::Mesh_domain_with_polyline_features_3<OracleMeshDomain>;
-using RobustTraits = CGAL::Robust_weighted_circumcenter_filtered_traits_3<K>;
-
-/// CGAL's robust weighted circumcentre keeps its floating-point value as soon as that lies inside
-/// the cell's power sphere. A nearly flat cell (four ball centres on the edges of one flat face) has
-/// a huge sphere, and the value can be off by its radius (seen: 27 mm, ball centres 3.5 mm apart):
-/// the facet duals built from it are wrong, a surface centre on such a dual can fall inside
-/// protecting balls, and CGAL fails ("A facet is not in conflict with its refinement point"). For a
-/// cell with weights this one also asks for equal power to the four points, else takes CGAL's exact
-/// construction. Unweighted cells keep CGAL's value (no point is hidden there: CGAL's own exact
-/// fallback catches a facet outside its refinement point's conflict zone).
-struct AccurateWeightedCircumcenter : RobustTraits::Construct_weighted_circumcenter_3
-{
-  using Base = RobustTraits::Construct_weighted_circumcenter_3;
-  using Base::Base;
-  using Base::operator();
-  K::Point_3 operator()(const K::Weighted_point_3& p, const K::Weighted_point_3& q, const K::Weighted_point_3& r,
-    const K::Weighted_point_3& s, bool forceExact = false) const
-  {
-    const K::Point_3 c = Base::operator()(p, q, r, s, forceExact);
-    if (forceExact || (p.weight() == 0 && q.weight() == 0 && r.weight() == 0 && s.weight() == 0))
-      return c;
-    double lo = std::numeric_limits<double>::infinity(), hi = -lo, scale = 0.0;
-    for (const K::Weighted_point_3* w : { &p, &q, &r, &s })
-    {
-      const double d2 = CGAL::squared_distance(c, w->point());
-      lo = std::min(lo, d2 - w->weight());
-      hi = std::max(hi, d2 - w->weight());
-      scale = std::max(scale, d2 + w->weight());
-    }
-    return hi - lo <= 1e-10 * scale ? c : Base::operator()(p, q, r, s, true);
-  }
-};
-
-struct GeomTraits : RobustTraits
-{
-  using Construct_weighted_circumcenter_3 = AccurateWeightedCircumcenter;
-  GeomTraits(const K& k = K())
-    : RobustTraits(k)
-  {
-  }
-  Construct_weighted_circumcenter_3 construct_weighted_circumcenter_3_object() const
-  {
-    return Construct_weighted_circumcenter_3(static_cast<const K&>(*this));
-  }
-};
-
-// As CGAL::Mesh_triangulation_3<MeshDomain>::type, with GeomTraits.
-using VertexBase = CGAL::Mesh_vertex_generator_3<GeomTraits, CGAL::Mesh_3::internal::Indices_tuple_t<MeshDomain>, MeshDomain::Index>;
-using CellBase = CGAL::Compact_mesh_cell_generator_3<GeomTraits, MeshDomain::Subdomain_index,
-  MeshDomain::Surface_patch_index, MeshDomain::Index>;
-struct Tds : CGAL::Triangulation_data_structure_3<VertexBase, CellBase, CGAL::Sequential_tag>
-{
-};
-using Tr = CGAL::Mesh_3_regular_triangulation_3_wrapper<GeomTraits, Tds>;
-using C3t3 = CGAL::Mesh_complex_3_in_triangulation_3<Tr, MeshDomain::Corner_index, MeshDomain::Curve_index>;
-using Criteria = CGAL::Mesh_criteria_3<Tr>;
-using FacetCriteria = Criteria::Facet_criteria;
-using CellCriteria = Criteria::Cell_criteria;
-using EdgeCriteria = Criteria::Edge_criteria;
+using Types = MeshTriangulation3<CGAL::Sequential_tag>;
+using Tr = Types::Tr;
+using C3t3 = Types::C3t3;
+using Criteria = Types::Criteria;
 using Mesher = CGAL::Mesh_3::Mesher_3<C3t3, Criteria, MeshDomain>;
 using Clock = std::chrono::steady_clock;
 }
@@ -186,187 +134,6 @@ double threadCpu()
   clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
   return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
 }
-
-double squared(double x) { return x * x; }
-
-/// How a facet or cell touches protecting balls (vertices of positive weight), measured as CGAL's
-/// criteria visitors with features measure it. Next to a ball CGAL does not apply a criterion to a
-/// simplex that is small against the ball: there the refinement point lies on the power diagram
-/// at about the ball's surface, every insertion makes a smaller simplex of the same kind, and
-/// refinement converges onto one point of the sphere until a point repeats a vertex.
-struct BallContact
-{
-  int balls = 0;          ///< vertices with a protecting ball
-  bool ballsMeet = false; ///< two or more such balls with a common point
-  /// Largest squared radius of the smallest sphere orthogonal to a ball and another vertex,
-  /// relative to that ball's squared radius (0 when every vertex has a ball).
-  double ratio = 0.0;
-  /// True when a criterion with this bound on `ratio` is not applied (CGAL's rule).
-  bool exempt(double bound) const { return (balls == 1 || ballsMeet) && ratio < bound; }
-};
-
-template <size_t N>
-BallContact ballContact(const Tr& tr, const std::array<const Tr::Weighted_point*, N>& v)
-{
-  const auto sqRadius = tr.geom_traits().compute_squared_radius_smallest_orthogonal_sphere_3_object();
-  const auto compare = tr.geom_traits().compare_weighted_squared_radius_3_object();
-  std::array<const Tr::Weighted_point*, N> ball{}, other{};
-  size_t nb = 0, no = 0;
-  for (const Tr::Weighted_point* p : v)
-    (p->weight() > 0 ? ball[nb++] : other[no++]) = p;
-  BallContact b;
-  b.balls = static_cast<int>(nb);
-  for (size_t i = 0; i < nb; ++i)
-    for (size_t j = 0; j < no; ++j)
-      b.ratio = std::max(b.ratio, CGAL::to_double(sqRadius(*ball[i], *other[j])) / ball[i]->weight());
-  if (nb == 2)
-    b.ballsMeet = compare(*ball[0], *ball[1], 0.0) != CGAL::LARGER;
-  else if (nb == 3)
-    b.ballsMeet = compare(*ball[0], *ball[1], *ball[2], 0.0) != CGAL::LARGER;
-  else if (nb == 4)
-    b.ballsMeet = compare(*ball[0], *ball[1], *ball[2], *ball[3], 0.0) != CGAL::LARGER;
-  return b;
-}
-
-/// Per-material cell criteria: radius-edge ratio and circumradius bound of the cell's material
-/// (the material of its circumcentre, set by Mesh_3 before the criteria are asked).
-class MaterialCellCriterion : public CGAL::Mesh_3::Abstract_criterion<Tr, CellCriteria::Visitor>
-{
-  using Base = CGAL::Mesh_3::Abstract_criterion<Tr, CellCriteria::Visitor>;
-  using Quality = Base::Quality;
-  using Is_bad = Base::Is_bad;
-
-public:
-  MaterialCellCriterion(const MaterialCriteria& c, double sliverAngle, double interfaceSliverAngle)
-    : criteria_(c)
-    , anySliverAngle_(sliverAngle)
-    , interfaceSliverAngle_(interfaceSliverAngle)
-  {
-  }
-
-protected:
-  void do_accept(CellCriteria::Visitor& v) const override { v.visit(*this); }
-  MaterialCellCriterion* do_clone() const override { return new MaterialCellCriterion(*this); }
-  Is_bad do_is_bad(const Tr& tr, const Tr::Cell_handle& c) const override
-  {
-    const MeshCriteria::Values m = criteria_.of(materialOf(c->subdomain_index()));
-    const Tr::Weighted_point &wp = tr.point(c, 0), &wq = tr.point(c, 1), &wr = tr.point(c, 2), &ws = tr.point(c, 3);
-    const auto &p = wp.point(), &q = wq.point(), &r = wr.point(), &s = ws.point();
-    // CGAL's rules next to protecting balls (Cell_criteria_visitor_with_features): no shape
-    // criterion on a cell with one ball or with balls that meet, no size bound on a small one.
-    const BallContact near = ballContact<4>(tr, { &wp, &wq, &wr, &ws });
-    const bool shapeExempt = near.exempt(std::numeric_limits<double>::infinity());
-    const double sqRadius = CGAL::squared_radius(p, q, r, s);
-    double worst = 1.0; // quality: bound / value, below 1 is bad
-    if (m.cellSize > 0 && sqRadius > squared(m.cellSize) && !near.exempt(1.0))
-      worst = std::min(worst, squared(m.cellSize) / sqRadius);
-    if (m.cellRadiusEdgeRatio > 0 && !shapeExempt)
-    {
-      const double sqEdge = std::min({ CGAL::squared_distance(p, q), CGAL::squared_distance(p, r),
-        CGAL::squared_distance(p, s), CGAL::squared_distance(q, r), CGAL::squared_distance(q, s),
-        CGAL::squared_distance(r, s) });
-      const double bound = squared(m.cellRadiusEdgeRatio) * sqEdge;
-      if (sqRadius > bound)
-        worst = std::min(worst, bound / sqRadius);
-    }
-    // Slivers: radius-edge refinement leaves them (even flat ones: four cocircular points have a
-    // small circumradius), the optimisers remove most of them afterwards. Two rules refine them
-    // here instead, not next to protecting balls (weighted vertices: the refinement point falls
-    // in a ball and refinement never ends):
-    // - any tetrahedron below `sliverAngle` (small by default: at radius-edge 1.3 a bound of 9
-    //   degrees costs about 13% more tetrahedra; at 1.1 even 1 degree changes the counts a lot);
-    // - with at least three vertices on interfaces or feature lines, below `interfaceSliverAngle`:
-    //   the perturber and the exuder cannot fix these (those vertices only slide on their interface
-    //   or stay on their line; seen: three points of a feature line and one free vertex). Two would
-    //   be better for the angles (worst of 25 generated bone/implant cases at radius-edge 1.3: 10.9
-    //   instead of 6.6 deg, +9% tets), but then radius-edge 1.1 no longer ends (three cases ran
-    //   into a 300k-vertex budget that they met at 72k-180k with three).
-    auto onInterface = [&](int i) { return c->vertex(i)->in_dimension() < 3; };
-    auto weighted = [&](int i) { return tr.point(c, i).weight() != 0; };
-    const int interfaceVertices = onInterface(0) + onInterface(1) + onInterface(2) + onInterface(3);
-    const double sliverBound = std::max(anySliverAngle_, interfaceVertices >= 3 ? interfaceSliverAngle_ : 0.0);
-    if (sliverBound > 0 && worst >= 1.0 && !(weighted(0) || weighted(1) || weighted(2) || weighted(3)))
-    {
-      const double a = minDihedralAngle(toVec(p), toVec(q), toVec(r), toVec(s));
-      if (a < sliverBound)
-        worst = 0.99 * a / sliverBound;
-    }
-    return worst < 1.0 ? Is_bad(Quality(worst)) : Is_bad();
-  }
-
-private:
-  MaterialCriteria criteria_;
-  double anySliverAngle_;
-  double interfaceSliverAngle_;
-};
-
-/// Per-material facet criteria (angle, surface Delaunay ball radius, centre-to-surface distance).
-/// An interface facet takes the stricter bound of the materials on its two sides.
-class MaterialFacetCriterion : public CGAL::Mesh_3::Abstract_criterion<Tr, FacetCriteria::Visitor>
-{
-  using Base = CGAL::Mesh_3::Abstract_criterion<Tr, FacetCriteria::Visitor>;
-  using Quality = Base::Quality;
-  using Is_bad = Base::Is_bad;
-
-public:
-  explicit MaterialFacetCriterion(const MaterialCriteria& c)
-    : criteria_(c)
-  {
-  }
-
-protected:
-  void do_accept(FacetCriteria::Visitor& v) const override { v.visit(*this); }
-  MaterialFacetCriterion* do_clone() const override { return new MaterialFacetCriterion(*this); }
-  Is_bad do_is_bad(const Tr& tr, const Tr::Facet& f) const override
-  {
-    const auto patch = f.first->surface_patch_index(f.second);
-    const MeshCriteria::Values a = criteria_.of(materialOf(patch.first));
-    const MeshCriteria::Values b = criteria_.of(materialOf(patch.second));
-    auto strict = [](double x, double y) { return x > 0 && y > 0 ? std::min(x, y) : std::max(x, y); };
-    const double angle = std::max(a.facetAngle, b.facetAngle);
-    const double size = strict(a.facetSize, b.facetSize);
-    const double distance = strict(a.facetDistance, b.facetDistance);
-
-    // As CGAL's standard facet criteria, with weighted points (protecting balls have weights).
-    const Tr::Weighted_point& w1 = tr.point(f.first, (f.second + 1) & 3);
-    const Tr::Weighted_point& w2 = tr.point(f.first, (f.second + 2) & 3);
-    const Tr::Weighted_point& w3 = tr.point(f.first, (f.second + 3) & 3);
-    const K::Point_3& p1 = w1.point();
-    const K::Point_3& p2 = w2.point();
-    const K::Point_3& p3 = w3.point();
-    const K::Point_3& centre = f.first->get_facet_surface_center(f.second);
-    // CGAL's bounds on the ratio (Facet_criterion_visitor_with_features): angle, size, distance.
-    const BallContact near = ballContact<3>(tr, { &w1, &w2, &w3 });
-    double worst = 1.0;
-    if (angle > 0 && !near.exempt(1.0))
-    {
-      // sin^2 of the smallest angle: 4 area^2 min(d^2) / (d12^2 d13^2 d23^2)
-      const double d12 = CGAL::squared_distance(p1, p2), d13 = CGAL::squared_distance(p1, p3),
-                   d23 = CGAL::squared_distance(p2, p3);
-      const double sqSin = 4.0 * CGAL::squared_area(p1, p2, p3) * std::min({ d12, d13, d23 }) / (d12 * d13 * d23);
-      const double bound = squared(std::sin(angle * M_PI / 180.0));
-      if (sqSin < bound)
-        worst = std::min(worst, sqSin / bound);
-    }
-    if (size > 0 && !near.exempt(0.64))
-    {
-      const double sqRadius = tr.min_squared_distance(p1, centre);
-      if (sqRadius > squared(size))
-        worst = std::min(worst, squared(size) / sqRadius);
-    }
-    if (distance > 0 && !near.exempt(0.04))
-    {
-      const K::Point_3 c = tr.geom_traits().construct_weighted_circumcenter_3_object()(w1, w2, w3);
-      const double sqDist = tr.min_squared_distance(c, centre);
-      if (sqDist > squared(distance))
-        worst = std::min(worst, squared(distance) / sqDist);
-    }
-    return worst < 1.0 ? Is_bad(Quality(worst)) : Is_bad();
-  }
-
-private:
-  MaterialCriteria criteria_;
-};
 
 /// Thrown inside CGAL's feature protection (its worker thread) once it was asked to stop.
 struct ProtectionStopped
@@ -762,7 +529,9 @@ private:
   /// How far the run got, for the message and statistics of TimeLimitReached.
   void measure(std::map<std::string, double>& st) const
   {
-    st["vertices"] = c3t3_ ? static_cast<double>(c3t3_->triangulation().number_of_vertices()) : 0.0;
+    // during a parallel refinement the sequential complex holds its start: its vertex count is the last seen
+    st["vertices"] = std::max(c3t3_ ? static_cast<double>(c3t3_->triangulation().number_of_vertices()) : 0.0,
+      static_cast<double>(parallelVertices_));
     st["tetrahedra"] = c3t3_ ? static_cast<double>(c3t3_->number_of_cells_in_complex()) : 0.0;
     st["feature_points"] =
       static_cast<double>(segments_ ? segments_->segments().points.size() : conformed_.points.size());
@@ -803,22 +572,17 @@ private:
       auto lines = toPolylines(*features_);
       domain_->add_features(lines.begin(), lines.end());
     }
-    double edgeSize = g_.edgeSize;
-    if (protect_ && edgeSize <= 0)
+    edgeSize_ = g_.edgeSize;
+    if (protect_ && edgeSize_ <= 0)
     {
-      edgeSize = norm(inner_.size()) / 50.0;
+      edgeSize_ = norm(inner_.size()) / 50.0;
       for (double v : { g_.facetSize, g_.cellSize })
         if (v > 0)
-          edgeSize = std::min(edgeSize, v);
-      warnings_.push_back("EdgeSize not set: protecting balls use " + std::to_string(edgeSize));
+          edgeSize_ = std::min(edgeSize_, v);
+      warnings_.push_back("EdgeSize not set: protecting balls use " + std::to_string(edgeSize_));
     }
-    FacetCriteria facetCriteria(0.0, 0.0, 0.0, CGAL::FACET_VERTICES_ON_SURFACE);
-    CellCriteria cellCriteria(0.0, 0.0);
-    criteria_ = std::make_unique<Criteria>(
-      EdgeCriteria(StoppableEdgeSize{ edgeSize > 0 ? edgeSize : 1.0, &stopProtection_ }), facetCriteria, cellCriteria);
-    criteria_->add_facet_criterion(new MaterialFacetCriterion(options_.criteria));
-    criteria_->add_cell_criterion(
-      new MaterialCellCriterion(options_.criteria, options_.sliverAngle, options_.interfaceSliverAngle));
+    criteria_ = std::make_unique<Criteria>(materialMeshCriteria<Tr>(
+      options_, Criteria::Edge_criteria(StoppableEdgeSize{ edgeSize_ > 0 ? edgeSize_ : 1.0, &stopProtection_ })));
   }
 
   /// Conforming: rule T1 on the segments alone first (SegmentConformation.h); the domain's
@@ -827,6 +591,12 @@ private:
   void conformSegmentsT1()
   {
     conforming_ = options_.strategy == FeatureStrategy::Conforming && !features_->empty();
+    // CGAL's parallel refinement (ParallelRefinement.h) serves every strategy but Conforming with
+    // feature lines, whose segment level is ours and sequential.
+    threads_ = conforming_ ? 1 : requestedThreads(options_);
+    if (conforming_ && requestedThreads(options_) > 1)
+      warnings_.push_back("Threads = " + std::to_string(options_.threads) + ": the Conforming strategy with feature "
+        "lines refines on one thread (None and ProtectingBalls refine in parallel)");
     if (!conforming_)
       return;
     const size_t budget = options_.maximumNumberOfVertices ? options_.maximumNumberOfVertices : 1000000;
@@ -1046,12 +816,34 @@ private:
       drive(mesher, [&] { return level.queueMissingFromComplex(wanted) > 0; });
       missing_ = level.missingCensus(wanted);
     }
+    else if (threads_ > 1)
+      refineInParallelOnce();
     else
     {
       Mesher mesher(*c3t3_, *domain_, *criteria_, CGAL::FACET_VERTICES_ON_SURFACE);
       drive(mesher, {});
     }
     ++rounds_;
+  }
+
+  /// CGAL's parallel refinement on threads_ threads, from and back into the sequential complex.
+  /// Progress, abort and the deadline are asked from this thread every 50 ms (a throw stops the
+  /// refinement); the vertex budget and a stall stop it as they stop drive().
+  void refineInParallelOnce()
+  {
+    const ParallelRefinementRun run =
+      refineInParallel(*c3t3_, *domain_, options_, edgeSize_, threads_, [this](size_t n) {
+        parallelVertices_ = n;
+        deadline_.check(refinePhase_);
+        report(0.05 + 0.4 * std::min(1.0, static_cast<double>(n) / expected_), "refinement");
+      });
+    parallelVertices_ = 0; // the complex holds them again
+    budgetHit_ = run.budgetHit;
+    stalled_ = run.stalled;
+    parallelCpu_ += run.cpuSeconds;
+    parallelBusiestCpu_ += run.busiestThreadCpu;
+    if (budgetHit_ || stalled_) // the cells a stop left out of the complex, as drive() does
+      Mesher(*c3t3_, *domain_, *criteria_, CGAL::FACET_VERTICES_ON_SURFACE).fix_c3t3();
   }
 
   /// The segment, facet and cell levels together (rules T1.2, T2, T3), one step at a time.
@@ -1071,7 +863,8 @@ private:
     }
     c3t3_->clear_manifold_info();
     refineTime_ = seconds(refineStart);
-    refineCpu_ = threadCpu() - refineCpuStart;
+    callingThreadRefineCpu_ = threadCpu() - refineCpuStart;
+    refineCpu_ = callingThreadRefineCpu_ + parallelCpu_;
   }
 
   /// Bounded by step budgets that scale with the mesh (deterministic: the same seed gives the same
@@ -1250,6 +1043,7 @@ private:
       st["feature_network.shortest_segment"] = network_.shortestSegment;
     }
     st["refinement_steps"] = static_cast<double>(steps_);
+    st["refinement_threads"] = threads_;
     st["refinement_rounds"] = rounds_;
     addSegmentStatistics(st);
     addOptimisationStatistics(st);
@@ -1299,8 +1093,12 @@ private:
     st["time.optimisation"] = optTime_;
     st["time.total"] = seconds(started_);
     st["time_limit"] = deadline_.limit();
-    // CPU seconds of the calling thread (the wall times above depend on the machine's load)
+    // CPU seconds of the calling thread, and of the refinement's threads for a parallel refinement
+    // (the wall times above depend on the machine's load)
     st["cpu.refinement"] = refineCpu_;
+    // the refinement's CPU seconds along its critical path (the calling thread's plus the busiest
+    // refinement thread's): its time on idle cores, the same as cpu.refinement when sequential
+    st["cpu.refinement_critical_path"] = callingThreadRefineCpu_ + parallelBusiestCpu_;
     st["cpu.perturbation"] = perturbed_.cpuSeconds;
     st["cpu.exudation"] = exuded_.cpuSeconds;
     st["cpu.optimisation"] = optCpu_;
@@ -1323,6 +1121,10 @@ private:
   std::unique_ptr<MeshDomain> domain_;
   std::unique_ptr<Criteria> criteria_;
   bool protect_ = false, conforming_ = false;
+  double edgeSize_ = 0.0; ///< of the protecting balls (0 = none asked)
+  int threads_ = 1;       ///< of the refinement (MesherOptions::threads; 1 for Conforming with feature lines)
+  /// Vertices of a running parallel refinement, as last seen (0 otherwise).
+  size_t parallelVertices_ = 0;
   SegmentSet conformed_;                       ///< rule T1's result, until the state owns it
   std::unique_ptr<C3t3> c3t3_;
   std::unique_ptr<SegmentState<C3t3>> segments_; ///< Conforming only
@@ -1332,6 +1134,8 @@ private:
   int rounds_ = 0;
   bool budgetHit_ = false, stalled_ = false;
   double initTime_ = 0.0, refineTime_ = 0.0, refineCpu_ = 0.0, optTime_ = 0.0, optCpu_ = 0.0;
+  double callingThreadRefineCpu_ = 0.0;
+  double parallelCpu_ = 0.0, parallelBusiestCpu_ = 0.0; ///< of every refinement thread, of the busiest one
   double minBefore_ = 0.0, optLimit_ = 0.0;
   OptimiserRun perturbed_, exuded_;
 };

@@ -343,6 +343,9 @@ SurfaceDomain::SurfaceDomain(
   if (solid.empty())
     throw InputError(name + ": every triangle of the surface has zero area");
   impl_->tree = std::make_unique<Tree>(solid.begin(), solid.end(), impl_->mesh);
+  // Built now rather than lazily by the first query, under CGAL's lock, when the parallel
+  // refinement queries from several threads (Domain: const queries are thread-safe).
+  impl_->tree->build();
   impl_->tree->accelerate_distance_queries();
   // A closed surface that does not intersect itself (checked above) has winding number 1 exactly
   // where ray parity says inside: the fast test with the grid gives the same answers.

@@ -15,6 +15,7 @@ import unittest
 import numpy as np
 
 import oraclemesh as om
+from oraclemesh.report import statistics
 from oraclemesh.scene import build_scene, load_scene
 from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
 
@@ -312,6 +313,52 @@ class Command(unittest.TestCase):
                                     capture_output=True, encoding="utf-8", env=env, cwd=tmp, check=False)
             self.assertEqual(result.returncode, 0, result.stderr)
             self.assertIn("Tetrahedra", open(out).read())
+
+
+class Threads(unittest.TestCase):
+    """The parallel refinement through every door (--threads, the scene's "threads", threads=), whose
+    default is one and the same at each (the C++'s)."""
+
+    def test_default_is_the_cxx_one_at_every_door(self):
+        from oraclemesh import vtkFeaturePreservingTetrahedralizer
+        from oraclemesh.defaults import mesh_defaults
+
+        self.assertEqual(mesh_defaults()["threads"], vtkFeaturePreservingTetrahedralizer().GetThreads())
+        self.assertEqual(mesh_defaults()["threads"], 1)  # sequential: identical meshes per seed
+        self.assertIn('"threads", else 1)', " ".join(run("mesh", "--help").stdout.split()))
+        self.assertEqual(om.mesh(SMALL_SCENE).statistics["refinement_threads"], 1)
+
+    def test_two_threads_keep_the_volumes_and_validity(self):
+        """The parallel mesh approximates the materials' volumes as well as the sequential one (its
+        error at most 1.5 times the sequential's, plus 0.5%): a different mesh, the same accuracy."""
+        scene = json.loads(json.dumps(SMALL_SCENE))
+        scene["mesh"]["criteria"]["facet_distance"] = 0.1
+        seq = om.mesh(scene).statistics
+        par = om.mesh(scene, threads=2).statistics
+        self.assertEqual(par["refinement_threads"], 2)
+        self.assertEqual(par["validity.defects"], 0)
+        ball = 4 / 3 * math.pi * 3 ** 3
+        for key, exact in (("volume.material_2", ball), ("volume.material_1", 10 ** 3 - ball)):
+            self.assertLessEqual(abs(par[key] - exact), 1.5 * abs(seq[key] - exact) + 0.005 * exact, key)
+
+    def test_command_line_and_scene_key(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            scene = write_json(os.path.join(tmp, "threads.json"),
+                               dict(SMALL_SCENE, mesh=dict(SMALL_SCENE["mesh"], threads=2)))
+            out = os.path.join(tmp, "threads.vtu")
+            result = run("mesh", scene, "-o", out)
+            self.assertEqual(result.returncode, 0, result.stderr)
+            self.assertEqual(statistics(read_vtu(out))["refinement_threads"], 2)
+            result = run("mesh", scene, "-o", out, "--threads", 1)
+            self.assertEqual(result.returncode, 0, result.stderr)
+            self.assertEqual(statistics(read_vtu(out))["refinement_threads"], 1)
+            result = run("mesh", scene, "-o", out, "--threads", -1)
+            self.assertEqual(result.returncode, 2)
+            self.assertIn("threads: must be an integer >= 0", result.stderr)
+            bad = write_json(os.path.join(tmp, "bad.json"), dict(SMALL_SCENE, mesh=dict(SMALL_SCENE["mesh"], threads=-1)))
+            result = run("mesh", bad, "-o", out)
+            self.assertEqual(result.returncode, 2)
+            self.assertIn("$.mesh.threads: -1 is out of range", result.stderr)
 
 
 class SceneFormat(unittest.TestCase):

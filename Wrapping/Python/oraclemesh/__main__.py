@@ -171,7 +171,7 @@ def _mesh(args):
             check_output_path(path, what)
     progress = ProgressPrinter(sys.stderr, machine=args.progress_lines) if args.progress or args.progress_lines else None
     result = mesh(scene, args.strategy, progress, updater=SIGNALS.update, element_order=args.order,
-                  features=args.features)
+                  features=args.features, threads=args.threads)
     started = time.perf_counter()
     written = result.save(*outputs)
     lines = result.report.split("\n")
@@ -285,6 +285,11 @@ def main(argv=None):
                         "(default: the scene's outputs.mesh)")
     p.add_argument("--strategy", choices=STRATEGIES,
                    help=f"feature strategy (default: the scene's, else {mesh_defaults()['strategy']})")
+    p.add_argument("--threads", type=int, metavar="N",
+                   help="threads of the refinement (default: the scene's \"threads\", else "
+                        f"{mesh_defaults()['threads']}): 1 = sequential, the same seed gives the same mesh; "
+                        "N > 1 = parallel (0 = every core): same criteria and checks, but the mesh differs "
+                        "from run to run (Conforming with feature lines refines on one thread)")
     p.add_argument("--order", type=int, choices=(1, 2),
                    help="element order: 1 = 4-node, 2 = 10-node tetrahedra with the mid-edge nodes of interface "
                         f"edges on the true surfaces (default: the scene's \"element_order\", else "

@@ -33,7 +33,7 @@ MESH_PROPERTIES = {
     "perturbation_steps_per_vertex": "PerturbationStepsPerVertex",
     "exudation_steps_per_cell": "ExudationStepsPerCell", "optimisation_time_limit": "OptimisationTimeLimit",
     "seed": "Seed", "maximum_number_of_vertices": "MaximumNumberOfVertices", "time_limit": "TimeLimit",
-    "element_order": "ElementOrder",
+    "element_order": "ElementOrder", "threads": "Threads",
 }
 BOOLEAN_PROPERTIES = {"Perturb", "Exude", "ResampleFeatureLines"}
 

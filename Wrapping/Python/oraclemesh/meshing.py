@@ -17,12 +17,12 @@ from .errors import OracleMeshError, update
 from .scene import Scene, build_scene, load_scene
 
 
-def mesher_for(scene, strategy=None, element_order=None, features=None):
+def mesher_for(scene, strategy=None, element_order=None, features=None, threads=None):
     """The tetrahedralizer set up from the scene's validated "mesh" block (criteria, the
     "mesh.materials" table, feature lines, strategy, seed, ...); a key the scene leaves out keeps the
     filter's default (defaults.py). The domains carry their own criteria; the core merges them
-    (MeshCriteria.h). `strategy` and `element_order` (1 or 2) override the scene's, `features` (None,
-    Given, Automatic, Both: which feature lines are kept) the scene's "mesh.features.use"."""
+    (MeshCriteria.h). `strategy`, `element_order` (1 or 2) and `threads` override the scene's, `features`
+    (None, Given, Automatic, Both: which feature lines are kept) the scene's "mesh.features.use"."""
     from vtkmodules.vtkFiltersCore import vtkAppendPolyData, vtkFeatureEdges
 
     from . import vtkFeaturePreservingTetrahedralizer
@@ -71,6 +71,8 @@ def mesher_for(scene, strategy=None, element_order=None, features=None):
         if element_order not in (1, 2) or isinstance(element_order, bool):
             raise OracleMeshError(f"element_order: must be 1 (linear) or 2 (quadratic tetrahedra), got {element_order!r}")
         mesher.SetElementOrder(element_order)
+    if threads is not None:
+        mesher.SetThreads(threads)
     return mesher
 
 
@@ -174,7 +176,8 @@ class MeshResult:
                 f"min dihedral {self.quality['min_dihedral']:.1f} deg>")
 
 
-def mesh(scene, strategy=None, progress=None, base_dir=None, updater=update, element_order=None, features=None):
+def mesh(scene, strategy=None, progress=None, base_dir=None, updater=update, element_order=None, features=None,
+         threads=None):
     """Meshes a scene and returns a MeshResult (``.grid``, ``.report``, ``.statistics``, ``.save()``).
 
     `scene`: a JSON scene file path, a dict in the same format (see the README's "Scene files";
@@ -185,12 +188,17 @@ def mesh(scene, strategy=None, progress=None, base_dir=None, updater=update, ele
     `features` which feature lines are kept ("None", "Given", "Automatic", "Both"; default the
     scene's "mesh.features.use", else Given);
     `progress`, if given, is called with the mesher's progress (0..1); `updater` runs the mesher
-    (default errors.update; the command line passes one that signals can abort). Bad scenes and failed meshing
-    raise OracleMeshError naming the problem; failed meshing raises MeshingError, whose ``statistics`` hold
-    the figures so far (after the scene's "time_limit": vertices, tetrahedra, time.elapsed, time_limit)."""
+    (default errors.update; the command line passes one that signals can abort). `threads` overrides
+    the scene's "threads": 1 = sequential (the same seed gives the same mesh), N > 1 = the refinement
+    on N threads (0 = every core; the mesh then differs from run to run, see the README). Bad scenes
+    and failed meshing raise OracleMeshError naming the problem; failed meshing raises MeshingError, whose
+    ``statistics`` hold the figures so far (after the scene's "time_limit": vertices, tetrahedra,
+    time.elapsed, time_limit)."""
     started = time.perf_counter()
+    if threads is not None and (not isinstance(threads, int) or isinstance(threads, bool) or threads < 0):
+        raise OracleMeshError(f"threads: must be an integer >= 0 (1 = sequential, 0 = every core), got {threads!r}")
     scene = as_scene(scene, base_dir)
-    mesher = mesher_for(scene, strategy, element_order, features)
+    mesher = mesher_for(scene, strategy, element_order, features, threads)
     if progress is not None:
         mesher.AddObserver("ProgressEvent", lambda algorithm, event: progress(algorithm.GetProgress()))
     grid = updater(mesher)

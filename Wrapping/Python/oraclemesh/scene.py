@@ -16,7 +16,7 @@ write the results (the README's "Scene files" section documents every key):
        {"name": "block", "type": "box", "bounds": [xmin, xmax, ymin, ymax, zmin, zmax], "material": 6}],
      "mesh": {"strategy": "Conforming", "criteria": {...}, "materials": {"3": {...}},
               "features": {"use": "Both", "from_surface": "implant", "feature_angle": 60, "files": [...]},
-              "seed": 1, "maximum_number_of_vertices": 200000, "time_limit": 600},
+              "seed": 1, "maximum_number_of_vertices": 200000, "time_limit": 600, "threads": 1},
      "outputs": {"mesh": ["out.vtu", "out.inp"], "report": "report.txt", "histogram": "dihedral.png"},
      "reference_volumes": {"5": 523.6}}
 
@@ -50,7 +50,7 @@ TOP_KEYS = {"description", "comment", "space", "domains", "mesh", "outputs", "re
 MESH_KEYS = {"strategy", "criteria", "materials", "features", "seed", "maximum_number_of_vertices", "comment",
              "perturb", "exude", "sliver_angle", "interface_sliver_angle", "perturbation_steps_per_vertex",
              "exudation_steps_per_cell", "optimisation_time_limit", "perturbation_failures_per_bound",
-             "exudation_sliver_bound", "time_limit", "element_order"}
+             "exudation_sliver_bound", "time_limit", "element_order", "threads"}
 FEATURE_KEYS = {"use", "from_surface", "feature_angle", "files", "resample", "comment"}
 OUTPUT_KEYS = {"mesh", "report", "histogram", "comment"}
 INT_MIN, INT_MAX = -2**31, 2**31 - 1  # the C int of material ids, labels and the seed
@@ -315,6 +315,10 @@ def _mesh_block(problems, spec, scene):
                     integer=True, low=1, high=ID_MAX)
     if limit is not None:
         mesh["maximum_number_of_vertices"] = limit
+    # 1 = sequential (identical meshes per seed), N > 1 = parallel refinement, 0 = every core
+    threads = _number(problems, spec, "$.mesh", "threads", required=False, integer=True, low=0, high=1024)
+    if threads is not None:
+        mesh["threads"] = threads
     features = spec.get("features")
     if features is None:
         return

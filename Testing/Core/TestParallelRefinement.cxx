@@ -1,0 +1,235 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// MesherOptions::threads > 1: CGAL's parallel refinement (ParallelRefinement.cxx). Its meshes differ
+// from run to run, so these tests check what a parallel run promises: the same criteria, volumes,
+// validity and feature lines as the sequential run, not the same mesh.
+#include "BoxDomain.h"
+#include "HierarchicalOracle.h"
+#include "InputError.h"
+#include "LabelMapDomain.h"
+#include "MeshQuality.h"
+#include "MeshValidity.h"
+#include "OracleMesher.h"
+#include "SphereDomain.h"
+#include "SurfaceDomain.h"
+#include "TestShapes.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <chrono>
+
+using namespace omesh;
+
+namespace
+{
+/// A ball (material 1, coarse) over a box (material 2, finer through a per-material size).
+HierarchicalOracle ballOverBox()
+{
+  HierarchicalOracle o;
+  o.add(std::make_shared<SphereDomain>(Vec3{ 0, 0, 0 }, 1.0, 1));
+  o.add(std::make_shared<BoxDomain>(Vec3{ -0.5, -0.5, -2 }, Vec3{ 0.5, 0.5, -0.5 }, 2));
+  return o;
+}
+
+MesherOptions ballOverBoxOptions(int threads)
+{
+  MesherOptions o;
+  o.strategy = FeatureStrategy::None;
+  o.criteria.global = { 25.0, 0.15, 0.01, 0.15, 2.0, 0.0 }; // angle, facet size, distance, cell size, radius-edge, edge
+  MeshCriteria fine = MeshCriteria::inheritAll();
+  fine.cellSize = 0.08;
+  o.criteria.perMaterial[2] = fine;
+  o.seed = 3;
+  o.threads = threads;
+  return o;
+}
+
+FeatureSegments cubeEdges(double lo, double hi)
+{
+  FeatureSegments f;
+  for (int i = 0; i < 8; ++i)
+    f.points.push_back({ (i & 1) ? hi : lo, (i & 2) ? hi : lo, (i & 4) ? hi : lo });
+  for (int i = 0; i < 8; ++i)
+    for (int bit : { 1, 2, 4 })
+      if (!(i & bit))
+        f.segments.push_back({ i, i | bit });
+  return f;
+}
+
+double stat(const TetMesh& m, const std::string& name)
+{
+  const auto it = m.statistics.find(name);
+  return it == m.statistics.end() ? -1.0 : it->second;
+}
+
+bool hasWarning(const TetMesh& m, const std::string& text)
+{
+  return std::any_of(m.warnings.begin(), m.warnings.end(), [&](const std::string& w) { return w.find(text) != std::string::npos; });
+}
+
+/// Every tetrahedron's circumradius within its material's cell size (what refinement guarantees).
+void expectCellSizes(const TetMesh& m, const std::map<int, double>& size)
+{
+  for (size_t t = 0; t < m.tets.size(); ++t)
+  {
+    const auto& k = m.tets[t];
+    const Vec3 c = circumcenter(m.points[k[0]], m.points[k[1]], m.points[k[2]], m.points[k[3]]);
+    ASSERT_LE(norm(m.points[k[0]] - c), size.at(m.tetMaterial[t]) * (1 + 1e-9)) << "tet " << t;
+  }
+}
+}
+
+TEST(ParallelRefinement, SameCriteriaVolumesAndValidityAsSequential)
+{
+  const HierarchicalOracle o = ballOverBox();
+  MesherOptions seqOptions = ballOverBoxOptions(1), parOptions = ballOverBoxOptions(2);
+  seqOptions.perturb = seqOptions.exude = parOptions.perturb = parOptions.exude = false;
+  const TetMesh seq = meshOracle(o, {}, {}, seqOptions);
+  const TetMesh par = meshOracle(o, {}, {}, parOptions);
+  EXPECT_EQ(stat(seq, "refinement_threads"), 1.0);
+  EXPECT_EQ(stat(par, "refinement_threads"), 2.0);
+  EXPECT_TRUE(par.warnings.empty()) << par.warnings.front();
+  EXPECT_EQ(stat(par, "validity.defects"), 0.0);
+  expectCellSizes(par, { { 1, 0.15 }, { 2, 0.08 } });
+  const auto vs = materialVolumes(seq), vp = materialVolumes(par);
+  ASSERT_EQ(vp.size(), 2u);
+  for (const auto& [mat, v] : vs)
+    EXPECT_NEAR(vp.at(mat), v, 0.005 * v) << "material " << mat;
+  // as many tetrahedra give or take a few percent (the criteria, not the order of insertions, set the density)
+  EXPECT_NEAR(static_cast<double>(par.tets.size()), static_cast<double>(seq.tets.size()), 0.1 * seq.tets.size());
+}
+
+TEST(ParallelRefinement, OptimisedMeshKeepsTheSequentialAngleBound)
+{
+  // The optimisers run on the copied-back complex as after a sequential refinement: the smallest
+  // angle ends where the perturber's bounds end, not far below the sequential run's.
+  const HierarchicalOracle o = ballOverBox();
+  const TetMesh seq = meshOracle(o, {}, {}, ballOverBoxOptions(1));
+  const TetMesh par = meshOracle(o, {}, {}, ballOverBoxOptions(2));
+  EXPECT_EQ(stat(par, "validity.defects"), 0.0);
+  EXPECT_GE(stat(par, "min_dihedral_angle"), std::min(10.0, stat(seq, "min_dihedral_angle") - 2.0));
+}
+
+TEST(ParallelRefinement, LabelMapVolumesAsSequential)
+{
+  const std::array<int, 3> d{ 24, 24, 24 };
+  std::vector<int> labels(static_cast<size_t>(d[0]) * d[1] * d[2], 0);
+  for (int k = 0; k < d[2]; ++k)
+    for (int j = 0; j < d[1]; ++j)
+      for (int i = 0; i < d[0]; ++i)
+      {
+        const double r = norm(Vec3{ i + 0.5, j + 0.5, k + 0.5 } - Vec3{ 12, 12, 12 });
+        labels[i + d[0] * (j + d[1] * k)] = r < 4 ? 2 : (r < 8 ? 1 : 0);
+      }
+  HierarchicalOracle o;
+  o.add(std::make_shared<LabelMapDomain>(d, labels,
+    LabelMapDomain::cellCenteredWorldToVoxel({ 0, 0, 0 }, { 1, 1, 1 }, { 1, 0, 0, 0, 1, 0, 0, 0, 1 }), 0, "balls",
+    LabelInterpolation::Trilinear));
+  MesherOptions opt;
+  opt.strategy = FeatureStrategy::None;
+  opt.criteria.global = { 25.0, 1.0, 0.08, 1.0, 3.0, 0.0 };
+  opt.perturb = opt.exude = false;
+  const TetMesh seq = meshOracle(o, {}, {}, opt);
+  opt.threads = 2;
+  const TetMesh par = meshOracle(o, {}, {}, opt);
+  EXPECT_EQ(stat(par, "validity.defects"), 0.0);
+  expectCellSizes(par, { { 1, 1.0 }, { 2, 1.0 } });
+  const auto vs = materialVolumes(seq), vp = materialVolumes(par);
+  ASSERT_EQ(vp.size(), 2u);
+  for (const auto& [mat, v] : vs)
+    EXPECT_NEAR(vp.at(mat), v, 0.01 * v) << "material " << mat;
+}
+
+TEST(ParallelRefinement, ProtectingBallsKeepTheCubeEdges)
+{
+  HierarchicalOracle o;
+  o.add(std::make_shared<SurfaceDomain>(test::cube(0, 1), 1));
+  const FeatureSegments edges = cubeEdges(0, 1);
+  MesherOptions opt;
+  opt.strategy = FeatureStrategy::ProtectingBalls;
+  opt.criteria.global = { 25.0, 0.2, 0.01, 0.2, 3.0, 0.0 };
+  opt.seed = 7;
+  opt.threads = 2;
+  const TetMesh m = meshOracle(o, edges, {}, opt);
+  EXPECT_EQ(stat(m, "refinement_threads"), 2.0);
+  EXPECT_NEAR(featureCoverage(m.segments, edges), 1.0, 1e-12);
+  EXPECT_NEAR(materialVolumes(m).at(1), 1.0, 0.01);
+  EXPECT_EQ(stat(m, "validity.defects"), 0.0);
+  EXPECT_GT(stat(m, "min_dihedral_angle"), 5.0);
+}
+
+TEST(ParallelRefinement, ConformingWithFeatureLinesRefinesOnOneThreadAndSaysSo)
+{
+  HierarchicalOracle o;
+  o.add(std::make_shared<SurfaceDomain>(test::cube(0, 1), 1));
+  const FeatureSegments edges = cubeEdges(0, 1);
+  MesherOptions opt;
+  opt.strategy = FeatureStrategy::Conforming;
+  opt.criteria.global = { 25.0, 0.3, 0.02, 0.3, 3.0, 0.0 };
+  opt.seed = 7;
+  const TetMesh seq = meshOracle(o, edges, {}, opt);
+  opt.threads = 2;
+  const TetMesh asked = meshOracle(o, edges, {}, opt);
+  ASSERT_GT(seq.tets.size(), 100u);
+  EXPECT_TRUE(hasWarning(asked, "refines on one thread"));
+  EXPECT_EQ(stat(asked, "refinement_threads"), 1.0);
+  EXPECT_EQ(asked.tets, seq.tets); // the sequential run, seed for seed
+}
+
+TEST(ParallelRefinement, AbortVertexBudgetAndBadThreads)
+{
+  HierarchicalOracle o;
+  o.add(std::make_shared<SphereDomain>(Vec3{ 0, 0, 0 }, 1.0, 1));
+  MesherOptions abort = ballOverBoxOptions(2);
+  abort.criteria.global.cellSize = abort.criteria.global.facetSize = 0.02;
+  int calls = 0;
+  abort.progress = [&](double, const char* phase) { return std::string(phase) != "refinement" || ++calls < 3; };
+  EXPECT_THROW(meshOracle(o, {}, {}, abort), MeshingAborted);
+
+  MesherOptions budget = ballOverBoxOptions(2);
+  budget.criteria.global.cellSize = budget.criteria.global.facetSize = 0.02;
+  budget.maximumNumberOfVertices = 3000;
+  budget.perturb = budget.exude = false;
+  const TetMesh m = meshOracle(o, {}, {}, budget);
+  EXPECT_LT(m.points.size(), 6000u); // the budget is counted per thread, about every 50 ms
+  EXPECT_TRUE(hasWarning(m, "MaximumNumberOfVertices"));
+  EXPECT_GT(m.tets.size(), 1000u); // the cells refined so far are in the mesh
+  EXPECT_EQ(stat(m, "validity.defects"), 0.0);
+
+  MesherOptions bad = ballOverBoxOptions(-1);
+  try
+  {
+    meshOracle(o, {}, {}, bad);
+    ADD_FAILURE() << "threads = -1 accepted";
+  }
+  catch (const InputError& e)
+  {
+    EXPECT_NE(std::string(e.what()).find("Threads = -1"), std::string::npos) << e.what();
+  }
+}
+
+// The time limit (MeshingDeadline) stops a parallel refinement too: asked where the progress and
+// the vertex budget are, every 50 ms. Refinement to a tiny size with no vertex budget would run for
+// minutes; the limit ends it in the refinement phase, with the vertices seen so far.
+TEST(ParallelRefinement, TimeLimitStopsTheRefinement)
+{
+  HierarchicalOracle o;
+  o.add(std::make_shared<SphereDomain>(Vec3{ 0, 0, 0 }, 1.0, 1));
+  MesherOptions opt = ballOverBoxOptions(2);
+  opt.criteria.global.cellSize = opt.criteria.global.facetSize = 0.002;
+  opt.maximumNumberOfVertices = 0;
+  opt.timeLimit = 1.0;
+  const auto started = std::chrono::steady_clock::now();
+  try
+  {
+    meshOracle(o, {}, {}, opt);
+    ADD_FAILURE() << "meshed within 1 s: no longer a case for the time limit";
+  }
+  catch (const TimeLimitReached& e)
+  {
+    EXPECT_EQ(e.phase, "refinement") << e.what();
+    EXPECT_GE(e.statistics.at("time.elapsed"), 1.0);
+    EXPECT_GT(e.statistics.at("vertices"), 100.0) << e.what(); // the parallel complex's, not the initial points
+  }
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count(), 30.0);
+}
