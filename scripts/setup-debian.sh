@@ -9,7 +9,7 @@ PKGS=(
   cmake ninja-build g++ ccache pkg-config
   # ParaView 5.11 SDK (brings its own VTK 9.2 and the Python vtkmodules)
   paraview paraview-dev python3-paraview
-  # paraview-dev needs these but does not pull them in (see shared BUILD-NOTES)
+  # paraview-dev needs these but does not pull them in (docs/DESIGN.md, "Build facts")
   libopenmpi-dev libdouble-conversion-dev liblz4-dev liblzma-dev
   # CGAL and its dependencies
   libcgal-dev libboost-dev libeigen3-dev libgmp-dev libmpfr-dev libtbb-dev

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// The measures used everywhere (DESIGN.md), defined once.
+// The measures used everywhere (docs/DESIGN.md, "Invariants and measures"), defined once.
 #pragma once
 
 #include "FeatureSegments.h"

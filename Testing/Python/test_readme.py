@@ -66,6 +66,25 @@ class Readme(unittest.TestCase):
         self.assertIn(find, consumer)
         self.assertIn(link, consumer)
 
+    def test_the_design_notes_name_files_that_exist(self):
+        """docs/*.md name files in backquotes (`Filters/Core/MeshQuality.h`, `SegmentRules.h`): a path
+        must exist, a bare file name must exist somewhere in the source tree, so the notes follow
+        the code when files move or go."""
+        names = set()
+        for top, dirs, files in os.walk(ROOT):
+            dirs[:] = [d for d in dirs if not d.startswith((".", "build"))]
+            names.update(files)
+        docs = os.path.join(ROOT, "docs")
+        for doc in sorted(os.listdir(docs)):
+            with open(os.path.join(docs, doc), encoding="utf-8") as f:
+                text = f.read()
+            for ref in re.findall(r"`([\w./-]+\.(?:h|cxx|py|xml|json|md|sh|module))`", text):
+                with self.subTest(doc=doc, ref=ref):
+                    if "/" in ref:
+                        self.assertTrue(os.path.exists(os.path.join(ROOT, ref)), f"{doc} names {ref}, which does not exist")
+                    else:
+                        self.assertIn(ref, names, f"{doc} names {ref}, found nowhere in the source tree")
+
 
 if __name__ == "__main__":
     unittest.main()
