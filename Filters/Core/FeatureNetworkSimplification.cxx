@@ -432,8 +432,8 @@ std::size_t dropSegmentsLeavingDomain(FeatureSegments& f, const FeatureNetworkTo
 /// level leaves are segment points (refined points on the segments at v; facet points there are
 /// refused as encroaching), so the cells at v have their circumcentres off the plane of two
 /// segments at v (off the line of a lone one). Where the domain has no point there (probes at
-/// `radius` off that plane, each side, for every other segment at v; around the line for a lone
-/// one) - a noise spike or thin fold that the segments cross or run along - no cell at v is in
+/// `radius` off that plane, each side, for every other segment at v; for a lone one, at least a
+/// third of 12 probes around its line, as surface points near a line end also take room) - a noise spike or thin fold that the segments cross or run along - no cell at v is in
 /// the domain at any scale: the segment's first piece stays no mesh edge however often it is
 /// split (the noisy spheres' pieces missing before, Benchmarks/noisy_features.py).
 bool meshableEnd(const Vec3& v, const Vec3& w, const std::vector<Vec3>& others, double radius,
@@ -457,13 +457,13 @@ bool meshableEnd(const Vec3& v, const Vec3& w, const std::vector<Vec3>& others, 
   const Vec3 t1 = std::abs(u.x) < 0.9 ? cross(u, Vec3{ 1, 0, 0 }) : cross(u, Vec3{ 0, 1, 0 });
   const Vec3 a = (1.0 / norm(t1)) * t1;
   const Vec3 b = cross(u, a);
+  int inside = 0;
   for (int k = 0; k < 12; ++k)
   {
     const double angle = k * M_PI / 6.0;
-    if (tol.inDomain(c + radius * (std::cos(angle) * a + std::sin(angle) * b)))
-      return true;
+    inside += tol.inDomain(c + radius * (std::cos(angle) * a + std::sin(angle) * b)) ? 1 : 0;
   }
-  return false;
+  return inside >= 4;
 }
 
 /// Step 7: points where a segment end is no meshable end (meshableEnd) leave the lines: a point
