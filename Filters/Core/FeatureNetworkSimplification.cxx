@@ -525,6 +525,7 @@ std::size_t removeUnmeshableEnds(FeatureSegments& f, const FeatureNetworkToleran
     f.segments = std::move(kept);
     removed += found;
     mergeFeatureSegments(f);
+    keepUsedPoints(f);
   }
   return removed;
 }

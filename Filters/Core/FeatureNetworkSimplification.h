@@ -82,7 +82,7 @@ struct FeatureNetworkReport
 /// lines move is measured, both ways, and reported rather than bounded a priori: a merge moves a
 /// line by at most d, a trunk by at most half its shorter segment, a chord by at most the chord
 /// tolerance, but steps 2, 3 and 6 compose (on the noisy spheres: simplified to given 0.5-0.6 h,
-/// given to simplified 1.2-2 h where chords outside the surface were dropped).
+/// given to simplified 1.2-2.7 h where chords outside the surface or at spike tips were dropped).
 FeatureNetworkReport simplifyFeatureNetwork(FeatureSegments& f, const FeatureNetworkTolerances& tolerances);
 
 /// Largest distance from a point of the lines `from` to the lines `to`, from samples at most
