@@ -432,8 +432,9 @@ std::size_t dropSegmentsLeavingDomain(FeatureSegments& f, const FeatureNetworkTo
 /// level leaves are segment points (refined points on the segments at v; facet points there are
 /// refused as encroaching), so the cells at v have their circumcentres off the plane of two
 /// segments at v (off the line of a lone one). Where the domain has no point there (probes at
-/// `radius` off that plane, each side, for every other segment at v; for a lone one, at least a
-/// third of 12 probes around its line, as surface points near a line end also take room) - a noise spike or thin fold that the segments cross or run along - no cell at v is in
+/// `radius` off that plane, each side, straight and leaning towards the pair's bisector, for
+/// every other segment at v; around the line of segments along one line; at a line's end, a quarter
+/// of 12 probes around it, as a 90-degree edge has, since surface points near the end also take room) - a noise spike or thin fold that the segments cross or run along - no cell at v is in
 /// the domain at any scale: the segment's first piece stays no mesh edge however often it is
 /// split (the noisy spheres' pieces missing before, Benchmarks/noisy_features.py).
 bool meshableEnd(const Vec3& v, const Vec3& w, const std::vector<Vec3>& others, double radius,
@@ -448,9 +449,14 @@ bool meshableEnd(const Vec3& v, const Vec3& w, const std::vector<Vec3>& others, 
     if (norm(n) < 1e-6 * norm(o - v))
       continue; // along the same line: no plane
     lone = false;
+    // off the plane, each side, straight and leaning towards the pair's bisector (the side where
+    // a convex line of a flat face, e.g. a rim, has its 90-degree wedge)
     const Vec3 off = (radius / norm(n)) * n;
-    if (tol.inDomain(c + off) || tol.inDomain(c - off))
-      return true;
+    const Vec3 mid = u + (1.0 / norm(o - v)) * (o - v);
+    const Vec3 in = norm(mid) > 1e-6 ? (radius / norm(mid)) * mid : Vec3{ 0, 0, 0 };
+    for (double side : { -1.0, 1.0 })
+      if (tol.inDomain(c + side * off) || tol.inDomain(c + std::sqrt(0.5) * (side * off + in)))
+        return true;
   }
   if (!lone)
     return false;
@@ -463,7 +469,7 @@ bool meshableEnd(const Vec3& v, const Vec3& w, const std::vector<Vec3>& others, 
     const double angle = k * M_PI / 6.0;
     inside += tol.inDomain(c + radius * (std::cos(angle) * a + std::sin(angle) * b)) ? 1 : 0;
   }
-  return inside >= 4;
+  return inside >= (others.empty() ? 3 : 1);
 }
 
 /// Step 7: points where a segment end is no meshable end (meshableEnd) leave the lines: a point
