@@ -449,13 +449,14 @@ bool meshableEnd(const Vec3& v, const Vec3& w, const std::vector<Vec3>& others, 
     if (norm(n) < 1e-6 * norm(o - v))
       continue; // along the same line: no plane
     lone = false;
-    // off the plane, each side, straight and leaning towards the pair's bisector (the side where
+    // off the plane, each side, straight and leaning 15 degrees towards the pair's bisector (where
     // a convex line of a flat face, e.g. a rim, has its 90-degree wedge)
+    constexpr double kLean = 15.0 * M_PI / 180.0;
     const Vec3 off = (radius / norm(n)) * n;
     const Vec3 mid = u + (1.0 / norm(o - v)) * (o - v);
     const Vec3 in = norm(mid) > 1e-6 ? (radius / norm(mid)) * mid : Vec3{ 0, 0, 0 };
     for (double side : { -1.0, 1.0 })
-      if (tol.inDomain(c + side * off) || tol.inDomain(c + std::sqrt(0.5) * (side * off + in)))
+      if (tol.inDomain(c + side * off) || tol.inDomain(c + std::cos(kLean) * side * off + std::sin(kLean) * in))
         return true;
   }
   if (!lone)
