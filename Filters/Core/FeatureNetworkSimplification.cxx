@@ -386,9 +386,9 @@ std::pair<FeatureSegments, double> withoutShortPieces(const FeatureSegments& f, 
   return { kept, dropped };
 }
 
-/// Step 6: a chord between two points of a noisy surface can pass outside it, where it cannot be a
-/// mesh edge: segments with an interior sample (at most h / 8 apart) outside the domain are dropped.
-std::size_t dropSegmentsLeavingDomain(FeatureSegments& f, const FeatureNetworkTolerances& tol)
+/// Whether segment ab stays in the domain: every interior sample (at most h / 8 apart) lies in
+/// it or within a thousandth of the segment's length of it (the mesher's own margin).
+bool staysInDomain(const Vec3& a, const Vec3& b, const FeatureNetworkTolerances& tol)
 {
   const auto near = [&](const Vec3& p, double eps) {
     if (tol.inDomain(p))
@@ -403,18 +403,22 @@ std::size_t dropSegmentsLeavingDomain(FeatureSegments& f, const FeatureNetworkTo
       }
     return false;
   };
+  const double length = norm(b - a);
+  const int n = std::max(3, static_cast<int>(std::ceil(8.0 * length / tol.edgeLength)));
+  for (int k = 1; k < n; ++k)
+    if (!near(lerp(a, b, static_cast<double>(k) / n), 1e-3 * length))
+      return false;
+  return true;
+}
+
+/// Step 6: a chord between two points of a noisy surface can pass outside it, where it cannot be a
+/// mesh edge: segments that do not stay in the domain are dropped.
+std::size_t dropSegmentsLeavingDomain(FeatureSegments& f, const FeatureNetworkTolerances& tol)
+{
   std::vector<std::array<int, 2>> kept;
-  for (std::size_t s = 0; s < f.segments.size(); ++s)
-  {
-    const Vec3& a = f.points[f.segments[s][0]];
-    const Vec3& b = f.points[f.segments[s][1]];
-    const int n = std::max(3, static_cast<int>(std::ceil(8.0 * f.length(s) / tol.edgeLength)));
-    bool inside = true;
-    for (int k = 1; inside && k < n; ++k)
-      inside = near(lerp(a, b, static_cast<double>(k) / n), 1e-3 * f.length(s));
-    if (inside)
-      kept.push_back(f.segments[s]);
-  }
+  for (const auto& seg : f.segments)
+    if (staysInDomain(f.points[seg[0]], f.points[seg[1]], tol))
+      kept.push_back(seg);
   const std::size_t dropped = f.segments.size() - kept.size();
   if (dropped)
   {
@@ -422,6 +426,115 @@ std::size_t dropSegmentsLeavingDomain(FeatureSegments& f, const FeatureNetworkTo
     keepUsedPoints(f);
   }
   return dropped;
+}
+
+/// Whether the mesh can hold segment v->w at its end v: near v, the only vertices the segment
+/// level leaves are segment points (refined points on the segments at v; facet points there are
+/// refused as encroaching), so the cells at v have their circumcentres off the plane of two
+/// segments at v (off the line of a lone one). Where the domain has no point there (probes at
+/// `radius` off that plane, each side, straight and leaning towards the pair's bisector, for
+/// every other segment at v; around the line of segments along one line; at a line's end, a quarter
+/// of 12 probes around it, as a 90-degree edge has, since surface points near the end also take room) - a noise spike or thin fold that the segments cross or run along - no cell at v is in
+/// the domain at any scale: the segment's first piece stays no mesh edge however often it is
+/// split (the noisy spheres' pieces missing before, Benchmarks/noisy_features.py).
+bool meshableEnd(const Vec3& v, const Vec3& w, const std::vector<Vec3>& others, double radius,
+  const FeatureNetworkTolerances& tol)
+{
+  const Vec3 u = (1.0 / norm(w - v)) * (w - v);
+  const Vec3 c = v + (0.25 * radius) * u;
+  bool lone = true;
+  for (const Vec3& o : others)
+  {
+    const Vec3 n = cross(u, o - v);
+    if (norm(n) < 1e-6 * norm(o - v))
+      continue; // along the same line: no plane
+    lone = false;
+    // off the plane, each side, straight and leaning 15 degrees towards the pair's bisector (where
+    // a convex line of a flat face, e.g. a rim, has its 90-degree wedge)
+    constexpr double kLean = 15.0 * M_PI / 180.0;
+    const Vec3 off = (radius / norm(n)) * n;
+    const Vec3 mid = u + (1.0 / norm(o - v)) * (o - v);
+    const Vec3 in = norm(mid) > 1e-6 ? (radius / norm(mid)) * mid : Vec3{ 0, 0, 0 };
+    for (double side : { -1.0, 1.0 })
+      if (tol.inDomain(c + side * off) || tol.inDomain(c + std::cos(kLean) * side * off + std::sin(kLean) * in))
+        return true;
+  }
+  if (!lone)
+    return false;
+  const Vec3 t1 = std::abs(u.x) < 0.9 ? cross(u, Vec3{ 1, 0, 0 }) : cross(u, Vec3{ 0, 1, 0 });
+  const Vec3 a = (1.0 / norm(t1)) * t1;
+  const Vec3 b = cross(u, a);
+  int inside = 0;
+  for (int k = 0; k < 12; ++k)
+  {
+    const double angle = k * M_PI / 6.0;
+    inside += tol.inDomain(c + radius * (std::cos(angle) * a + std::sin(angle) * b)) ? 1 : 0;
+  }
+  return inside >= (others.empty() ? 3 : 1);
+}
+
+/// Step 7: points where a segment end is no meshable end (meshableEnd) leave the lines: a point
+/// of two segments is bypassed by the chord of its neighbours where that chord stays in the
+/// domain (the spike is noise on the line), else, as at other points, the segments that cannot
+/// end there are dropped. Rounds until none is left (at most `rounds`); returns the points removed.
+std::size_t removeUnmeshableEnds(FeatureSegments& f, const FeatureNetworkTolerances& tol, int rounds = 8)
+{
+  std::size_t removed = 0;
+  for (int r = 0; r < rounds; ++r)
+  {
+    const auto adjacent = neighbours(f);
+    std::vector<char> drop(f.segments.size(), 0), bypassed(f.points.size(), 0);
+    std::vector<std::array<int, 2>> added;
+    std::size_t found = 0;
+    for (std::size_t v = 0; v < f.points.size(); ++v)
+    {
+      const auto& n = adjacent[v];
+      if (n.empty())
+        continue;
+      double shortest = std::numeric_limits<double>::infinity();
+      for (int w : n)
+        shortest = std::min(shortest, norm(f.points[w] - f.points[v]));
+      const double radius = std::min(0.02 * tol.edgeLength, 0.25 * shortest);
+      std::vector<int> bad;
+      for (int w : n)
+      {
+        std::vector<Vec3> others;
+        for (int o : n)
+          if (o != w)
+            others.push_back(f.points[o]);
+        if (!meshableEnd(f.points[v], f.points[w], others, radius, tol))
+          bad.push_back(w);
+      }
+      if (bad.empty())
+        continue;
+      ++found;
+      // neighbours not bypassed in this round, so that the bypasses are independent
+      const bool free = std::none_of(n.begin(), n.end(), [&](int w) { return bypassed[w] != 0; });
+      if (n.size() == 2 && free && !bypassed[v] && staysInDomain(f.points[n[0]], f.points[n[1]], tol))
+      {
+        bypassed[v] = 1;
+        added.push_back({ n[0], n[1] });
+        bad = n;
+      }
+      for (std::size_t s = 0; s < f.segments.size(); ++s)
+        for (int w : bad)
+          if ((f.segments[s][0] == static_cast<int>(v) && f.segments[s][1] == w) ||
+            (f.segments[s][1] == static_cast<int>(v) && f.segments[s][0] == w))
+            drop[s] = 1;
+    }
+    if (!found)
+      break;
+    std::vector<std::array<int, 2>> kept;
+    for (std::size_t s = 0; s < f.segments.size(); ++s)
+      if (!drop[s])
+        kept.push_back(f.segments[s]);
+    kept.insert(kept.end(), added.begin(), added.end());
+    f.segments = std::move(kept);
+    removed += found;
+    mergeFeatureSegments(f);
+    keepUsedPoints(f);
+  }
+  return removed;
 }
 
 double shortestSegment(const FeatureSegments& f)
@@ -475,7 +588,8 @@ FeatureNetworkReport simplifyFeatureNetwork(FeatureSegments& f, const FeatureNet
   if (tol.inDomain)
   {
     report.segmentsOutside = dropSegmentsLeavingDomain(f, tol);
-    if (report.segmentsOutside && tol.spurLength() > 0)
+    report.unmeshableEnds = removeUnmeshableEnds(f, tol);
+    if ((report.segmentsOutside || report.unmeshableEnds) && tol.spurLength() > 0)
       dropSpurs(f, tol.spurLength(), report);
   }
   // Separate pieces shorter than the spur length are dropped on purpose: measured apart.

@@ -44,6 +44,9 @@ struct FeatureNetworkReport
   std::size_t piecesDropped = 0;   ///< separate chains and loops shorter than the spur length
   std::size_t pointsResampled = 0; ///< points resampleFeatureLines dropped
   std::size_t segmentsOutside = 0; ///< simplified segments that left the domain, dropped
+  /// points where a segment could not end as a mesh edge (a thin spike or fold of the domain in
+  /// the plane of its segments), bypassed or their segments dropped
+  std::size_t unmeshableEnds = 0;
   /// Hausdorff distances (sampled at h / 50) between the given and the simplified lines, both ways;
   /// from the given lines without their separate pieces shorter than the spur length.
   double givenToSimplified = 0.0;
@@ -69,14 +72,17 @@ struct FeatureNetworkReport
 ///     longest);
 ///  4. chains between the remaining branch points and corners are resampled (resampleFeatureLines);
 ///  5. step 2 again on the chords;
-///  6. with inDomain, segments that leave the domain are dropped (then step 3 again).
+///  6. with inDomain, segments that leave the domain are dropped, and points where the domain
+///     has no room for cells around their segments (a thin spike or fold in the segments' plane:
+///     no mesh could hold those segments as edges there) are bypassed by their neighbours' chord
+///     or lose those segments (then step 3 again).
 /// What it guarantees: kept points are input points at least d apart (so no segment is shorter
 /// than d); at the end of step 2 no two segments sharing a point meet at less than minAngle (the
 /// measured smallest angle is reported, as resampling's chords and step 6 come after). How far the
 /// lines move is measured, both ways, and reported rather than bounded a priori: a merge moves a
 /// line by at most d, a trunk by at most half its shorter segment, a chord by at most the chord
 /// tolerance, but steps 2, 3 and 6 compose (on the noisy spheres: simplified to given 0.5-0.6 h,
-/// given to simplified 1.2-2 h where chords outside the surface were dropped).
+/// given to simplified 1.2-2.7 h where chords outside the surface or at spike tips were dropped).
 FeatureNetworkReport simplifyFeatureNetwork(FeatureSegments& f, const FeatureNetworkTolerances& tolerances);
 
 /// Largest distance from a point of the lines `from` to the lines `to`, from samples at most

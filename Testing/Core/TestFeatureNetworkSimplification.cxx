@@ -206,3 +206,47 @@ TEST(FeatureNetworkSimplification, SegmentsLeavingTheDomainDropped)
   EXPECT_TRUE(isInputPoint(f, { 0.8, 0, 0 }));
   EXPECT_FALSE(isInputPoint(f, { 0.0, 0.99, 0.5 }));
 }
+
+// A line over the tip of a thin fin (a noise spike's ridge): the mesh has no room for cells beside
+// its two segments at the tip (none in the fin's plane, nothing either side of it), so their first
+// pieces could never be mesh edges; the tip is bypassed by its neighbours' chord, which stays in the
+// domain. The same line over a thick fin keeps its tip.
+TEST(FeatureNetworkSimplification, SegmentsOverAThinFinsTipBypassed)
+{
+  for (const double halfWidth : { 0.002, 0.2 })
+  {
+    FeatureSegments f;
+    f.points = { { -0.5, 0, -0.1 }, { 0, 0, 0.9 }, { 0.5, 0, -0.1 } }; // up the fin's ridge and down
+    f.segments = { { 0, 1 }, { 1, 2 } };
+    FeatureNetworkTolerances tol;
+    tol.edgeLength = 0.5;
+    tol.chordTolerance = 0.001;  // resampling keeps the tip
+    tol.mergeFraction = 0.01;    // nothing to merge
+    tol.inDomain = [halfWidth](const Vec3& p) {
+      return p.z < 0 || (std::abs(p.y) < halfWidth && p.z < 1 - std::abs(p.x)); // slab plus fin
+    };
+    const FeatureNetworkReport r = simplifyFeatureNetwork(f, tol);
+    const bool thin = halfWidth < 0.01;
+    EXPECT_EQ(r.unmeshableEnds, thin ? 1u : 0u) << "fin half width " << halfWidth;
+    EXPECT_EQ(isInputPoint(f, { 0, 0, 0.9 }), !thin);
+    EXPECT_EQ(f.segments.size(), thin ? 1u : 2u);
+    EXPECT_TRUE(isInputPoint(f, { -0.5, 0, -0.1 }) && isInputPoint(f, { 0.5, 0, -0.1 }));
+    if (thin) // the tip is 1 from the chord
+      EXPECT_NEAR(r.givenToSimplified, 1.0, 0.02);
+  }
+
+  // a lone line end on the thin fin's tip has no room either: that segment goes
+  FeatureSegments lone;
+  lone.points = { { -1.0, 0, -0.1 }, { -0.5, 0, -0.1 }, { 0, 0, 0.9 } };
+  lone.segments = { { 0, 1 }, { 1, 2 } };
+  FeatureNetworkTolerances tol;
+  tol.edgeLength = 0.5;
+  tol.chordTolerance = 0.001;
+  tol.mergeFraction = 0.01;
+  tol.spurFraction = 0.01;
+  tol.inDomain = [](const Vec3& p) { return p.z < 0 || (std::abs(p.y) < 0.002 && p.z < 1 - std::abs(p.x)); };
+  const FeatureNetworkReport r = simplifyFeatureNetwork(lone, tol);
+  EXPECT_EQ(r.unmeshableEnds, 1u);
+  EXPECT_FALSE(isInputPoint(lone, { 0, 0, 0.9 }));
+  EXPECT_TRUE(isInputPoint(lone, { -1.0, 0, -0.1 }) && isInputPoint(lone, { -0.5, 0, -0.1 }));
+}
