@@ -23,4 +23,8 @@ constexpr double kBytesPerMeshVertex = 4096.0;
 /// memory from one of 10^12 vertices. Criteria that are unset count as 1/20 of the diagonal.
 double estimateMeshVertices(const HierarchicalOracle& oracle, const MaterialCriteria& criteria,
   const FeatureSegments& features);
+
+/// The volume part alone (each material's volume over its cell size cubed): what the mesher's
+/// progress expects of refinement.
+double estimateCellVertices(const HierarchicalOracle& oracle, const MaterialCriteria& criteria);
 }

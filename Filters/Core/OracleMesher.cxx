@@ -9,6 +9,7 @@
 #include "FeatureNetworkSimplification.h"
 #include "InputError.h"
 #include "MeshQuality.h"
+#include "MeshSizeEstimate.h"
 #include "MeshValidity.h"
 #include "ConformingMesher3.h"
 #include "MaterialCriteria3.h"
@@ -739,28 +740,8 @@ private:
 
   /// Expected number of vertices, for the progress bar only: about one per cell-size cube of each
   /// material (measured on the demo scene), from a coarse sampling of the oracle.
-  double expectedVertices() const
-  {
-    std::map<int, double> volume;
-    const int n = 24;
-    const Vec3 step = (1.0 / n) * inner_.size();
-    for (int k = 0; k < n; ++k)
-      for (int j = 0; j < n; ++j)
-        for (int i = 0; i < n; ++i)
-        {
-          const int m = oracle_.material(inner_.min + Vec3{ (i + 0.5) * step.x, (j + 0.5) * step.y, (k + 0.5) * step.z });
-          if (m != kOutside)
-            volume[m] += step.x * step.y * step.z;
-        }
-    double sum = 0.0;
-    for (const auto& [m, v] : volume)
-    {
-      const MeshCriteria::Values c = options_.criteria.of(m);
-      const double size = c.cellSize > 0 ? c.cellSize : norm(inner_.size()) / 20.0;
-      sum += v / (size * size * size);
-    }
-    return std::max(1000.0, sum);
-  }
+  double expectedVertices() const { return std::max(1000.0, estimateCellVertices(oracle_, options_.criteria)); }
+
 
   /// Steps `mesher` until it is done and `more` (asked when it is) queues nothing more: progress,
   /// abort and the vertex budget in our hands.
