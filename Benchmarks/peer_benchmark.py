@@ -14,7 +14,7 @@ and prints a Markdown table (raw figures in <work>/results.jsonl). With --thread
 alone per refinement thread count, the best of --repeat runs, and the refinement's speed-up. Same criteria for both tools
 (facet angle 25, radius-edge 3, cell size = facet size = h, facet distance h/4, edge size h/2 for
 the CAD part), same seed. Min dihedral angle, validity and coverage are computed from each output
-by the same code (Filters/Core/MeshQuality, MeshValidity).
+by the same code (Filters/Core/Quality/MeshQuality, MeshValidity).
 
     cmake --build build --target peer_benchmark        # or peer_benchmark_quick
     python3 Benchmarks/peer_benchmark.py --cgal build/bin/PeerCgal --oraclemesh build/bin/PeerOracleMesh \

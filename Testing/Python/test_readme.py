@@ -67,7 +67,7 @@ class Readme(unittest.TestCase):
         self.assertIn(link, consumer)
 
     def test_the_design_notes_name_files_that_exist(self):
-        """docs/*.md name files in backquotes (`Filters/Core/MeshQuality.h`, `SegmentRules.h`): a path
+        """docs/*.md name files in backquotes (`Filters/Core/Quality/MeshQuality.h`, `SegmentRules.h`): a path
         must exist, a bare file name must exist somewhere in the source tree, so the notes follow
         the code when files move or go."""
         names = set()
