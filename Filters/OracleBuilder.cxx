@@ -228,14 +228,25 @@ omesh::FeatureSegments OracleBuilder::ToFeatureSegments(vtkPolyData* lines)
     }
     return it->second;
   };
+  // The per-feature edge size: one value per line cell, -1 = unset (the VTK spelling of unset);
+  // other values go to the core as they are, whose checks name a negative or NaN one.
+  vtkDataArray* sizes = lines->GetCellData()->GetArray("EdgeSize");
+  if (sizes && sizes->GetNumberOfComponents() != 1)
+    throw InputError(who + ": cell array EdgeSize has " + std::to_string(sizes->GetNumberOfComponents()) +
+      " components (one edge size per line is needed)");
   auto it = vtk::TakeSmartPointer(lines->GetLines()->NewIterator());
   for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell())
   {
     vtkIdType n;
     const vtkIdType* ids;
     it->GetCurrentCell(n, ids);
+    const double size = sizes ? sizes->GetComponent(it->GetCurrentCellId(), 0) : -1.0;
     for (vtkIdType k = 0; k + 1 < n; ++k)
+    {
       f.segments.push_back({ vertex(ids[k]), vertex(ids[k + 1]) });
+      if (sizes)
+        f.edgeSizes.push_back(size == -1.0 ? std::nullopt : std::optional<double>(size));
+    }
   }
   return f;
 }

@@ -131,8 +131,11 @@ FeatureLineOptions featureLineOptions(const HierarchicalOracle& oracle, const Ma
   return o;
 }
 
-FeatureSelection selectFeatures(const HierarchicalOracle& oracle, const FeatureSegments& given, FeatureSource source,
-  const MaterialCriteria& criteria, const std::function<bool(double)>& progress)
+namespace
+{
+/// selectFeatures without the given lines' own edge sizes.
+FeatureSelection selectWithoutEdgeSizes(const HierarchicalOracle& oracle, const FeatureSegments& given,
+  FeatureSource source, const MaterialCriteria& criteria, const std::function<bool(double)>& progress)
 {
   FeatureSelection out;
   if (source == FeatureSource::Given || source == FeatureSource::Both)
@@ -186,6 +189,26 @@ FeatureSelection selectFeatures(const HierarchicalOracle& oracle, const FeatureS
   out.warnings.push_back("feature lines: " + std::to_string(drop.size()) +
     " segment(s) of the lines found where inputs meet cross given lines and were dropped (the given ones are kept)");
   mergeFeatureSegments(out.segments); // drops the points no segment uses any more
+  return out;
+}
+}
+
+FeatureSelection selectFeatures(const HierarchicalOracle& oracle, const FeatureSegments& given, FeatureSource source,
+  const MaterialCriteria& criteria, const std::function<bool(double)>& progress)
+{
+  if (given.edgeSizes.empty() || source == FeatureSource::Given || source == FeatureSource::None)
+  {
+    FeatureSelection out = selectWithoutEdgeSizes(oracle, given, source, criteria, progress);
+    if (source == FeatureSource::None)
+      out.segments.edgeSizes.clear();
+    return out;
+  }
+  // Given lines split where automatic ones meet them keep their own edge sizes on every piece;
+  // the automatic lines have none (their materials' count).
+  FeatureSegments bare = given;
+  bare.edgeSizes.clear();
+  FeatureSelection out = selectWithoutEdgeSizes(oracle, bare, source, criteria, progress);
+  transferEdgeSizes(given, out.segments, 1e-9 * norm(oracle.bounds().size()));
   return out;
 }
 }

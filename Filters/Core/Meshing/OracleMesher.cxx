@@ -6,6 +6,7 @@
 #include "OracleMesher.h"
 
 #include "HierarchicalOracle.h"
+#include "FeatureEdgeSizes.h"
 #include "FeatureNetworkSimplification.h"
 #include "InputError.h"
 #include "MeshQuality.h"
@@ -31,6 +32,7 @@
 #include <CGAL/refine_mesh_3.h>
 #include <optional>
 
+#include <algorithm>
 #include <array>
 #include <atomic>
 #include <chrono>
@@ -141,17 +143,37 @@ struct ProtectionStopped
 {
 };
 
-/// The edge size of CGAL's feature protection, constant, reading the stop flag too: CGAL reads
-/// its own flag only between passes, and one pass took minutes (148 s past a 20 s time limit, balls
-/// on feature lines meeting at 1 degree), while it asks the size at every ball it places or checks.
+/// The edge size of CGAL's feature protection, reading the stop flag too: CGAL reads its own flag
+/// only between passes, and one pass took minutes (148 s past a 20 s time limit, balls on feature
+/// lines meeting at 1 degree), while it asks the size at every ball it places or checks.
+/// Per polyline (the per-feature level): a ball on curve c takes that curve's size, a corner ball
+/// the finest of the curves that meet there; `size` elsewhere (and for every ball when no curve
+/// has its own: the meshes of before).
 struct StoppableEdgeSize
 {
   double size;
   const std::atomic<bool>* stop;
-  double operator()(const K::Point_3&, int, const MeshDomain::Index&) const
+  const MeshDomain* domain = nullptr;
+  std::shared_ptr<const std::vector<double>> curveSizes;                    ///< of curve index c at c - 1
+  std::shared_ptr<const std::map<std::array<double, 3>, double>> cornerSizes; ///< by the corner's coordinates
+  double operator()(const K::Point_3& p, int dim, const MeshDomain::Index& index) const
   {
     if (stop->load(std::memory_order_relaxed))
       throw ProtectionStopped{};
+    if (!curveSizes)
+      return size;
+    if (dim == 1 || dim == -2)
+    {
+      const int c = domain->curve_index(index);
+      if (c >= 1 && static_cast<size_t>(c) <= curveSizes->size())
+        return (*curveSizes)[c - 1];
+    }
+    else if (dim == 0 || dim == -1)
+    {
+      const auto it = cornerSizes->find({ p.x(), p.y(), p.z() });
+      if (it != cornerSizes->end())
+        return it->second;
+    }
     return size;
   }
 };
@@ -162,7 +184,15 @@ struct StoppableEdgeSize
 /// generated bone/implant mesh; as a polyline's end the bend becomes a protected corner.
 constexpr double kPolylineCorner = 20.0; // degrees of turn
 
-std::vector<std::vector<K::Point_3>> toPolylines(const FeatureSegments& f)
+/// The polylines for CGAL, each with one edge size: they also break where the segments' resolved
+/// edge sizes (`sizes`, one per segment) differ.
+struct Polylines
+{
+  std::vector<std::vector<K::Point_3>> lines;
+  std::vector<double> sizes; ///< of lines[k], the edge size of its segments
+};
+
+Polylines toPolylines(const FeatureSegments& f, const std::vector<double>& sizes)
 {
   std::vector<std::vector<size_t>> inc(f.points.size());
   for (size_t s = 0; s < f.segments.size(); ++s)
@@ -181,10 +211,10 @@ std::vector<std::vector<K::Point_3>> toPolylines(const FeatureSegments& f)
       continue;
     }
     const Vec3 in = f.points[p] - f.points[other(inc[p][0], p)], out = f.points[other(inc[p][1], p)] - f.points[p];
-    breaks[p] = dot(in, out) < cosCorner * norm(in) * norm(out);
+    breaks[p] = dot(in, out) < cosCorner * norm(in) * norm(out) || sizes[inc[p][0]] != sizes[inc[p][1]];
   }
   std::vector<char> used(f.segments.size(), 0);
-  std::vector<std::vector<K::Point_3>> lines;
+  Polylines lines;
   auto walk = [&](int start, size_t first) {
     std::vector<K::Point_3> line{ toPoint(f.points[start]) };
     int at = start;
@@ -201,7 +231,8 @@ std::vector<std::vector<K::Point_3>> toPolylines(const FeatureSegments& f)
         break;
       s = next;
     }
-    lines.push_back(std::move(line));
+    lines.lines.push_back(std::move(line));
+    lines.sizes.push_back(sizes[first]);
   };
   for (size_t p = 0; p < f.points.size(); ++p)
     if (breaks[p])
@@ -474,10 +505,17 @@ std::optional<FeatureSegments> resampledFeatures(const FeatureSegments& given, c
       distance = d;
   FeatureNetworkTolerances tolerances;
   tolerances.edgeLength = g.edgeSize > 0 ? g.edgeSize : g.facetSize > 0 ? g.facetSize : norm(inner.size()) / 40.0;
+  // a line with a finer edge size of its own (or of its materials) keeps its detail: h is the finest
+  if (!given.edgeSizes.empty() || hasMaterialEdgeSizes(options.criteria))
+    for (double e : resolveFeatureEdgeSizes(given, options.criteria, oracle))
+      if (e > 0)
+        tolerances.edgeLength = std::min(tolerances.edgeLength, e);
   tolerances.chordTolerance = distance > 0 ? 0.5 * distance : 0.05 * tolerances.edgeLength;
   tolerances.inDomain = [&oracle](const Vec3& p) { return oracle.material(p) != kOutside; };
   FeatureSegments resampled = given;
   report = simplifyFeatureNetwork(resampled, tolerances);
+  // each chord keeps the own edge size of the given line nearest to it
+  transferEdgeSizes(given, resampled, std::numeric_limits<double>::infinity());
   if (resampled.segments.size() != given.segments.size() || resampled.points.size() != given.points.size())
   {
     std::ostringstream o;
@@ -554,6 +592,7 @@ private:
       warnings_.insert(warnings_.end(), w.begin(), w.end());
       deadline_.check("feature-line validation");
     }
+    edgeSizes_ = resolveFeatureEdgeSizes(*features_, options_.criteria, oracle_);
     report(0.0, "initialisation");
   }
 
@@ -568,22 +607,51 @@ private:
     box_.add(box_.max + pad);
     domain_ = std::make_unique<MeshDomain>(oracle_, box_, options_.seed);
     protect_ = options_.strategy == FeatureStrategy::ProtectingBalls && !features_->empty();
-    if (protect_)
-    {
-      auto lines = toPolylines(*features_);
-      domain_->add_features(lines.begin(), lines.end());
-    }
+    StoppableEdgeSize sizing{ 1.0, &stopProtection_ };
     edgeSize_ = g_.edgeSize;
-    if (protect_ && edgeSize_ <= 0)
-    {
-      edgeSize_ = norm(inner_.size()) / 50.0;
-      for (double v : { g_.facetSize, g_.cellSize })
-        if (v > 0)
-          edgeSize_ = std::min(edgeSize_, v);
-      warnings_.push_back("EdgeSize not set: protecting balls use " + std::to_string(edgeSize_));
-    }
-    criteria_ = std::make_unique<Criteria>(materialMeshCriteria<Tr>(
-      options_, Criteria::Edge_criteria(StoppableEdgeSize{ edgeSize_ > 0 ? edgeSize_ : 1.0, &stopProtection_ })));
+    if (protect_)
+      sizing = protectedFeatures();
+    else
+      sizing.size = edgeSize_ > 0 ? edgeSize_ : 1.0;
+    criteria_ = std::make_unique<Criteria>(materialMeshCriteria<Tr>(options_, Criteria::Edge_criteria(sizing)));
+  }
+
+  /// ProtectingBalls: the polylines added to the domain and the balls' sizes, per polyline when
+  /// their edge sizes differ. A line without a bound (0) gets min(diagonal / 50, facet size, cell
+  /// size), with a warning.
+  StoppableEdgeSize protectedFeatures()
+  {
+    Polylines lines = toPolylines(*features_, edgeSizes_);
+    domain_->add_features(lines.lines.begin(), lines.lines.end());
+    double fallback = norm(inner_.size()) / 50.0;
+    for (double v : { g_.facetSize, g_.cellSize })
+      if (v > 0)
+        fallback = std::min(fallback, v);
+    const bool unbounded = std::any_of(lines.sizes.begin(), lines.sizes.end(), [](double e) { return e <= 0; });
+    if (unbounded)
+      warnings_.push_back("EdgeSize not set: protecting balls use " + std::to_string(fallback));
+    for (double& e : lines.sizes)
+      if (e <= 0)
+        e = fallback;
+    StoppableEdgeSize sizing{ g_.edgeSize > 0 ? g_.edgeSize : fallback, &stopProtection_ };
+    const bool uniform = std::all_of(lines.sizes.begin(), lines.sizes.end(), [&](double e) { return e == sizing.size; });
+    edgeSize_ = sizing.size;
+    if (uniform)
+      return sizing; // one size for every ball, as before per-feature sizes
+    auto corners = std::make_shared<std::map<std::array<double, 3>, double>>();
+    for (size_t k = 0; k < lines.lines.size(); ++k)
+      for (const K::Point_3* p : { &lines.lines[k].front(), &lines.lines[k].back() })
+      {
+        const auto [it, inserted] = corners->emplace(std::array<double, 3>{ p->x(), p->y(), p->z() }, lines.sizes[k]);
+        if (!inserted)
+          it->second = std::min(it->second, lines.sizes[k]);
+      }
+    sizing.domain = domain_.get();
+    sizing.size = *std::min_element(lines.sizes.begin(), lines.sizes.end());
+    sizing.curveSizes = std::make_shared<const std::vector<double>>(std::move(lines.sizes));
+    sizing.cornerSizes = corners;
+    edgeSize_ = sizing.size;
+    return sizing;
   }
 
   /// Conforming: rule T1 on the segments alone first (SegmentConformation.h); the domain's
@@ -602,7 +670,7 @@ private:
       return;
     const size_t budget = options_.maximumNumberOfVertices ? options_.maximumNumberOfVertices : 1000000;
     conformed_ =
-      conformSegments(*features_, g_.edgeSize, budget, warnings_, [this] { deadline_.tick("feature-line conformation"); });
+      conformSegments(*features_, edgeSizes_, budget, warnings_, [this] { deadline_.tick("feature-line conformation"); });
     domain_->avoidInitialPointsNear(conformed_.points);
   }
 
@@ -1102,7 +1170,8 @@ private:
   std::unique_ptr<MeshDomain> domain_;
   std::unique_ptr<Criteria> criteria_;
   bool protect_ = false, conforming_ = false;
-  double edgeSize_ = 0.0; ///< of the protecting balls (0 = none asked)
+  double edgeSize_ = 0.0; ///< of the protecting balls (0 = none asked; the finest when lines differ)
+  std::vector<double> edgeSizes_; ///< each feature segment's edge size (the per-feature level, FeatureEdgeSizes.h)
   int threads_ = 1;       ///< of the refinement (MesherOptions::threads; 1 for Conforming with feature lines)
   /// Vertices of a running parallel refinement, as last seen (0 otherwise).
   size_t parallelVertices_ = 0;

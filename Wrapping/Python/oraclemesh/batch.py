@@ -163,7 +163,8 @@ def _inputs(scene):
     features = (description.get("mesh") or {}).get("features") if isinstance(description.get("mesh"), dict) else None
     if isinstance(features, dict):
         more = features.get("files", [])
-        files += [more] if isinstance(more, str) else more if isinstance(more, list) else []
+        more = [more] if isinstance(more, (str, dict)) else more if isinstance(more, list) else []
+        files += [m.get("file") if isinstance(m, dict) else m for m in more]  # {"file": ..., "edge_size": ...} entries
     out = []
     for file in files:
         if isinstance(file, str) and file:
