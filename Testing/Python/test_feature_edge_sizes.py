@@ -122,6 +122,33 @@ class FeatureEdgeSizes(unittest.TestCase):
         self.assertEqual(out.returncode, 2, out.stderr)
         self.assertRegex(out.stderr, message)
 
+    def test_a_surface_domains_own_edge_size_bounds_its_sharp_edges(self):
+        # the per-material level: the domain's criteria, finer than the global edge size
+        from vtkmodules.vtkFiltersCore import vtkTriangleFilter
+        from vtkmodules.vtkFiltersSources import vtkCubeSource
+        from vtkmodules.vtkIOGeometry import vtkSTLWriter
+
+        cube = vtkCubeSource()  # [-0.5, 0.5]^3
+        triangles = vtkTriangleFilter()
+        triangles.SetInputConnection(cube.GetOutputPort())
+        writer = vtkSTLWriter()
+        writer.SetInputConnection(triangles.GetOutputPort())
+        writer.SetFileName(self.path("cube.stl"))
+        writer.Write()
+        scene = {"domains": [{"name": "part", "type": "surface", "file": self.path("cube.stl"), "material": 1,
+                              "criteria": {"edge_size": 0.15}}],
+                 "mesh": {"seed": 1, "features": {"from_surface": "part"},
+                          "criteria": {"cell_size": 0.5, "facet_size": 0.5, "facet_distance": 0.05, "edge_size": 0.5}}}
+        result = om.mesh(scene)
+        self.assertEqual(result.statistics["feature_coverage"], 1.0)
+        corners = [(x, y, z) for x in (-0.5, 0.5) for y in (-0.5, 0.5) for z in (-0.5, 0.5)]
+        edges = [(p, q) for p in corners for q in corners if p < q and math.dist(p, q) == 1.0]
+        self.assertEqual(len(edges), 12)
+        for ends in edges:
+            along = edges_along(result.grid, ends)
+            self.assertAlmostEqual(sum(along), 1.0, delta=1e-9, msg=f"cube edge {ends}")
+            self.assertLessEqual(max(along), 0.15 * (1 + 1e-9), f"cube edge {ends}")
+
 
 if __name__ == "__main__":
     unittest.main()
