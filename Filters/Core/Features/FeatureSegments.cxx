@@ -223,6 +223,9 @@ void warnOutside(const FeatureSegments& f, const HierarchicalOracle& oracle, std
 
 std::string FeatureSegments::describe(size_t s) const
 {
+  const int n = static_cast<int>(points.size());
+  if (segments[s][0] < 0 || segments[s][0] >= n || segments[s][1] < 0 || segments[s][1] >= n)
+    return "segment " + std::to_string(s);
   const Vec3& a = points[segments[s][0]];
   const Vec3& b = points[segments[s][1]];
   std::ostringstream o;

@@ -581,6 +581,7 @@ private:
   void prepareInputs()
   {
     inner_ = oracle_.bounds(); // throws for an empty or unbounded oracle
+    given_.checkEdgeSizes();   // named on the lines as given, before resampling moves them
     resampled_ = resampledFeatures(given_, options_, oracle_, inner_, warnings_, network_);
     features_ = resampled_ ? &*resampled_ : &given_;
     deadline_.check("feature-line resampling");
