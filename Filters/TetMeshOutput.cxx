@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "TetMeshOutput.h"
 
+#include "FieldDataKeys.h"
 #include "MeshQuality.h"
 
 #include <vtkCellArray.h>
@@ -37,15 +38,15 @@ void TetMeshOutput::FillGrid(vtkUnstructuredGrid* grid, const omesh::TetMesh& me
   grid->SetPoints(toPoints(quadratic ? quadratic->points : mesh.points));
   AddTetrahedra(grid, mesh, quadratic);
   vtkNew<vtkIntArray> dimension;
-  dimension->SetName("Dimension");
+  dimension->SetName(omesh::keys::DIMENSION);
   for (int d : quadratic ? quadratic->pointDimension : mesh.pointDimension)
     dimension->InsertNextValue(d);
   grid->GetPointData()->AddArray(dimension);
   AddStatistics(grid->GetFieldData(), mesh.statistics);
-  AddStrings(grid->GetFieldData(), "Warnings", mesh.warnings);
+  AddStrings(grid->GetFieldData(), omesh::keys::WARNINGS, mesh.warnings);
   // The inputs' warnings again (frames, units, materials or labels that vanished): the ones the
   // command line's --strict turns into a failure.
-  AddStrings(grid->GetFieldData(), "InputWarnings", inputWarnings);
+  AddStrings(grid->GetFieldData(), omesh::keys::INPUT_WARNINGS, inputWarnings);
 }
 
 void TetMeshOutput::AddTetrahedra(
@@ -55,11 +56,11 @@ void TetMeshOutput::AddTetrahedra(
   vtkNew<vtkCellArray> tets;
   tets->AllocateExact(static_cast<vtkIdType>(mesh.tets.size()), nodes * static_cast<vtkIdType>(mesh.tets.size()));
   vtkNew<vtkIntArray> material;
-  material->SetName("Material");
+  material->SetName(omesh::keys::MATERIAL);
   vtkNew<vtkDoubleArray> dihedral;
-  dihedral->SetName("MinDihedralAngle");
+  dihedral->SetName(omesh::keys::MIN_DIHEDRAL_ANGLE);
   vtkNew<vtkDoubleArray> ratio;
-  ratio->SetName("RadiusEdgeRatio");
+  ratio->SetName(omesh::keys::RADIUS_EDGE_RATIO);
   const auto& P = mesh.points;
   for (size_t t = 0; t < mesh.tets.size(); ++t)
   {
@@ -78,7 +79,7 @@ void TetMeshOutput::AddTetrahedra(
   if (mesh.tetDefects.size() == mesh.tets.size())
   {
     vtkNew<vtkUnsignedCharArray> defects; // bits as vtkMeshValidityCheck's
-    defects->SetName("Defects");
+    defects->SetName(omesh::keys::DEFECTS);
     defects->SetNumberOfTuples(static_cast<vtkIdType>(mesh.tets.size()));
     for (size_t t = 0; t < mesh.tets.size(); ++t)
       defects->SetValue(static_cast<vtkIdType>(t), mesh.tetDefects[t]);
@@ -95,7 +96,7 @@ void TetMeshOutput::FillInterfaces(vtkPolyData* interfaces, const omesh::TetMesh
   interfaces->SetPoints(grid->GetPoints());
   vtkNew<vtkCellArray> tris;
   vtkNew<vtkIntArray> sides;
-  sides->SetName("Materials");
+  sides->SetName(omesh::keys::MATERIALS);
   sides->SetNumberOfComponents(2);
   for (size_t f = 0; f < mesh.interfaceTriangles.size(); ++f)
   {
@@ -115,9 +116,9 @@ void TetMeshOutput::FillSegments(vtkPolyData* segments, const omesh::TetMesh& me
   points->SetDataTypeToDouble();
   vtkNew<vtkCellArray> lines;
   vtkNew<vtkIntArray> present;
-  present->SetName("Present");
+  present->SetName(omesh::keys::PRESENT);
   vtkNew<vtkIntArray> input;
-  input->SetName("InputSegment");
+  input->SetName(omesh::keys::INPUT_SEGMENT);
   for (const auto& s : mesh.segments)
   {
     const vtkIdType ids[2] = { points->InsertNextPoint(s.a.x, s.a.y, s.a.z), points->InsertNextPoint(s.b.x, s.b.y, s.b.z) };
@@ -135,9 +136,9 @@ void TetMeshOutput::FillSegments(vtkPolyData* segments, const omesh::TetMesh& me
 void TetMeshOutput::AddStatistics(vtkFieldData* fieldData, const std::map<std::string, double>& statistics)
 {
   vtkNew<vtkStringArray> names;
-  names->SetName("StatisticNames");
+  names->SetName(omesh::keys::STATISTIC_NAMES);
   vtkNew<vtkDoubleArray> values;
-  values->SetName("StatisticValues");
+  values->SetName(omesh::keys::STATISTIC_VALUES);
   for (const auto& [name, value] : statistics)
   {
     names->InsertNextValue(name);

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "vtkOracleFeatureLines.h"
 
+#include "FieldDataKeys.h"
 #include "FeatureSelection.h"
 #include "HierarchicalOracle.h"
 #include "InputError.h"
@@ -91,7 +92,7 @@ int vtkOracleFeatureLines::RequestData(vtkInformation*, vtkInformationVector** i
     points->InsertNextPoint(p.x, p.y, p.z);
   vtkNew<vtkCellArray> lines;
   vtkNew<vtkIntArray> materials;
-  materials->SetName("Materials");
+  materials->SetName(omesh::keys::MATERIALS);
   materials->SetNumberOfComponents(4);
   vtkNew<vtkIntArray> triple;
   triple->SetName("Triple");
@@ -113,7 +114,7 @@ int vtkOracleFeatureLines::RequestData(vtkInformation*, vtkInformationVector** i
   for (const auto& a : found.smallAngles)
     smallAngle->SetValue(a.point, a.degrees);
   vtkNew<vtkStringArray> warnings;
-  warnings->SetName("Warnings");
+  warnings->SetName(omesh::keys::WARNINGS);
   for (const std::string& w : found.warnings)
     warnings->InsertNextValue(w);
   output->SetPoints(points);

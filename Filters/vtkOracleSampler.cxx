@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "vtkOracleSampler.h"
 
+#include "FieldDataKeys.h"
 #include "HierarchicalOracle.h"
 #include "InputError.h"
 #include "OracleBuilder.h"
@@ -101,7 +102,7 @@ int vtkOracleSampler::RequestData(
   output->SetOrigin(box.min.x, box.min.y, box.min.z);
   output->SetSpacing(spacing);
   vtkNew<vtkIntArray> material;
-  material->SetName("Material");
+  material->SetName(omesh::keys::MATERIAL);
   material->SetNumberOfTuples(static_cast<vtkIdType>(d[0]) * d[1] * d[2]);
   int* values = material->GetPointer(0);
 
@@ -133,9 +134,9 @@ int vtkOracleSampler::RequestData(
   for (vtkIdType i = 0; i < material->GetNumberOfTuples(); ++i)
     ++counts[values[i]];
   vtkNew<vtkIntArray> ids;
-  ids->SetName("MaterialIds");
+  ids->SetName(omesh::keys::MATERIAL_IDS);
   vtkNew<vtkDoubleArray> volumes;
-  volumes->SetName("MaterialVolume");
+  volumes->SetName(omesh::keys::MATERIAL_VOLUME);
   const double cell = spacing[0] * spacing[1] * spacing[2];
   for (const auto& [m, c] : counts)
   {

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "QuadraticTets.h"
 
+#include "FieldDataKeys.h"
 #include "HierarchicalOracle.h"
 #include "MeshQuality.h"
 
@@ -314,14 +315,14 @@ QuadraticTetMesh makeQuadraticTets(const TetMesh& mesh, const HierarchicalOracle
     out.points[nCorners + e] = midpoint[e] + scale[e] * displacement[e];
 
   auto& st = out.statistics;
-  st["quadratic.edges"] = static_cast<double>(nEdges);
-  st["quadratic.interface_edges"] = static_cast<double>(interfaceEdges);
-  st["quadratic.snapped_nodes"] = static_cast<double>(snapped);
-  st["quadratic.unsnapped_interface_edges"] = static_cast<double>(unsnapped);
-  st["quadratic.feature_edges"] = static_cast<double>(features);
-  st["quadratic.relaxed_nodes"] = static_cast<double>(std::count(relaxed.begin(), relaxed.end(), 1));
-  st["quadratic.max_snap_distance"] = maxSnap;
-  st["quadratic.min_jacobian_ratio"] = nTets ? minRatio : 1.0;
+  st[keys::QUADRATIC_EDGES] = static_cast<double>(nEdges);
+  st[keys::QUADRATIC_INTERFACE_EDGES] = static_cast<double>(interfaceEdges);
+  st[keys::QUADRATIC_SNAPPED_NODES] = static_cast<double>(snapped);
+  st[keys::QUADRATIC_UNSNAPPED_INTERFACE_EDGES] = static_cast<double>(unsnapped);
+  st[keys::QUADRATIC_FEATURE_EDGES] = static_cast<double>(features);
+  st[keys::QUADRATIC_RELAXED_NODES] = static_cast<double>(std::count(relaxed.begin(), relaxed.end(), 1));
+  st[keys::QUADRATIC_MAX_SNAP_DISTANCE] = maxSnap;
+  st[keys::QUADRATIC_MIN_JACOBIAN_RATIO] = nTets ? minRatio : 1.0;
   return out;
 }
 }

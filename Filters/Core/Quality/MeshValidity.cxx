@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "MeshValidity.h"
 
+#include "FieldDataKeys.h"
 #include "MeshQuality.h"
 
 #include <algorithm>
@@ -121,12 +122,12 @@ std::string MeshValidity::describe() const
 std::vector<std::pair<std::string, double>> MeshValidity::asStatistics() const
 {
   auto d = [](std::size_t n) { return static_cast<double>(n); };
-  return { { "validity.defects", d(defects()) }, { "validity.duplicate_vertices", d(duplicateVertices) },
-    { "validity.micro_tetrahedra", d(microTetrahedra) }, { "validity.flat_tetrahedra", d(flatTetrahedra) },
-    { "validity.inverted_tetrahedra", d(invertedTetrahedra) }, { "validity.non_manifold_faces", d(nonManifoldFaces) },
-    { "validity.bad_vertex_indices", d(badIndices) }, { "validity.material_mismatches", d(materialMismatches) },
-    { "validity.missing_segment_pieces", d(missingSegmentPieces) }, { "validity.median_edge", medianEdge },
-    { "validity.shortest_edge", shortestEdge }, { "validity.unused_vertices", d(unusedVertices) } };
+  return { { keys::VALIDITY_DEFECTS, d(defects()) }, { keys::VALIDITY_DUPLICATE_VERTICES, d(duplicateVertices) },
+    { keys::VALIDITY_MICRO_TETRAHEDRA, d(microTetrahedra) }, { keys::VALIDITY_FLAT_TETRAHEDRA, d(flatTetrahedra) },
+    { keys::VALIDITY_INVERTED_TETRAHEDRA, d(invertedTetrahedra) }, { keys::VALIDITY_NON_MANIFOLD_FACES, d(nonManifoldFaces) },
+    { keys::VALIDITY_BAD_VERTEX_INDICES, d(badIndices) }, { keys::VALIDITY_MATERIAL_MISMATCHES, d(materialMismatches) },
+    { keys::VALIDITY_MISSING_SEGMENT_PIECES, d(missingSegmentPieces) }, { keys::VALIDITY_MEDIAN_EDGE, medianEdge },
+    { keys::VALIDITY_SHORTEST_EDGE, shortestEdge }, { keys::VALIDITY_UNUSED_VERTICES, d(unusedVertices) } };
 }
 
 MeshValidity checkMeshValidity(const TetMesh& mesh, const std::function<int(const Vec3&)>& materialAt,
