@@ -71,9 +71,19 @@ struct SurfaceDomain::Impl
     return static_cast<size_t>(i) + static_cast<size_t>(n[0]) * (static_cast<size_t>(j) + static_cast<size_t>(n[1]) * k);
   }
   void buildGrid(size_t numTriangles);
+  void sizeGrid(size_t numTriangles);
+  void markBoundaryCells();
+  void classifyFreeCells();
 };
 
 void SurfaceDomain::Impl::buildGrid(size_t numTriangles)
+{
+  sizeGrid(numTriangles);
+  markBoundaryCells();
+  classifyFreeCells();
+}
+
+void SurfaceDomain::Impl::sizeGrid(size_t numTriangles)
 {
   const Vec3 size = box.size();
   const double diag = norm(size);
@@ -91,8 +101,12 @@ void SurfaceDomain::Impl::buildGrid(size_t numTriangles)
     invCell[a] = 1.0 / cell[a];
   }
   state.assign(static_cast<size_t>(n[0]) * n[1] * n[2], kCellUnknown);
+}
 
-  const double eps = 1e-9 * diag; // cells are tested slightly enlarged: rounding cannot hide a touch
+/// Cells that a triangle touches are boundary cells (answered by the exact test).
+void SurfaceDomain::Impl::markBoundaryCells()
+{
+  const double eps = 1e-9 * norm(box.size()); // cells are tested slightly enlarged: rounding cannot hide a touch
   for (auto f : mesh.faces())
   {
     auto h0 = mesh.halfedge(f);
@@ -121,8 +135,12 @@ void SurfaceDomain::Impl::buildGrid(size_t numTriangles)
             s = kCellBoundary;
         }
   }
-  // Face-adjacent cells that no triangle touches lie on the same side: flood-fill each component
-  // and classify it with one exact query at a cell centre.
+}
+
+/// Face-adjacent cells that no triangle touches lie on the same side: flood-fill each component
+/// and classify it with one exact query at a cell centre.
+void SurfaceDomain::Impl::classifyFreeCells()
+{
   std::deque<size_t> queue;
   for (size_t seed = 0; seed < state.size(); ++seed)
   {
