@@ -276,6 +276,14 @@ private:
   vtkFeaturePreservingTetrahedralizer(const vtkFeaturePreservingTetrahedralizer&) = delete;
   void operator=(const vtkFeaturePreservingTetrahedralizer&) = delete;
 
+  // RequestData in three steps: input gathering, the core call, output assembly.
+  struct MeshingRun; // the core's inputs, options and mesh (core types: defined in the .cxx)
+  void CheckProperties() const;
+  void SetUpOptions(MeshingRun& run);
+  void GatherInputs(vtkInformationVector** inputVector, MeshingRun& run);
+  void MeshInputs(MeshingRun& run);
+  void AssembleOutputs(MeshingRun& run, vtkInformationVector* outputVector);
+
   std::map<int, std::array<double, 6>> MaterialCriteria;
   int MaterialCriteriaRows = 0;
   std::string MaterialCriteriaError; // first bad row given to AddMaterialCriteria

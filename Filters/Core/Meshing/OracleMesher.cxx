@@ -5,6 +5,7 @@
 // warns on other CGAL versions.
 #include "OracleMesher.h"
 
+#include "FieldDataKeys.h"
 #include "HierarchicalOracle.h"
 #include "FeatureEdgeSizes.h"
 #include "FeatureNetworkSimplification.h"
@@ -1076,7 +1077,7 @@ private:
     st["vertices"] = static_cast<double>(mesh.points.size());
     st["min_dihedral_angle"] = mesh.tets.empty() ? 0.0 : minAngle;
     st["mean_min_dihedral_angle"] = mesh.tets.empty() ? 0.0 : sumAngle / mesh.tets.size();
-    st["feature_coverage"] = coverage;
+    st[keys::FEATURE_COVERAGE] = coverage;
     st["feature_segments"] = static_cast<double>(features_->segments.size());
     if (resampled_)
     {

@@ -15,6 +15,7 @@ from .defaults import CRITERIA_KEYS, FEATURE_SOURCES, MESH_PROPERTIES, domain_cr
 from .fielddata import add_material_names
 from .errors import OracleMeshError, update
 from .scene import Scene, build_scene, load_scene
+from . import fieldkeys
 
 
 def mesher_for(scene, strategy=None, element_order=None, features=None, threads=None):
@@ -136,7 +137,7 @@ def add_input_warnings(grid, warnings):
     --strict fails on them."""
     from vtkmodules.vtkCommonCore import vtkStringArray
 
-    for name in ("Warnings", "InputWarnings"):
+    for name in (fieldkeys.WARNINGS, fieldkeys.INPUT_WARNINGS):
         if not warnings:
             break
         array = grid.GetFieldData().GetAbstractArray(name)
@@ -180,8 +181,8 @@ class MeshResult:
         self.grid, self.scene, self.strategy, self.seconds = grid, scene, strategy, seconds
         self.material_names = scene.material_names()
         self.statistics = statistics(grid)
-        self.warnings = strings(grid.GetFieldData(), "Warnings")
-        self.input_warnings = strings(grid.GetFieldData(), "InputWarnings")
+        self.warnings = strings(grid.GetFieldData(), fieldkeys.WARNINGS)
+        self.input_warnings = strings(grid.GetFieldData(), fieldkeys.INPUT_WARNINGS)
         lines, self.quality = report_lines(grid, title, self.material_names, recheck=False)
         self.report = "\n".join(lines)
         self._arrays = None

@@ -29,6 +29,7 @@ pair, the exterior last), the same in every format. Every file is written atomic
 """
 import os
 
+from . import fieldkeys
 from .atomic import atomic_output
 from .errors import OracleMeshError
 from .quadratic import face_nodes
@@ -93,9 +94,9 @@ def element_nodes(grid, source="mesh"):
         wrong = int(np.argmax(types != kind))
         raise OracleMeshError(f"{source}: cell {wrong} is not a {'quadratic ' if kind != VTK_TETRA else ''}"
                               f"tetrahedron like cell 0 (VTK cell type {int(types[wrong])})")
-    material = grid.GetCellData().GetArray("Material")
+    material = grid.GetCellData().GetArray(fieldkeys.MATERIAL)
     if material is None:
-        raise OracleMeshError(f"{source}: no cell array 'Material' (write meshes with 'oraclemesh mesh')")
+        raise OracleMeshError(f"{source}: no cell array '{fieldkeys.MATERIAL}' (write meshes with 'oraclemesh mesh')")
     points = vtk_to_numpy(grid.GetPoints().GetData()).astype(np.float64)
     width = 10 if kind == VTK_QUADRATIC_TETRA else 4
     nodes = vtk_to_numpy(grid.GetCells().GetConnectivityArray()).reshape(-1, width).astype(np.int64)
@@ -159,7 +160,7 @@ def _write_vtu(grid, path, arrays):
     tag.SetName("Surface")
     surfaces.GetCellData().AddArray(tag)
     pair = numpy_to_vtk(sets.pairs.astype(np.int32), deep=True)
-    pair.SetName("Materials")
+    pair.SetName(fieldkeys.MATERIALS)
     pair.SetComponentName(0, "owner")
     pair.SetComponentName(1, "other")
     surfaces.GetCellData().AddArray(pair)

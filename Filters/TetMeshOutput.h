@@ -1,0 +1,35 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Private to the module (uses core types): the core's tetrahedral mesh as the tetrahedralizer's
+// three VTK outputs, and the statistics' field-data arrays (also written for a failed run).
+#pragma once
+
+#include "QuadraticTets.h"
+#include "TetMesh.h"
+
+#include <map>
+#include <string>
+#include <vector>
+
+class vtkFieldData;
+class vtkPolyData;
+class vtkUnstructuredGrid;
+
+class TetMeshOutput
+{
+public:
+  /// Port 0: tetrahedra positively oriented (10-node ones when `quadratic` is given), cell arrays
+  /// Material, MinDihedralAngle, RadiusEdgeRatio (and Defects when validated), point array
+  /// Dimension, field data: statistics, warnings and `inputWarnings` (the ones --strict refuses).
+  static void FillGrid(vtkUnstructuredGrid* grid, const omesh::TetMesh& mesh, const omesh::QuadraticTetMesh* quadratic,
+    const std::vector<std::string>& inputWarnings);
+  /// Port 1: interface triangles on the grid's points, cell array Materials (the two sides).
+  static void FillInterfaces(vtkPolyData* interfaces, const omesh::TetMesh& mesh, vtkUnstructuredGrid* grid);
+  /// Port 2: the constrained segments as they stand in the mesh (cell arrays Present, InputSegment).
+  static void FillSegments(vtkPolyData* segments, const omesh::TetMesh& mesh);
+  /// The statistics as two field-data arrays, StatisticNames and StatisticValues.
+  static void AddStatistics(vtkFieldData* fieldData, const std::map<std::string, double>& statistics);
+
+private:
+  static void AddTetrahedra(vtkUnstructuredGrid* grid, const omesh::TetMesh& mesh, const omesh::QuadraticTetMesh* quadratic);
+  static void AddStrings(vtkFieldData* fieldData, const char* name, const std::vector<std::string>& strings);
+};
