@@ -11,6 +11,7 @@
 #include "MeshQuality.h"
 #include "MeshSizeEstimate.h"
 #include "MeshValidity.h"
+#include "ComplexSnapshot.h"
 #include "ConformingMesher3.h"
 #include "MaterialCriteria3.h"
 #include "MeshTriangulation3.h"
@@ -911,14 +912,16 @@ private:
   }
 
   /// CGAL's exuder changes weights, which can flip a sub-segment out of the (regular)
-  /// triangulation: it is undone when it would break a segment the refinement kept.
+  /// triangulation: it is undone when it would break a segment the refinement kept. The complex
+  /// from before it is kept as a compact record (ComplexSnapshot.h), not as a copy: a copy of the
+  /// triangulation was the run's peak memory.
   void exudeKeepingSegments()
   {
     report(0.8, "exudation");
-    std::unique_ptr<C3t3> kept;
+    std::optional<ComplexSnapshot<C3t3>> kept;
     const size_t missingBefore = conforming_ ? segments_->countNotEdges() : 0;
     if (conforming_)
-      kept = std::make_unique<C3t3>(*c3t3_);
+      kept.emplace(*c3t3_);
     // The budget also ends CGAL's exuder where it cycles (seen next to protecting balls); it stops
     // between two cells, where the mesh is consistent. Without a budget, 10 pumps per cell still
     // end a cycle.
@@ -931,12 +934,18 @@ private:
       return;
     segments_->locateVertices(); // the exuder re-creates vertices: find the segment points again
     const size_t missing = segments_->countNotEdges();
-    if (const size_t broken = missing > missingBefore ? missing - missingBefore : 0)
-    {
-      c3t3_->swap(*kept);
-      warnings_.push_back("exudation undone: it would have removed " + std::to_string(broken) +
-        " constrained sub-segments from the mesh");
-    }
+    const size_t broken = missing > missingBefore ? missing - missingBefore : 0;
+    if (broken == 0 && !options_.undoExudationForTesting)
+      return;
+    const auto lost = kept->restore(*c3t3_);
+    kept.reset();
+    segments_->locateVertices(); // the restored vertices are new ones
+    warnings_.push_back("exudation undone: it would have removed " + std::to_string(broken) +
+      " constrained sub-segments from the mesh");
+    if (lost.any()) // not seen: the rebuilt triangulation is the one recorded (ComplexSnapshot.h)
+      warnings_.push_back("exudation undone, but the mesh from before it came back incomplete (" +
+        std::to_string(lost.vertices) + " vertices, " + std::to_string(lost.cells) + " tetrahedra, " +
+        std::to_string(lost.facets) + " interface triangles missing)");
   }
 
   /// The output mesh, checked on its own (what a finite-element code would reject), with the
