@@ -32,6 +32,7 @@
 #include <CGAL/refine_mesh_3.h>
 #include <optional>
 
+#include <algorithm>
 #include <array>
 #include <atomic>
 #include <chrono>
@@ -532,9 +533,11 @@ private:
   void measure(std::map<std::string, double>& st) const
   {
     // during a parallel refinement the sequential complex holds its start: its vertex count is the last seen
-    st["vertices"] = std::max(c3t3_ ? static_cast<double>(c3t3_->triangulation().number_of_vertices()) : 0.0,
-      static_cast<double>(parallelVertices_));
-    st["tetrahedra"] = c3t3_ ? static_cast<double>(c3t3_->number_of_cells_in_complex()) : 0.0;
+    // (after validatedMesh cleared the complex, the output's counts)
+    st["vertices"] = std::max({ c3t3_ ? static_cast<double>(c3t3_->triangulation().number_of_vertices()) : 0.0,
+      static_cast<double>(parallelVertices_), static_cast<double>(outputVertices_) });
+    st["tetrahedra"] = std::max(c3t3_ ? static_cast<double>(c3t3_->number_of_cells_in_complex()) : 0.0,
+      static_cast<double>(outputTets_));
     st["feature_points"] =
       static_cast<double>(segments_ ? segments_->segments().points.size() : conformed_.points.size());
     st["refinement_steps"] = static_cast<double>(steps_);
@@ -953,6 +956,11 @@ private:
   TetMesh validatedMesh()
   {
     TetMesh mesh = toTetMesh(*c3t3_);
+    outputVertices_ = mesh.points.size();
+    outputTets_ = mesh.tets.size();
+    // Only the output is needed from here on: the triangulation's memory goes back before the
+    // checks build their own tables (else both at once were the run's peak).
+    c3t3_->clear();
     mesh.segments = locateFeatureSegments(mesh, *features_);
     deadline_.check("locating the feature lines in the mesh");
     const double coverage = featureCoverage(mesh.segments, *features_);
@@ -1121,6 +1129,7 @@ private:
   Segments::MissingCensus missing_;
   double expected_ = 1000.0;
   size_t steps_ = 0, repaired_ = 0;
+  size_t outputVertices_ = 0, outputTets_ = 0; ///< of the output, once the complex is cleared
   int rounds_ = 0;
   bool budgetHit_ = false, stalled_ = false;
   double initTime_ = 0.0, refineTime_ = 0.0, refineCpu_ = 0.0, optTime_ = 0.0, optCpu_ = 0.0;
