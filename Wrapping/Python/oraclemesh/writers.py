@@ -50,6 +50,7 @@ def material_set_names(ids, names=None):
 
     return set_names(ids, names)
 
+
 MESH_FORMATS = (".vtu", ".inp", ".msh", ".mesh")
 SURFACES_SUFFIX = "_surfaces.vtu"
 
