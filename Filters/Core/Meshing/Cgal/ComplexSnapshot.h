@@ -44,38 +44,54 @@ public:
   explicit ComplexSnapshot(const C3t3& c3t3)
   {
     const Tr& tr = c3t3.triangulation();
-    // vertex numbers: positions in the handles sorted by address (no per-vertex map kept)
-    std::vector<Vertex_handle> handles;
-    handles.reserve(tr.number_of_vertices());
+    // vertex numbers: the order of the triangulation's vertices (a map only while recording)
+    std::unordered_map<Vertex_handle, std::uint32_t> number;
+    number.reserve(tr.number_of_vertices());
+    vertices_.reserve(tr.number_of_vertices());
     for (auto v = tr.finite_vertices_begin(); v != tr.finite_vertices_end(); ++v)
-      handles.push_back(v);
-    std::sort(handles.begin(), handles.end());
-    auto id = [&](Vertex_handle v) {
-      return static_cast<std::uint32_t>(std::lower_bound(handles.begin(), handles.end(), v) - handles.begin());
-    };
-    vertices_.reserve(handles.size());
-    for (Vertex_handle v : handles)
-      vertices_.push_back({ tr.point(v), v->in_dimension(), c3t3.index(v) });
-
-    cells_.reserve(c3t3.number_of_cells_in_complex());
-    for (auto c = c3t3.cells_in_complex_begin(); c != c3t3.cells_in_complex_end(); ++c)
-      cells_.push_back({ sorted<4>({ id(c->vertex(0)), id(c->vertex(1)), id(c->vertex(2)), id(c->vertex(3)) }),
-        c3t3.subdomain_index(c) });
-    std::sort(cells_.begin(), cells_.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
-
-    facets_.reserve(c3t3.number_of_facets_in_complex());
-    for (auto f = c3t3.facets_in_complex_begin(); f != c3t3.facets_in_complex_end(); ++f)
     {
-      std::array<std::uint32_t, 3> k{};
-      for (int j = 0, n = 0; j < 4; ++j)
-        if (j != f->second)
-          k[n++] = id(f->first->vertex(j));
-      facets_.push_back({ sorted<3>(k), c3t3.surface_patch_index(*f) });
+      number.emplace(v, static_cast<std::uint32_t>(vertices_.size()));
+      vertices_.push_back({ tr.point(v), v->in_dimension(), c3t3.index(v) });
     }
-    std::sort(facets_.begin(), facets_.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    auto id = [&](Vertex_handle v) { return number.find(v)->second; };
 
-    for (auto e = c3t3.edges_in_complex_begin(); e != c3t3.edges_in_complex_end(); ++e)
-      edges_.push_back({ id(e->first->vertex(e->second)), id(e->first->vertex(e->third)), c3t3.curve_index(*e) });
+    // One pass over the cells (the complex's own iterators would walk them twice); a facet is
+    // met from both of its cells, and kept once.
+    cells_.reserve(c3t3.number_of_cells_in_complex());
+    facets_.reserve(2 * c3t3.number_of_facets_in_complex());
+    for (auto c = tr.finite_cells_begin(); c != tr.finite_cells_end(); ++c)
+    {
+      const bool inComplex = c3t3.is_in_complex(c);
+      bool onSurface = false;
+      for (int j = 0; j < 4 && !onSurface; ++j)
+        onSurface = c3t3.is_in_complex(c, j);
+      if (!inComplex && !onSurface)
+        continue;
+      const std::array<std::uint32_t, 4> ids{ id(c->vertex(0)), id(c->vertex(1)), id(c->vertex(2)), id(c->vertex(3)) };
+      if (inComplex)
+        cells_.push_back({ sorted<4>(ids), c3t3.subdomain_index(c) });
+      for (int j = 0; j < 4; ++j)
+      {
+        if (!c3t3.is_in_complex(c, j))
+          continue;
+        std::array<std::uint32_t, 3> k{};
+        for (int m = 0, n = 0; m < 4; ++m)
+          if (m != j)
+            k[n++] = ids[m];
+        facets_.push_back({ sorted<3>(k), c3t3.surface_patch_index(c, j) });
+      }
+    }
+    std::sort(cells_.begin(), cells_.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    std::sort(facets_.begin(), facets_.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    facets_.erase(std::unique(facets_.begin(), facets_.end(), [](const auto& a, const auto& b) { return a.first == b.first; }),
+      facets_.end());
+    facets_.shrink_to_fit();
+
+    // edges_in_complex walks every edge of the triangulation (most of the record's time when it
+    // has none, as Conforming's complexes)
+    if (c3t3.number_of_edges_in_complex() > 0)
+      for (auto e = c3t3.edges_in_complex_begin(); e != c3t3.edges_in_complex_end(); ++e)
+        edges_.push_back({ id(e->first->vertex(e->second)), id(e->first->vertex(e->third)), c3t3.curve_index(*e) });
     for (auto v = c3t3.vertices_in_complex_begin(); v != c3t3.vertices_in_complex_end(); ++v)
       corners_.push_back({ id(v), c3t3.corner_index(v) });
   }
