@@ -13,6 +13,7 @@
 #include "MeshQuality.h"
 #include "MeshSizeEstimate.h"
 #include "MeshValidity.h"
+#include "ComplexSnapshot.h"
 #include "ConformingMesher3.h"
 #include "MaterialCriteria3.h"
 #include "MeshTriangulation3.h"
@@ -570,9 +571,11 @@ private:
   void measure(std::map<std::string, double>& st) const
   {
     // during a parallel refinement the sequential complex holds its start: its vertex count is the last seen
-    st["vertices"] = std::max(c3t3_ ? static_cast<double>(c3t3_->triangulation().number_of_vertices()) : 0.0,
-      static_cast<double>(parallelVertices_));
-    st["tetrahedra"] = c3t3_ ? static_cast<double>(c3t3_->number_of_cells_in_complex()) : 0.0;
+    // (after validatedMesh cleared the complex, the output's counts)
+    st["vertices"] = std::max({ c3t3_ ? static_cast<double>(c3t3_->triangulation().number_of_vertices()) : 0.0,
+      static_cast<double>(parallelVertices_), static_cast<double>(outputVertices_) });
+    st["tetrahedra"] = std::max(c3t3_ ? static_cast<double>(c3t3_->number_of_cells_in_complex()) : 0.0,
+      static_cast<double>(outputTets_));
     st["feature_points"] =
       static_cast<double>(segments_ ? segments_->segments().points.size() : conformed_.points.size());
     st["refinement_steps"] = static_cast<double>(steps_);
@@ -981,14 +984,16 @@ private:
   }
 
   /// CGAL's exuder changes weights, which can flip a sub-segment out of the (regular)
-  /// triangulation: it is undone when it would break a segment the refinement kept.
+  /// triangulation: it is undone when it would break a segment the refinement kept. The complex
+  /// from before it is kept as a compact record (ComplexSnapshot.h), not as a copy: a copy of the
+  /// triangulation was the run's peak memory.
   void exudeKeepingSegments()
   {
     report(0.8, "exudation");
-    std::unique_ptr<C3t3> kept;
+    std::optional<ComplexSnapshot<C3t3>> kept;
     const size_t missingBefore = conforming_ ? segments_->countNotEdges() : 0;
     if (conforming_)
-      kept = std::make_unique<C3t3>(*c3t3_);
+      kept.emplace(*c3t3_);
     // The budget also ends CGAL's exuder where it cycles (seen next to protecting balls); it stops
     // between two cells, where the mesh is consistent. Without a budget, 10 pumps per cell still
     // end a cycle.
@@ -1001,12 +1006,18 @@ private:
       return;
     segments_->locateVertices(); // the exuder re-creates vertices: find the segment points again
     const size_t missing = segments_->countNotEdges();
-    if (const size_t broken = missing > missingBefore ? missing - missingBefore : 0)
-    {
-      c3t3_->swap(*kept);
-      warnings_.push_back("exudation undone: it would have removed " + std::to_string(broken) +
-        " constrained sub-segments from the mesh");
-    }
+    const size_t broken = missing > missingBefore ? missing - missingBefore : 0;
+    if (broken == 0 && !options_.undoExudationForTesting)
+      return;
+    const auto lost = kept->restore(*c3t3_);
+    kept.reset();
+    segments_->locateVertices(); // the restored vertices are new ones
+    warnings_.push_back("exudation undone: it would have removed " + std::to_string(broken) +
+      " constrained sub-segments from the mesh");
+    if (lost.any()) // not seen: the rebuilt triangulation is the one recorded (ComplexSnapshot.h)
+      warnings_.push_back("exudation undone, but the mesh from before it came back incomplete (" +
+        std::to_string(lost.vertices) + " vertices, " + std::to_string(lost.cells) + " tetrahedra, " +
+        std::to_string(lost.facets) + " interface triangles missing)");
   }
 
   /// The output mesh, checked on its own (what a finite-element code would reject), with the
@@ -1014,6 +1025,11 @@ private:
   TetMesh validatedMesh()
   {
     TetMesh mesh = toTetMesh(*c3t3_);
+    outputVertices_ = mesh.points.size();
+    outputTets_ = mesh.tets.size();
+    // Only the output is needed from here on: the triangulation's memory goes back before the
+    // checks build their own tables (else both at once were the run's peak).
+    c3t3_->clear();
     mesh.segments = locateFeatureSegments(mesh, *features_);
     deadline_.check("locating the feature lines in the mesh");
     const double coverage = featureCoverage(mesh.segments, *features_);
@@ -1183,6 +1199,7 @@ private:
   Segments::MissingCensus missing_;
   double expected_ = 1000.0;
   size_t steps_ = 0, repaired_ = 0;
+  size_t outputVertices_ = 0, outputTets_ = 0; ///< of the output, once the complex is cleared
   int rounds_ = 0;
   bool budgetHit_ = false, stalled_ = false;
   double initTime_ = 0.0, refineTime_ = 0.0, refineCpu_ = 0.0, optTime_ = 0.0, optCpu_ = 0.0;

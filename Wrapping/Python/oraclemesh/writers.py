@@ -32,8 +32,25 @@ import os
 from . import fieldkeys
 from .atomic import atomic_output
 from .errors import OracleMeshError
-from .quadratic import face_nodes
-from .surfaces import abaqus_set_name, material_set_names, surface_sets  # noqa: F401  (abaqus_set_name: API)
+
+
+def __getattr__(name):
+    # abaqus_set_name, surface_sets: API here, defined in surfaces.py, which imports numpy: loaded
+    # when first used, so `oraclemesh mesh` loads numpy after the meshing (the process floor and the
+    # mesher's peak memory without numpy's 20 MB).
+    if name in ("abaqus_set_name", "surface_sets"):
+        from . import surfaces
+
+        return getattr(surfaces, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def material_set_names(ids, names=None):
+    """surfaces.material_set_names (loaded on first use, see __getattr__)."""
+    from .surfaces import material_set_names as set_names
+
+    return set_names(ids, names)
+
 
 MESH_FORMATS = (".vtu", ".inp", ".msh", ".mesh")
 SURFACES_SUFFIX = "_surfaces.vtu"
@@ -121,6 +138,9 @@ class MeshArrays:
         self.quadratic = self.nodes.shape[1] == 10
         self.names = dict(names or {})
         self.ids = sorted(set(self.material.tolist()))
+        from .quadratic import face_nodes
+        from .surfaces import surface_sets
+
         self.sets = surface_sets(self.points, self.cells, self.material, self.names)
         self.face_nodes = face_nodes(self.sets.faces, self.nodes) if self.quadratic else self.sets.faces
         first = max(self.ids) + 1
