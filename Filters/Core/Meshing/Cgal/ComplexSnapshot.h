@@ -101,6 +101,25 @@ public:
   Lost restore(C3t3& c3t3) const
   {
     c3t3.clear();
+    Lost lost;
+    const Handles h = reinsertVertices(c3t3, lost);
+    restoreCellsAndFacets(c3t3, h, lost);
+    restoreEdgesAndCorners(c3t3, h, lost);
+    // The far points (the mesher's 8 around the box) come back as vertices like the others; the
+    // complex's list of them serves only remove_far_points, which nothing calls after refinement.
+    return lost;
+  }
+
+private:
+  /// Record number -> new handle (null where a vertex did not come back) and back.
+  struct Handles
+  {
+    std::vector<Vertex_handle> handle;
+    std::unordered_map<Vertex_handle, std::uint32_t> idOf;
+  };
+
+  Handles reinsertVertices(C3t3& c3t3, Lost& lost) const
+  {
     Tr& tr = c3t3.triangulation();
     std::vector<Weighted_point> points;
     points.reserve(vertices_.size());
@@ -117,7 +136,6 @@ public:
     std::vector<Vertex_handle> handle(vertices_.size());
     std::unordered_map<Vertex_handle, std::uint32_t> idOf;
     idOf.reserve(vertices_.size());
-    Lost lost;
     for (auto v = tr.finite_vertices_begin(); v != tr.finite_vertices_end(); ++v)
     {
       auto it = number.find(coordinates(tr.point(v)));
@@ -136,7 +154,13 @@ public:
       handle[i]->set_dimension(vertices_[i].dimension);
       c3t3.set_index(handle[i], vertices_[i].index);
     }
+    return Handles{ std::move(handle), std::move(idOf) };
+  }
 
+  void restoreCellsAndFacets(C3t3& c3t3, const Handles& h, Lost& lost) const
+  {
+    Tr& tr = c3t3.triangulation();
+    const auto& idOf = h.idOf;
     std::size_t cellsFound = 0, facetsFound = 0;
     for (auto c = tr.finite_cells_begin(); c != tr.finite_cells_end(); ++c)
     {
@@ -165,7 +189,12 @@ public:
     }
     lost.cells = cells_.size() - cellsFound;
     lost.facets = facets_.size() - facetsFound;
+  }
 
+  void restoreEdgesAndCorners(C3t3& c3t3, const Handles& h, Lost& lost) const
+  {
+    Tr& tr = c3t3.triangulation();
+    const auto& handle = h.handle;
     for (const auto& [a, b, curve] : edges_)
     {
       typename Tr::Cell_handle c;
@@ -182,11 +211,9 @@ public:
       else
         ++lost.corners;
     }
-    // The far points (the mesher's 8 around the box) come back as vertices like the others; the
-    // complex's list of them serves only remove_far_points, which nothing calls after refinement.
-    return lost;
   }
 
+public:
   /// Bytes held by the record (for the statistics and the benchmarks).
   std::size_t bytes() const
   {
