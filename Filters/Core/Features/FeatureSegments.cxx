@@ -163,7 +163,10 @@ void checkNoCrossings(const FeatureSegments& f)
 }
 
 /// Warnings for segments meeting at less than 60 degrees and for a radius-edge bound below what
-/// the smallest angle needs.
+/// the smallest angle needs (paper section 5: B < 1/(2 sin alpha0) contradicts the segments). The
+/// bound is about small angles only: at 90 degrees and more the segments' diametral balls do not
+/// reach each other, and every polyline bends by a few degrees at each vertex (a resampled circle
+/// meets itself at 172 degrees, which the formula alone would read as a contradiction of B < 3.7).
 void warnSmallAngles(const FeatureSegments& f, double radiusEdgeBound, std::vector<std::string>& warnings)
 {
   const auto inc = incidence(f);
@@ -193,7 +196,7 @@ void warnSmallAngles(const FeatureSegments& f, double radiusEdgeBound, std::vect
     warnings.push_back("feature lines: " + std::to_string(sharp) +
       " pair(s) of segments meet at less than 60 degrees, where termination is not guaranteed (paper "
       "section 2.2); first: " + firstSharp);
-  if (alpha0 < 180.0 && radiusEdgeBound > 0 && radiusEdgeBound < 1.0 / (2.0 * std::sin(alpha0 * M_PI / 180.0)))
+  if (alpha0 < 90.0 && radiusEdgeBound > 0 && radiusEdgeBound < 1.0 / (2.0 * std::sin(alpha0 * M_PI / 180.0)))
   {
     std::ostringstream o;
     o << "criteria contradict the feature lines: radius-edge bound " << radiusEdgeBound << " < 1/(2 sin "
