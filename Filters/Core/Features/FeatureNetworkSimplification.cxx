@@ -458,6 +458,19 @@ bool meshableEnd(const Vec3& v, const Vec3& w, const std::vector<Vec3>& others, 
     for (double side : { -1.0, 1.0 })
       if (tol.inDomain(c + side * off) || tol.inDomain(c + std::cos(kLean) * side * off + std::sin(kLean) * in))
         return true;
+    // A convex corner whose solid wedge the plane halves (a CAD part's chamfered tip, a pyramid's
+    // apex) has no room straight off the plane at this radius, but plenty at 30-75 degrees from
+    // it: probe a ring around the segment at those elevations, either side. A thin fold or spike
+    // in the plane (thinner than half the radius) still has no point there.
+    const Vec3 along = (radius / norm(cross(n, u))) * cross(n, u); // in the plane, across the segment
+    for (int k = 0; k < 24; ++k)
+    {
+      const double angle = k * M_PI / 12.0;
+      if (std::abs(std::sin(angle)) < 0.49 || std::abs(std::sin(angle)) > 0.99)
+        continue; // in the plane (a fold there gives no cell room) or straight off it (probed above)
+      if (tol.inDomain(c + std::cos(angle) * along + std::sin(angle) * off))
+        return true;
+    }
   }
   if (!lone)
     return false;
