@@ -458,19 +458,21 @@ bool meshableEnd(const Vec3& v, const Vec3& w, const std::vector<Vec3>& others, 
     for (double side : { -1.0, 1.0 })
       if (tol.inDomain(c + side * off) || tol.inDomain(c + std::cos(kLean) * side * off + std::sin(kLean) * in))
         return true;
-    // A convex corner whose solid wedge the plane halves (a CAD part's chamfered tip, a pyramid's
-    // apex) has no room straight off the plane at this radius, but plenty at 30-75 degrees from
-    // it: probe a ring around the segment at those elevations, either side. A thin fold or spike
-    // in the plane (thinner than half the radius) still has no point there.
-    const Vec3 along = (radius / norm(cross(n, u))) * cross(n, u); // in the plane, across the segment
-    for (int k = 0; k < 24; ++k)
-    {
-      const double angle = k * M_PI / 12.0;
-      if (std::abs(std::sin(angle)) < 0.49 || std::abs(std::sin(angle)) > 0.99)
-        continue; // in the plane (a fold there gives no cell room) or straight off it (probed above)
-      if (tol.inDomain(c + std::cos(angle) * along + std::sin(angle) * off))
-        return true;
-    }
+    // A convex corner whose solid wedge the plane halves (a CAD part's chamfered tip) has no room
+    // straight off the plane at this radius, but leaning 45-60 degrees towards the pair's bisector
+    // it has, at the radius and at 4 times it: a wedge grows with the distance, a fold in the plane
+    // does not. Only between segments of at least 2 h, as CAD edges are: the noisy spheres' chords
+    // (at most h after resampling) lost pieces at such corners.
+    if (std::min(norm(w - v), norm(o - v)) < 2.0 * tol.edgeLength)
+      continue;
+    for (double lean : { 45.0, 60.0 })
+      for (double side : { -1.0, 1.0 })
+      {
+        const double a = lean * M_PI / 180.0;
+        const Vec3 d = std::cos(a) * side * off + std::sin(a) * in;
+        if (norm(in) > 0 && tol.inDomain(c + d) && tol.inDomain(c + 4.0 * d))
+          return true;
+      }
   }
   if (!lone)
     return false;
