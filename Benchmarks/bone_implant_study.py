@@ -145,7 +145,9 @@ def mesh_case(case, strategy, timeout):
     warnings = strings(grid.GetFieldData(), "Warnings")
     implant = float(vol[material == IMPLANT].sum())
     bone = float(vol[np.isin(material, BONE)].sum())
+    before = stats.get("optimisation.min_dihedral_before")
     row.update(tets=len(tets), vertices=int(len(np.unique(tets))), min_dihedral=float(lo.min()),
+               min_before=float(before) if before is not None and before >= 0 else None,
                max_dihedral=float(hi.max()), defects=int(v["validity.defects"]),
                coverage=s.get("feature_coverage"), peak_mib=s.get("peak_rss_mib", 0.0),
                implant_error=implant / case["implant_volume"] - 1 if case["implant_volume"] else None,
@@ -184,7 +186,7 @@ def fmt(x, spec, empty="-"):
 
 
 def print_table(rows):
-    print(f"{'case':<24} {'strategy':<22} {'tets':>8} {'verts':>7} {'min°':>6} {'max°':>6} {'defects':>7} "
+    print(f"{'case':<24} {'strategy':<22} {'tets':>8} {'verts':>7} {'min°':>6} {'before':>6} {'max°':>6} {'defects':>7} "
           f"{'cover':>6} {'time s':>7} {'refine':>7} {'optim.':>7} {'MiB':>6} {'implant':>8} {'bone':>7}  note")
     for r in rows:
         if r["error"]:
@@ -192,7 +194,7 @@ def print_table(rows):
             continue
         cover = fmt(None if r["coverage"] is None else 100 * r["coverage"], ".1f")
         print(f"{r['case']:<24} {r['strategy']:<22} {r['tets']:>8} {r['vertices']:>7} {r['min_dihedral']:>6.2f} "
-              f"{r['max_dihedral']:>6.1f} {r['defects']:>7} {cover:>6} {r['seconds']:>7.1f} {r['refine_s']:>7.1f} "
+              f"{fmt(r.get('min_before'), '.2f'):>6} {r['max_dihedral']:>6.1f} {r['defects']:>7} {cover:>6} {r['seconds']:>7.1f} {r['refine_s']:>7.1f} "
               f"{r['optimise_s']:>7.1f} {r['peak_mib']:>6.0f} "
               f"{fmt(100 * r['implant_error'], '+.2f'):>7}% {fmt(100 * r['bone_error'], '+.2f'):>6}%"
               f"  {_note(r)}")
@@ -218,7 +220,8 @@ def summarise(rows, strategies):
         stalled = sum(1 for r in ok if r.get("stalled"))
         lines.append(f"{s}: {len(ok)}/{len(names)} meshed, {len(valid)} valid, {budget} stopped at the vertex budget, "
                      f"{stalled} stalled, min dihedral "
-                     f"{min((r['min_dihedral'] for r in ok), default=float('nan')):.2f}°, time "
+                     f"{min((r['min_dihedral'] for r in ok), default=float('nan')):.2f}° (before optimisation "
+                     f"{min((r['min_before'] for r in ok if r.get('min_before') is not None), default=float('nan')):.2f}°), time "
                      f"{sum(r['seconds'] for r in ok):.0f} s")
     for s in strategies:
         peer = s + STOCK_OPTIMISERS

@@ -250,3 +250,26 @@ TEST(FeatureNetworkSimplification, SegmentsOverAThinFinsTipBypassed)
   EXPECT_FALSE(isInputPoint(lone, { 0, 0, 0.9 }));
   EXPECT_TRUE(isInputPoint(lone, { -1.0, 0, -0.1 }) && isInputPoint(lone, { -0.5, 0, -0.1 }));
 }
+
+// A CAD part's convex corner whose solid wedge the plane of its two feature segments halves (a
+// 90-degree ridge that turns down by 63 degrees, as where the generated implants' stem edges meet
+// their chamfered tips): no room straight off that plane at the probe radius, but at 30 degrees
+// from it, so the corner stays. Bypassed, the chord ran up to 0.9 mm inside the implant at a
+// 4-degree angle to its crease, and refinement at radius-edge 1.1 piled vertices into that sliver
+// of space until the vertex budget.
+TEST(FeatureNetworkSimplification, ConvexCornerOfAWedgeKept)
+{
+  FeatureSegments f;
+  f.points = { { -1, 0, 0 }, { 0, 0, 0 }, { 0.5, 0, -1 } }; // along the ridge, then down its turn
+  f.segments = { { 0, 1 }, { 1, 2 } };
+  FeatureNetworkTolerances tol;
+  tol.edgeLength = 0.5;
+  tol.chordTolerance = 0.001;
+  tol.mergeFraction = 0.01;
+  tol.inDomain = [](const Vec3& p) { return p.z + std::abs(p.y) < std::min(0.0, -2.0 * p.x); };
+  const FeatureNetworkReport r = simplifyFeatureNetwork(f, tol);
+  EXPECT_EQ(r.unmeshableEnds, 0u);
+  EXPECT_TRUE(isInputPoint(f, { 0, 0, 0 }));
+  EXPECT_EQ(f.segments.size(), 2u);
+  EXPECT_NEAR(r.givenToSimplified, 0.0, 1e-9);
+}

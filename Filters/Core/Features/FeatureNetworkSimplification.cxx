@@ -508,6 +508,21 @@ bool meshableEnd(const Vec3& v, const Vec3& w, const std::vector<Vec3>& others, 
     for (double side : { -1.0, 1.0 })
       if (tol.inDomain(c + side * off) || tol.inDomain(c + std::cos(kLean) * side * off + std::sin(kLean) * in))
         return true;
+    // A convex corner whose solid wedge the plane halves (a CAD part's chamfered tip) has no room
+    // straight off the plane at this radius, but leaning 45-60 degrees towards the pair's bisector
+    // it has, at the radius and at 4 times it: a wedge grows with the distance, a fold in the plane
+    // does not. Only between segments of at least 2 h, as CAD edges are: the noisy spheres' chords
+    // (at most h after resampling) lost pieces at such corners.
+    if (std::min(norm(w - v), norm(o - v)) < 2.0 * tol.edgeLength)
+      continue;
+    for (double lean : { 45.0, 60.0 })
+      for (double side : { -1.0, 1.0 })
+      {
+        const double a = lean * M_PI / 180.0;
+        const Vec3 d = std::cos(a) * side * off + std::sin(a) * in;
+        if (norm(in) > 0 && tol.inDomain(c + d) && tol.inDomain(c + 4.0 * d))
+          return true;
+      }
   }
   if (!lone)
     return false;

@@ -900,6 +900,17 @@ private:
       Mesher(*c3t3_, *domain_, *criteria_, CGAL::FACET_VERTICES_ON_SURFACE).fix_c3t3();
   }
 
+  /// A refinement round that ended at the vertex budget or stalled says so (`when`: which round).
+  void warnIfUnfinished(const std::string& when)
+  {
+    if (stalled_)
+      warnings_.push_back(when + "refinement stalled (100k steps without a new vertex: a refinement point "
+                          "repeats an existing vertex); the criteria are not met everywhere");
+    if (budgetHit_)
+      warnings_.push_back(when + "refinement stopped at MaximumNumberOfVertices = " +
+        std::to_string(options_.maximumNumberOfVertices) + ": the criteria are not met everywhere");
+  }
+
   /// The segment, facet and cell levels together (rules T1.2, T2, T3), one step at a time.
   void refineAllLevels()
   {
@@ -907,14 +918,7 @@ private:
     const double refineCpuStart = threadCpu();
     expected_ = expectedVertices();
     refineOnce();
-    if (stalled_)
-      warnings_.push_back("refinement stalled (100k steps without a new vertex: a refinement point "
-                          "repeats an existing vertex); the criteria are not met everywhere");
-    if (budgetHit_)
-    {
-      warnings_.push_back("refinement stopped at MaximumNumberOfVertices = " +
-        std::to_string(options_.maximumNumberOfVertices) + ": the criteria are not met everywhere");
-    }
+    warnIfUnfinished("");
     c3t3_->clear_manifold_info();
     refineTime_ = seconds(refineStart);
     callingThreadRefineCpu_ = threadCpu() - refineCpuStart;
@@ -979,6 +983,7 @@ private:
     const size_t before = count.splitsEncroached + count.splitsVetoed;
     refinePhase_ = "refinement after perturbation (segment repair)";
     refineOnce();
+    warnIfUnfinished("segment repair after perturbation: ");
     repaired_ = count.splitsEncroached + count.splitsVetoed - before;
     c3t3_->clear_manifold_info();
   }

@@ -48,6 +48,8 @@ struct MesherOptions
   bool resampleFeatureLines = false;
   /// Tetrahedra with at least three vertices on interfaces or feature lines and a minimal dihedral angle
   /// below this (degrees) are refined like bad cells: the optimisers cannot fix them. 0 = off.
+  /// Below radius-edge 1.2 only those with a circumradius of at least 1/8 of their material's cell
+  /// size (their circumcentres make smaller interface slivers: at 1.1 that converged onto points).
   /// Not covered by CGAL's termination guarantee: refinement also stops at the vertex budget.
   double interfaceSliverAngle = 10.0;
   bool perturb = true;
