@@ -111,8 +111,10 @@ FeatureLineOptions featureLineOptions(const HierarchicalOracle& oracle, const Ma
   };
   const MeshCriteria::Values g = criteria.globalValues();
   o.maxSegmentLength = lengthOf(g) > 0 ? lengthOf(g) : norm(oracle.bounds().size()) / 40.0;
-  double distance = g.facetDistance;
   double finest = o.maxSegmentLength;
+  // a tenth of the facet distance (issue 13's aim for the curves' deviation), not the half that
+  // resampling given lines uses: these chords are the mesh's edges on the curve. Per material, so
+  // that the implant's 0.1 mm does not make the bone's rims a staircase of 0.01 mm pieces.
   for (const auto& [m, unused] : criteria.perMaterial)
   {
     const MeshCriteria::Values v = criteria.of(m);
@@ -121,12 +123,10 @@ FeatureLineOptions featureLineOptions(const HierarchicalOracle& oracle, const Ma
       o.materialSegmentLength[m] = lengthOf(v);
       finest = std::min(finest, lengthOf(v));
     }
-    if (v.facetDistance > 0 && (distance <= 0 || v.facetDistance < distance))
-      distance = v.facetDistance;
+    if (v.facetDistance > 0)
+      o.materialTolerance[m] = 0.1 * v.facetDistance;
   }
-  // a tenth of the facet distance (issue 13's aim for the curves' deviation), not the half that
-  // resampling given lines uses: these chords are the mesh's edges on the curve
-  o.tolerance = distance > 0 ? 0.1 * distance : 0.05 * finest;
+  o.tolerance = g.facetDistance > 0 ? 0.1 * g.facetDistance : 0.05 * finest;
   o.spacing = 0.5 * finest;
   return o;
 }
@@ -163,10 +163,36 @@ FeatureSelection selectFeatures(const HierarchicalOracle& oracle, const FeatureS
       out.segments.points.push_back(p);
     }
   }
+  // A segment on the domain's outer boundary where the rim bends inwards (a label map's rim on a
+  // cut plane is a staircase at voxel scale) has no material next to it, nor have the halves and
+  // quarters the segment level would split it into: no tetrahedron can hold it as an edge. Dropped,
+  // as simplifyFeatureNetwork drops given segments that leave the domain.
+  std::size_t unmeshable = 0;
   for (auto s : out.automatic.segments.segments)
-    out.segments.segments.push_back({ index[s[0]], index[s[1]] });
+  {
+    const Vec3 a = out.automatic.segments.points[s[0]], b = out.automatic.segments.points[s[1]];
+    bool meshable = true;
+    for (int parts = 1; parts <= 4 && meshable; parts *= 2)
+      for (int k = 0; k < parts && meshable; ++k)
+        meshable = oracle.touchesMaterial(lerp(a, b, double(k) / parts), lerp(a, b, double(k + 1) / parts));
+    if (meshable)
+      out.segments.segments.push_back({ index[s[0]], index[s[1]] });
+    else
+      ++unmeshable;
+  }
+  if (unmeshable > 0)
+  {
+    out.droppedUnmeshable = unmeshable;
+    out.warnings.push_back("feature lines: " + std::to_string(unmeshable) +
+      " segment(s) of the lines found where inputs meet have no material next to them (a rim of the domain's outer "
+      "boundary bending inwards) and were dropped: no tetrahedron could hold them as an edge");
+  }
   if (firstAutomatic == 0 || out.automatic.segments.empty())
+  {
+    if (unmeshable > 0)
+      mergeFeatureSegments(out.segments); // drops the points no segment uses any more
     return out;
+  }
   // Given lines win over automatic ones that cross them.
   std::set<std::size_t> drop;
   for (const auto& [s, t] : out.segments.crossingPairs())
@@ -176,7 +202,11 @@ FeatureSelection selectFeatures(const HierarchicalOracle& oracle, const FeatureS
       drop.insert(sAuto ? s : t);
   }
   if (drop.empty())
+  {
+    if (unmeshable > 0)
+      mergeFeatureSegments(out.segments);
     return out;
+  }
   std::vector<std::array<int, 2>> kept;
   for (std::size_t s = 0; s < out.segments.segments.size(); ++s)
     if (!drop.count(s))

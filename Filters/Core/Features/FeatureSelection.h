@@ -40,6 +40,7 @@ struct FeatureSelection
   FeatureSegments segments;           ///< given (as they are) then automatic, vertices shared where equal
   FeatureLines automatic;             ///< the lines found (all of them, before dropping any)
   std::size_t droppedAutomatic = 0;   ///< automatic segments dropped because they cross a given one
+  std::size_t droppedUnmeshable = 0;  ///< automatic segments dropped because no material touches them
   std::vector<std::string> warnings;  ///< the search's (small angles), the drops
 };
 

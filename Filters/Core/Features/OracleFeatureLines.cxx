@@ -394,6 +394,17 @@ FeatureLines findFeatureLines(const HierarchicalOracle& oracle, const FeatureLin
         {
           if (ids.size() == 2)
             links.push_back({ ids[0], ids[1] });
+          else if (ids.size() == 4)
+          {
+            // one curve passing the cube twice (a fold, two near-parallel pieces): two passes, paired
+            // by the shorter total chord, not a junction (that made zigzags meeting at 0 degrees)
+            const auto d = [&](int a, int b) { return norm(crossings[ids[a]].point - crossings[ids[b]].point); };
+            const double p01 = d(0, 1) + d(2, 3), p02 = d(0, 2) + d(1, 3), p03 = d(0, 3) + d(1, 2);
+            const int partner = p01 <= p02 && p01 <= p03 ? 1 : p02 <= p03 ? 2 : 3;
+            const int rest[2] = { partner == 1 ? 2 : 1, partner == 3 ? 2 : 3 };
+            links.push_back({ ids[0], ids[partner] });
+            links.push_back({ ids[rest[0]], ids[rest[1]] });
+          }
           else
             ending.insert(ending.end(), ids.begin(), ids.end());
         }
@@ -500,7 +511,8 @@ FeatureLines findFeatureLines(const HierarchicalOracle& oracle, const FeatureLin
   std::vector<std::vector<int>> chains;
   auto walk = [&](int start, int next) {
     std::vector<int> chain{ start, next };
-    for (int previous = start, v = next; adjacent[v].size() == 2 && v != start;)
+    // junctions end chains, so that a chain is one curve with one signature
+    for (int previous = start, v = next; adjacent[v].size() == 2 && v != start && v < crossingCount;)
     {
       const int w = adjacent[v][0] == previous ? adjacent[v][1] : adjacent[v][0];
       if (!take(v, w))
@@ -512,7 +524,7 @@ FeatureLines findFeatureLines(const HierarchicalOracle& oracle, const FeatureLin
     chains.push_back(std::move(chain));
   };
   for (int v = 0; v < static_cast<int>(nodes.size()); ++v)
-    if (adjacent[v].size() != 2)
+    if (adjacent[v].size() != 2 || v >= crossingCount)
       for (int w : adjacent[v])
         if (take(v, w))
           walk(v, w);
@@ -520,6 +532,87 @@ FeatureLines findFeatureLines(const HierarchicalOracle& oracle, const FeatureLin
     for (int w : adjacent[v])
       if (take(v, w))
         walk(v, w);
+
+  // A junction is placed inside its cube, from the curves' tangents; where curves meet at a small
+  // angle the last crossing of an arm can lie beyond it, and the arm would turn back there (a
+  // fold at 0 degrees). Such crossings are left out: the arm runs straight to the junction.
+  for (auto& chain : chains)
+    for (int end = 0; end < 2; ++end)
+    {
+      while (chain.size() > 2 && chain.front() >= crossingCount &&
+        angleAt(nodes[chain[1]], nodes[chain[0]], nodes[chain[2]]) < 90.0)
+        chain.erase(chain.begin() + 1);
+      std::reverse(chain.begin(), chain.end());
+    }
+
+  // The chord length of a curve between these materials: the smallest listed, else the global one.
+  auto lengthFor = [&](const std::vector<int>& materials) {
+    double length = options.maxSegmentLength;
+    for (int material : materials)
+      if (auto it = options.materialSegmentLength.find(material); it != options.materialSegmentLength.end())
+        length = length > 0 ? std::min(length, it->second) : it->second;
+    return length;
+  };
+  auto toleranceFor = [&](const std::vector<int>& materials, double length) {
+    const double global = options.tolerance > 0 ? options.tolerance : 0.05 * length;
+    double tolerance = HUGE_VAL;
+    for (int material : materials)
+      if (material >= 0)
+      {
+        auto it = options.materialTolerance.find(material);
+        tolerance = std::min(tolerance, it != options.materialTolerance.end() ? it->second : global);
+      }
+    return std::isfinite(tolerance) ? tolerance : global;
+  };
+  auto tagOf = [&](const std::vector<int>& chain) { return chain[chain[0] < crossingCount ? 0 : 1]; };
+
+  // 4b. Curves between two junctions shorter than their chord length (curves crossing or touching
+  // at a small angle run within a grid step of each other for a while, and each cube along that
+  // stretch made a junction) collapse to one vertex: the mesh could not show them, and their ends
+  // would meet the other curves there at angles down to 0 degrees.
+  std::vector<int> representative(nodes.size());
+  for (size_t v = 0; v < nodes.size(); ++v)
+    representative[v] = static_cast<int>(v);
+  std::function<int(int)> find = [&](int v) { return representative[v] == v ? v : representative[v] = find(representative[v]); };
+  std::vector<char> collapsed(chains.size(), 0);
+  for (size_t c = 0; c < chains.size(); ++c)
+  {
+    const auto& chain = chains[c];
+    if (chain.size() < 2 || chain.front() < crossingCount || chain.back() < crossingCount)
+      continue;
+    double length = 0.0;
+    for (size_t k = 0; k + 1 < chain.size(); ++k)
+      length += norm(nodes[chain[k + 1]] - nodes[chain[k]]);
+    if (!(length < lengthFor(materialsOf(crossings[tagOf(chain)].regions))))
+      continue;
+    collapsed[c] = 1;
+    const int a = find(chain.front()), b = find(chain.back());
+    if (a != b)
+      representative[std::max(a, b)] = std::min(a, b);
+  }
+  {
+    std::map<int, std::vector<int>> members;
+    for (int v = crossingCount; v < static_cast<int>(nodes.size()); ++v)
+      members[find(v)].push_back(v);
+    for (const auto& [root, group] : members)
+      if (group.size() > 1)
+      {
+        Vec3 mean;
+        for (int v : group)
+          mean = mean + (1.0 / group.size()) * nodes[v];
+        nodes[root] = mean;
+      }
+    std::vector<std::vector<int>> kept;
+    for (size_t c = 0; c < chains.size(); ++c)
+      if (!collapsed[c])
+      {
+        std::vector<int> chain = chains[c];
+        chain.front() = find(chain.front());
+        chain.back() = find(chain.back());
+        kept.push_back(std::move(chain));
+      }
+    chains = std::move(kept);
+  }
 
   // 5. Each curve resampled on its own (its ends stay, being ends), then shared end vertices.
   std::map<int, int> sharedPoint; // node -> point of result.segments
@@ -533,14 +626,14 @@ FeatureLines findFeatureLines(const HierarchicalOracle& oracle, const FeatureLin
   {
     if (chain.size() < 2)
       continue;
-    const int tagged = chain[chain[0] < crossingCount ? 0 : 1];
+    const int tagged = tagOf(chain);
     if (tagged >= crossingCount)
       continue; // two junctions joined directly: no crossing tells the regions (does not happen)
     FeatureLine line;
     line.materials = materialsOf(crossings[tagged].regions);
     line.triple = line.materials.size() >= 3;
     // A loop through a junction stays open there, so the junction is kept as its two ends.
-    const bool closed = chain.back() == chain.front() && adjacent[chain.front()].size() == 2;
+    const bool closed = chain.back() == chain.front() && adjacent[chain.front()].size() == 2 && chain.front() < crossingCount;
     const size_t m = closed ? chain.size() - 1 : chain.size();
     if (closed && m < 3)
       continue;
@@ -551,12 +644,9 @@ FeatureLines findFeatureLines(const HierarchicalOracle& oracle, const FeatureLin
       piece.segments.push_back({ static_cast<int>(k), static_cast<int>(k + 1) });
     if (closed)
       piece.segments.push_back({ static_cast<int>(m - 1), 0 });
-    double length = options.maxSegmentLength;
-    for (int material : line.materials)
-      if (auto it = options.materialSegmentLength.find(material); it != options.materialSegmentLength.end())
-        length = length > 0 ? std::min(length, it->second) : it->second;
+    const double length = lengthFor(line.materials);
     if (length > 0)
-      resampleFeatureLines(piece, length, options.tolerance > 0 ? options.tolerance : 0.05 * length, options.smallAngle);
+      resampleFeatureLines(piece, length, toleranceFor(line.materials, length), options.smallAngle);
     std::vector<int> order = chainOrder(piece);
     if (!closed && norm(piece.points[order.front()] - nodes[chain.front()]) > 0)
       std::reverse(order.begin(), order.end());

@@ -29,6 +29,9 @@ struct FeatureLineOptions
   /// Per material: a curve takes the smallest of its materials' lengths listed here (else
   /// maxSegmentLength): the local edge size.
   std::map<int, double> materialSegmentLength;
+  /// Per material: a curve's chords keep within the smallest of its materials' tolerances (those
+  /// listed here, `tolerance` for the others): a tenth of the facet distance of what it separates.
+  std::map<int, double> materialTolerance;
   /// Curves meeting at a shared vertex, or one curve turning, at less than this angle (degrees)
   /// are reported: the paper's termination argument needs 60.
   double smallAngle = 60.0;
