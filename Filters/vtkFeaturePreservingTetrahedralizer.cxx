@@ -253,6 +253,7 @@ int vtkFeaturePreservingTetrahedralizer::RequestData(
   std::vector<std::string> notes; // this adapter's warnings, listed before the mesher's
   std::vector<std::string> inputNotes; // of them, those about the inputs (field data InputWarnings)
   std::shared_ptr<omesh::HierarchicalOracle> oracle;
+  omesh::FeatureSelection selection;
   try
   {
     // Properties and inputs first, before any heavy work.
@@ -308,10 +309,26 @@ int vtkFeaturePreservingTetrahedralizer::RequestData(
                                               this->FacetDistance, this->CellSize, this->CellRadiusEdgeRatio,
                                               this->EdgeSize },
       { &domainLevel, &tableLevel });
-    // The lines to keep: given, found where the inputs meet, or both.
-    const omesh::FeatureSelection selection = omesh::selectFeatures(*oracle, features,
-      static_cast<omesh::FeatureSource>(this->Features), options.criteria, [this](double) { return !this->GetAbortExecute(); });
+    // The lines to keep: given, found where the inputs meet, or both. The search runs under the
+    // run's time limit (the mesher gets what is left) and takes the first tenth of the progress.
+    const auto source = static_cast<omesh::FeatureSource>(this->Features);
+    const bool searching = source == omesh::FeatureSource::Automatic || source == omesh::FeatureSource::Both;
+    const omesh::MeshingDeadline deadline(omesh::effectiveTimeLimit(options));
+    selection = omesh::selectFeatures(*oracle, features, source, options.criteria, [this, &deadline](double f) {
+      deadline.check("feature line search");
+      this->UpdateProgress(0.1 * f);
+      return !this->GetAbortExecute();
+    });
     features = selection.segments;
+    if (searching)
+    {
+      if (deadline.limited())
+        options.timeLimit = std::max(1e-3, deadline.limit() - deadline.elapsed());
+      options.progress = [this](double fraction, const char*) {
+        this->UpdateProgress(0.1 + 0.9 * fraction);
+        return !this->GetAbortExecute();
+      };
+    }
     notes.insert(notes.end(), selection.warnings.begin(), selection.warnings.end());
     std::vector<omesh::Vec3> seedPoints;
     if (seeds)
@@ -477,18 +494,33 @@ int vtkFeaturePreservingTetrahedralizer::RequestData(
   present->SetName("Present");
   vtkNew<vtkIntArray> input;
   input->SetName("InputSegment");
+  // where each piece came from: 0 given, 1 found where the inputs meet; and the materials it separates
+  vtkNew<vtkIntArray> origin;
+  origin->SetName("Origin");
+  vtkNew<vtkIntArray> separates;
+  separates->SetName("Materials");
+  separates->SetNumberOfComponents(4);
+  const bool sameSegments = !options.resampleFeatureLines; // else the mesher's simplification renumbered them
   for (const auto& s : mesh.segments)
   {
     const vtkIdType ids[2] = { segPoints->InsertNextPoint(s.a.x, s.a.y, s.a.z), segPoints->InsertNextPoint(s.b.x, s.b.y, s.b.z) };
     segLines->InsertNextCell(2, ids);
     present->InsertNextValue(s.present ? 1 : 0);
     input->InsertNextValue(s.input);
+    const int k = sameSegments && s.input >= 0 && static_cast<std::size_t>(s.input) < selection.origin.size()
+      ? s.input
+      : selection.nearestSegment(omesh::lerp(s.a, s.b, 0.5));
+    const omesh::FeatureSelection::Origin o = k >= 0 ? selection.origin[k] : omesh::FeatureSelection::Origin{};
+    origin->InsertNextValue(o.automatic ? 1 : 0);
+    separates->InsertNextTypedTuple(o.materials.data());
   }
   segmentsOut->SetPoints(segPoints);
   segmentsOut->SetLines(segLines);
   segmentsOut->GetCellData()->AddArray(present);
   segmentsOut->GetCellData()->SetScalars(present);
   segmentsOut->GetCellData()->AddArray(input);
+  segmentsOut->GetCellData()->AddArray(origin);
+  segmentsOut->GetCellData()->AddArray(separates);
   return 1;
 }
 

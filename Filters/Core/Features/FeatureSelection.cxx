@@ -101,6 +101,79 @@ void shareCrossings(const HierarchicalOracle& oracle, FeatureSegments& given, Fe
   }
   given.segments = std::move(split);
 }
+
+/// Distance from x to the segment ab, and the parameter of the nearest point.
+std::pair<double, double> toSegment(const Vec3& x, const Vec3& a, const Vec3& b)
+{
+  const Vec3 d = b - a;
+  const double dd = dot(d, d);
+  const double t = dd > 0 ? std::clamp(dot(x - a, d) / dd, 0.0, 1.0) : 0.0;
+  return { norm(x - (a + t * d)), t };
+}
+
+/// Automatic curves that run along given lines (the tray's bottom rim, a sharp edge of the implant,
+/// is also where implant, bone and the cut meet) would be near-duplicate segments the segment level
+/// splits without end: those within `eps` of the given lines all along are dropped, and the ends of
+/// the kept ones that lie on a given line are moved onto it and become vertices of it (joined, not
+/// a T: the given line keeps its course, the automatic end moves by at most `eps`).
+/// Segments [0, firstAutomatic) are given. Returns the number dropped; firstAutomatic is updated.
+std::size_t dropAutomaticAlongGiven(FeatureSegments& f, std::size_t& firstAutomatic, double eps)
+{
+  std::vector<std::array<int, 2>> given(f.segments.begin(), f.segments.begin() + static_cast<long>(firstAutomatic));
+  std::vector<std::array<int, 2>> automatic(f.segments.begin() + static_cast<long>(firstAutomatic), f.segments.end());
+  auto nearestGiven = [&](const Vec3& x) {
+    std::pair<double, int> best{ HUGE_VAL, -1 };
+    for (size_t g = 0; g < given.size(); ++g)
+      best = std::min(best, { toSegment(x, f.points[given[g][0]], f.points[given[g][1]]).first, static_cast<int>(g) });
+    return best;
+  };
+  std::size_t dropped = 0;
+  std::vector<std::array<int, 2>> kept;
+  for (const auto& s : automatic)
+  {
+    const Vec3 a = f.points[s[0]], b = f.points[s[1]];
+    if (nearestGiven(a).first <= eps && nearestGiven(b).first <= eps && nearestGiven(lerp(a, b, 0.5)).first <= eps &&
+      nearestGiven(lerp(a, b, 0.25)).first <= eps && nearestGiven(lerp(a, b, 0.75)).first <= eps)
+      ++dropped;
+    else
+      kept.push_back(s);
+  }
+  if (dropped == 0)
+    return 0;
+  // the kept automatic ends on a given line: that line's end point, or a new vertex of it
+  std::set<int> ends;
+  for (const auto& s : kept)
+    ends.insert({ s[0], s[1] });
+  std::map<int, int> remap;
+  for (int v : ends)
+  {
+    const Vec3 x = f.points[v];
+    const auto [d, g] = nearestGiven(x);
+    if (g < 0 || d > eps)
+      continue;
+    const int g0 = given[g][0], g1 = given[g][1];
+    if (v == g0 || v == g1)
+      continue;
+    if (norm(f.points[g0] - x) <= eps || norm(f.points[g1] - x) <= eps)
+    {
+      remap[v] = norm(f.points[g0] - x) <= norm(f.points[g1] - x) ? g0 : g1;
+      continue;
+    }
+    const auto [unused, t] = toSegment(x, f.points[g0], f.points[g1]);
+    f.points[v] = lerp(f.points[g0], f.points[g1], t); // onto the given line, which stays straight
+    given[g] = { g0, v };
+    given.push_back({ v, g1 });
+  }
+  for (auto& s : kept)
+    for (int& v : s)
+      if (auto it = remap.find(v); it != remap.end())
+        v = it->second;
+  kept.erase(std::remove_if(kept.begin(), kept.end(), [](const std::array<int, 2>& s) { return s[0] == s[1]; }), kept.end());
+  firstAutomatic = given.size();
+  f.segments = std::move(given);
+  f.segments.insert(f.segments.end(), kept.begin(), kept.end());
+  return dropped;
+}
 }
 
 FeatureLineOptions featureLineOptions(const HierarchicalOracle& oracle, const MaterialCriteria& criteria)
@@ -131,7 +204,9 @@ FeatureLineOptions featureLineOptions(const HierarchicalOracle& oracle, const Ma
   return o;
 }
 
-FeatureSelection selectFeatures(const HierarchicalOracle& oracle, const FeatureSegments& given, FeatureSource source,
+namespace
+{
+FeatureSelection selectLines(const HierarchicalOracle& oracle, const FeatureSegments& given, FeatureSource source,
   const MaterialCriteria& criteria, const std::function<bool(double)>& progress)
 {
   FeatureSelection out;
@@ -187,9 +262,21 @@ FeatureSelection selectFeatures(const HierarchicalOracle& oracle, const FeatureS
       " segment(s) of the lines found where inputs meet have no material next to them (a rim of the domain's outer "
       "boundary bending inwards) and were dropped: no tetrahedron could hold them as an edge");
   }
+  std::size_t automaticFrom = firstAutomatic;
+  if (firstAutomatic > 0 && !out.automatic.segments.empty())
+  {
+    // the search cannot tell curves closer than its grid step apart, nor can the mesh at twice that
+    const double eps = 0.5 * out.automatic.spacing;
+    if (const std::size_t along = dropAutomaticAlongGiven(out.segments, automaticFrom, eps))
+    {
+      out.droppedAlongGiven = along;
+      out.warnings.push_back("feature lines: " + std::to_string(along) +
+        " segment(s) of the lines found where inputs meet run along given lines and were dropped (the given ones are kept)");
+    }
+  }
   if (firstAutomatic == 0 || out.automatic.segments.empty())
   {
-    if (unmeshable > 0)
+    if (out.droppedUnmeshable + out.droppedAlongGiven > 0)
       mergeFeatureSegments(out.segments); // drops the points no segment uses any more
     return out;
   }
@@ -197,13 +284,13 @@ FeatureSelection selectFeatures(const HierarchicalOracle& oracle, const FeatureS
   std::set<std::size_t> drop;
   for (const auto& [s, t] : out.segments.crossingPairs())
   {
-    const bool sAuto = s >= firstAutomatic, tAuto = t >= firstAutomatic;
+    const bool sAuto = s >= automaticFrom, tAuto = t >= automaticFrom;
     if (sAuto != tAuto)
       drop.insert(sAuto ? s : t);
   }
   if (drop.empty())
   {
-    if (unmeshable > 0)
+    if (out.droppedUnmeshable + out.droppedAlongGiven > 0)
       mergeFeatureSegments(out.segments);
     return out;
   }
@@ -216,6 +303,61 @@ FeatureSelection selectFeatures(const HierarchicalOracle& oracle, const FeatureS
   out.warnings.push_back("feature lines: " + std::to_string(drop.size()) +
     " segment(s) of the lines found where inputs meet cross given lines and were dropped (the given ones are kept)");
   mergeFeatureSegments(out.segments); // drops the points no segment uses any more
+  return out;
+}
+
+/// Origins by geometry (the steps above drop, split and renumber): a segment is automatic when its
+/// midpoint lies nearer to one of the curves found than to the given lines.
+void labelOrigins(FeatureSelection& out, const FeatureSegments& given)
+{
+  const auto& P = out.segments.points;
+  out.origin.assign(out.segments.segments.size(), {});
+  const auto& A = out.automatic.segments.points;
+  for (size_t s = 0; s < out.segments.segments.size(); ++s)
+  {
+    const Vec3 m = lerp(P[out.segments.segments[s][0]], P[out.segments.segments[s][1]], 0.5);
+    double nearest = HUGE_VAL;
+    const FeatureLine* line = nullptr;
+    for (const FeatureLine& l : out.automatic.lines)
+      for (size_t k = 0; k + 1 < l.points.size(); ++k)
+        if (const double d = toSegment(m, A[l.points[k]], A[l.points[k + 1]]).first; d < nearest)
+        {
+          nearest = d;
+          line = &l;
+        }
+    if (!line || !(nearest < 0.5 * out.automatic.spacing))
+      continue;
+    bool closerToGiven = false;
+    for (size_t g = 0; g < given.segments.size() && !closerToGiven; ++g)
+      closerToGiven = toSegment(m, given.points[given.segments[g][0]], given.points[given.segments[g][1]]).first < nearest;
+    if (closerToGiven)
+      continue;
+    out.origin[s].automatic = true;
+    for (size_t k = 0; k < line->materials.size() && k < 4; ++k)
+      out.origin[s].materials[k] = line->materials[k];
+  }
+}
+}
+
+int FeatureSelection::nearestSegment(const Vec3& x) const
+{
+  int best = -1;
+  double nearest = HUGE_VAL;
+  for (size_t s = 0; s < segments.segments.size(); ++s)
+    if (const double d = toSegment(x, segments.points[segments.segments[s][0]], segments.points[segments.segments[s][1]]).first;
+        d < nearest)
+    {
+      nearest = d;
+      best = static_cast<int>(s);
+    }
+  return best;
+}
+
+FeatureSelection selectFeatures(const HierarchicalOracle& oracle, const FeatureSegments& given, FeatureSource source,
+  const MaterialCriteria& criteria, const std::function<bool(double)>& progress)
+{
+  FeatureSelection out = selectLines(oracle, given, source, criteria, progress);
+  labelOrigins(out, given);
   return out;
 }
 }

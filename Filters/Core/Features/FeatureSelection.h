@@ -4,6 +4,7 @@
 #include "FeatureSegments.h"
 #include "OracleFeatureLines.h"
 
+#include <array>
 #include <cstddef>
 #include <functional>
 #include <string>
@@ -41,7 +42,19 @@ struct FeatureSelection
   FeatureLines automatic;             ///< the lines found (all of them, before dropping any)
   std::size_t droppedAutomatic = 0;   ///< automatic segments dropped because they cross a given one
   std::size_t droppedUnmeshable = 0;  ///< automatic segments dropped because no material touches them
+  std::size_t droppedAlongGiven = 0;  ///< automatic segments dropped because they run along a given line
   std::vector<std::string> warnings;  ///< the search's (small angles), the drops
+  /// Per segment of `segments`: found where the inputs meet or given, and the materials an
+  /// automatic one separates (ascending, -2 for none; the given ones: all -2).
+  struct Origin
+  {
+    bool automatic = false;
+    std::array<int, 4> materials{ -2, -2, -2, -2 };
+  };
+  std::vector<Origin> origin;
+  /// The segment of `segments` nearest to x (-1 when there are none): for pieces of lines the
+  /// mesher simplified, whose numbering is its own.
+  int nearestSegment(const Vec3& x) const;
 };
 
 /// The lines the mesher gets for `source`. Automatic lines are resampled to the edge size of the

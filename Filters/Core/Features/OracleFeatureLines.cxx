@@ -408,7 +408,7 @@ FeatureLines findFeatureLines(const HierarchicalOracle& oracle, const FeatureLin
           else
             ending.insert(ending.end(), ids.begin(), ids.end());
         }
-        if (ending.size() >= 2)
+        if (!ending.empty())
           junctionCubes.push_back({ p, ending });
       }
     report(0.4 + 0.5 * (k + 1) / nz);
@@ -473,7 +473,51 @@ FeatureLines findFeatureLines(const HierarchicalOracle& oracle, const FeatureLin
     adjacent[l.a].push_back(l.b);
     adjacent[l.b].push_back(l.a);
   }
-  for (const auto& [cube, ending] : junctionCubes)
+  // Curves that meet near a face or corner of the grid end in neighbouring cubes (one arm in each):
+  // cubes where curves end and that touch (26 neighbours) are one junction.
+  struct Junction
+  {
+    Vec3 centre;
+    std::vector<int> ending;
+  };
+  std::vector<Junction> junctions;
+  {
+    std::unordered_map<std::int64_t, int> cubeIndex;
+    for (size_t c = 0; c < junctionCubes.size(); ++c)
+      cubeIndex.emplace(junctionCubes[c].first, static_cast<int>(c));
+    std::vector<int> parent(junctionCubes.size());
+    for (size_t c = 0; c < parent.size(); ++c)
+      parent[c] = static_cast<int>(c);
+    std::function<int(int)> root = [&](int c) { return parent[c] == c ? c : parent[c] = root(parent[c]); };
+    for (size_t c = 0; c < junctionCubes.size(); ++c)
+      for (int d = 0; d < 27; ++d)
+      {
+        const std::int64_t q = junctionCubes[c].first + (d % 3 - 1) * stride[0] + ((d / 3) % 3 - 1) * stride[1] + (d / 9 - 1) * stride[2];
+        if (auto it = cubeIndex.find(q); it != cubeIndex.end())
+        {
+          const int a = root(static_cast<int>(c)), b = root(it->second);
+          if (a != b)
+            parent[std::max(a, b)] = std::min(a, b);
+        }
+      }
+    std::map<int, std::pair<std::vector<Vec3>, std::set<int>>> groups;
+    for (size_t c = 0; c < junctionCubes.size(); ++c)
+    {
+      auto& g = groups[root(static_cast<int>(c))];
+      g.first.push_back(pointAt(junctionCubes[c].first) + Vec3{ 0.5 * h, 0.5 * h, 0.5 * h });
+      g.second.insert(junctionCubes[c].second.begin(), junctionCubes[c].second.end());
+    }
+    for (const auto& [unused, g] : groups)
+      if (g.second.size() >= 2)
+      {
+        Junction j;
+        for (const Vec3& c : g.first)
+          j.centre = j.centre + (1.0 / g.first.size()) * c;
+        j.ending.assign(g.second.begin(), g.second.end());
+        junctions.push_back(std::move(j));
+      }
+  }
+  for (const auto& [centre, ending] : junctions)
   {
     // the meeting point of the curves' tangents (exact for straight curves), else their mean
     std::vector<Vec3> at, along;
@@ -492,8 +536,7 @@ FeatureLines findFeatureLines(const HierarchicalOracle& oracle, const FeatureLin
       }
     }
     Vec3 x;
-    const Vec3 centre = pointAt(cube) + Vec3{ 0.5 * h, 0.5 * h, 0.5 * h };
-    if (at.size() < 2 || !nearestToLines(at, along, x) || norm(x - centre) > h)
+    if (at.size() < 2 || !nearestToLines(at, along, x) || norm(x - centre) > 1.5 * h)
       x = mean;
     const int junction = static_cast<int>(nodes.size());
     nodes.push_back(x);
