@@ -439,4 +439,14 @@ TEST(OracleFeatureLines, CurvesCrossingAtASmallAngleMeetOnceWithoutFolds)
       EXPECT_NEAR(std::hypot(f.segments.points[p].x, f.segments.points[p].y), rimRadius, f.spacing);
     }
   EXPECT_EQ(junctions, 8);
+  // What the mesher gets: no two segments leave a vertex at less than 30 degrees (the curves
+  // crossing at a few degrees share a trunk), and every segment is marked as found.
+  MaterialCriteria criteria;
+  criteria.global.edgeSize = 0.08;
+  criteria.global.facetDistance = 0.01;
+  const FeatureSelection selection = selectFeatures(oracle, {}, FeatureSource::Automatic, criteria);
+  ASSERT_FALSE(selection.segments.empty());
+  EXPECT_GE(selection.segments.smallestAngle(), 30.0);
+  for (const auto& o : selection.origin)
+    EXPECT_TRUE(o.automatic);
 }

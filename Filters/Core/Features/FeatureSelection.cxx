@@ -29,6 +29,10 @@ const char* toString(FeatureSource s)
 
 namespace
 {
+/// Automatic curves leaving a vertex at less than this (degrees) share a trunk (selectFeatures), as
+/// given lines do in simplifyFeatureNetwork (FeatureNetworkTolerances::minAngle).
+constexpr double kTrunkAngle = 30.0;
+
 /// Where a given line (a sharp edge of the implant) passes through another input's boundary and an
 /// automatic curve passes nearby (the implant's entry curve), both get that exact point as one
 /// vertex: the given segment is split there, and the curve's nearest segment too.
@@ -218,6 +222,78 @@ FeatureSelection selectLines(const HierarchicalOracle& oracle, const FeatureSegm
   options.progress = progress;
   out.automatic = findFeatureLines(oracle, options);
   out.warnings = out.automatic.warnings;
+  // Curves closer than half a grid step along a stretch (a tray's rim beside a label map's
+  // staircase rim on the same plane, arms leaving a junction at a few degrees) are one line for
+  // the search and could only be meshed with tetrahedra that small: taken in order (triple lines,
+  // then the longest first), a curve's segments that run along the curves already taken are
+  // dropped and its ends there moved onto them, so such curves share a trunk and part at a wider angle.
+  {
+    FeatureSegments& A = out.automatic.segments;
+    std::vector<const FeatureLine*> order;
+    std::map<const FeatureLine*, double> length;
+    for (const FeatureLine& l : out.automatic.lines)
+    {
+      order.push_back(&l);
+      for (size_t k = 0; k + 1 < l.points.size(); ++k)
+        length[&l] += norm(A.points[l.points[k + 1]] - A.points[l.points[k]]);
+    }
+    std::stable_sort(order.begin(), order.end(), [&](const FeatureLine* a, const FeatureLine* b) {
+      return a->materials.size() != b->materials.size() ? a->materials.size() > b->materials.size() : length[a] > length[b];
+    });
+    FeatureSegments taken;
+    taken.points = A.points;
+    for (const FeatureLine* l : order)
+    {
+      std::size_t first = taken.segments.size();
+      for (size_t k = 0; k + 1 < l->points.size(); ++k)
+        if (l->points[k] != l->points[k + 1])
+          taken.segments.push_back({ l->points[k], l->points[k + 1] });
+      if (first > 0)
+        out.droppedNearDuplicate += dropAutomaticAlongGiven(taken, first, 0.5 * out.automatic.spacing);
+    }
+    // Curves that still leave a vertex at a very small angle (crossing at a few degrees) share a
+    // trunk, as simplifyFeatureNetwork does for given lines: the longer segment is replaced by the
+    // shorter one and the chord from its far end (moving that curve by at most sin(angle) times the
+    // shorter segment). Wider angles are the segment level's (clusters below 30 degrees).
+    for (int round = 0; round < 16; ++round)
+    {
+      std::vector<std::vector<size_t>> at(taken.points.size());
+      for (size_t k = 0; k < taken.segments.size(); ++k)
+        for (int v : taken.segments[k])
+          at[v].push_back(k);
+      bool changed = false;
+      std::vector<char> touched(taken.segments.size(), 0);
+      for (size_t v = 0; v < at.size(); ++v)
+        for (size_t i = 0; i < at[v].size(); ++i)
+          for (size_t j = i + 1; j < at[v].size(); ++j)
+          {
+            const size_t si = at[v][i], sj = at[v][j];
+            if (touched[si] || touched[sj])
+              continue;
+            const int a = taken.segments[si][0] == int(v) ? taken.segments[si][1] : taken.segments[si][0];
+            const int b = taken.segments[sj][0] == int(v) ? taken.segments[sj][1] : taken.segments[sj][0];
+            if (a == b || !(angleAt(taken.points[v], taken.points[a], taken.points[b]) < kTrunkAngle))
+              continue;
+            const Vec3 pv = taken.points[v];
+            const bool iShorter = norm(taken.points[a] - pv) <= norm(taken.points[b] - pv);
+            taken.segments[iShorter ? sj : si] = iShorter ? std::array<int, 2>{ a, b } : std::array<int, 2>{ b, a };
+            touched[si] = touched[sj] = 1;
+            ++out.trunksShared;
+            changed = true;
+          }
+      if (!changed)
+        break;
+    }
+    A = std::move(taken);
+    // the small angles of the lines as they are now, not as the search found them
+    out.warnings.erase(std::remove_if(out.warnings.begin(), out.warnings.end(),
+                         [](const std::string& w) { return w.rfind("feature lines meet", 0) == 0; }),
+      out.warnings.end());
+    out.automatic.smallAngles = findSmallFeatureAngles(A, options.smallAngle, out.warnings);
+    if (out.droppedNearDuplicate > 0)
+      out.warnings.push_back("feature lines: " + std::to_string(out.droppedNearDuplicate) +
+        " segment(s) of the lines found run within half a grid step of other curves found and were dropped (they share their trunk)");
+  }
   if (!out.segments.empty())
     shareCrossings(oracle, out.segments, out.automatic);
   // Appended; a point with the coordinates of a given one (a shared crossing) is that point.
@@ -276,7 +352,7 @@ FeatureSelection selectLines(const HierarchicalOracle& oracle, const FeatureSegm
   }
   if (firstAutomatic == 0 || out.automatic.segments.empty())
   {
-    if (out.droppedUnmeshable + out.droppedAlongGiven > 0)
+    if (out.droppedUnmeshable + out.droppedAlongGiven + out.droppedNearDuplicate > 0)
       mergeFeatureSegments(out.segments); // drops the points no segment uses any more
     return out;
   }
@@ -290,7 +366,7 @@ FeatureSelection selectLines(const HierarchicalOracle& oracle, const FeatureSegm
   }
   if (drop.empty())
   {
-    if (out.droppedUnmeshable + out.droppedAlongGiven > 0)
+    if (out.droppedUnmeshable + out.droppedAlongGiven + out.droppedNearDuplicate > 0)
       mergeFeatureSegments(out.segments);
     return out;
   }

@@ -43,6 +43,8 @@ struct FeatureSelection
   std::size_t droppedAutomatic = 0;   ///< automatic segments dropped because they cross a given one
   std::size_t droppedUnmeshable = 0;  ///< automatic segments dropped because no material touches them
   std::size_t droppedAlongGiven = 0;  ///< automatic segments dropped because they run along a given line
+  std::size_t droppedNearDuplicate = 0; ///< automatic segments dropped because they run along another curve found
+  std::size_t trunksShared = 0;       ///< automatic segments rerouted because they left a vertex at < 30 degrees to another
   std::vector<std::string> warnings;  ///< the search's (small angles), the drops
   /// Per segment of `segments`: found where the inputs meet or given, and the materials an
   /// automatic one separates (ascending, -2 for none; the given ones: all -2).

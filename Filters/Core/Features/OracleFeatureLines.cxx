@@ -273,6 +273,48 @@ std::string describe(const Vec3& p)
 }
 }
 
+std::vector<SmallFeatureAngle> findSmallFeatureAngles(const FeatureSegments& f, double below, std::vector<std::string>& warnings)
+{
+  std::vector<SmallFeatureAngle> found;
+  const auto& P = f.points;
+  std::vector<std::vector<int>> neighbours(P.size());
+  for (const auto& s : f.segments)
+  {
+    neighbours[s[0]].push_back(s[1]);
+    neighbours[s[1]].push_back(s[0]);
+  }
+  for (size_t v = 0; v < P.size(); ++v)
+  {
+    double smallest = 180.0;
+    for (size_t a = 0; a < neighbours[v].size(); ++a)
+      for (size_t b = a + 1; b < neighbours[v].size(); ++b)
+        smallest = std::min(smallest, angleAt(P[v], P[neighbours[v][a]], P[neighbours[v][b]]));
+    if (smallest < below)
+    {
+      found.push_back({ static_cast<int>(v), smallest });
+      if (found.size() > 5)
+        continue; // the first five named, the rest counted below
+      std::ostringstream o;
+      o.precision(3);
+      o << "feature lines meet at " << smallest << " degrees at " << describe(P[v]) << " (below " << below
+        << ": refinement may not end there; the vertex budget bounds it)";
+      warnings.push_back(o.str());
+    }
+  }
+  if (found.size() > 5)
+  {
+    double smallest = 180.0;
+    for (const auto& a : found)
+      smallest = std::min(smallest, a.degrees);
+    std::ostringstream o;
+    o.precision(3);
+    o << "feature lines meet below " << below << " degrees at " << found.size() - 5
+      << " more vertices (smallest angle of all " << smallest << " degrees)";
+    warnings.push_back(o.str());
+  }
+  return found;
+}
+
 FeatureLines findFeatureLines(const HierarchicalOracle& oracle, const FeatureLineOptions& options)
 {
   FeatureLines result;
@@ -714,42 +756,7 @@ FeatureLines findFeatureLines(const HierarchicalOracle& oracle, const FeatureLin
   }
 
   // 6. Small angles: between curves at a shared vertex, and where one curve turns sharply.
-  const auto& P = result.segments.points;
-  std::vector<std::vector<int>> neighbours(P.size());
-  for (const auto& s : result.segments.segments)
-  {
-    neighbours[s[0]].push_back(s[1]);
-    neighbours[s[1]].push_back(s[0]);
-  }
-  for (size_t v = 0; v < P.size(); ++v)
-  {
-    double smallest = 180.0;
-    for (size_t a = 0; a < neighbours[v].size(); ++a)
-      for (size_t b = a + 1; b < neighbours[v].size(); ++b)
-        smallest = std::min(smallest, angleAt(P[v], P[neighbours[v][a]], P[neighbours[v][b]]));
-    if (smallest < options.smallAngle)
-    {
-      result.smallAngles.push_back({ static_cast<int>(v), smallest });
-      if (result.smallAngles.size() > 5)
-        continue; // the first five named, the rest counted below
-      std::ostringstream o;
-      o.precision(3);
-      o << "feature lines meet at " << smallest << " degrees at " << describe(P[v]) << " (below "
-        << options.smallAngle << ": refinement may not end there; the vertex budget bounds it)";
-      result.warnings.push_back(o.str());
-    }
-  }
-  if (result.smallAngles.size() > 5)
-  {
-    double smallest = 180.0;
-    for (const auto& a : result.smallAngles)
-      smallest = std::min(smallest, a.degrees);
-    std::ostringstream o;
-    o.precision(3);
-    o << "feature lines meet below " << options.smallAngle << " degrees at " << result.smallAngles.size() - 5
-      << " more vertices (smallest angle of all " << smallest << " degrees)";
-    result.warnings.push_back(o.str());
-  }
+  result.smallAngles = findSmallFeatureAngles(result.segments, options.smallAngle, result.warnings);
   report(1.0);
   return result;
 }

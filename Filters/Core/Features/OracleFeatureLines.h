@@ -79,6 +79,10 @@ struct FeatureLines
   std::size_t gridFacesCrossed = 0;  ///< crossing points located (before resampling)
 };
 
+/// The vertices of `f` where segments meet at less than `below` degrees, the first five named in
+/// `warnings` and the rest counted.
+std::vector<SmallFeatureAngle> findSmallFeatureAngles(const FeatureSegments& f, double below, std::vector<std::string>& warnings);
+
 /// The curves where three or more regions meet: a region is a material together with the domain
 /// that decides it (HierarchicalOracle::decide), so that a cut-away point and a point outside every
 /// domain differ although both are outside. Kept are the curves where three or more materials meet
