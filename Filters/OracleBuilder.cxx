@@ -228,16 +228,75 @@ omesh::FeatureSegments OracleBuilder::ToFeatureSegments(vtkPolyData* lines)
     }
     return it->second;
   };
+  // The per-feature edge size: one value per line cell, -1 = unset (the VTK spelling of unset);
+  // other values go to the core as they are, whose checks name a negative or NaN one.
+  vtkDataArray* sizes = lines->GetCellData()->GetArray("EdgeSize");
+  if (sizes && sizes->GetNumberOfComponents() != 1)
+    throw InputError(who + ": cell array EdgeSize has " + std::to_string(sizes->GetNumberOfComponents()) +
+      " components (one edge size per line is needed)");
   auto it = vtk::TakeSmartPointer(lines->GetLines()->NewIterator());
   for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell())
   {
     vtkIdType n;
     const vtkIdType* ids;
     it->GetCurrentCell(n, ids);
+    const double size = sizes ? sizes->GetComponent(it->GetCurrentCellId(), 0) : -1.0;
     for (vtkIdType k = 0; k + 1 < n; ++k)
+    {
       f.segments.push_back({ vertex(ids[k]), vertex(ids[k + 1]) });
+      if (sizes)
+        f.edgeSizes.push_back(size == -1.0 ? std::nullopt : std::optional<double>(size));
+    }
   }
   return f;
+}
+
+namespace
+{
+/// Throws for a label map whose direction matrix, spacing or corners are NaN, infinite or absurd.
+void checkLabelMapGeometry(vtkImageData* image, const int ext[6], const std::string& who)
+{
+  double spacing[3], corner[2][3];
+  image->GetSpacing(spacing);
+  image->TransformIndexToPhysicalPoint(ext[0], ext[2], ext[4], corner[0]);
+  image->TransformIndexToPhysicalPoint(ext[1], ext[3], ext[5], corner[1]);
+  const double* dm = image->GetDirectionMatrix()->GetData();
+  for (int i = 0; i < 9; ++i)
+    if (!std::isfinite(dm[i]))
+      throw InputError(who + ": the label map's direction matrix has a NaN or infinite entry");
+  for (int i = 0; i < 3; ++i)
+    if (absurd(spacing[i]) || !(spacing[i] > 0))
+      throw InputError(who + ": label map spacing " + coordinates(spacing) +
+        " must be positive, finite and at most 1e15");
+  for (const double* c : corner)
+    if (absurd(c[0]) || absurd(c[1]) || absurd(c[2]))
+      throw InputError(who + ": label map corner " + coordinates(c) +
+        " (from its origin and spacing) has a NaN, infinite or absurd coordinate (beyond 1e15)");
+}
+
+/// The labels as int; throws for a value that is not an integer or does not fit 32 bits.
+std::vector<int> integerLabels(vtkDataArray* array, const char* assoc, const std::string& who)
+{
+  const vtkIdType n = array->GetNumberOfTuples();
+  const bool integral = array->GetDataType() != VTK_FLOAT && array->GetDataType() != VTK_DOUBLE;
+  std::vector<int> labels(n);
+  for (vtkIdType i = 0; i < n; ++i)
+  {
+    const double v = array->GetTuple1(i);
+    if (!integral && (v != std::floor(v) || !std::isfinite(v)))
+    {
+      std::ostringstream msg;
+      msg << who << ": label map is not integer: value " << v << " at " << assoc << " " << i
+          << " of array '" << (array->GetName() ? array->GetName() : "") << "' ("
+          << array->GetDataTypeAsString() << ")";
+      throw InputError(msg.str());
+    }
+    if (v < std::numeric_limits<int>::min() || v > std::numeric_limits<int>::max())
+      throw InputError(who + ": label " + std::to_string(v) + " does not fit a 32-bit integer");
+    labels[i] = static_cast<int>(v);
+  }
+  return labels;
+}
 }
 
 std::shared_ptr<omesh::LabelMapDomain> OracleBuilder::ToLabelMap(
@@ -270,45 +329,12 @@ std::shared_ptr<omesh::LabelMapDomain> OracleBuilder::ToLabelMap(
   const vtkIdType n = array->GetNumberOfTuples();
   if (n == 0)
     throw InputError(who + ": label map is empty (no voxels)");
-  {
-    double spacing[3], corner[2][3];
-    image->GetSpacing(spacing);
-    image->TransformIndexToPhysicalPoint(ext[0], ext[2], ext[4], corner[0]);
-    image->TransformIndexToPhysicalPoint(ext[1], ext[3], ext[5], corner[1]);
-    const double* dm = image->GetDirectionMatrix()->GetData();
-    for (int i = 0; i < 9; ++i)
-      if (!std::isfinite(dm[i]))
-        throw InputError(who + ": the label map's direction matrix has a NaN or infinite entry");
-    for (int i = 0; i < 3; ++i)
-      if (absurd(spacing[i]) || !(spacing[i] > 0))
-        throw InputError(who + ": label map spacing " + coordinates(spacing) +
-          " must be positive, finite and at most 1e15");
-    for (const double* c : corner)
-      if (absurd(c[0]) || absurd(c[1]) || absurd(c[2]))
-        throw InputError(who + ": label map corner " + coordinates(c) +
-          " (from its origin and spacing) has a NaN, infinite or absurd coordinate (beyond 1e15)");
-  }
+  checkLabelMapGeometry(image, ext, who);
   // labels as int while converting (4 bytes) and the compact index the domain keeps (2 bytes)
   CheckMemory(who, "a label map of " + std::to_string(dims[0]) + " x " + std::to_string(dims[1]) + " x " +
       std::to_string(dims[2]) + " voxels",
     static_cast<double>(n), 6.0);
-  const bool integral = array->GetDataType() != VTK_FLOAT && array->GetDataType() != VTK_DOUBLE;
-  std::vector<int> labels(n);
-  for (vtkIdType i = 0; i < n; ++i)
-  {
-    const double v = array->GetTuple1(i);
-    if (!integral && (v != std::floor(v) || !std::isfinite(v)))
-    {
-      std::ostringstream msg;
-      msg << who << ": label map is not integer: value " << v << " at " << assoc << " " << i
-          << " of array '" << (array->GetName() ? array->GetName() : "") << "' ("
-          << array->GetDataTypeAsString() << ")";
-      throw InputError(msg.str());
-    }
-    if (v < std::numeric_limits<int>::min() || v > std::numeric_limits<int>::max())
-      throw InputError(who + ": label " + std::to_string(v) + " does not fit a 32-bit integer");
-    labels[i] = static_cast<int>(v);
-  }
+  const std::vector<int> labels = integerLabels(array, assoc, who);
   double origin[3], spacing[3];
   image->GetOrigin(origin);
   image->GetSpacing(spacing);

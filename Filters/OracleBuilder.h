@@ -56,7 +56,8 @@ public:
   static omesh::TriangleSurface ToTriangleSurface(vtkPolyData* surface, const std::string& who);
 
   /// The lines of `lines` as constrained segments: polylines split into segments, a point shared
-  /// by several polylines one vertex. Null gives no segments.
+  /// by several polylines one vertex. Null gives no segments. A cell array "EdgeSize" gives each
+  /// line its own edge size (FeatureSegments::edgeSizes; -1 = none, the materials' or global counts).
   static omesh::FeatureSegments ToFeatureSegments(vtkPolyData* lines);
 
   /// The label map of `image` as described by `md` (array, association, background).

@@ -10,6 +10,7 @@
 #include "OracleBuilder.h"
 #include "OracleMesher.h"
 #include "QuadraticTets.h"
+#include "TetMeshOutput.h"
 
 #include <vtkCellArray.h>
 #include <vtkCellArrayIterator.h>
@@ -87,16 +88,6 @@ void checkCriteria(const std::array<double, 6>& c, const std::string& where)
         << " (a number is needed: <= 0 means no bound; in per-material criteria < 0 keeps the global value)";
       throw omesh::InputError(o.str());
     }
-}
-
-vtkSmartPointer<vtkPoints> toPoints(const std::vector<omesh::Vec3>& pts)
-{
-  auto points = vtkSmartPointer<vtkPoints>::New();
-  points->SetDataTypeToDouble();
-  points->SetNumberOfPoints(static_cast<vtkIdType>(pts.size()));
-  for (size_t i = 0; i < pts.size(); ++i)
-    points->SetPoint(static_cast<vtkIdType>(i), pts[i].x, pts[i].y, pts[i].z);
-  return points;
 }
 }
 
@@ -206,24 +197,99 @@ void vtkFeaturePreservingTetrahedralizer::RemoveAllMaterialCriteria()
   this->ClearMaterialCriteria();
 }
 
+/// One run of RequestData: the core's inputs and options, then its mesh.
+struct vtkFeaturePreservingTetrahedralizer::MeshingRun
+{
+  omesh::MesherOptions options;
+  std::shared_ptr<omesh::HierarchicalOracle> oracle;
+  omesh::FeatureSegments features;
+  omesh::FeatureSelection selection; // how `features` were chosen: each segment's origin
+  std::vector<omesh::Vec3> seedPoints;
+  std::vector<std::string> notes;      // this adapter's warnings, listed before the mesher's
+  std::vector<std::string> inputNotes; // of them, those about the inputs (field data InputWarnings)
+  omesh::TetMesh mesh;
+  omesh::QuadraticTetMesh quadratic; // with ElementOrder 2
+};
+
 int vtkFeaturePreservingTetrahedralizer::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
-  vtkDataObject* oracleData = vtkDataObject::GetData(inputVector[0]);
-  vtkDataObject* linesData = vtkDataObject::GetData(inputVector[1]);
-  vtkDataObject* seedsData = vtkDataObject::GetData(inputVector[2]);
-  vtkPolyData* lines = vtkPolyData::SafeDownCast(linesData);
-  vtkPointSet* seeds = vtkPointSet::SafeDownCast(seedsData);
   vtkUnstructuredGrid* grid = vtkUnstructuredGrid::GetData(outputVector, 0);
-  vtkPolyData* interfaces = vtkPolyData::GetData(outputVector, 1);
-  vtkPolyData* segmentsOut = vtkPolyData::GetData(outputVector, 2);
-
   if (!this->MaterialCriteriaError.empty())
   {
     vtkErrorMacro(<< this->MaterialCriteriaError);
     return 0;
   }
-  omesh::MesherOptions options;
+  MeshingRun run;
+  try
+  {
+    this->CheckProperties(); // before any heavy work
+    this->GatherInputs(inputVector, run);
+    this->MeshInputs(run);
+  }
+  catch (const omesh::InputError& e)
+  {
+    vtkErrorMacro(<< e.what());
+    return 0;
+  }
+  catch (const omesh::FeatureSearchAborted&)
+  {
+    vtkErrorMacro(<< "meshing aborted (AbortExecute) while finding feature lines: no mesh");
+    return 0;
+  }
+  catch (const omesh::TimeLimitReached& e)
+  {
+    // an error (no partial mesh: one cut by the clock depends on the machine's load), with the
+    // figures so far in the otherwise empty output
+    vtkErrorMacro(<< "meshing failed: " << e.what());
+    TetMeshOutput::AddStatistics(grid->GetFieldData(), e.statistics);
+    return 0;
+  }
+  catch (const omesh::MeshingAborted&)
+  {
+    // an error, not an empty mesh as success: every caller (Update's status, Python, the CLI) sees it
+    vtkErrorMacro(<< "meshing aborted (AbortExecute): no mesh");
+    return 0;
+  }
+  catch (const std::exception& e)
+  {
+    // a CGAL precondition or assertion (CGAL::Failure_exception), or memory: an error, not a crash
+    vtkErrorMacro(<< "meshing failed: " << e.what());
+    return 0;
+  }
+  this->AssembleOutputs(run, outputVector);
+  return 1;
+}
+
+void vtkFeaturePreservingTetrahedralizer::CheckProperties() const
+{
+  checkRange("FeatureStrategy", this->FeatureStrategy, CONFORMING, PROTECTING_BALLS,
+    ": 0 Conforming, 1 None, 2 ProtectingBalls");
+  checkRange("ElementOrder", this->ElementOrder, 1, 2, ": 1 linear, 2 quadratic tetrahedra");
+  checkRange("Features", this->Features, FEATURES_NONE, FEATURES_BOTH,
+    ": 0 None, 1 Given, 2 Automatic, 3 Both");
+  checkRange("SliverAngle", this->SliverAngle, 0.0, 30.0, " degrees; 0 = off");
+  checkRange("InterfaceSliverAngle", this->InterfaceSliverAngle, 0.0, 30.0, " degrees; 0 = off");
+  if (this->MaximumNumberOfVertices < 0)
+    throw omesh::InputError("vtkFeaturePreservingTetrahedralizer: MaximumNumberOfVertices " +
+      std::to_string(this->MaximumNumberOfVertices) + " is out of range (>= 0; 0 = unlimited)");
+  checkRange("Threads", this->Threads, 0, 1024, "; 1 = sequential, 0 = every core");
+  checkRange("PerturbationFailuresPerBound", this->PerturbationFailuresPerBound, 0.0, 1e6, "; 0 = never give up");
+  checkRange("ExudationSliverBound", this->ExudationSliverBound, 0.0, 90.0, " degrees; 0 = every cell");
+  checkRange("PerturbationStepsPerVertex", this->PerturbationStepsPerVertex, 0.0, 1e6, "; 0 = no budget");
+  checkRange("ExudationStepsPerCell", this->ExudationStepsPerCell, 0.0, 1e6, "; 0 = no budget");
+  checkRange("OptimisationTimeLimit", this->OptimisationTimeLimit, -1.0, 1e9, " seconds; 0 = none, -1 = CGAL's");
+  checkRange("TimeLimit", this->TimeLimit, -1.0, 1e9, " seconds; 0 = automatic, -1 = none");
+  checkCriteria({ this->FacetAngle, this->FacetSize, this->FacetDistance, this->CellSize,
+                  this->CellRadiusEdgeRatio, this->EdgeSize },
+    "vtkFeaturePreservingTetrahedralizer");
+  for (const auto& [m, c] : this->MaterialCriteria)
+    checkCriteria(c, "vtkFeaturePreservingTetrahedralizer: material criteria for material " + std::to_string(m));
+}
+
+void vtkFeaturePreservingTetrahedralizer::SetUpOptions(MeshingRun& run)
+{
+  omesh::MesherOptions& options = run.options;
   options.strategy = this->FeatureStrategy == CONFORMING ? omesh::FeatureStrategy::Conforming
     : this->FeatureStrategy == NONE                    ? omesh::FeatureStrategy::None
                                                         : omesh::FeatureStrategy::ProtectingBalls;
@@ -246,282 +312,114 @@ int vtkFeaturePreservingTetrahedralizer::RequestData(
     this->UpdateProgress(fraction);
     return !this->GetAbortExecute();
   };
+}
 
-  omesh::TetMesh mesh;
-  omesh::QuadraticTetMesh quadratic; // with ElementOrder 2
-  omesh::FeatureSegments features;
-  std::vector<std::string> notes; // this adapter's warnings, listed before the mesher's
-  std::vector<std::string> inputNotes; // of them, those about the inputs (field data InputWarnings)
-  std::shared_ptr<omesh::HierarchicalOracle> oracle;
-  omesh::FeatureSelection selection;
-  try
+void vtkFeaturePreservingTetrahedralizer::GatherInputs(vtkInformationVector** inputVector, MeshingRun& run)
+{
+  vtkDataObject* oracleData = vtkDataObject::GetData(inputVector[0]);
+  vtkDataObject* linesData = vtkDataObject::GetData(inputVector[1]);
+  vtkDataObject* seedsData = vtkDataObject::GetData(inputVector[2]);
+  vtkPolyData* lines = vtkPolyData::SafeDownCast(linesData);
+  vtkPointSet* seeds = vtkPointSet::SafeDownCast(seedsData);
+  if (!oracleData)
+    throw omesh::InputError("vtkFeaturePreservingTetrahedralizer: no input on port 0: connect a "
+                            "vtkHierarchicalOracle (or one domain)");
+  if (linesData && !lines)
+    throw omesh::InputError(std::string("feature lines (input port 1): need vtkPolyData lines, got ") +
+      linesData->GetClassName());
+  if (seedsData && !seeds)
+    throw omesh::InputError(std::string("seed points (input port 2): need points (vtkPolyData), got ") +
+      seedsData->GetClassName());
+  this->SetUpOptions(run);
+  run.features = OracleBuilder::ToFeatureSegments(lines);
+  const omesh::FeatureMergeCounts merged = omesh::mergeFeatureSegments(run.features);
+  if (merged.changed())
+    run.notes.push_back("feature lines: merged " + std::to_string(merged.duplicates) + " duplicate segment(s), " +
+      std::to_string(merged.overlapping) + " overlapping collinear segment(s) in " +
+      std::to_string(merged.overlapGroups) + " group(s) and " + std::to_string(merged.mergedPoints) +
+      " repeated point(s); " + std::to_string(run.features.segments.size()) + " segments remain");
+
+  run.oracle = OracleBuilder::BuildOracle(oracleData);
+  for (const std::string& w : OracleBuilder::DomainWarnings(*run.oracle))
+    run.notes.push_back(w);
+  run.inputNotes = OracleBuilder::InputPlacementWarnings(*run.oracle);
+  // The merge rule of MeshCriteria.h: global < the domains' own < this filter's table.
+  const omesh::CriteriaLevel domainLevel = OracleBuilder::DomainCriteria(oracleData, *run.oracle);
+  omesh::CriteriaLevel tableLevel;
+  for (const auto& [m, c] : this->MaterialCriteria)
+    tableLevel.add(m, omesh::MeshCriteria::fromVtk(c), "the per-material table");
+  run.options.criteria = omesh::mergeCriteria(omesh::MeshCriteria{ this->FacetAngle, this->FacetSize,
+                                                this->FacetDistance, this->CellSize, this->CellRadiusEdgeRatio,
+                                                this->EdgeSize },
+    { &domainLevel, &tableLevel });
+  this->SelectFeatures(run);
+  if (seeds)
+    OracleBuilder::CheckCoordinates(seeds->GetPoints(), "seed points (input port 2)", "");
+  for (vtkIdType i = 0; seeds && i < seeds->GetNumberOfPoints(); ++i)
   {
-    // Properties and inputs first, before any heavy work.
-    checkRange("FeatureStrategy", this->FeatureStrategy, CONFORMING, PROTECTING_BALLS,
-      ": 0 Conforming, 1 None, 2 ProtectingBalls");
-    checkRange("ElementOrder", this->ElementOrder, 1, 2, ": 1 linear, 2 quadratic tetrahedra");
-    checkRange("Features", this->Features, FEATURES_NONE, FEATURES_BOTH,
-      ": 0 None, 1 Given, 2 Automatic, 3 Both");
-    checkRange("SliverAngle", this->SliverAngle, 0.0, 30.0, " degrees; 0 = off");
-    checkRange("InterfaceSliverAngle", this->InterfaceSliverAngle, 0.0, 30.0, " degrees; 0 = off");
-    if (this->MaximumNumberOfVertices < 0)
-      throw omesh::InputError("vtkFeaturePreservingTetrahedralizer: MaximumNumberOfVertices " +
-        std::to_string(this->MaximumNumberOfVertices) + " is out of range (>= 0; 0 = unlimited)");
-    checkRange("Threads", this->Threads, 0, 1024, "; 1 = sequential, 0 = every core");
-    checkRange("PerturbationFailuresPerBound", this->PerturbationFailuresPerBound, 0.0, 1e6, "; 0 = never give up");
-    checkRange("ExudationSliverBound", this->ExudationSliverBound, 0.0, 90.0, " degrees; 0 = every cell");
-    checkRange("PerturbationStepsPerVertex", this->PerturbationStepsPerVertex, 0.0, 1e6, "; 0 = no budget");
-    checkRange("ExudationStepsPerCell", this->ExudationStepsPerCell, 0.0, 1e6, "; 0 = no budget");
-    checkRange("OptimisationTimeLimit", this->OptimisationTimeLimit, -1.0, 1e9, " seconds; 0 = none, -1 = CGAL's");
-    checkRange("TimeLimit", this->TimeLimit, -1.0, 1e9, " seconds; 0 = automatic, -1 = none");
-    checkCriteria({ this->FacetAngle, this->FacetSize, this->FacetDistance, this->CellSize,
-                    this->CellRadiusEdgeRatio, this->EdgeSize },
-      "vtkFeaturePreservingTetrahedralizer");
-    for (const auto& [m, c] : this->MaterialCriteria)
-      checkCriteria(c, "vtkFeaturePreservingTetrahedralizer: material criteria for material " + std::to_string(m));
-    if (!oracleData)
-      throw omesh::InputError("vtkFeaturePreservingTetrahedralizer: no input on port 0: connect a "
-                              "vtkHierarchicalOracle (or one domain)");
-    if (linesData && !lines)
-      throw omesh::InputError(std::string("feature lines (input port 1): need vtkPolyData lines, got ") +
-        linesData->GetClassName());
-    if (seedsData && !seeds)
-      throw omesh::InputError(std::string("seed points (input port 2): need points (vtkPolyData), got ") +
-        seedsData->GetClassName());
-    features = OracleBuilder::ToFeatureSegments(lines);
-    const omesh::FeatureMergeCounts merged = omesh::mergeFeatureSegments(features);
-    if (merged.changed())
-      notes.push_back("feature lines: merged " + std::to_string(merged.duplicates) + " duplicate segment(s), " +
-        std::to_string(merged.overlapping) + " overlapping collinear segment(s) in " +
-        std::to_string(merged.overlapGroups) + " group(s) and " + std::to_string(merged.mergedPoints) +
-        " repeated point(s); " + std::to_string(features.segments.size()) + " segments remain");
+    double x[3];
+    seeds->GetPoint(i, x);
+    run.seedPoints.push_back({ x[0], x[1], x[2] });
+  }
+}
 
-    oracle = OracleBuilder::BuildOracle(oracleData);
-    for (const std::string& w : OracleBuilder::DomainWarnings(*oracle))
-      notes.push_back(w);
-    inputNotes = OracleBuilder::InputPlacementWarnings(*oracle);
-    // The merge rule of MeshCriteria.h: global < the domains' own < this filter's table.
-    const omesh::CriteriaLevel domainLevel = OracleBuilder::DomainCriteria(oracleData, *oracle);
-    omesh::CriteriaLevel tableLevel;
-    for (const auto& [m, c] : this->MaterialCriteria)
-      tableLevel.add(m, omesh::MeshCriteria::fromVtk(c), "the per-material table");
-    options.criteria = omesh::mergeCriteria(omesh::MeshCriteria{ this->FacetAngle, this->FacetSize,
-                                              this->FacetDistance, this->CellSize, this->CellRadiusEdgeRatio,
-                                              this->EdgeSize },
-      { &domainLevel, &tableLevel });
-    // The lines to keep: given, found where the inputs meet, or both. The search runs under the
-    // run's time limit (the mesher gets what is left) and takes the first tenth of the progress.
-    const auto source = static_cast<omesh::FeatureSource>(this->Features);
-    const bool searching = source == omesh::FeatureSource::Automatic || source == omesh::FeatureSource::Both;
-    const omesh::MeshingDeadline deadline(omesh::effectiveTimeLimit(options));
-    selection = omesh::selectFeatures(*oracle, features, source, options.criteria, [this, &deadline](double f) {
-      deadline.check("feature line search");
-      this->UpdateProgress(0.1 * f);
+void vtkFeaturePreservingTetrahedralizer::SelectFeatures(MeshingRun& run)
+{
+  // The lines to keep: given, found where the inputs meet, or both. The search runs under the
+  // run's time limit (the mesher gets what is left) and takes the first tenth of the progress.
+  const auto source = static_cast<omesh::FeatureSource>(this->Features);
+  const bool searching = source == omesh::FeatureSource::Automatic || source == omesh::FeatureSource::Both;
+  const omesh::MeshingDeadline deadline(omesh::effectiveTimeLimit(run.options));
+  run.selection = omesh::selectFeatures(*run.oracle, run.features, source, run.options.criteria, [this, &deadline](double f) {
+    deadline.check("feature line search");
+    this->UpdateProgress(0.1 * f);
+    return !this->GetAbortExecute();
+  });
+  run.features = run.selection.segments;
+  if (searching)
+  {
+    if (deadline.limited())
+      run.options.timeLimit = std::max(1e-3, deadline.limit() - deadline.elapsed());
+    run.options.progress = [this](double fraction, const char*) {
+      this->UpdateProgress(0.1 + 0.9 * fraction);
       return !this->GetAbortExecute();
-    });
-    features = selection.segments;
-    if (searching)
-    {
-      if (deadline.limited())
-        options.timeLimit = std::max(1e-3, deadline.limit() - deadline.elapsed());
-      options.progress = [this](double fraction, const char*) {
-        this->UpdateProgress(0.1 + 0.9 * fraction);
-        return !this->GetAbortExecute();
-      };
-    }
-    notes.insert(notes.end(), selection.warnings.begin(), selection.warnings.end());
-    std::vector<omesh::Vec3> seedPoints;
-    if (seeds)
-      OracleBuilder::CheckCoordinates(seeds->GetPoints(), "seed points (input port 2)", "");
-    for (vtkIdType i = 0; seeds && i < seeds->GetNumberOfPoints(); ++i)
-    {
-      double x[3];
-      seeds->GetPoint(i, x);
-      seedPoints.push_back({ x[0], x[1], x[2] });
-    }
-    checkMeshMemory(*oracle, features, options);
-    mesh = omesh::meshOracle(*oracle, features, seedPoints, options);
-    if (options.elementOrder == 2)
-    {
-      const auto started = std::chrono::steady_clock::now();
-      quadratic = omesh::makeQuadraticTets(mesh, *oracle);
-      quadratic.statistics["time.quadratic"] =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-      mesh.statistics.insert(quadratic.statistics.begin(), quadratic.statistics.end());
-    }
+    };
   }
-  catch (const omesh::InputError& e)
+  run.notes.insert(run.notes.end(), run.selection.warnings.begin(), run.selection.warnings.end());
+}
+
+void vtkFeaturePreservingTetrahedralizer::MeshInputs(MeshingRun& run)
+{
+  checkMeshMemory(*run.oracle, run.features, run.options);
+  run.mesh = omesh::meshOracle(*run.oracle, run.features, run.seedPoints, run.options);
+  if (run.options.elementOrder == 2)
   {
-    vtkErrorMacro(<< e.what());
-    return 0;
+    const auto started = std::chrono::steady_clock::now();
+    run.quadratic = omesh::makeQuadraticTets(run.mesh, *run.oracle);
+    run.quadratic.statistics["time.quadratic"] =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+    run.mesh.statistics.insert(run.quadratic.statistics.begin(), run.quadratic.statistics.end());
   }
-  catch (const omesh::FeatureSearchAborted&)
-  {
-    vtkErrorMacro(<< "meshing aborted (AbortExecute) while finding feature lines: no mesh");
-    return 0;
-  }
-  catch (const omesh::TimeLimitReached& e)
-  {
-    // an error (no partial mesh: one cut by the clock depends on the machine's load), with the
-    // figures so far in the otherwise empty output
-    vtkErrorMacro(<< "meshing failed: " << e.what());
-    vtkNew<vtkStringArray> names;
-    names->SetName("StatisticNames");
-    vtkNew<vtkDoubleArray> values;
-    values->SetName("StatisticValues");
-    for (const auto& [name, value] : e.statistics)
-    {
-      names->InsertNextValue(name);
-      values->InsertNextValue(value);
-    }
-    grid->GetFieldData()->AddArray(names);
-    grid->GetFieldData()->AddArray(values);
-    return 0;
-  }
-  catch (const omesh::MeshingAborted&)
-  {
-    // an error, not an empty mesh as success: every caller (Update's status, Python, the CLI) sees it
-    vtkErrorMacro(<< "meshing aborted (AbortExecute): no mesh");
-    return 0;
-  }
-  catch (const std::exception& e)
-  {
-    // a CGAL precondition or assertion (CGAL::Failure_exception), or memory: an error, not a crash
-    vtkErrorMacro(<< "meshing failed: " << e.what());
-    return 0;
-  }
+}
+
+void vtkFeaturePreservingTetrahedralizer::AssembleOutputs(MeshingRun& run, vtkInformationVector* outputVector)
+{
   std::map<int, std::size_t> tetsPerMaterial;
-  for (int m : mesh.tetMaterial)
+  for (int m : run.mesh.tetMaterial)
     ++tetsPerMaterial[m];
-  for (const std::string& w : OracleBuilder::VanishedMaterialWarnings(*oracle, tetsPerMaterial))
-    inputNotes.push_back(w);
-  notes.insert(notes.end(), inputNotes.begin(), inputNotes.end());
-  mesh.warnings.insert(mesh.warnings.begin(), notes.begin(), notes.end());
-  for (const auto& w : mesh.warnings)
+  for (const std::string& w : OracleBuilder::VanishedMaterialWarnings(*run.oracle, tetsPerMaterial))
+    run.inputNotes.push_back(w);
+  run.notes.insert(run.notes.end(), run.inputNotes.begin(), run.inputNotes.end());
+  run.mesh.warnings.insert(run.mesh.warnings.begin(), run.notes.begin(), run.notes.end());
+  for (const auto& w : run.mesh.warnings)
     vtkWarningMacro(<< w);
 
-  // Port 0: tetrahedra, positively oriented; with ElementOrder 2 the core's 10-node ones (oriented too).
-  const bool secondOrder = options.elementOrder == 2;
-  grid->SetPoints(toPoints(secondOrder ? quadratic.points : mesh.points));
-  const vtkIdType nodes = secondOrder ? 10 : 4;
-  vtkNew<vtkCellArray> tets;
-  tets->AllocateExact(static_cast<vtkIdType>(mesh.tets.size()), nodes * static_cast<vtkIdType>(mesh.tets.size()));
-  vtkNew<vtkIntArray> material;
-  material->SetName("Material");
-  vtkNew<vtkDoubleArray> dihedral;
-  dihedral->SetName("MinDihedralAngle");
-  vtkNew<vtkDoubleArray> ratio;
-  ratio->SetName("RadiusEdgeRatio");
-  for (size_t t = 0; t < mesh.tets.size(); ++t)
-  {
-    auto k = mesh.tets[t];
-    const auto& P = mesh.points;
-    if (omesh::signedVolume(P[k[0]], P[k[1]], P[k[2]], P[k[3]]) < 0)
-      std::swap(k[0], k[1]);
-    vtkIdType ids[10] = { k[0], k[1], k[2], k[3] };
-    if (secondOrder)
-      std::copy(quadratic.tets[t].begin(), quadratic.tets[t].end(), ids);
-    tets->InsertNextCell(nodes, ids);
-    material->InsertNextValue(mesh.tetMaterial[t]);
-    dihedral->InsertNextValue(omesh::minDihedralAngle(P[k[0]], P[k[1]], P[k[2]], P[k[3]]));
-    ratio->InsertNextValue(omesh::radiusEdgeRatio(P[k[0]], P[k[1]], P[k[2]], P[k[3]]));
-  }
-  grid->SetCells(secondOrder ? VTK_QUADRATIC_TETRA : VTK_TETRA, tets);
-  if (mesh.tetDefects.size() == mesh.tets.size())
-  {
-    vtkNew<vtkUnsignedCharArray> defects; // bits as vtkMeshValidityCheck's
-    defects->SetName("Defects");
-    defects->SetNumberOfTuples(static_cast<vtkIdType>(mesh.tets.size()));
-    for (size_t t = 0; t < mesh.tets.size(); ++t)
-      defects->SetValue(static_cast<vtkIdType>(t), mesh.tetDefects[t]);
-    grid->GetCellData()->AddArray(defects);
-  }
-  grid->GetCellData()->AddArray(material);
-  grid->GetCellData()->SetScalars(material);
-  grid->GetCellData()->AddArray(dihedral);
-  grid->GetCellData()->AddArray(ratio);
-  vtkNew<vtkIntArray> dimension;
-  dimension->SetName("Dimension");
-  for (int d : secondOrder ? quadratic.pointDimension : mesh.pointDimension)
-    dimension->InsertNextValue(d);
-  grid->GetPointData()->AddArray(dimension);
-  vtkNew<vtkStringArray> names;
-  names->SetName("StatisticNames");
-  vtkNew<vtkDoubleArray> values;
-  values->SetName("StatisticValues");
-  for (const auto& [name, value] : mesh.statistics)
-  {
-    names->InsertNextValue(name);
-    values->InsertNextValue(value);
-  }
-  vtkNew<vtkStringArray> warnings;
-  warnings->SetName("Warnings");
-  for (const auto& w : mesh.warnings)
-    warnings->InsertNextValue(w);
-  grid->GetFieldData()->AddArray(names);
-  grid->GetFieldData()->AddArray(values);
-  grid->GetFieldData()->AddArray(warnings);
-  // The inputs' warnings again (frames, units, materials or labels that vanished): the ones the
-  // command line's --strict turns into a failure.
-  vtkNew<vtkStringArray> inputWarnings;
-  inputWarnings->SetName("InputWarnings");
-  for (const auto& w : inputNotes)
-    inputWarnings->InsertNextValue(w);
-  grid->GetFieldData()->AddArray(inputWarnings);
-
-  // Port 1: interface triangles with the materials on both sides.
-  interfaces->SetPoints(grid->GetPoints());
-  vtkNew<vtkCellArray> tris;
-  vtkNew<vtkIntArray> sides;
-  sides->SetName("Materials");
-  sides->SetNumberOfComponents(2);
-  for (size_t f = 0; f < mesh.interfaceTriangles.size(); ++f)
-  {
-    const auto& t = mesh.interfaceTriangles[f];
-    const vtkIdType ids[3] = { t[0], t[1], t[2] };
-    tris->InsertNextCell(3, ids);
-    const int m[2] = { mesh.interfaceMaterials[f][0], mesh.interfaceMaterials[f][1] };
-    sides->InsertNextTypedTuple(m);
-  }
-  interfaces->SetPolys(tris);
-  interfaces->GetCellData()->AddArray(sides);
-
-  // Port 2: the constrained segments as they stand in the mesh.
-  vtkNew<vtkPoints> segPoints;
-  segPoints->SetDataTypeToDouble();
-  vtkNew<vtkCellArray> segLines;
-  vtkNew<vtkIntArray> present;
-  present->SetName("Present");
-  vtkNew<vtkIntArray> input;
-  input->SetName("InputSegment");
-  // where each piece came from: 0 given, 1 found where the inputs meet; and the materials it separates
-  vtkNew<vtkIntArray> origin;
-  origin->SetName("Origin");
-  vtkNew<vtkIntArray> separates;
-  separates->SetName("Materials");
-  separates->SetNumberOfComponents(4);
-  const bool sameSegments = !options.resampleFeatureLines; // else the mesher's simplification renumbered them
-  for (const auto& s : mesh.segments)
-  {
-    const vtkIdType ids[2] = { segPoints->InsertNextPoint(s.a.x, s.a.y, s.a.z), segPoints->InsertNextPoint(s.b.x, s.b.y, s.b.z) };
-    segLines->InsertNextCell(2, ids);
-    present->InsertNextValue(s.present ? 1 : 0);
-    input->InsertNextValue(s.input);
-    const int k = sameSegments && s.input >= 0 && static_cast<std::size_t>(s.input) < selection.origin.size()
-      ? s.input
-      : selection.nearestSegment(omesh::lerp(s.a, s.b, 0.5));
-    const omesh::FeatureSelection::Origin o = k >= 0 ? selection.origin[k] : omesh::FeatureSelection::Origin{};
-    origin->InsertNextValue(o.automatic ? 1 : 0);
-    separates->InsertNextTypedTuple(o.materials.data());
-  }
-  segmentsOut->SetPoints(segPoints);
-  segmentsOut->SetLines(segLines);
-  segmentsOut->GetCellData()->AddArray(present);
-  segmentsOut->GetCellData()->SetScalars(present);
-  segmentsOut->GetCellData()->AddArray(input);
-  segmentsOut->GetCellData()->AddArray(origin);
-  segmentsOut->GetCellData()->AddArray(separates);
-  return 1;
+  vtkUnstructuredGrid* grid = vtkUnstructuredGrid::GetData(outputVector, 0);
+  TetMeshOutput::FillGrid(grid, run.mesh, run.options.elementOrder == 2 ? &run.quadratic : nullptr, run.inputNotes);
+  TetMeshOutput::FillInterfaces(vtkPolyData::GetData(outputVector, 1), run.mesh, grid);
+  // without resampling the mesher's segments are the selection's, else it renumbered them
+  TetMeshOutput::FillSegments(
+    vtkPolyData::GetData(outputVector, 2), run.mesh, run.selection, !run.options.resampleFeatureLines);
 }
 
 void vtkFeaturePreservingTetrahedralizer::PrintSelf(ostream& os, vtkIndent indent)

@@ -6,7 +6,8 @@
  * Inputs: port 0, the output of vtkHierarchicalOracle (or one domain); port 1 (optional),
  * vtkPolyData lines: the given constrained segments (Features says whether these, the lines found
  * where the inputs meet, or both are kept) (polylines are split into segments, shared points are
- * shared vertices); port 2 (optional), vtkPolyData points inserted first (a-priori points).
+ * shared vertices; an optional cell array "EdgeSize" gives a line its own edge size, -1 = none);
+ * port 2 (optional), vtkPolyData points inserted first (a-priori points).
  *
  * Delaunay refinement on CGAL Mesh_3 with the oracle's exact intersections; each tetrahedron takes
  * the material of its circumcentre. FeatureStrategy: Conforming (the default; the paper's rules
@@ -19,7 +20,8 @@
  * them (the Python package, the scene loader and the command line read them there, and a test
  * checks the plugin XML's default_values against them). Criteria merge as documented in
  * MeshCriteria.h: defaults < global < a domain's own < this filter's per-material table; two domains
- * giving one material different values for a criterion are an error naming both.
+ * giving one material different values for a criterion are an error naming both. EdgeSize has a
+ * per-feature level on top: global < per material < a line's own "EdgeSize" (MeshCriteria.h).
  *
  * Port 0 takes any data object and port 1 any vtkPolyData so that a wrong input gets an error naming
  * the port (an image as feature lines, triangles or vertices as feature lines, no oracle); duplicate
@@ -98,7 +100,8 @@ public:
   /// default 25). FacetSize: upper bound of the surface Delaunay ball radius. FacetDistance: upper
   /// bound of the distance between a surface triangle and the surface. CellSize: upper bound of the
   /// tetrahedron circumradius. CellRadiusEdgeRatio: upper bound of circumradius / shortest edge
-  /// (default 3). EdgeSize: upper bound of constrained-segment pieces.
+  /// (default 3). EdgeSize: upper bound of constrained-segment pieces (a line's own EdgeSize on
+  /// port 1 and the materials' EdgeSize come first: MeshCriteria.h).
   vtkSetMacro(FacetAngle, double);
   vtkGetMacro(FacetAngle, double);
   vtkSetMacro(FacetSize, double);
@@ -274,6 +277,16 @@ protected:
 private:
   vtkFeaturePreservingTetrahedralizer(const vtkFeaturePreservingTetrahedralizer&) = delete;
   void operator=(const vtkFeaturePreservingTetrahedralizer&) = delete;
+
+  // RequestData in three steps: input gathering, the core call, output assembly.
+  struct MeshingRun; // the core's inputs, options and mesh (core types: defined in the .cxx)
+  void CheckProperties() const;
+  void SetUpOptions(MeshingRun& run);
+  void GatherInputs(vtkInformationVector** inputVector, MeshingRun& run);
+  // (of GatherInputs) the lines to mesh (Features), the search under the run's time limit
+  void SelectFeatures(MeshingRun& run);
+  void MeshInputs(MeshingRun& run);
+  void AssembleOutputs(MeshingRun& run, vtkInformationVector* outputVector);
 
   std::map<int, std::array<double, 6>> MaterialCriteria;
   int MaterialCriteriaRows = 0;

@@ -175,6 +175,77 @@ vtkMTimeType vtkImplicitDomain::GetMTime()
   return t;
 }
 
+namespace
+{
+/// Where the shape is drawn: the user's display bounds, else the shape's bounds (padded), else a
+/// cube around the plane's origin or the cylinder's centre.
+void displayRegion(const double* displayBounds, bool bounded, const omesh::BoundingBox& shapeBounds,
+  const OracleDomainMetadata& md, double region[6])
+{
+  const double* db = displayBounds;
+  if (db[0] < db[1] && db[2] < db[3] && db[4] < db[5])
+    std::copy(db, db + 6, region);
+  else if (bounded)
+  {
+    const omesh::Vec3 pad = 0.05 * shapeBounds.size();
+    for (int i = 0; i < 3; ++i)
+    {
+      region[2 * i] = shapeBounds.min[i] - pad[i];
+      region[2 * i + 1] = shapeBounds.max[i] + pad[i];
+    }
+  }
+  else
+  {
+    const double* o = md.Parameters.data(); // plane origin or cylinder centre
+    for (int i = 0; i < 3; ++i)
+    {
+      region[2 * i] = o[i] - 50.0;
+      region[2 * i + 1] = o[i] + 50.0;
+    }
+  }
+}
+
+/// The function whose zero set is drawn; a capped cylinder is the infinite one intersected with
+/// two planes.
+vtkSmartPointer<vtkImplicitFunction> displayShape(vtkImplicitFunction* function, const OracleDomainMetadata& md, double height)
+{
+  vtkSmartPointer<vtkImplicitFunction> shape = function;
+  if (md.Kind != "Cylinder")
+    return shape;
+  // The cylinder as described (reduced to a plain centre + axis when its transform was a rotation).
+  const double* p = md.Parameters.data();
+  vtkNew<vtkCylinder> cyl;
+  cyl->SetCenter(p[0], p[1], p[2]);
+  cyl->SetAxis(p[3], p[4], p[5]);
+  cyl->SetRadius(p[6]);
+  if (!md.Transform.empty())
+    cyl->SetTransform(function->GetTransform());
+  shape = cyl;
+  if (!(height > 0))
+    return shape;
+  double axis[3] = { cyl->GetAxis()[0], cyl->GetAxis()[1], cyl->GetAxis()[2] };
+  const double len = std::sqrt(axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]);
+  vtkNew<vtkImplicitBoolean> capped;
+  capped->SetOperationTypeToIntersection();
+  capped->AddFunction(cyl);
+  for (int side : { -1, 1 })
+  {
+    vtkNew<vtkPlane> cap;
+    double n[3], o[3];
+    for (int i = 0; i < 3; ++i)
+    {
+      n[i] = side * axis[i] / len;
+      o[i] = cyl->GetCenter()[i] + 0.5 * height * n[i];
+    }
+    cap->SetNormal(n);
+    cap->SetOrigin(o);
+    cap->SetTransform(cyl->GetTransform());
+    capped->AddFunction(cap);
+  }
+  return capped.GetPointer();
+}
+}
+
 int vtkImplicitDomain::RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
 {
   vtkPolyData* output = vtkPolyData::GetData(outputVector);
@@ -204,71 +275,10 @@ int vtkImplicitDomain::RequestData(vtkInformation*, vtkInformationVector**, vtkI
     vtkErrorMacro(<< e.what());
     return 0;
   }
-
-  // Display region: the user's, else the shape's bounds (padded), else a cube around the plane.
   double region[6];
-  const double* db = this->DisplayBounds;
-  if (db[0] < db[1] && db[2] < db[3] && db[4] < db[5])
-    std::copy(db, db + 6, region);
-  else if (bounded)
-  {
-    const omesh::Vec3 pad = 0.05 * shapeBounds.size();
-    for (int i = 0; i < 3; ++i)
-    {
-      region[2 * i] = shapeBounds.min[i] - pad[i];
-      region[2 * i + 1] = shapeBounds.max[i] + pad[i];
-    }
-  }
-  else
-  {
-    const double* o = md.Parameters.data(); // plane origin or cylinder centre
-    for (int i = 0; i < 3; ++i)
-    {
-      region[2 * i] = o[i] - 50.0;
-      region[2 * i + 1] = o[i] + 50.0;
-    }
-  }
-
-  // Draw the zero set; a capped cylinder is the infinite one intersected with two planes.
-  vtkSmartPointer<vtkImplicitFunction> shape = this->ImplicitFunction;
-  if (md.Kind == "Cylinder")
-  {
-    // The cylinder as described (reduced to a plain centre + axis when its transform was a rotation).
-    const double* p = md.Parameters.data();
-    vtkNew<vtkCylinder> cyl;
-    cyl->SetCenter(p[0], p[1], p[2]);
-    cyl->SetAxis(p[3], p[4], p[5]);
-    cyl->SetRadius(p[6]);
-    if (!md.Transform.empty())
-      cyl->SetTransform(this->ImplicitFunction->GetTransform());
-    shape = cyl;
-  }
-  if (md.Kind == "Cylinder" && this->Height > 0)
-  {
-    auto* cyl = vtkCylinder::SafeDownCast(shape);
-    double axis[3] = { cyl->GetAxis()[0], cyl->GetAxis()[1], cyl->GetAxis()[2] };
-    const double len = std::sqrt(axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]);
-    vtkNew<vtkImplicitBoolean> capped;
-    capped->SetOperationTypeToIntersection();
-    capped->AddFunction(cyl);
-    for (int side : { -1, 1 })
-    {
-      vtkNew<vtkPlane> cap;
-      double n[3], o[3];
-      for (int i = 0; i < 3; ++i)
-      {
-        n[i] = side * axis[i] / len;
-        o[i] = cyl->GetCenter()[i] + 0.5 * this->Height * n[i];
-      }
-      cap->SetNormal(n);
-      cap->SetOrigin(o);
-      cap->SetTransform(cyl->GetTransform());
-      capped->AddFunction(cap);
-    }
-    shape = capped;
-  }
+  displayRegion(this->DisplayBounds, bounded, shapeBounds, md, region);
   vtkNew<vtkSampleFunction> sample;
-  sample->SetImplicitFunction(shape);
+  sample->SetImplicitFunction(displayShape(this->ImplicitFunction, md, this->Height));
   sample->SetModelBounds(region);
   sample->SetSampleDimensions(this->DisplayResolution, this->DisplayResolution, this->DisplayResolution);
   sample->ComputeNormalsOff();

@@ -124,6 +124,25 @@ vtkDataArray* integerLabelArray(vtkDataSetAttributes* attributes, const std::str
 }
 }
 
+namespace
+{
+/// Why no label array was found: the selected one is missing, or the image has no scalars; with
+/// the arrays it has.
+std::string noLabelArray(vtkInformation* selected, vtkImageData* input, const std::string& who)
+{
+  const char* wanted = selected && selected->Has(vtkDataObject::FIELD_NAME())
+    ? selected->Get(vtkDataObject::FIELD_NAME())
+    : nullptr;
+  const bool cells = selected && selected->Has(vtkDataObject::FIELD_ASSOCIATION()) &&
+    selected->Get(vtkDataObject::FIELD_ASSOCIATION()) == vtkDataObject::FIELD_ASSOCIATION_CELLS;
+  const std::string arrays = "point arrays: " + arrayNames(input->GetPointData()) +
+    "; cell arrays: " + arrayNames(input->GetCellData());
+  if (wanted && *wanted)
+    return who + ": the image has no " + (cells ? "cell" : "point") + " array '" + wanted + "' (" + arrays + ")";
+  return who + ": the image has no label array: no point or cell scalars (" + arrays + "); select the label array";
+}
+}
+
 int vtkLabelMapDomain::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
@@ -184,21 +203,7 @@ int vtkLabelMapDomain::RequestData(
       throw omesh::InputError(who + ": Interpolation " + std::to_string(this->Interpolation) +
         " is not 0 (Nearest) or 1 (Trilinear)");
     if (!array)
-    {
-      vtkInformation* selected = this->GetInputArrayInformation(0);
-      const char* wanted = selected && selected->Has(vtkDataObject::FIELD_NAME())
-        ? selected->Get(vtkDataObject::FIELD_NAME())
-        : nullptr;
-      const bool cells = selected && selected->Has(vtkDataObject::FIELD_ASSOCIATION()) &&
-        selected->Get(vtkDataObject::FIELD_ASSOCIATION()) == vtkDataObject::FIELD_ASSOCIATION_CELLS;
-      const std::string arrays = "point arrays: " + arrayNames(input->GetPointData()) +
-        "; cell arrays: " + arrayNames(input->GetCellData());
-      if (wanted && *wanted)
-        throw omesh::InputError(who + ": the image has no " + (cells ? "cell" : "point") + " array '" + wanted +
-          "' (" + arrays + ")");
-      throw omesh::InputError(who + ": the image has no label array: no point or cell scalars (" + arrays +
-        "); select the label array");
-    }
+      throw omesh::InputError(noLabelArray(this->GetInputArrayInformation(0), input, who));
     if (md.LabelArray.empty())
       throw omesh::InputError(who + ": the label array has no name; name it so the oracle can find it again");
     OracleBuilder::ToLabelMap(input, md, who); // full validation: integer, non-empty, labels >= 0

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "vtkMeshValidityCheck.h"
 
+#include "FieldDataKeys.h"
 #include "MeshValidity.h"
 
 #include <vtkCellArray.h>
@@ -34,8 +35,8 @@ omesh::TetMesh toTetMesh(vtkUnstructuredGrid* grid, std::vector<vtkIdType>& tetC
     grid->GetPoint(i, x);
     mesh.points[static_cast<size_t>(i)] = { x[0], x[1], x[2] };
   }
-  vtkDataArray* material = grid->GetCellData()->GetArray("Material");
-  vtkDataArray* dimension = grid->GetPointData()->GetArray("Dimension");
+  vtkDataArray* material = grid->GetCellData()->GetArray(omesh::keys::MATERIAL);
+  vtkDataArray* dimension = grid->GetPointData()->GetArray(omesh::keys::DIMENSION);
   if (dimension)
     for (vtkIdType i = 0; i < n; ++i)
       mesh.pointDimension.push_back(static_cast<int>(dimension->GetComponent(i, 0)));
@@ -104,22 +105,22 @@ int vtkMeshValidityCheck::RequestData(vtkInformation*, vtkInformationVector** in
   this->NumberOfDefects = static_cast<vtkIdType>(v.defects());
 
   vtkNew<vtkUnsignedCharArray> defects;
-  defects->SetName("Defects");
+  defects->SetName(omesh::keys::DEFECTS);
   defects->SetNumberOfTuples(input->GetNumberOfCells());
   defects->FillValue(0);
   for (size_t t = 0; t < flags.size(); ++t)
     defects->SetValue(tetCell[t], flags[t]);
   output->GetCellData()->AddArray(defects);
   vtkNew<vtkStringArray> names;
-  names->SetName("ValidityNames");
+  names->SetName(omesh::keys::VALIDITY_NAMES);
   vtkNew<vtkDoubleArray> values;
-  values->SetName("ValidityValues");
+  values->SetName(omesh::keys::VALIDITY_VALUES);
   for (const auto& [name, value] : v.asStatistics())
   {
     names->InsertNextValue(name);
     values->InsertNextValue(value);
   }
-  names->InsertNextValue("validity.non_tetrahedra");
+  names->InsertNextValue(omesh::keys::VALIDITY_NON_TETRAHEDRA);
   values->InsertNextValue(static_cast<double>(this->NonTetrahedra));
   output->GetFieldData()->AddArray(names);
   output->GetFieldData()->AddArray(values);

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "vtkOracleFeatureLines.h"
 
+#include "FieldDataKeys.h"
 #include "FeatureSelection.h"
 #include "HierarchicalOracle.h"
 #include "InputError.h"
@@ -38,6 +39,52 @@ int vtkOracleFeatureLines::FillInputPortInformation(int, vtkInformation* info)
   info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkDataObject");
   info->Set(vtkAlgorithm::INPUT_IS_OPTIONAL(), 1); // so "no input" gets this filter's message
   return 1;
+}
+
+namespace
+{
+/// The curves as polylines: cell arrays Materials (up to four, -2 pads) and Triple, point array
+/// SmallAngle (180 where none), field data Warnings.
+void toPolyData(const omesh::FeatureLines& found, vtkPolyData* output)
+{
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  for (const omesh::Vec3& p : found.segments.points)
+    points->InsertNextPoint(p.x, p.y, p.z);
+  vtkNew<vtkCellArray> lines;
+  vtkNew<vtkIntArray> materials;
+  materials->SetName(omesh::keys::MATERIALS);
+  materials->SetNumberOfComponents(4);
+  vtkNew<vtkIntArray> triple;
+  triple->SetName("Triple");
+  for (const omesh::FeatureLine& l : found.lines)
+  {
+    lines->InsertNextCell(static_cast<vtkIdType>(l.points.size()));
+    for (int p : l.points)
+      lines->InsertCellPoint(p);
+    int m[4] = { -2, -2, -2, -2 };
+    for (size_t k = 0; k < l.materials.size() && k < 4; ++k)
+      m[k] = l.materials[k];
+    materials->InsertNextTypedTuple(m);
+    triple->InsertNextValue(l.triple ? 1 : 0);
+  }
+  vtkNew<vtkDoubleArray> smallAngle;
+  smallAngle->SetName("SmallAngle");
+  smallAngle->SetNumberOfTuples(points->GetNumberOfPoints());
+  smallAngle->Fill(180.0);
+  for (const auto& a : found.smallAngles)
+    smallAngle->SetValue(a.point, a.degrees);
+  vtkNew<vtkStringArray> warnings;
+  warnings->SetName(omesh::keys::WARNINGS);
+  for (const std::string& w : found.warnings)
+    warnings->InsertNextValue(w);
+  output->SetPoints(points);
+  output->SetLines(lines);
+  output->GetCellData()->AddArray(materials);
+  output->GetCellData()->AddArray(triple);
+  output->GetPointData()->AddArray(smallAngle);
+  output->GetFieldData()->AddArray(warnings);
+}
 }
 
 int vtkOracleFeatureLines::RequestData(vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
@@ -85,43 +132,7 @@ int vtkOracleFeatureLines::RequestData(vtkInformation*, vtkInformationVector** i
   for (const std::string& w : found.warnings)
     vtkWarningMacro(<< w);
 
-  vtkNew<vtkPoints> points;
-  points->SetDataTypeToDouble();
-  for (const omesh::Vec3& p : found.segments.points)
-    points->InsertNextPoint(p.x, p.y, p.z);
-  vtkNew<vtkCellArray> lines;
-  vtkNew<vtkIntArray> materials;
-  materials->SetName("Materials");
-  materials->SetNumberOfComponents(4);
-  vtkNew<vtkIntArray> triple;
-  triple->SetName("Triple");
-  for (const omesh::FeatureLine& l : found.lines)
-  {
-    lines->InsertNextCell(static_cast<vtkIdType>(l.points.size()));
-    for (int p : l.points)
-      lines->InsertCellPoint(p);
-    int m[4] = { -2, -2, -2, -2 };
-    for (size_t k = 0; k < l.materials.size() && k < 4; ++k)
-      m[k] = l.materials[k];
-    materials->InsertNextTypedTuple(m);
-    triple->InsertNextValue(l.triple ? 1 : 0);
-  }
-  vtkNew<vtkDoubleArray> smallAngle;
-  smallAngle->SetName("SmallAngle");
-  smallAngle->SetNumberOfTuples(points->GetNumberOfPoints());
-  smallAngle->Fill(180.0);
-  for (const auto& a : found.smallAngles)
-    smallAngle->SetValue(a.point, a.degrees);
-  vtkNew<vtkStringArray> warnings;
-  warnings->SetName("Warnings");
-  for (const std::string& w : found.warnings)
-    warnings->InsertNextValue(w);
-  output->SetPoints(points);
-  output->SetLines(lines);
-  output->GetCellData()->AddArray(materials);
-  output->GetCellData()->AddArray(triple);
-  output->GetPointData()->AddArray(smallAngle);
-  output->GetFieldData()->AddArray(warnings);
+  toPolyData(found, output);
   return 1;
 }
 

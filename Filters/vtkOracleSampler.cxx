@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "vtkOracleSampler.h"
 
+#include "FieldDataKeys.h"
 #include "HierarchicalOracle.h"
 #include "InputError.h"
 #include "OracleBuilder.h"
@@ -54,6 +55,44 @@ int vtkOracleSampler::RequestUpdateExtent(vtkInformation*, vtkInformationVector*
   return 1;
 }
 
+namespace
+{
+/// Throws for Dimensions below 1, a Material array too big for the memory, or bad Bounds.
+void checkProperties(const int* dims, const double* b)
+{
+  if (dims[0] < 1 || dims[1] < 1 || dims[2] < 1)
+    throw omesh::InputError("vtkOracleSampler: Dimensions must be >= 1 on every axis");
+  // before any work: the Material array (4 bytes a point)
+  OracleBuilder::CheckMemory("vtkOracleSampler", "Dimensions " + std::to_string(dims[0]) + " x " +
+      std::to_string(dims[1]) + " x " + std::to_string(dims[2]) + " points",
+    static_cast<double>(dims[0]) * dims[1] * dims[2], 4.0);
+  for (int i = 0; i < 6; ++i)
+    if (!std::isfinite(b[i]) || std::abs(b[i]) > OracleBuilder::LargestCoordinate)
+      throw omesh::InputError("vtkOracleSampler: Bounds must be finite and at most 1e15 in magnitude");
+}
+
+/// Field data MaterialIds and MaterialVolume: each material's sample count times the volume of a cell.
+void addMaterialVolumes(vtkFieldData* fieldData, const int* values, vtkIdType n, double cell)
+{
+  std::map<int, vtkIdType> counts;
+  for (vtkIdType i = 0; i < n; ++i)
+    ++counts[values[i]];
+  vtkNew<vtkIntArray> ids;
+  ids->SetName(omesh::keys::MATERIAL_IDS);
+  vtkNew<vtkDoubleArray> volumes;
+  volumes->SetName(omesh::keys::MATERIAL_VOLUME);
+  for (const auto& [m, c] : counts)
+  {
+    if (m == omesh::kOutside)
+      continue;
+    ids->InsertNextValue(m);
+    volumes->InsertNextValue(c * cell);
+  }
+  fieldData->AddArray(ids);
+  fieldData->AddArray(volumes);
+}
+}
+
 int vtkOracleSampler::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
@@ -63,17 +102,8 @@ int vtkOracleSampler::RequestData(
   omesh::BoundingBox box;
   try
   {
-    const int* dims = this->Dimensions;
-    if (dims[0] < 1 || dims[1] < 1 || dims[2] < 1)
-      throw omesh::InputError("vtkOracleSampler: Dimensions must be >= 1 on every axis");
-    // before any work: the Material array (4 bytes a point)
-    OracleBuilder::CheckMemory("vtkOracleSampler", "Dimensions " + std::to_string(dims[0]) + " x " +
-        std::to_string(dims[1]) + " x " + std::to_string(dims[2]) + " points",
-      static_cast<double>(dims[0]) * dims[1] * dims[2], 4.0);
+    checkProperties(this->Dimensions, this->Bounds);
     const double* b = this->Bounds;
-    for (int i = 0; i < 6; ++i)
-      if (!std::isfinite(b[i]) || std::abs(b[i]) > OracleBuilder::LargestCoordinate)
-        throw omesh::InputError("vtkOracleSampler: Bounds must be finite and at most 1e15 in magnitude");
     if (!input)
       throw omesh::InputError("vtkOracleSampler: no input on port 0 (connect a vtkHierarchicalOracle)");
     oracle = OracleBuilder::BuildOracle(input);
@@ -101,7 +131,7 @@ int vtkOracleSampler::RequestData(
   output->SetOrigin(box.min.x, box.min.y, box.min.z);
   output->SetSpacing(spacing);
   vtkNew<vtkIntArray> material;
-  material->SetName("Material");
+  material->SetName(omesh::keys::MATERIAL);
   material->SetNumberOfTuples(static_cast<vtkIdType>(d[0]) * d[1] * d[2]);
   int* values = material->GetPointer(0);
 
@@ -129,23 +159,7 @@ int vtkOracleSampler::RequestData(
   }
   output->GetPointData()->SetScalars(material);
 
-  std::map<int, vtkIdType> counts;
-  for (vtkIdType i = 0; i < material->GetNumberOfTuples(); ++i)
-    ++counts[values[i]];
-  vtkNew<vtkIntArray> ids;
-  ids->SetName("MaterialIds");
-  vtkNew<vtkDoubleArray> volumes;
-  volumes->SetName("MaterialVolume");
-  const double cell = spacing[0] * spacing[1] * spacing[2];
-  for (const auto& [m, c] : counts)
-  {
-    if (m == omesh::kOutside)
-      continue;
-    ids->InsertNextValue(m);
-    volumes->InsertNextValue(c * cell);
-  }
-  output->GetFieldData()->AddArray(ids);
-  output->GetFieldData()->AddArray(volumes);
+  addMaterialVolumes(output->GetFieldData(), values, material->GetNumberOfTuples(), spacing[0] * spacing[1] * spacing[2]);
   return 1;
 }
 

@@ -11,7 +11,9 @@ A snapshot holds the command line, the Python package and the VTK module library
 runs with LD_LIBRARY_PATH set to it (the build's libraries carry a RUNPATH, which that overrides).
 Scenes: the demo (Data/demo/scene.json, fewer vertices), a generated bone/implant case
 (oraclemesh.cases), a cube with all edges as features, a noisy organic surface with automatic
-sharp edges (Benchmarks/noisy_features.py). Exits 1 when any mesh differs.
+sharp edges (Benchmarks/noisy_features.py), a ball cut by a plane with the automatic feature lines
+(its rim) and 10-node tetrahedra (the paths the other four do not take). Exits 1 when any mesh
+differs.
 """
 import argparse
 import glob
@@ -24,7 +26,7 @@ import tempfile
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 SOURCE = os.path.dirname(HERE)
-SCENES = ("demo", "bone_implant", "featured_cube", "noisy_sphere")
+SCENES = ("demo", "bone_implant", "featured_cube", "noisy_sphere", "cut_ball_automatic_p2")
 
 
 def snapshot(build, folder):
@@ -85,6 +87,13 @@ def make_scenes(work, names, build):
             case = json.load(f)
         case["domains"][0]["file"] = os.path.join(work, "noisy_sphere", case["domains"][0]["file"])
         scenes["noisy_sphere"] = case
+    if "cut_ball_automatic_p2" in names:
+        scenes["cut_ball_automatic_p2"] = {
+            "domains": [{"name": "cut", "type": "plane", "origin": [0, 0, 0.3], "normal": [0, 0, -1], "cut": True},
+                        {"name": "ball", "type": "sphere", "center": [0.1, -0.05, 0], "radius": 1, "material": 1}],
+            "mesh": {"strategy": "Conforming", "seed": 4, "element_order": 2, "features": "Automatic",
+                     "criteria": {"cell_size": 0.25, "facet_size": 0.2, "facet_distance": 0.02, "edge_size": 0.15}},
+        }
     paths = {}
     for name, scene in scenes.items():
         paths[name] = os.path.join(work, f"{name}.json")

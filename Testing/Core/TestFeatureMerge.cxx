@@ -82,3 +82,37 @@ TEST(FeatureMerge, AbsurdCoordinatesAreRefusedByValidate)
     EXPECT_NE(std::string(e.what()).find("1e15"), std::string::npos) << e.what();
   }
 }
+
+namespace
+{
+bool warnsOfContradiction(const std::vector<std::string>& warnings)
+{
+  for (const std::string& w : warnings)
+    if (w.find("criteria contradict the feature lines") != std::string::npos)
+      return true;
+  return false;
+}
+}
+
+// Paper section 5: B < 1/(2 sin alpha0) contradicts segments meeting at alpha0. A polyline bending
+// by a few degrees at each vertex (a circle in 40 chords meets itself at 171 degrees) is no small
+// angle; two segments at 20 degrees with B = 1.1 are (1/(2 sin 20) = 1.46).
+TEST(FeatureSegmentsValidate, RadiusEdgeContradictionOnlyForSmallAngles)
+{
+  FeatureSegments circle;
+  const int n = 40;
+  for (int k = 0; k < n; ++k)
+  {
+    const double t = 2 * M_PI * k / n;
+    circle.points.push_back({ 2 * std::cos(t), 2 * std::sin(t), 0 });
+    circle.segments.push_back({ k, (k + 1) % n });
+  }
+  EXPECT_FALSE(warnsOfContradiction(circle.validate(ballOracle(), 1.1)));
+
+  FeatureSegments wedge;
+  const double a = 20 * M_PI / 180;
+  wedge.points = { { 0, 0, 0 }, { 2, 0, 0 }, { 2 * std::cos(a), 2 * std::sin(a), 0 } };
+  wedge.segments = { { 0, 1 }, { 0, 2 } };
+  EXPECT_TRUE(warnsOfContradiction(wedge.validate(ballOracle(), 1.1)));
+  EXPECT_FALSE(warnsOfContradiction(wedge.validate(ballOracle(), 1.5)));
+}

@@ -59,3 +59,17 @@ TEST(MeshSizeEstimate, FollowsTheCriteria)
   withEdge.global.edgeSize = 1e-6;
   EXPECT_GT(estimateMeshVertices(o, withEdge, line), coarse + 1e6);
 }
+
+// A line's own edge size (the per-feature level) counts, not the global one.
+TEST(MeshSizeEstimate, FeatureLinesCountAtTheirOwnEdgeSize)
+{
+  const HierarchicalOracle o = ball();
+  FeatureSegments line;
+  line.points = { { -1, 0, 0 }, { 1, 0, 0 } };
+  line.segments = { { 0, 1 } };
+  MaterialCriteria c = sizes(0.2, 0.2);
+  c.global.edgeSize = 0.5;
+  const double global = estimateMeshVertices(o, c, line);
+  line.edgeSizes = { 1e-6 };
+  EXPECT_NEAR(estimateMeshVertices(o, c, line) - global, 2.0 / 1e-6 - 2.0 / 0.5, 1.0);
+}

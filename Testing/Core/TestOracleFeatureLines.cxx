@@ -16,6 +16,7 @@
 #include <cmath>
 #include <functional>
 #include <memory>
+#include <optional>
 
 using namespace omesh;
 
@@ -449,4 +450,51 @@ TEST(OracleFeatureLines, CurvesCrossingAtASmallAngleMeetOnceWithoutFolds)
   EXPECT_GE(selection.segments.smallestAngle(), 30.0);
   for (const auto& o : selection.origin)
     EXPECT_TRUE(o.automatic);
+}
+
+TEST(OracleFeatureLines, BothKeepsTheGivenLinesOwnEdgeSizesThroughTheSelection)
+{
+  // The tray's rim given by hand, each side with its own edge size (one none, one 0 = no bound),
+  // and found again: the found rim is dropped along it, the circle's arcs end on it (the given
+  // sides split there). Every piece of a side keeps that side's size, the found arcs have none,
+  // one entry per segment (FeatureSegments' invariant), and the lines validate.
+  const Vec3 lo{ -0.5, -0.42, 0 }, hi{ 0.5, 0.42, 0.2 };
+  HierarchicalOracle oracle = trayOnCutPlane(lo, hi, 0.6);
+  FeatureSegments given;
+  given.points = { { lo.x, lo.y, 0 }, { hi.x, lo.y, 0 }, { hi.x, hi.y, 0 }, { lo.x, hi.y, 0 } };
+  given.segments = { { 0, 1 }, { 1, 2 }, { 2, 3 }, { 3, 0 } };
+  const std::vector<std::optional<double>> sideSize{ 0.05, std::nullopt, 0.07, 0.0 };
+  given.edgeSizes = sideSize;
+  MaterialCriteria criteria;
+  criteria.global.edgeSize = 0.08;
+  criteria.global.facetDistance = 0.01;
+  const FeatureSelection both = selectFeatures(oracle, given, FeatureSource::Both, criteria);
+  const FeatureSegments& f = both.segments;
+  EXPECT_GT(both.droppedAlongGiven, 0u);
+  EXPECT_GT(f.segments.size(), given.segments.size());
+  ASSERT_EQ(f.edgeSizes.size(), f.segments.size());
+  ASSERT_EQ(both.origin.size(), f.segments.size());
+  EXPECT_NO_THROW(f.checkEdgeSizes());
+  EXPECT_NO_THROW(f.validate(oracle, 3.0));
+  std::size_t pieces = 0, found = 0;
+  for (size_t s = 0; s < f.segments.size(); ++s)
+  {
+    const Vec3 m = lerp(f.points[f.segments[s][0]], f.points[f.segments[s][1]], 0.5);
+    if (!onRectangle(m, lo, hi))
+    {
+      EXPECT_FALSE(f.edgeSizes[s].has_value()) << f.describe(s);
+      EXPECT_TRUE(both.origin[s].automatic) << f.describe(s);
+      ++found;
+      continue;
+    }
+    const int side = std::abs(m.y - lo.y) < 1e-6 ? 0 : std::abs(m.x - hi.x) < 1e-6 ? 1 : std::abs(m.y - hi.y) < 1e-6 ? 2 : 3;
+    EXPECT_EQ(f.edgeSizes[s], sideSize[side]) << f.describe(s);
+    EXPECT_FALSE(both.origin[s].automatic) << f.describe(s);
+    ++pieces;
+  }
+  EXPECT_GT(pieces, given.segments.size());
+  EXPECT_GT(found, 0u);
+  // Given alone: the lines as they were, sizes and all; None: no lines, no sizes.
+  EXPECT_EQ(selectFeatures(oracle, given, FeatureSource::Given, criteria).segments.edgeSizes, sideSize);
+  EXPECT_TRUE(selectFeatures(oracle, given, FeatureSource::None, criteria).segments.edgeSizes.empty());
 }

@@ -238,6 +238,56 @@ TEST(OracleMesher, ConformingKeepsTheCubeEdgesBeforeAndAfterOptimisation)
   EXPECT_EQ(corners, 8u);
 }
 
+/// Each tetrahedron as its sorted corner coordinates and its material: the same mesh compares equal
+/// whatever the numbering of its points and tetrahedra.
+static std::vector<std::pair<std::array<std::array<double, 3>, 4>, int>> tetSet(const TetMesh& m)
+{
+  std::vector<std::pair<std::array<std::array<double, 3>, 4>, int>> out;
+  for (size_t t = 0; t < m.tets.size(); ++t)
+  {
+    std::array<std::array<double, 3>, 4> corners;
+    for (int k = 0; k < 4; ++k)
+    {
+      const Vec3& p = m.points[m.tets[t][k]];
+      corners[k] = { p.x, p.y, p.z };
+    }
+    std::sort(corners.begin(), corners.end());
+    out.push_back({ corners, m.tetMaterial[t] });
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+TEST(OracleMesher, UndoneExudationGivesBackTheMeshFromBeforeIt)
+{
+  // The undo rebuilds the complex from a compact record (ComplexSnapshot.h); real inputs rarely
+  // need it, so it is forced here and compared with a run that stops before the exuder.
+  HierarchicalOracle o;
+  o.add(std::make_shared<SurfaceDomain>(test::cube(0, 1), 1));
+  const FeatureSegments edges = cubeEdges(0, 1);
+  MesherOptions noExuder = options(FeatureStrategy::Conforming, 0.2);
+  noExuder.exude = false;
+  const TetMesh before = meshOracle(o, edges, {}, noExuder);
+  MesherOptions undo = options(FeatureStrategy::Conforming, 0.2);
+  undo.exudationSliverBound = 0; // pump every cell: the exuder changes the mesh
+  const TetMesh exuded = meshOracle(o, edges, {}, undo);
+  ASSERT_FALSE(tetSet(exuded) == tetSet(before)) << "the exuder changed nothing: nothing to undo";
+  undo.undoExudationForTesting = true;
+  const TetMesh undone = meshOracle(o, edges, {}, undo);
+  EXPECT_GT(undone.statistics.at("optimisation.exudation_steps"), 0.0);
+  EXPECT_TRUE(hasWarning(undone, "exudation undone"));
+  EXPECT_FALSE(hasWarning(undone, "incomplete"));
+  EXPECT_EQ(undone.tets.size(), before.tets.size());
+  EXPECT_TRUE(tetSet(undone) == tetSet(before)) << "the undo changed the mesh from before the exuder";
+  EXPECT_EQ(undone.interfaceTriangles.size(), before.interfaceTriangles.size());
+  EXPECT_NEAR(featureCoverage(undone.segments, edges), 1.0, 1e-12);
+  EXPECT_EQ(undone.statistics.at("validity.defects"), 0.0);
+  size_t corners = 0;
+  for (int d : undone.pointDimension)
+    corners += d == 0;
+  EXPECT_EQ(corners, 8u) << "the vertices' dimensions came back";
+}
+
 TEST(OracleMesher, ConformingKeepsSegmentsMeetingAtStarVertices)
 {
   HierarchicalOracle o;

@@ -313,6 +313,20 @@ class Command(unittest.TestCase):
                                     capture_output=True, encoding="utf-8", env=env, cwd=tmp, check=False)
             self.assertEqual(result.returncode, 0, result.stderr)
             self.assertIn("Tetrahedra", open(out).read())
+            # compiled at install: users who cannot write there do not compile the package on every start
+            import glob
+            self.assertTrue(glob.glob(os.path.join(prefix, "**", "oraclemesh", "__pycache__", "meshing.*.pyc"),
+                                      recursive=True), "no bytecode installed")
+
+    def test_no_numpy_before_meshing(self):
+        # numpy (20 MB, 0.1 s) is for the report and the writers: the process floor and the mesher's
+        # peak memory go without it (Benchmarks/small_cases.py)
+        code = ("import sys, oraclemesh.__main__; from oraclemesh.meshing import as_scene, mesher_for; "
+                "mesher_for(as_scene(%r)); print(sorted(m for m in sys.modules if m.split('.')[0] == 'numpy'))"
+                % SMALL_SCENE)
+        result = subprocess.run([sys.executable, "-c", code], capture_output=True, encoding="utf-8", check=False)
+        self.assertEqual(result.returncode, 0, result.stderr)
+        self.assertEqual(result.stdout.strip(), "[]")
 
 
 class Threads(unittest.TestCase):

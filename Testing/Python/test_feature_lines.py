@@ -10,6 +10,7 @@ import tempfile
 import unittest
 
 import oraclemesh as om
+from oraclemesh import fieldkeys
 from oraclemesh.defaults import FEATURE_SOURCES, mesh_defaults
 from oraclemesh.scene import build_scene
 
@@ -98,8 +99,8 @@ class FeaturesOption(unittest.TestCase):
         mesher = keep[2]
         om.update(mesher)
         lines = mesher.GetOutputDataObject(2)
-        origin = lines.GetCellData().GetArray("Origin")
-        materials = lines.GetCellData().GetArray("Materials")
+        origin = lines.GetCellData().GetArray(fieldkeys.ORIGIN)
+        materials = lines.GetCellData().GetArray(fieldkeys.MATERIALS)
         self.assertEqual(lines.GetNumberOfCells(), origin.GetNumberOfTuples())
         seen = set()
         for c in range(lines.GetNumberOfCells()):

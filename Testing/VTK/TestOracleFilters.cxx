@@ -11,6 +11,7 @@
 
 #include <vtkAlgorithmOutput.h>
 #include <vtkBox.h>
+#include <vtkCellArray.h>
 #include <vtkCellData.h>
 #include <vtkCommand.h>
 #include <vtkCubeSource.h>
@@ -502,4 +503,54 @@ TEST(OracleFilters, BadInputGivesClearErrors)
   vtkNew<vtkOracleSampler> sampler;
   sampler->SetInputConnection(onlyCut->GetOutputPort());
   expectError(sampler, "every domain is a cut");
+}
+
+// The per-feature edge size on port 1 (cell array EdgeSize): bad values and one line given two
+// values are the core's errors, named by the tetrahedralizer.
+TEST(OracleFilters, FeatureLineEdgeSizesAreChecked)
+{
+  vtkNew<vtkSphereDomain> ball;
+  ball->SetRadius(1.0);
+  ball->SetMaterialId(1);
+  vtkNew<vtkHierarchicalOracle> oracle;
+  oracle->AddInputConnection(ball->GetOutputPort());
+  // two polylines across the ball along x: the second one a copy of the first one's second half
+  auto lines = [](std::initializer_list<double> sizes, int components = 1) {
+    auto pd = vtkSmartPointer<vtkPolyData>::New();
+    vtkNew<vtkPoints> points;
+    for (double x : { -0.5, 0.0, 0.5 })
+      points->InsertNextPoint(x, 0, 0);
+    vtkNew<vtkCellArray> cells;
+    const vtkIdType first[3] = { 0, 1, 2 }, second[2] = { 1, 2 };
+    cells->InsertNextCell(3, first);
+    cells->InsertNextCell(2, second);
+    pd->SetPoints(points);
+    pd->SetLines(cells);
+    vtkNew<vtkDoubleArray> edgeSize;
+    edgeSize->SetName("EdgeSize");
+    edgeSize->SetNumberOfComponents(components);
+    for (double s : sizes)
+      for (int c = 0; c < components; ++c)
+        edgeSize->InsertNextValue(s);
+    pd->GetCellData()->AddArray(edgeSize);
+    return pd;
+  };
+  auto run = [&](vtkPolyData* features) {
+    vtkNew<vtkFeaturePreservingTetrahedralizer> mesher;
+    mesher->SetInputConnection(0, oracle->GetOutputPort());
+    mesher->SetInputData(1, features);
+    mesher->SetCellSize(0.5);
+    mesher->SetFacetSize(0.5);
+    mesher->SetFacetDistance(0.05);
+    return UpdateAndCatch(mesher, { oracle, ball });
+  };
+  auto expectIn = [](const std::string& msg, const std::string& fragment) {
+    EXPECT_NE(msg.find(fragment), std::string::npos) << "expected '" << fragment << "' in: " << msg;
+  };
+  expectIn(run(lines({ 0.1, -0.5 })), "(0, 0, 0) - (0.5, 0, 0) has EdgeSize -0.5");
+  expectIn(run(lines({ 0.1, std::nan("") })), "has EdgeSize nan");
+  expectIn(run(lines({ 0.1, 0.2 })), "segment (0, 0, 0) - (0.5, 0, 0) gets EdgeSize 0.1 and 0.2");
+  expectIn(run(lines({ 0.1, 0.1 }, 2)), "cell array EdgeSize has 2 components");
+  EXPECT_EQ(run(lines({ 0.1, -1 })), ""); // -1: no value of its own; the copy adds nothing
+  EXPECT_EQ(run(lines({ 0.1, 0.1 })), "");
 }

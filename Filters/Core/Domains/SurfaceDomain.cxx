@@ -3,6 +3,7 @@
 #include "SurfaceDomain.h"
 
 #include "InputError.h"
+#include "OrientedTriangles.h"
 #include "SelfIntersections.h"
 #include "WindingNumber.h"
 
@@ -11,11 +12,11 @@
 #include <CGAL/AABB_tree.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Polygon_mesh_processing/measure.h>
-#include <CGAL/Polygon_mesh_processing/orient_polygon_soup.h>
 #include <CGAL/Polygon_mesh_processing/orientation.h>
 #include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
 #include <CGAL/Side_of_triangle_mesh.h>
 #include <CGAL/Surface_mesh.h>
+#include <boost/property_map/function_property_map.hpp>
 
 #include <cmath>
 #include <cstdint>
@@ -70,9 +71,19 @@ struct SurfaceDomain::Impl
     return static_cast<size_t>(i) + static_cast<size_t>(n[0]) * (static_cast<size_t>(j) + static_cast<size_t>(n[1]) * k);
   }
   void buildGrid(size_t numTriangles);
+  void sizeGrid(size_t numTriangles);
+  void markBoundaryCells();
+  void classifyFreeCells();
 };
 
 void SurfaceDomain::Impl::buildGrid(size_t numTriangles)
+{
+  sizeGrid(numTriangles);
+  markBoundaryCells();
+  classifyFreeCells();
+}
+
+void SurfaceDomain::Impl::sizeGrid(size_t numTriangles)
 {
   const Vec3 size = box.size();
   const double diag = norm(size);
@@ -90,8 +101,12 @@ void SurfaceDomain::Impl::buildGrid(size_t numTriangles)
     invCell[a] = 1.0 / cell[a];
   }
   state.assign(static_cast<size_t>(n[0]) * n[1] * n[2], kCellUnknown);
+}
 
-  const double eps = 1e-9 * diag; // cells are tested slightly enlarged: rounding cannot hide a touch
+/// Cells that a triangle touches are boundary cells (answered by the exact test).
+void SurfaceDomain::Impl::markBoundaryCells()
+{
+  const double eps = 1e-9 * norm(box.size()); // cells are tested slightly enlarged: rounding cannot hide a touch
   for (auto f : mesh.faces())
   {
     auto h0 = mesh.halfedge(f);
@@ -120,8 +135,12 @@ void SurfaceDomain::Impl::buildGrid(size_t numTriangles)
             s = kCellBoundary;
         }
   }
-  // Face-adjacent cells that no triangle touches lie on the same side: flood-fill each component
-  // and classify it with one exact query at a cell centre.
+}
+
+/// Face-adjacent cells that no triangle touches lie on the same side: flood-fill each component
+/// and classify it with one exact query at a cell centre.
+void SurfaceDomain::Impl::classifyFreeCells()
+{
   std::deque<size_t> queue;
   for (size_t seed = 0; seed < state.size(); ++seed)
   {
@@ -165,8 +184,10 @@ namespace
 /// is turned to bound a positive volume, then flipped again if it lies inside an odd number of
 /// other components (the inner wall of a hollow part bounds a cavity: its triangles face inward).
 /// Nesting is tested for up to 64 components (beyond, all face outward).
-void orientComponentsForWinding(const std::vector<Point>& points, std::vector<std::vector<std::size_t>>& polygons)
+void orientComponentsForWinding(TriangleSurface& soup)
 {
+  const std::vector<Vec3>& points = soup.points;
+  std::vector<std::array<int, 3>>& polygons = soup.triangles;
   std::vector<std::size_t> parent(points.size());
   std::iota(parent.begin(), parent.end(), 0);
   auto find = [&](std::size_t x) {
@@ -180,15 +201,15 @@ void orientComponentsForWinding(const std::vector<Point>& points, std::vector<st
   std::vector<BoundingBox> boxes(points.size());
   for (const auto& poly : polygons)
     for (std::size_t v : poly)
-      boxes[find(poly[0])].add({ points[v].x(), points[v].y(), points[v].z() });
+      boxes[find(poly[0])].add(points[v]);
   std::vector<double> volume(points.size(), 0.0);
   for (const auto& poly : polygons)
   {
     const std::size_t root = find(poly[0]);
     const Vec3 c = 0.5 * (boxes[root].min + boxes[root].max);
     auto at = [&](std::size_t k) {
-      const Point& q = points[poly[k]];
-      return Vec3{ q.x() - c.x, q.y() - c.y, q.z() - c.z };
+      const Vec3& q = points[poly[k]];
+      return Vec3{ q.x - c.x, q.y - c.y, q.z - c.z };
     };
     for (std::size_t k = 1; k + 1 < poly.size(); ++k)
       volume[root] += dot(at(0), cross(at(k), at(k + 1)));
@@ -212,14 +233,9 @@ void orientComponentsForWinding(const std::vector<Point>& points, std::vector<st
   const size_t k = roots.size();
   if (k < 2 || k > 64)
     return;
-  std::vector<Vec3> pts;
-  pts.reserve(points.size());
-  for (const Point& p : points)
-    pts.push_back({ p.x(), p.y(), p.z() });
   std::vector<std::vector<std::array<int, 3>>> tris(k);
   for (const auto& poly : polygons)
-    tris[componentOf[find(poly[0])]].push_back(
-      { static_cast<int>(poly[0]), static_cast<int>(poly[1]), static_cast<int>(poly[2]) });
+    tris[componentOf[find(poly[0])]].push_back(poly);
   // d is nested in c when c winds around every probe of d (up to 32 corners spread over d), so
   // components that merely overlap (allowed self-intersections) are not taken as cavities
   std::vector<std::vector<Vec3>> probes(k);
@@ -227,12 +243,12 @@ void orientComponentsForWinding(const std::vector<Point>& points, std::vector<st
   {
     const size_t step = std::max<size_t>(1, tris[c].size() / 32);
     for (size_t t = 0; t < tris[c].size(); t += step)
-      probes[c].push_back(pts[tris[c][t][0]]);
+      probes[c].push_back(points[tris[c][t][0]]);
   }
   std::vector<int> depth(k, 0);
   for (size_t c = 0; c < k; ++c)
   {
-    const WindingNumber w(pts, tris[c]);
+    const WindingNumber w(points, tris[c]);
     for (size_t d = 0; d < k; ++d)
       if (d != c && std::all_of(probes[d].begin(), probes[d].end(), [&](const Vec3& p) { return w(p) > 0.5; }))
         ++depth[d];
@@ -309,22 +325,15 @@ SurfaceDomain::SurfaceDomain(
   if (!options.allowSelfIntersections)
     refuseSelfIntersections(surface, name);
 
-  std::vector<Point> points;
-  points.reserve(surface.points.size());
-  for (const auto& p : surface.points)
-    points.push_back(toCgal(p));
-  std::vector<std::vector<std::size_t>> polygons;
-  polygons.reserve(surface.triangles.size());
-  for (const auto& t : surface.triangles)
-    polygons.push_back({ static_cast<std::size_t>(t[0]), static_cast<std::size_t>(t[1]), static_cast<std::size_t>(t[2]) });
   // Ray parity ignores orientation, but a halfedge mesh needs a consistent one; non-manifold
   // vertices get duplicated here, which the parity test does not mind.
-  PMP::orient_polygon_soup(points, polygons);
-  if (!PMP::is_polygon_soup_a_polygon_mesh(polygons))
+  OrientedTriangles oriented = orientTriangles(surface);
+  if (!oriented.halfedgeMesh)
     throw InputError(name + ": surface cannot be oriented consistently (is it self-intersecting or non-orientable?)");
   if (winding)
-    orientComponentsForWinding(points, polygons);
-  PMP::polygon_soup_to_polygon_mesh(points, polygons, impl_->mesh);
+    orientComponentsForWinding(oriented.surface);
+  PMP::polygon_soup_to_polygon_mesh(oriented.surface.points, oriented.surface.triangles, impl_->mesh,
+    CGAL::parameters::point_map(boost::make_function_property_map<Vec3>(&toCgal)));
 
   for (const auto& p : surface.points)
     impl_->box.add(p);
@@ -352,15 +361,7 @@ SurfaceDomain::SurfaceDomain(
   const bool closed = winding && surface.borderLoops().empty();
   if (winding && !(closed && !options.allowSelfIntersections))
   {
-    std::vector<Vec3> pts;
-    pts.reserve(points.size());
-    for (const Point& p : points)
-      pts.push_back({ p.x(), p.y(), p.z() });
-    std::vector<std::array<int, 3>> tris;
-    tris.reserve(polygons.size());
-    for (const auto& poly : polygons)
-      tris.push_back({ static_cast<int>(poly[0]), static_cast<int>(poly[1]), static_cast<int>(poly[2]) });
-    impl_->winding = std::make_unique<WindingNumber>(pts, tris);
+    impl_->winding = std::make_unique<WindingNumber>(oriented.surface.points, oriented.surface.triangles);
     return; // no grid: across a hole, cells no triangle touches are not all on one side
   }
   impl_->side = std::make_unique<SideOf>(*impl_->tree);

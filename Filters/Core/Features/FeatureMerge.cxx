@@ -1,13 +1,18 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "FeatureMerge.h"
 
+#include "InputError.h"
+
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/box_intersection_d.h>
 
 #include <algorithm>
 #include <map>
+#include <cmath>
 #include <numeric>
+#include <optional>
 #include <set>
+#include <sstream>
 #include <tuple>
 
 namespace omesh
@@ -37,6 +42,36 @@ struct UnionFind
 
 namespace
 {
+/// Segments with their own edge sizes (FeatureSegments::edgeSizes, empty when none has one).
+struct Pieces
+{
+  std::vector<std::array<int, 2>> segments;
+  std::vector<std::optional<double>> edgeSizes;
+  void add(const std::array<int, 2>& s, std::optional<double> size, bool sized)
+  {
+    segments.push_back(s);
+    if (sized)
+      edgeSizes.push_back(size);
+  }
+};
+
+/// One line given twice (repeated or overlapping) keeps its own edge size; two different ones
+/// are a contradiction (InputError naming the line and both values).
+std::optional<double> sameEdgeSize(const FeatureSegments& f, const std::array<int, 2>& s, std::optional<double> mine,
+  std::optional<double> other)
+{
+  if (mine && other && *mine != *other)
+  {
+    const Vec3 &a = f.points[s[0]], &b = f.points[s[1]];
+    std::ostringstream o;
+    o << "feature lines: segment (" << a.x << ", " << a.y << ", " << a.z << ") - (" << b.x << ", " << b.y << ", "
+      << b.z << ") gets EdgeSize " << *mine << " and " << *other
+      << " from two lines that overlap there (give each piece of a line one edge size)";
+    throw InputError(o.str());
+  }
+  return mine ? mine : other;
+}
+
 /// 1. One vertex per coordinate triple.
 void mergeRepeatedPoints(FeatureSegments& f, FeatureMergeCounts& counts)
 {
@@ -54,19 +89,27 @@ void mergeRepeatedPoints(FeatureSegments& f, FeatureMergeCounts& counts)
 }
 
 /// 2. Repeated segments (either direction); zero-length ones stay for validate to name.
-std::vector<std::array<int, 2>> withoutRepeatedSegments(const FeatureSegments& f, FeatureMergeCounts& counts)
+Pieces withoutRepeatedSegments(const FeatureSegments& f, FeatureMergeCounts& counts)
 {
-  std::set<std::pair<int, int>> seen;
-  std::vector<std::array<int, 2>> unique;
-  unique.reserve(f.segments.size());
-  for (const auto& s : f.segments)
+  const bool sized = !f.edgeSizes.empty();
+  std::map<std::pair<int, int>, std::size_t> seen;
+  Pieces unique;
+  unique.segments.reserve(f.segments.size());
+  for (std::size_t k = 0; k < f.segments.size(); ++k)
   {
-    if (s[0] != s[1] && !seen.emplace(std::min(s[0], s[1]), std::max(s[0], s[1])).second)
+    const auto& s = f.segments[k];
+    if (s[0] != s[1])
     {
-      ++counts.duplicates;
-      continue;
+      const auto [it, inserted] = seen.emplace(std::make_pair(std::min(s[0], s[1]), std::max(s[0], s[1])), unique.segments.size());
+      if (!inserted)
+      {
+        ++counts.duplicates;
+        if (sized)
+          unique.edgeSizes[it->second] = sameEdgeSize(f, s, unique.edgeSizes[it->second], f.edgeSize(k));
+        continue;
+      }
     }
-    unique.push_back(s);
+    unique.add(s, f.edgeSize(k), sized);
   }
   return unique;
 }
@@ -118,21 +161,24 @@ UnionFind overlapGroups(const FeatureSegments& f, const std::vector<std::array<i
   return groups;
 }
 
-/// 3b. The segments with each overlap group replaced by its union.
-std::vector<std::array<int, 2>> withOverlapsMerged(
-  const FeatureSegments& f, const std::vector<std::array<int, 2>>& unique, FeatureMergeCounts& counts)
+/// 3b. The segments with each overlap group replaced by its union; a piece keeps the own edge
+/// size of the segments covering it.
+Pieces withOverlapsMerged(const FeatureSegments& f, const Pieces& pieces, FeatureMergeCounts& counts)
 {
+  const std::vector<std::array<int, 2>>& unique = pieces.segments;
+  const bool sized = !pieces.edgeSizes.empty();
+  const auto sizeOf = [&](std::size_t s) { return sized ? pieces.edgeSizes[s] : std::nullopt; };
   std::vector<bool> overlaps;
   UnionFind groups = overlapGroups(f, unique, overlaps);
   std::map<std::size_t, std::vector<std::size_t>> members;
-  std::vector<std::array<int, 2>> merged;
-  merged.reserve(unique.size());
+  Pieces merged;
+  merged.segments.reserve(unique.size());
   for (std::size_t s = 0; s < unique.size(); ++s)
   {
     if (overlaps[s])
       members[groups.find(s)].push_back(s);
     else
-      merged.push_back(unique[s]);
+      merged.add(unique[s], sizeOf(s), sized);
   }
   for (const auto& [root, group] : members)
   {
@@ -151,20 +197,29 @@ std::vector<std::array<int, 2>> withOverlapsMerged(
     for (std::size_t k = 0; k + 1 < vertices.size(); ++k)
     {
       const double mid = 0.5 * (param(vertices[k]) + param(vertices[k + 1]));
-      const bool covered = std::any_of(group.begin(), group.end(), [&](std::size_t s) {
+      const std::array<int, 2> piece{ vertices[k], vertices[k + 1] };
+      bool covered = false;
+      std::optional<double> size;
+      for (std::size_t s : group)
+      {
         const double t0 = param(unique[s][0]), t1 = param(unique[s][1]);
-        return std::min(t0, t1) < mid && mid < std::max(t0, t1);
-      });
+        if (std::min(t0, t1) < mid && mid < std::max(t0, t1))
+        {
+          covered = true;
+          size = sameEdgeSize(f, piece, size, sizeOf(s));
+        }
+      }
       if (covered)
-        merged.push_back({ vertices[k], vertices[k + 1] });
+        merged.add(piece, size, sized);
     }
   }
   return merged;
 }
 
-/// 4. `segments` as f's, without the points no segment uses.
-void keepUsedPoints(FeatureSegments& f, std::vector<std::array<int, 2>> segments)
+/// 4. `pieces` as f's segments, without the points no segment uses.
+void keepUsedPoints(FeatureSegments& f, Pieces pieces)
 {
+  std::vector<std::array<int, 2>>& segments = pieces.segments;
   std::vector<int> renumber(f.points.size(), -1);
   std::vector<Vec3> points;
   for (auto& s : segments)
@@ -179,6 +234,7 @@ void keepUsedPoints(FeatureSegments& f, std::vector<std::array<int, 2>> segments
     }
   f.points = std::move(points);
   f.segments = std::move(segments);
+  f.edgeSizes = std::move(pieces.edgeSizes);
 }
 }
 
@@ -192,9 +248,17 @@ FeatureMergeCounts mergeFeatureSegments(FeatureSegments& f)
     for (int v : s)
       if (v < 0 || v >= static_cast<int>(f.points.size()))
         return counts; // validate names it
+  if (!f.edgeSizes.empty())
+  {
+    if (f.edgeSizes.size() != f.segments.size())
+      return counts; // validate names it
+    for (const auto& e : f.edgeSizes)
+      if (e && !(std::isfinite(*e) && *e >= 0))
+        return counts;
+  }
   mergeRepeatedPoints(f, counts);
-  const std::vector<std::array<int, 2>> unique = withoutRepeatedSegments(f, counts);
-  std::vector<std::array<int, 2>> merged = withOverlapsMerged(f, unique, counts);
+  const Pieces unique = withoutRepeatedSegments(f, counts);
+  Pieces merged = withOverlapsMerged(f, unique, counts);
   if (!counts.changed())
     return counts; // as given: same points, same order
   keepUsedPoints(f, std::move(merged));

@@ -20,7 +20,8 @@ struct FeatureMergeCounts
 /// Cleans feature lines the way users produce them (the outputs of several vtkFeatureEdges
 /// appended, a polyline drawn twice): points with identical coordinates become one vertex, repeated
 /// segments are dropped, and collinear segments that overlap (exact predicates) are replaced by
-/// the pieces of their union between consecutive end points. Segments that cross or touch without
+/// the pieces of their union between consecutive end points. Own edge sizes (edgeSizes) go with
+/// their segments; one piece given two different ones is an InputError naming it. Segments that cross or touch without
 /// overlapping are left as they are (FeatureSegments::validate refuses them), so are zero-length
 /// ones. Points that no segment uses any more are removed. Does nothing when a coordinate is not
 /// finite (validate names it).

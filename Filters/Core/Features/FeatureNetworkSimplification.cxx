@@ -152,23 +152,35 @@ bool worthSnapping(const FeatureSegments& f, const std::vector<std::vector<int>>
     (nextToB && angleAt(f.points[b], f.points[p], f.points[a]) < trunkAngle);
 }
 
-/// Step 2, one round: the closest (point, segment) pairs first, each split only where none of its
-/// three points took part in a split of this round (so the splits are independent, as if made one
-/// after the other, and two segments cannot split each other back and forth). Returns the splits.
-std::size_t snapPointsToSegments(FeatureSegments& f, double d, double minAngle)
+/// The segments at each point.
+std::vector<std::vector<std::size_t>> incidentSegments(const FeatureSegments& f)
+{
+  std::vector<std::vector<std::size_t>> inc(f.points.size());
+  for (std::size_t i = 0; i < f.segments.size(); ++i)
+  {
+    inc[f.segments[i][0]].push_back(i);
+    inc[f.segments[i][1]].push_back(i);
+  }
+  return inc;
+}
+
+/// A point to put into a segment (step 2), `distance` from it.
+struct SnapCandidate
+{
+  double distance;
+  std::size_t segment;
+  int point;
+  bool operator<(const SnapCandidate& o) const
+  {
+    return std::tie(distance, segment, point) < std::tie(o.distance, o.segment, o.point);
+  }
+};
+
+/// Points closer than d to a segment they do not end, where worthSnapping.
+void nearSegmentCandidates(const FeatureSegments& f, double d, std::vector<SnapCandidate>& candidates)
 {
   const std::vector<Segment> segs = cgalSegments(f);
-  if (segs.empty())
-    return 0;
   Tree tree(segs.begin(), segs.end());
-  struct Candidate
-  {
-    double distance;
-    std::size_t segment;
-    int point;
-    bool operator<(const Candidate& o) const { return std::tie(distance, segment, point) < std::tie(o.distance, o.segment, o.point); }
-  };
-  std::vector<Candidate> candidates;
   std::vector<Tree::Primitive_id> hits;
   const auto deg = degrees(f);
   const auto adjacent = neighbours(f);
@@ -192,35 +204,44 @@ std::size_t snapPointsToSegments(FeatureSegments& f, double d, double minAngle)
         candidates.push_back({ std::sqrt(dist2), s, pi });
     }
   }
-  // Small angles at shared points, at any distance: the shorter segment's far end goes into the longer.
+}
+
+/// Small angles at shared points, at any distance: the shorter segment's far end goes into the longer.
+void smallAngleCandidates(const FeatureSegments& f, double minAngle, std::vector<SnapCandidate>& candidates)
+{
+  const auto inc = incidentSegments(f);
+  for (std::size_t v = 0; v < f.points.size(); ++v)
+    for (std::size_t i = 0; i < inc[v].size(); ++i)
+      for (std::size_t j = i + 1; j < inc[v].size(); ++j)
+      {
+        std::size_t shorter = inc[v][i], longer = inc[v][j];
+        if (f.length(longer) < f.length(shorter))
+          std::swap(shorter, longer);
+        const int vi = static_cast<int>(v);
+        const int p = f.segments[shorter][0] == vi ? f.segments[shorter][1] : f.segments[shorter][0];
+        const int q = f.segments[longer][0] == vi ? f.segments[longer][1] : f.segments[longer][0];
+        const double angle = angleAt(f.points[v], f.points[p], f.points[q]);
+        if (angle < minAngle)
+          candidates.push_back({ f.length(shorter) * std::sin(angle * M_PI / 180.0), longer, p });
+      }
+}
+
+/// Step 2, one round: the closest (point, segment) pairs first, each split only where none of its
+/// three points took part in a split of this round (so the splits are independent, as if made one
+/// after the other, and two segments cannot split each other back and forth). Returns the splits.
+std::size_t snapPointsToSegments(FeatureSegments& f, double d, double minAngle)
+{
+  if (f.segments.empty())
+    return 0;
+  std::vector<SnapCandidate> candidates;
+  nearSegmentCandidates(f, d, candidates);
   if (minAngle > 0)
-  {
-    std::vector<std::vector<std::size_t>> inc(f.points.size());
-    for (std::size_t i = 0; i < f.segments.size(); ++i)
-    {
-      inc[f.segments[i][0]].push_back(i);
-      inc[f.segments[i][1]].push_back(i);
-    }
-    for (std::size_t v = 0; v < f.points.size(); ++v)
-      for (std::size_t i = 0; i < inc[v].size(); ++i)
-        for (std::size_t j = i + 1; j < inc[v].size(); ++j)
-        {
-          std::size_t shorter = inc[v][i], longer = inc[v][j];
-          if (f.length(longer) < f.length(shorter))
-            std::swap(shorter, longer);
-          const int vi = static_cast<int>(v);
-          const int p = f.segments[shorter][0] == vi ? f.segments[shorter][1] : f.segments[shorter][0];
-          const int q = f.segments[longer][0] == vi ? f.segments[longer][1] : f.segments[longer][0];
-          const double angle = angleAt(f.points[v], f.points[p], f.points[q]);
-          if (angle < minAngle)
-            candidates.push_back({ f.length(shorter) * std::sin(angle * M_PI / 180.0), longer, p });
-        }
-  }
+    smallAngleCandidates(f, minAngle, candidates);
   std::sort(candidates.begin(), candidates.end());
   std::vector<char> taken(f.points.size(), 0);
   std::vector<int> splitAt(f.segments.size(), -1);
   std::size_t count = 0;
-  for (const Candidate& c : candidates)
+  for (const SnapCandidate& c : candidates)
   {
     const auto& e = f.segments[c.segment];
     if (taken[e[0]] || taken[e[1]] || taken[c.point])
@@ -262,96 +283,125 @@ std::size_t snapUntilStable(FeatureSegments& f, double d, double minAngle, int r
   return total;
 }
 
-/// Step 3: whiskers and small separate pieces. Chains run between points of degree other than 2.
-void dropSpurs(FeatureSegments& f, double s, FeatureNetworkReport& report)
+/// A run of segments from a point to the next point of degree other than 2.
+struct Chain
 {
-  const auto deg = degrees(f);
-  std::vector<std::vector<std::size_t>> inc(f.points.size());
-  for (std::size_t i = 0; i < f.segments.size(); ++i)
+  std::vector<std::size_t> segs;
+  double length = 0.0;
+  int end = -1; ///< the point of degree other than 2 it reaches (-1: a loop)
+};
+
+/// Step 3's view of the network: the chains, and which segments are dropped.
+class SpurRemoval
+{
+public:
+  explicit SpurRemoval(const FeatureSegments& f)
+    : f_(f)
+    , deg_(degrees(f))
+    , inc_(incidentSegments(f))
+    , drop_(f.segments.size(), 0)
+    , seen_(f.segments.size(), 0)
   {
-    inc[f.segments[i][0]].push_back(i);
-    inc[f.segments[i][1]].push_back(i);
   }
-  auto other = [&](std::size_t seg, int v) { return f.segments[seg][0] == v ? f.segments[seg][1] : f.segments[seg][0]; };
-  struct Chain
+
+  /// Spurs shorter than s, grouped by their branch point: a branch point whose chains are all
+  /// spurs keeps its longest; separate short chains go too.
+  void dropSpurs(double s, FeatureNetworkReport& report)
   {
-    std::vector<std::size_t> segs;
-    double length = 0.0;
-    int end = -1; ///< the point of degree other than 2 it reaches (-1: a loop)
-  };
-  // The chain from `v` through `first` to the next point of degree other than 2.
-  auto walk = [&](int v, std::size_t first) {
+    std::vector<std::vector<Chain>> spursAt(f_.points.size());
+    for (std::size_t v = 0; v < f_.points.size(); ++v)
+    {
+      if (deg_[v] != 1 || seen_[inc_[v][0]])
+        continue;
+      Chain c = walk(static_cast<int>(v), inc_[v][0]);
+      if (c.length >= s)
+        continue;
+      if (deg_[c.end] == 1) // a separate short chain
+      {
+        dropChain(c);
+        ++report.piecesDropped;
+      }
+      else
+        spursAt[c.end].push_back(std::move(c));
+    }
+    for (std::size_t b = 0; b < f_.points.size(); ++b)
+    {
+      auto& spurs = spursAt[b];
+      if (spurs.empty())
+        continue;
+      if (spurs.size() == deg_[b])
+      {
+        // keep the longest
+        auto longest = std::max_element(spurs.begin(), spurs.end(),
+          [](const Chain& x, const Chain& y) { return x.length < y.length; });
+        spurs.erase(longest);
+      }
+      for (const Chain& c : spurs)
+        dropChain(c);
+      report.spursDropped += spurs.size();
+    }
+  }
+
+  /// Separate loops (every point of degree 2) shorter than s.
+  void dropLoops(double s, FeatureNetworkReport& report)
+  {
+    for (std::size_t i = 0; i < f_.segments.size(); ++i)
+    {
+      const int v = f_.segments[i][0];
+      if (seen_[i] || deg_[v] != 2)
+        continue;
+      Chain c = walk(v, i);
+      if (c.end < 0 && c.length < s)
+      {
+        dropChain(c);
+        ++report.piecesDropped;
+      }
+    }
+  }
+
+  bool dropped(std::size_t segment) const { return drop_[segment] != 0; }
+
+private:
+  /// The chain from `v` through `first` to the next point of degree other than 2 (marked seen).
+  Chain walk(int v, std::size_t first)
+  {
     Chain c;
     const int start = v;
     for (std::size_t seg = first;;)
     {
       c.segs.push_back(seg);
-      c.length += f.length(seg);
-      v = other(seg, v);
-      if (deg[v] != 2)
+      seen_[seg] = 1;
+      c.length += f_.length(seg);
+      v = f_.segments[seg][0] == v ? f_.segments[seg][1] : f_.segments[seg][0];
+      if (deg_[v] != 2)
         return c.end = v, c;
       if (v == start)
         return c;
-      seg = inc[v][0] == seg ? inc[v][1] : inc[v][0];
+      seg = inc_[v][0] == seg ? inc_[v][1] : inc_[v][0];
     }
-  };
-  std::vector<char> drop(f.segments.size(), 0), seen(f.segments.size(), 0);
-  // Spurs, grouped by their branch point: a branch point whose chains are all spurs keeps its longest.
-  std::vector<std::vector<Chain>> spursAt(f.points.size());
-  for (std::size_t v = 0; v < f.points.size(); ++v)
+  }
+
+  void dropChain(const Chain& c)
   {
-    if (deg[v] != 1 || seen[inc[v][0]])
-      continue;
-    Chain c = walk(static_cast<int>(v), inc[v][0]);
     for (std::size_t seg : c.segs)
-      seen[seg] = 1;
-    if (c.length >= s)
-      continue;
-    if (deg[c.end] == 1) // a separate short chain
-    {
-      for (std::size_t seg : c.segs)
-        drop[seg] = 1;
-      ++report.piecesDropped;
-    }
-    else
-      spursAt[c.end].push_back(std::move(c));
+      drop_[seg] = 1;
   }
-  for (std::size_t b = 0; b < f.points.size(); ++b)
-  {
-    auto& spurs = spursAt[b];
-    if (spurs.empty())
-      continue;
-    if (spurs.size() == deg[b])
-    {
-      // keep the longest
-      auto longest = std::max_element(spurs.begin(), spurs.end(),
-        [](const Chain& x, const Chain& y) { return x.length < y.length; });
-      spurs.erase(longest);
-    }
-    for (const Chain& c : spurs)
-      for (std::size_t seg : c.segs)
-        drop[seg] = 1;
-    report.spursDropped += spurs.size();
-  }
-  // Separate loops (every point of degree 2) shorter than s.
-  for (std::size_t i = 0; i < f.segments.size(); ++i)
-  {
-    const int v = f.segments[i][0];
-    if (seen[i] || deg[v] != 2)
-      continue;
-    Chain c = walk(v, i);
-    for (std::size_t seg : c.segs)
-      seen[seg] = 1;
-    if (c.end < 0 && c.length < s)
-    {
-      for (std::size_t seg : c.segs)
-        drop[seg] = 1;
-      ++report.piecesDropped;
-    }
-  }
+
+  const FeatureSegments& f_;
+  const std::vector<std::size_t> deg_;
+  const std::vector<std::vector<std::size_t>> inc_;
+  std::vector<char> drop_, seen_;
+};
+
+/// Step 3: whiskers and small separate pieces. Chains run between points of degree other than 2.
+void dropSpurs(FeatureSegments& f, double s, FeatureNetworkReport& report)
+{
+  SpurRemoval removal(f);
+  removal.dropSpurs(s, report);
+  removal.dropLoops(s, report);
   std::vector<std::array<int, 2>> kept;
   for (std::size_t i = 0; i < f.segments.size(); ++i)
-    if (!drop[i])
+    if (!removal.dropped(i))
       kept.push_back(f.segments[i]);
   if (kept.size() != f.segments.size())
   {

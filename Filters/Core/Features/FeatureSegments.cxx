@@ -4,6 +4,9 @@
 #include "HierarchicalOracle.h"
 #include "InputError.h"
 
+#include <CGAL/AABB_segment_primitive.h>
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/box_intersection_d.h>
 
@@ -29,12 +32,7 @@ using Box = CGAL::Box_intersection_d::Box_with_info_d<double, 3, size_t>;
 
 std::string describeSegment(const FeatureSegments& f, size_t s)
 {
-  const Vec3& a = f.points[f.segments[s][0]];
-  const Vec3& b = f.points[f.segments[s][1]];
-  std::ostringstream o;
-  o << "segment " << s << " (" << a.x << ", " << a.y << ", " << a.z << ") - (" << b.x << ", " << b.y
-    << ", " << b.z << ")";
-  return o.str();
+  return f.describe(s);
 }
 
 /// For each point, the segments incident to it.
@@ -165,7 +163,10 @@ void checkNoCrossings(const FeatureSegments& f)
 }
 
 /// Warnings for segments meeting at less than 60 degrees and for a radius-edge bound below what
-/// the smallest angle needs.
+/// the smallest angle needs (paper section 5: B < 1/(2 sin alpha0) contradicts the segments). The
+/// bound is about small angles only: at 90 degrees and more the segments' diametral balls do not
+/// reach each other, and every polyline bends by a few degrees at each vertex (a resampled circle
+/// meets itself at 172 degrees, which the formula alone would read as a contradiction of B < 3.7).
 void warnSmallAngles(const FeatureSegments& f, double radiusEdgeBound, std::vector<std::string>& warnings)
 {
   const auto inc = incidence(f);
@@ -195,7 +196,7 @@ void warnSmallAngles(const FeatureSegments& f, double radiusEdgeBound, std::vect
     warnings.push_back("feature lines: " + std::to_string(sharp) +
       " pair(s) of segments meet at less than 60 degrees, where termination is not guaranteed (paper "
       "section 2.2); first: " + firstSharp);
-  if (alpha0 < 180.0 && radiusEdgeBound > 0 && radiusEdgeBound < 1.0 / (2.0 * std::sin(alpha0 * M_PI / 180.0)))
+  if (alpha0 < 90.0 && radiusEdgeBound > 0 && radiusEdgeBound < 1.0 / (2.0 * std::sin(alpha0 * M_PI / 180.0)))
   {
     std::ostringstream o;
     o << "criteria contradict the feature lines: radius-edge bound " << radiusEdgeBound << " < 1/(2 sin "
@@ -223,9 +224,38 @@ void warnOutside(const FeatureSegments& f, const HierarchicalOracle& oracle, std
 }
 }
 
+std::string FeatureSegments::describe(size_t s) const
+{
+  const int n = static_cast<int>(points.size());
+  if (segments[s][0] < 0 || segments[s][0] >= n || segments[s][1] < 0 || segments[s][1] >= n)
+    return "segment " + std::to_string(s);
+  const Vec3& a = points[segments[s][0]];
+  const Vec3& b = points[segments[s][1]];
+  std::ostringstream o;
+  o << "segment " << s << " (" << a.x << ", " << a.y << ", " << a.z << ") - (" << b.x << ", " << b.y
+    << ", " << b.z << ")";
+  return o.str();
+}
+
+void FeatureSegments::checkEdgeSizes() const
+{
+  if (!edgeSizes.empty() && edgeSizes.size() != segments.size())
+    throw InputError("feature lines: " + std::to_string(edgeSizes.size()) + " edge sizes for " +
+      std::to_string(segments.size()) + " segments (give one per segment, or none)");
+  for (size_t s = 0; s < edgeSizes.size(); ++s)
+    if (edgeSizes[s] && !(std::isfinite(*edgeSizes[s]) && *edgeSizes[s] >= 0))
+    {
+      std::ostringstream o;
+      o << "feature lines: " << describe(s) << " has EdgeSize " << *edgeSizes[s]
+        << " (a number >= 0 is needed: 0 means no bound; leave it unset to take the materials' or the global one)";
+      throw InputError(o.str());
+    }
+}
+
 std::vector<std::string> FeatureSegments::validate(const HierarchicalOracle& oracle, double radiusEdgeBound) const
 {
   checkPointsAndIndices(*this);
+  checkEdgeSizes();
   checkNoCrossings(*this);
   std::vector<std::string> warnings;
   warnSmallAngles(*this, radiusEdgeBound, warnings);
@@ -377,5 +407,29 @@ size_t resampleFeatureLines(FeatureSegments& f, double maxLength, double toleran
   const size_t dropped = f.points.size() - r.points.size();
   f = std::move(r);
   return dropped;
+}
+
+void transferEdgeSizes(const FeatureSegments& from, FeatureSegments& to, double maxDistance)
+{
+  to.edgeSizes.clear();
+  if (from.edgeSizes.empty() || from.segments.empty())
+    return;
+  using Segment = K::Segment_3;
+  using Iterator = std::vector<Segment>::const_iterator;
+  using Tree = CGAL::AABB_tree<CGAL::AABB_traits<K, CGAL::AABB_segment_primitive<K, Iterator>>>;
+  const auto P = [](const Vec3& p) { return K::Point_3(p.x, p.y, p.z); };
+  std::vector<Segment> given;
+  given.reserve(from.segments.size());
+  for (const auto& s : from.segments)
+    given.emplace_back(P(from.points[s[0]]), P(from.points[s[1]]));
+  Tree tree(given.begin(), given.end());
+  to.edgeSizes.assign(to.segments.size(), std::nullopt);
+  for (size_t s = 0; s < to.segments.size(); ++s)
+  {
+    const K::Point_3 m = P(0.5 * (to.points[to.segments[s][0]] + to.points[to.segments[s][1]]));
+    const auto [closest, primitive] = tree.closest_point_and_primitive(m);
+    if (std::sqrt(CGAL::squared_distance(m, closest)) <= maxDistance)
+      to.edgeSizes[s] = from.edgeSize(static_cast<size_t>(primitive - given.cbegin()));
+  }
 }
 }

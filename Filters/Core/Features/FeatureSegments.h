@@ -4,6 +4,7 @@
 #include "Vec3.h"
 
 #include <array>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -18,13 +19,19 @@ struct FeatureSegments
 {
   std::vector<Vec3> points;
   std::vector<std::array<int, 2>> segments;
+  /// Each segment's own edge size (the per-feature level of the criteria, MeshCriteria.h): empty
+  /// when no line has one, else one entry per segment, unset (nullopt) where the line gives none.
+  /// 0 is "no bound" (it overrides the materials' and the global value). A value must be finite
+  /// and >= 0 (validate). Functions that rebuild the segments carry it (mergeFeatureSegments,
+  /// transferEdgeSizes).
+  std::vector<std::optional<double>> edgeSizes;
 
   bool empty() const { return segments.empty(); }
   double length(size_t s) const { return norm(points[segments[s][1]] - points[segments[s][0]]); }
 
   /// Checks what the paper's algorithm needs. Throws InputError for NaN points, indices out of
-  /// range, zero-length segments and segments crossing each other (named by index and
-  /// coordinates). Returns warnings for what it cannot guarantee: angles below 60 degrees between
+  /// range, zero-length segments, segments crossing each other (named by index and
+  /// coordinates) and own edge sizes that are negative, NaN or infinite (checkEdgeSizes). Returns warnings for what it cannot guarantee: angles below 60 degrees between
   /// segments at a shared vertex, segments outside every domain of `oracle`, and a radius-edge
   /// bound B < 1 / (2 sin alpha0) that contradicts the smallest angle alpha0.
   std::vector<std::string> validate(const HierarchicalOracle& oracle, double radiusEdgeBound) const;
@@ -38,7 +45,21 @@ struct FeatureSegments
 
   /// Smallest angle (degrees) between two segments sharing a vertex; 180 if none share one.
   double smallestAngle() const;
+
+  /// Segment s's own edge size (nullopt when it has none).
+  std::optional<double> edgeSize(size_t s) const { return s < edgeSizes.size() ? edgeSizes[s] : std::nullopt; }
+  /// Throws InputError naming the segment when an own edge size is negative, NaN or infinite, or
+  /// when edgeSizes is neither empty nor one per segment.
+  void checkEdgeSizes() const;
+  /// "segment 3 (x, y, z) - (x, y, z)", as the errors name a segment.
+  std::string describe(size_t s) const;
 };
+
+/// Gives each segment of `to` the own edge size of the segment of `from` nearest to its midpoint,
+/// when that one has an own value and lies within `maxDistance` of the midpoint (else unset): for
+/// feature lines rebuilt from given ones (resampled, split where automatic lines meet them). Leaves
+/// `to.edgeSizes` empty when `from` has none.
+void transferEdgeSizes(const FeatureSegments& from, FeatureSegments& to, double maxDistance);
 
 /// Angle (degrees) at v between the directions to p and to q.
 double angleAt(const Vec3& v, const Vec3& p, const Vec3& q);

@@ -210,94 +210,103 @@ FeatureLineOptions featureLineOptions(const HierarchicalOracle& oracle, const Ma
 
 namespace
 {
-FeatureSelection selectLines(const HierarchicalOracle& oracle, const FeatureSegments& given, FeatureSource source,
-  const MaterialCriteria& criteria, const std::function<bool(double)>& progress)
+/// The curves found, triple lines first, then the longest first.
+std::vector<const FeatureLine*> triplesThenLongest(const FeatureLines& automatic)
 {
-  FeatureSelection out;
-  if (source == FeatureSource::Given || source == FeatureSource::Both)
-    out.segments = given;
-  if (source != FeatureSource::Automatic && source != FeatureSource::Both)
-    return out;
-  FeatureLineOptions options = featureLineOptions(oracle, criteria);
-  options.progress = progress;
-  out.automatic = findFeatureLines(oracle, options);
-  out.warnings = out.automatic.warnings;
-  // Curves closer than half a grid step along a stretch (a tray's rim beside a label map's
-  // staircase rim on the same plane, arms leaving a junction at a few degrees) are one line for
-  // the search and could only be meshed with tetrahedra that small: taken in order (triple lines,
-  // then the longest first), a curve's segments that run along the curves already taken are
-  // dropped and its ends there moved onto them, so such curves share a trunk and part at a wider angle.
+  const FeatureSegments& A = automatic.segments;
+  std::vector<const FeatureLine*> order;
+  std::map<const FeatureLine*, double> length;
+  for (const FeatureLine& l : automatic.lines)
   {
-    FeatureSegments& A = out.automatic.segments;
-    std::vector<const FeatureLine*> order;
-    std::map<const FeatureLine*, double> length;
-    for (const FeatureLine& l : out.automatic.lines)
-    {
-      order.push_back(&l);
-      for (size_t k = 0; k + 1 < l.points.size(); ++k)
-        length[&l] += norm(A.points[l.points[k + 1]] - A.points[l.points[k]]);
-    }
-    std::stable_sort(order.begin(), order.end(), [&](const FeatureLine* a, const FeatureLine* b) {
-      return a->materials.size() != b->materials.size() ? a->materials.size() > b->materials.size() : length[a] > length[b];
-    });
-    FeatureSegments taken;
-    taken.points = A.points;
-    for (const FeatureLine* l : order)
-    {
-      std::size_t first = taken.segments.size();
-      for (size_t k = 0; k + 1 < l->points.size(); ++k)
-        if (l->points[k] != l->points[k + 1])
-          taken.segments.push_back({ l->points[k], l->points[k + 1] });
-      if (first > 0)
-        out.droppedNearDuplicate += dropAutomaticAlongGiven(taken, first, 0.5 * out.automatic.spacing);
-    }
-    // Curves that still leave a vertex at a very small angle (crossing at a few degrees) share a
-    // trunk, as simplifyFeatureNetwork does for given lines: the longer segment is replaced by the
-    // shorter one and the chord from its far end (moving that curve by at most sin(angle) times the
-    // shorter segment). Wider angles are the segment level's (clusters below 30 degrees).
-    for (int round = 0; round < 16; ++round)
-    {
-      std::vector<std::vector<size_t>> at(taken.points.size());
-      for (size_t k = 0; k < taken.segments.size(); ++k)
-        for (int v : taken.segments[k])
-          at[v].push_back(k);
-      bool changed = false;
-      std::vector<char> touched(taken.segments.size(), 0);
-      for (size_t v = 0; v < at.size(); ++v)
-        for (size_t i = 0; i < at[v].size(); ++i)
-          for (size_t j = i + 1; j < at[v].size(); ++j)
-          {
-            const size_t si = at[v][i], sj = at[v][j];
-            if (touched[si] || touched[sj])
-              continue;
-            const int a = taken.segments[si][0] == int(v) ? taken.segments[si][1] : taken.segments[si][0];
-            const int b = taken.segments[sj][0] == int(v) ? taken.segments[sj][1] : taken.segments[sj][0];
-            if (a == b || !(angleAt(taken.points[v], taken.points[a], taken.points[b]) < kTrunkAngle))
-              continue;
-            const Vec3 pv = taken.points[v];
-            const bool iShorter = norm(taken.points[a] - pv) <= norm(taken.points[b] - pv);
-            taken.segments[iShorter ? sj : si] = iShorter ? std::array<int, 2>{ a, b } : std::array<int, 2>{ b, a };
-            touched[si] = touched[sj] = 1;
-            ++out.trunksShared;
-            changed = true;
-          }
-      if (!changed)
-        break;
-    }
-    A = std::move(taken);
-    // the small angles of the lines as they are now, not as the search found them
-    out.warnings.erase(std::remove_if(out.warnings.begin(), out.warnings.end(),
-                         [](const std::string& w) { return w.rfind("feature lines meet", 0) == 0; }),
-      out.warnings.end());
-    out.automatic.smallAngles = findSmallFeatureAngles(A, options.smallAngle, out.warnings);
-    if (out.droppedNearDuplicate > 0)
-      out.warnings.push_back("feature lines: " + std::to_string(out.droppedNearDuplicate) +
-        " segment(s) of the lines found run within half a grid step of other curves found and were dropped (they share their trunk)");
+    order.push_back(&l);
+    for (size_t k = 0; k + 1 < l.points.size(); ++k)
+      length[&l] += norm(A.points[l.points[k + 1]] - A.points[l.points[k]]);
   }
-  if (!out.segments.empty())
-    shareCrossings(oracle, out.segments, out.automatic);
-  // Appended; a point with the coordinates of a given one (a shared crossing) is that point.
-  const std::size_t firstAutomatic = out.segments.segments.size();
+  std::stable_sort(order.begin(), order.end(), [&](const FeatureLine* a, const FeatureLine* b) {
+    return a->materials.size() != b->materials.size() ? a->materials.size() > b->materials.size() : length[a] > length[b];
+  });
+  return order;
+}
+
+/// Curves that still leave a vertex at a very small angle (crossing at a few degrees) share a
+/// trunk, as simplifyFeatureNetwork does for given lines: the longer segment is replaced by the
+/// shorter one and the chord from its far end (moving that curve by at most sin(angle) times the
+/// shorter segment). Wider angles are the segment level's (clusters below 30 degrees). Returns the
+/// number of segments rerouted. `f` has no own edge sizes (automatic segments have none).
+std::size_t shareTrunks(FeatureSegments& f)
+{
+  std::size_t shared = 0;
+  for (int round = 0; round < 16; ++round)
+  {
+    std::vector<std::vector<size_t>> at(f.points.size());
+    for (size_t k = 0; k < f.segments.size(); ++k)
+      for (int v : f.segments[k])
+        at[v].push_back(k);
+    bool changed = false;
+    std::vector<char> touched(f.segments.size(), 0);
+    for (size_t v = 0; v < at.size(); ++v)
+      for (size_t i = 0; i < at[v].size(); ++i)
+        for (size_t j = i + 1; j < at[v].size(); ++j)
+        {
+          const size_t si = at[v][i], sj = at[v][j];
+          if (touched[si] || touched[sj])
+            continue;
+          const int a = f.segments[si][0] == int(v) ? f.segments[si][1] : f.segments[si][0];
+          const int b = f.segments[sj][0] == int(v) ? f.segments[sj][1] : f.segments[sj][0];
+          if (a == b || !(angleAt(f.points[v], f.points[a], f.points[b]) < kTrunkAngle))
+            continue;
+          const Vec3 pv = f.points[v];
+          const bool iShorter = norm(f.points[a] - pv) <= norm(f.points[b] - pv);
+          f.segments[iShorter ? sj : si] = iShorter ? std::array<int, 2>{ a, b } : std::array<int, 2>{ b, a };
+          touched[si] = touched[sj] = 1;
+          ++shared;
+          changed = true;
+        }
+    if (!changed)
+      break;
+  }
+  return shared;
+}
+
+/// Curves closer than half a grid step along a stretch (a tray's rim beside a label map's
+/// staircase rim on the same plane, arms leaving a junction at a few degrees) are one line for
+/// the search and could only be meshed with tetrahedra that small: taken in order (triple lines,
+/// then the longest first), a curve's segments that run along the curves already taken are
+/// dropped and its ends there moved onto them, so such curves share a trunk and part at a wider
+/// angle (shareTrunks). The small-angle warnings then describe the lines as they are now.
+void dropNearDuplicateCurves(FeatureSelection& out, double smallAngle)
+{
+  FeatureSegments& A = out.automatic.segments;
+  FeatureSegments taken;
+  taken.points = A.points;
+  for (const FeatureLine* l : triplesThenLongest(out.automatic))
+  {
+    std::size_t first = taken.segments.size();
+    for (size_t k = 0; k + 1 < l->points.size(); ++k)
+      if (l->points[k] != l->points[k + 1])
+        taken.segments.push_back({ l->points[k], l->points[k + 1] });
+    if (first > 0)
+      out.droppedNearDuplicate += dropAutomaticAlongGiven(taken, first, 0.5 * out.automatic.spacing);
+  }
+  out.trunksShared += shareTrunks(taken);
+  A = std::move(taken);
+  out.warnings.erase(std::remove_if(out.warnings.begin(), out.warnings.end(),
+                       [](const std::string& w) { return w.rfind("feature lines meet", 0) == 0; }),
+    out.warnings.end());
+  out.automatic.smallAngles = findSmallFeatureAngles(A, smallAngle, out.warnings);
+  if (out.droppedNearDuplicate > 0)
+    out.warnings.push_back("feature lines: " + std::to_string(out.droppedNearDuplicate) +
+      " segment(s) of the lines found run within half a grid step of other curves found and were dropped (they share their trunk)");
+}
+
+/// The automatic segments appended to out.segments (a point with the coordinates of a given one, a
+/// shared crossing, is that point). A segment on the domain's outer boundary where the rim bends
+/// inwards (a label map's rim on a cut plane is a staircase at voxel scale) has no material next
+/// to it, nor have the halves and quarters the segment level would split it into: no tetrahedron
+/// can hold it as an edge. Dropped, as simplifyFeatureNetwork drops given segments that leave the
+/// domain.
+void appendAutomatic(const HierarchicalOracle& oracle, FeatureSelection& out)
+{
   std::map<std::array<double, 3>, int> givenPoint;
   for (size_t i = 0; i < out.segments.points.size(); ++i)
     givenPoint.emplace(std::array<double, 3>{ out.segments.points[i].x, out.segments.points[i].y, out.segments.points[i].z },
@@ -314,10 +323,6 @@ FeatureSelection selectLines(const HierarchicalOracle& oracle, const FeatureSegm
       out.segments.points.push_back(p);
     }
   }
-  // A segment on the domain's outer boundary where the rim bends inwards (a label map's rim on a
-  // cut plane is a staircase at voxel scale) has no material next to it, nor have the halves and
-  // quarters the segment level would split it into: no tetrahedron can hold it as an edge. Dropped,
-  // as simplifyFeatureNetwork drops given segments that leave the domain.
   std::size_t unmeshable = 0;
   for (auto s : out.automatic.segments.segments)
   {
@@ -338,25 +343,20 @@ FeatureSelection selectLines(const HierarchicalOracle& oracle, const FeatureSegm
       " segment(s) of the lines found where inputs meet have no material next to them (a rim of the domain's outer "
       "boundary bending inwards) and were dropped: no tetrahedron could hold them as an edge");
   }
+}
+
+/// Given lines win: the automatic segments (from `firstAutomatic` on) that run along given lines
+/// (the search cannot tell curves closer than its grid step apart, nor can the mesh at twice
+/// that), then those that cross given ones, are dropped.
+void dropAutomaticAtGiven(FeatureSelection& out, std::size_t firstAutomatic)
+{
   std::size_t automaticFrom = firstAutomatic;
-  if (firstAutomatic > 0 && !out.automatic.segments.empty())
+  if (const std::size_t along = dropAutomaticAlongGiven(out.segments, automaticFrom, 0.5 * out.automatic.spacing))
   {
-    // the search cannot tell curves closer than its grid step apart, nor can the mesh at twice that
-    const double eps = 0.5 * out.automatic.spacing;
-    if (const std::size_t along = dropAutomaticAlongGiven(out.segments, automaticFrom, eps))
-    {
-      out.droppedAlongGiven = along;
-      out.warnings.push_back("feature lines: " + std::to_string(along) +
-        " segment(s) of the lines found where inputs meet run along given lines and were dropped (the given ones are kept)");
-    }
+    out.droppedAlongGiven = along;
+    out.warnings.push_back("feature lines: " + std::to_string(along) +
+      " segment(s) of the lines found where inputs meet run along given lines and were dropped (the given ones are kept)");
   }
-  if (firstAutomatic == 0 || out.automatic.segments.empty())
-  {
-    if (out.droppedUnmeshable + out.droppedAlongGiven + out.droppedNearDuplicate > 0)
-      mergeFeatureSegments(out.segments); // drops the points no segment uses any more
-    return out;
-  }
-  // Given lines win over automatic ones that cross them.
   std::set<std::size_t> drop;
   for (const auto& [s, t] : out.segments.crossingPairs())
   {
@@ -365,11 +365,7 @@ FeatureSelection selectLines(const HierarchicalOracle& oracle, const FeatureSegm
       drop.insert(sAuto ? s : t);
   }
   if (drop.empty())
-  {
-    if (out.droppedUnmeshable + out.droppedAlongGiven + out.droppedNearDuplicate > 0)
-      mergeFeatureSegments(out.segments);
-    return out;
-  }
+    return;
   std::vector<std::array<int, 2>> kept;
   for (std::size_t s = 0; s < out.segments.segments.size(); ++s)
     if (!drop.count(s))
@@ -378,7 +374,32 @@ FeatureSelection selectLines(const HierarchicalOracle& oracle, const FeatureSegm
   out.droppedAutomatic = drop.size();
   out.warnings.push_back("feature lines: " + std::to_string(drop.size()) +
     " segment(s) of the lines found where inputs meet cross given lines and were dropped (the given ones are kept)");
-  mergeFeatureSegments(out.segments); // drops the points no segment uses any more
+}
+
+/// selectFeatures without the given lines' own edge sizes: `given.edgeSizes` is empty unless
+/// `source` is Given or None (nothing below runs then), so the steps that drop, split and move
+/// segments keep no edge-size vector; selectFeatures carries the sizes onto the result.
+FeatureSelection selectWithoutEdgeSizes(const HierarchicalOracle& oracle, const FeatureSegments& given,
+  FeatureSource source, const MaterialCriteria& criteria, const std::function<bool(double)>& progress)
+{
+  FeatureSelection out;
+  if (source == FeatureSource::Given || source == FeatureSource::Both)
+    out.segments = given;
+  if (source != FeatureSource::Automatic && source != FeatureSource::Both)
+    return out;
+  FeatureLineOptions options = featureLineOptions(oracle, criteria);
+  options.progress = progress;
+  out.automatic = findFeatureLines(oracle, options);
+  out.warnings = out.automatic.warnings;
+  dropNearDuplicateCurves(out, options.smallAngle);
+  if (!out.segments.empty())
+    shareCrossings(oracle, out.segments, out.automatic);
+  const std::size_t firstAutomatic = out.segments.segments.size();
+  appendAutomatic(oracle, out);
+  if (firstAutomatic > 0 && !out.automatic.segments.empty())
+    dropAutomaticAtGiven(out, firstAutomatic);
+  if (out.droppedUnmeshable + out.droppedAlongGiven + out.droppedNearDuplicate + out.droppedAutomatic > 0)
+    mergeFeatureSegments(out.segments); // drops the points no segment uses any more
   return out;
 }
 
@@ -432,7 +453,22 @@ int FeatureSelection::nearestSegment(const Vec3& x) const
 FeatureSelection selectFeatures(const HierarchicalOracle& oracle, const FeatureSegments& given, FeatureSource source,
   const MaterialCriteria& criteria, const std::function<bool(double)>& progress)
 {
-  FeatureSelection out = selectLines(oracle, given, source, criteria, progress);
+  if (given.edgeSizes.empty() || source == FeatureSource::Given || source == FeatureSource::None)
+  {
+    FeatureSelection out = selectWithoutEdgeSizes(oracle, given, source, criteria, progress);
+    if (source == FeatureSource::None)
+      out.segments.edgeSizes.clear();
+    labelOrigins(out, given);
+    return out;
+  }
+  // Given lines split where automatic ones meet them (shared crossings, automatic ends moved onto
+  // them) keep their own edge sizes on every piece, found by geometry (the given lines keep their
+  // course); the automatic lines have none (their materials' count). Segments dropped or merged
+  // leave no entry behind: the sizes are assigned to the final segments, one each.
+  FeatureSegments bare = given;
+  bare.edgeSizes.clear();
+  FeatureSelection out = selectWithoutEdgeSizes(oracle, bare, source, criteria, progress);
+  transferEdgeSizes(given, out.segments, 1e-9 * norm(oracle.bounds().size()));
   labelOrigins(out, given);
   return out;
 }

@@ -62,7 +62,8 @@ struct FeatureSelection
 /// materials they separate (their smallest; else the facet size, else 1/40 of the oracle's diagonal,
 /// as MesherOptions::resampleFeatureLines) within a tenth of the smallest facet distance; the search grid
 /// is half that fine. Given lines win: an automatic segment that crosses a given one is dropped
-/// (with a warning), so a rim given by hand and found again does not make the lines invalid.
+/// (with a warning), so a rim given by hand and found again does not make the lines invalid. The
+/// given lines keep their own edge sizes (FeatureSegments::edgeSizes), also on the pieces of a split.
 /// `progress` as FeatureLineOptions::progress.
 FeatureSelection selectFeatures(const HierarchicalOracle& oracle, const FeatureSegments& given, FeatureSource source,
   const MaterialCriteria& criteria, const std::function<bool(double)>& progress = {});

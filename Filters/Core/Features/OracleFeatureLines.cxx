@@ -271,6 +271,555 @@ std::string describe(const Vec3& p)
   o << "(" << p.x << ", " << p.y << ", " << p.z << ")";
   return o.str();
 }
+
+struct Link
+{
+  int a, b;
+};
+
+/// Sets of 0..n-1 joined pairwise; a set's root is its smallest member.
+class SmallestRoot
+{
+public:
+  explicit SmallestRoot(size_t n)
+    : parent_(n)
+  {
+    for (size_t v = 0; v < n; ++v)
+      parent_[v] = static_cast<int>(v);
+  }
+  int root(int v)
+  {
+    while (parent_[v] != v)
+      v = parent_[v] = parent_[parent_[v]];
+    return v;
+  }
+  void join(int a, int b)
+  {
+    a = root(a), b = root(b);
+    if (a != b)
+      parent_[std::max(a, b)] = std::min(a, b);
+  }
+
+private:
+  std::vector<int> parent_;
+};
+
+/// Where curves meet: the centre of the cubes they end in and the crossings ending there.
+struct Junction
+{
+  Vec3 centre;
+  std::vector<int> ending;
+};
+
+/// findFeatureLines' state and steps: the search grid and the regions at its points, the grid
+/// edges walked (cached: each is shared by four faces), the crossings found on grid faces and how
+/// cubes link them, then the graph of crossings and junctions whose curves become the result.
+class FeatureLineSearch
+{
+public:
+  /// The grid: two steps of room around the materials, the spacing widened (with a warning) to
+  /// stay within options.maximumGridPoints.
+  FeatureLineSearch(const HierarchicalOracle& oracle, const FeatureLineOptions& options, FeatureLines& result)
+    : oracle_(oracle)
+    , options_(options)
+    , result_(result)
+  {
+    const BoundingBox box = oracle.bounds(); // throws for an empty or unbounded oracle
+    diagonal_ = norm(box.size());
+    double h = options.spacing > 0 ? options.spacing
+      : options.maxSegmentLength > 0 ? 0.5 * options.maxSegmentLength
+                                     : diagonal_ / 64.0;
+    h = std::min(h, diagonal_ / 4.0);
+    if (!(h > 0) || !std::isfinite(h))
+      throw InputError("feature lines: the search grid's spacing " + std::to_string(h) + " is not a positive number");
+    // The origin is shifted by odd fractions of a step so that grid planes do not fall on the
+    // round coordinates inputs like to have.
+    const Vec3 shift{ 0.5 + 0.1234567, 0.5 + 0.2718282, 0.5 + 0.3141593 };
+    auto gridSize = [&](double step) {
+      std::array<int, 3> n;
+      for (int i = 0; i < 3; ++i)
+        n[i] = static_cast<int>(std::ceil(box.size()[i] / step + 2 * shift[i])) + 2;
+      return n;
+    };
+    std::array<int, 3> n = gridSize(h);
+    const double wanted = h;
+    while (static_cast<double>(n[0]) * n[1] * n[2] > static_cast<double>(options.maximumGridPoints))
+      n = gridSize(h *= 1.1);
+    if (h > wanted)
+      result.warnings.push_back("feature lines: the search grid's spacing was widened from " + std::to_string(wanted) +
+        " to " + std::to_string(h) + " (at most " + std::to_string(options.maximumGridPoints) +
+        " grid points): curves shorter or closer than that can be missed");
+    result.spacing = h_ = h;
+    origin_ = Vec3{ box.min.x - shift.x * h, box.min.y - shift.y * h, box.min.z - shift.z * h };
+    nx_ = n[0], ny_ = n[1], nz_ = n[2];
+    stride_[0] = 1, stride_[1] = nx_, stride_[2] = nx_ * ny_;
+    precision_ = 1e-10 * diagonal_;
+  }
+
+  /// 1. Regions at the grid points.
+  void classifyGridPoints()
+  {
+    region_.resize(static_cast<size_t>(nx_ * ny_ * nz_));
+    for (std::int64_t k = 0; k < nz_; ++k)
+    {
+      for (std::int64_t j = 0; j < ny_; ++j)
+        for (std::int64_t i = 0; i < nx_; ++i)
+        {
+          const std::int64_t id = index(i, j, k);
+          region_[id] = oracle_.decide(pointAt(id));
+        }
+      report(0.4 * (k + 1) / nz_);
+    }
+  }
+
+  /// 2. Grid faces of mixed cubes: walked along their edges, then bisected where a curve passes;
+  /// in each cube, crossings of the same regions in pairs are linked, the others end at a junction.
+  void findCrossings()
+  {
+    for (std::int64_t k = 0; k + 1 < nz_; ++k)
+    {
+      for (std::int64_t j = 0; j + 1 < ny_; ++j)
+        for (std::int64_t i = 0; i + 1 < nx_; ++i)
+          linkCube(index(i, j, k));
+      report(0.4 + 0.5 * (k + 1) / nz_);
+    }
+    result_.gridFacesCrossed = crossings_.size();
+  }
+
+  /// Between two crossings joined in a cube the curve may bend (a corner of a box, a tight curve):
+  /// the crossing on the plane halfway between them, where it lies off their chord, is inserted, and
+  /// so on down to the tolerance; corners are then kept within a 256th of a grid step.
+  void refineLinks()
+  {
+    tolerance_ = options_.tolerance > 0 ? options_.tolerance
+      : options_.maxSegmentLength > 0   ? 0.05 * options_.maxSegmentLength
+                                        : 0.01 * h_;
+    std::vector<Link> refined;
+    for (const Link& l : links_)
+    {
+      std::vector<int> path{ l.a };
+      refine(l.a, l.b, 8, path);
+      path.push_back(l.b);
+      for (size_t k = 0; k + 1 < path.size(); ++k)
+        refined.push_back({ path[k], path[k + 1] });
+    }
+    links_ = std::move(refined);
+  }
+
+  /// 3. The graph: crossings, then one junction vertex per group of touching cubes where curves end.
+  void buildGraph()
+  {
+    crossingCount_ = static_cast<int>(crossings_.size());
+    for (const Crossing& c : crossings_)
+      nodes_.push_back(c.point);
+    adjacent_.resize(nodes_.size());
+    for (const Link& l : links_)
+    {
+      adjacent_[l.a].push_back(l.b);
+      adjacent_[l.b].push_back(l.a);
+    }
+    for (const auto& [centre, ending] : mergeJunctionCubes())
+      addJunction(centre, ending);
+  }
+
+  /// 4. Curves: chains between junctions and vertices that do not continue exactly one curve, then
+  /// loops.
+  std::vector<std::vector<int>> curves() const
+  {
+    std::set<std::pair<int, int>> walked;
+    auto take = [&](int a, int b) { return walked.insert({ std::min(a, b), std::max(a, b) }).second; };
+    std::vector<std::vector<int>> chains;
+    auto walk = [&](int start, int next) {
+      std::vector<int> chain{ start, next };
+      // junctions end chains, so that a chain is one curve with one signature
+      for (int previous = start, v = next; adjacent_[v].size() == 2 && v != start && v < crossingCount_;)
+      {
+        const int w = adjacent_[v][0] == previous ? adjacent_[v][1] : adjacent_[v][0];
+        if (!take(v, w))
+          break;
+        chain.push_back(w);
+        previous = v;
+        v = w;
+      }
+      chains.push_back(std::move(chain));
+    };
+    for (int v = 0; v < static_cast<int>(nodes_.size()); ++v)
+      if (adjacent_[v].size() != 2 || v >= crossingCount_)
+        for (int w : adjacent_[v])
+          if (take(v, w))
+            walk(v, w);
+    for (int v = 0; v < static_cast<int>(nodes_.size()); ++v)
+      for (int w : adjacent_[v])
+        if (take(v, w))
+          walk(v, w);
+    return chains;
+  }
+
+  /// 4a. A junction is placed inside its cube, from the curves' tangents; where curves meet at a
+  /// small angle the last crossing of an arm can lie beyond it, and the arm would turn back there (a
+  /// fold at 0 degrees). Such crossings are left out: the arm runs straight to the junction.
+  void trimArms(std::vector<std::vector<int>>& chains) const
+  {
+    for (auto& chain : chains)
+      for (int end = 0; end < 2; ++end)
+      {
+        while (chain.size() > 2 && chain.front() >= crossingCount_ &&
+          angleAt(nodes_[chain[1]], nodes_[chain[0]], nodes_[chain[2]]) < 90.0)
+          chain.erase(chain.begin() + 1);
+        std::reverse(chain.begin(), chain.end());
+      }
+  }
+
+  /// 4b. Curves between two junctions shorter than their chord length (curves crossing or touching
+  /// at a small angle run within a grid step of each other for a while, and each cube along that
+  /// stretch made a junction) collapse to one vertex: the mesh could not show them, and their ends
+  /// would meet the other curves there at angles down to 0 degrees.
+  void collapseShortCurves(std::vector<std::vector<int>>& chains)
+  {
+    SmallestRoot same(nodes_.size());
+    std::vector<char> collapsed(chains.size(), 0);
+    for (size_t c = 0; c < chains.size(); ++c)
+    {
+      const auto& chain = chains[c];
+      if (chain.size() < 2 || chain.front() < crossingCount_ || chain.back() < crossingCount_)
+        continue;
+      double length = 0.0;
+      for (size_t k = 0; k + 1 < chain.size(); ++k)
+        length += norm(nodes_[chain[k + 1]] - nodes_[chain[k]]);
+      if (!(length < lengthFor(materialsOf(crossings_[tagOf(chain)].regions))))
+        continue;
+      collapsed[c] = 1;
+      same.join(chain.front(), chain.back());
+    }
+    std::map<int, std::vector<int>> members;
+    for (int v = crossingCount_; v < static_cast<int>(nodes_.size()); ++v)
+      members[same.root(v)].push_back(v);
+    for (const auto& [root, group] : members)
+      if (group.size() > 1)
+      {
+        Vec3 mean;
+        for (int v : group)
+          mean = mean + (1.0 / group.size()) * nodes_[v];
+        nodes_[root] = mean;
+      }
+    std::vector<std::vector<int>> kept;
+    for (size_t c = 0; c < chains.size(); ++c)
+      if (!collapsed[c])
+      {
+        std::vector<int> chain = chains[c];
+        chain.front() = same.root(chain.front());
+        chain.back() = same.root(chain.back());
+        kept.push_back(std::move(chain));
+      }
+    chains = std::move(kept);
+  }
+
+  /// 5. Each curve resampled on its own (its ends stay, being ends), then shared end vertices.
+  void addCurves(const std::vector<std::vector<int>>& chains)
+  {
+    for (const auto& chain : chains)
+      addCurve(chain);
+  }
+
+  void report(double fraction) const
+  {
+    if (options_.progress && !options_.progress(fraction))
+      throw FeatureSearchAborted();
+  }
+
+private:
+  std::int64_t index(std::int64_t i, std::int64_t j, std::int64_t k) const { return i + nx_ * (j + ny_ * k); }
+  Vec3 pointAt(std::int64_t id) const
+  {
+    const std::int64_t i = id % nx_, j = (id / nx_) % ny_, k = id / (nx_ * ny_);
+    return Vec3{ origin_.x + i * h_, origin_.y + j * h_, origin_.z + k * h_ };
+  }
+
+  const EdgeRegions& edge(std::int64_t p, int axis)
+  {
+    const std::int64_t key = 3 * p + axis;
+    auto it = edges_.find(key);
+    if (it == edges_.end())
+      it = edges_.emplace(key, regionsAlong(oracle_, pointAt(p), pointAt(p + stride_[axis]))).first;
+    return it->second;
+  }
+
+  /// The crossing on the grid face at lowest corner p normal to `axis`, or -1 (cached).
+  int face(std::int64_t p, int axis)
+  {
+    const std::int64_t key = 3 * p + axis;
+    if (auto it = faceCrossing_.find(key); it != faceCrossing_.end())
+      return it->second;
+    const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+    Vec3 U, V;
+    U[u] = h_;
+    V[v] = h_;
+    Rect q{ pointAt(p), U, V, edge(p, u), edge(p + stride_[v], u), edge(p, v), edge(p + stride_[u], v) };
+    int found = -1;
+    if (holdsCurve(loopOf(q)))
+    {
+      Crossing c = locate(oracle_, std::move(q), precision_);
+      if (c.regions.size() >= 3 && isFeature(c.regions))
+      {
+        found = static_cast<int>(crossings_.size());
+        crossings_.push_back(std::move(c));
+      }
+    }
+    faceCrossing_.emplace(key, found);
+    return found;
+  }
+
+  /// The cube at lowest corner p, when its corners are not all in one region.
+  void linkCube(std::int64_t p)
+  {
+    bool mixed = false;
+    for (int c = 1; c < 8 && !mixed; ++c)
+      mixed = region_[p + (c & 1) * stride_[0] + ((c >> 1) & 1) * stride_[1] + ((c >> 2) & 1) * stride_[2]] != region_[p];
+    if (!mixed)
+      return;
+    std::map<Signature, std::vector<int>> bySignature;
+    for (int axis = 0; axis < 3; ++axis)
+      for (std::int64_t side : { std::int64_t(0), stride_[axis] })
+      {
+        const int c = face(p + side, axis);
+        if (c >= 0)
+          bySignature[crossings_[c].regions].push_back(c);
+      }
+    std::vector<int> ending;
+    for (const auto& [signature, ids] : bySignature)
+    {
+      if (ids.size() == 2)
+        links_.push_back({ ids[0], ids[1] });
+      else if (ids.size() == 4)
+        pairPasses(ids);
+      else
+        ending.insert(ending.end(), ids.begin(), ids.end());
+    }
+    // one ending curve is kept too: its junction may be shared with a touching cube (mergeJunctionCubes)
+    if (!ending.empty())
+      junctionCubes_.push_back({ p, ending });
+  }
+
+  /// One curve passing a cube twice (a fold, two near-parallel pieces): two passes, paired by the
+  /// shorter total chord, not a junction (that made zigzags meeting at 0 degrees).
+  void pairPasses(const std::vector<int>& ids)
+  {
+    const auto d = [&](int a, int b) { return norm(crossings_[ids[a]].point - crossings_[ids[b]].point); };
+    const double p01 = d(0, 1) + d(2, 3), p02 = d(0, 2) + d(1, 3), p03 = d(0, 3) + d(1, 2);
+    const int partner = p01 <= p02 && p01 <= p03 ? 1 : p02 <= p03 ? 2 : 3;
+    const int rest[2] = { partner == 1 ? 2 : 1, partner == 3 ? 2 : 3 };
+    links_.push_back({ ids[0], ids[partner] });
+    links_.push_back({ ids[rest[0]], ids[rest[1]] });
+  }
+
+  void refine(int a, int b, int depth, std::vector<int>& path)
+  {
+    const Vec3 pa = crossings_[a].point, pb = crossings_[b].point;
+    const Vec3 d = pb - pa;
+    const double L = norm(d);
+    if (depth == 0 || !(L > 4 * precision_))
+      return;
+    const Vec3 t = (1.0 / L) * d;
+    const int axis = std::abs(t.x) <= std::abs(t.y) && std::abs(t.x) <= std::abs(t.z) ? 0 : std::abs(t.y) <= std::abs(t.z) ? 1 : 2;
+    Vec3 e;
+    e[axis] = 1.0;
+    Vec3 e1 = cross(t, e);
+    e1 = (1.0 / norm(e1)) * e1;
+    const Vec3 e2 = cross(t, e1);
+    const Vec3 o = 0.5 * (pa + pb) - (0.5 * L) * (e1 + e2);
+    Rect q{ o, L * e1, L * e2, regionsAlong(oracle_, o, o + L * e1), regionsAlong(oracle_, o + L * e2, o + L * (e1 + e2)),
+      regionsAlong(oracle_, o, o + L * e2), regionsAlong(oracle_, o + L * e1, o + L * (e1 + e2)) };
+    if (!holdsCurve(loopOf(q)))
+      return;
+    Crossing m = locate(oracle_, std::move(q), precision_);
+    const double off = norm(m.point - 0.5 * (pa + pb));
+    if (m.regions != crossings_[a].regions || !(off > tolerance_))
+      return;
+    const int id = static_cast<int>(crossings_.size());
+    crossings_.push_back(std::move(m));
+    refine(a, id, depth - 1, path);
+    path.push_back(id);
+    refine(id, b, depth - 1, path);
+  }
+
+  /// Curves that meet near a face or corner of the grid end in neighbouring cubes (one arm in each):
+  /// cubes where curves end and that touch (26 neighbours) are one junction, where two or more end.
+  std::vector<Junction> mergeJunctionCubes() const
+  {
+    std::unordered_map<std::int64_t, int> cubeIndex;
+    for (size_t c = 0; c < junctionCubes_.size(); ++c)
+      cubeIndex.emplace(junctionCubes_[c].first, static_cast<int>(c));
+    SmallestRoot touching(junctionCubes_.size());
+    for (size_t c = 0; c < junctionCubes_.size(); ++c)
+      for (int d = 0; d < 27; ++d)
+      {
+        const std::int64_t q = junctionCubes_[c].first + (d % 3 - 1) * stride_[0] + ((d / 3) % 3 - 1) * stride_[1] + (d / 9 - 1) * stride_[2];
+        if (auto it = cubeIndex.find(q); it != cubeIndex.end())
+          touching.join(static_cast<int>(c), it->second);
+      }
+    std::map<int, std::pair<std::vector<Vec3>, std::set<int>>> groups;
+    for (size_t c = 0; c < junctionCubes_.size(); ++c)
+    {
+      auto& g = groups[touching.root(static_cast<int>(c))];
+      g.first.push_back(pointAt(junctionCubes_[c].first) + Vec3{ 0.5 * h_, 0.5 * h_, 0.5 * h_ });
+      g.second.insert(junctionCubes_[c].second.begin(), junctionCubes_[c].second.end());
+    }
+    std::vector<Junction> junctions;
+    for (const auto& [unused, g] : groups)
+      if (g.second.size() >= 2)
+      {
+        Junction j;
+        for (const Vec3& c : g.first)
+          j.centre = j.centre + (1.0 / g.first.size()) * c;
+        j.ending.assign(g.second.begin(), g.second.end());
+        junctions.push_back(std::move(j));
+      }
+    return junctions;
+  }
+
+  /// The chord length of a curve between these materials: the smallest listed, else the global one.
+  double lengthFor(const std::vector<int>& materials) const
+  {
+    double length = options_.maxSegmentLength;
+    for (int material : materials)
+      if (auto it = options_.materialSegmentLength.find(material); it != options_.materialSegmentLength.end())
+        length = length > 0 ? std::min(length, it->second) : it->second;
+    return length;
+  }
+
+  /// The chord tolerance of a curve between these materials: the smallest of their own
+  /// (options.materialTolerance), the global one for materials without.
+  double toleranceFor(const std::vector<int>& materials, double length) const
+  {
+    const double global = options_.tolerance > 0 ? options_.tolerance : 0.05 * length;
+    double tolerance = HUGE_VAL;
+    for (int material : materials)
+      if (material >= 0)
+      {
+        auto it = options_.materialTolerance.find(material);
+        tolerance = std::min(tolerance, it != options_.materialTolerance.end() ? it->second : global);
+      }
+    return std::isfinite(tolerance) ? tolerance : global;
+  }
+
+  /// The crossing that tells a chain's regions: its first vertex, unless that is a junction.
+  int tagOf(const std::vector<int>& chain) const { return chain[chain[0] < crossingCount_ ? 0 : 1]; }
+
+  /// A junction vertex for the curves `ending` near `centre`: the meeting point of their tangents
+  /// (exact for straight curves), else their mean.
+  void addJunction(const Vec3& centre, const std::vector<int>& ending)
+  {
+    std::vector<Vec3> at, along;
+    Vec3 mean;
+    for (int c : ending)
+    {
+      mean = mean + (1.0 / ending.size()) * nodes_[c];
+      if (adjacent_[c].size() == 1 && adjacent_[c][0] < crossingCount_)
+      {
+        const Vec3 d = nodes_[c] - nodes_[adjacent_[c][0]];
+        if (norm(d) > 0)
+        {
+          at.push_back(nodes_[c]);
+          along.push_back((1.0 / norm(d)) * d);
+        }
+      }
+    }
+    Vec3 x;
+    if (at.size() < 2 || !nearestToLines(at, along, x) || norm(x - centre) > 1.5 * h_)
+      x = mean;
+    const int junction = static_cast<int>(nodes_.size());
+    nodes_.push_back(x);
+    adjacent_.emplace_back();
+    for (int c : ending)
+    {
+      adjacent_[c].push_back(junction);
+      adjacent_[junction].push_back(c);
+    }
+  }
+
+  /// The result's point of graph node `node`, shared by the curves that end there.
+  int pointOfNode(int node)
+  {
+    auto [it, added] = sharedPoint_.emplace(node, static_cast<int>(result_.segments.points.size()));
+    if (added)
+      result_.segments.points.push_back(nodes_[node]);
+    return it->second;
+  }
+
+  void addCurve(const std::vector<int>& chain)
+  {
+    if (chain.size() < 2)
+      return;
+    const int tagged = tagOf(chain);
+    if (tagged >= crossingCount_)
+      return; // two junctions joined directly: no crossing tells the regions (does not happen)
+    FeatureLine line;
+    line.materials = materialsOf(crossings_[tagged].regions);
+    line.triple = line.materials.size() >= 3;
+    // A loop through a junction stays open there, so the junction is kept as its two ends.
+    const bool closed = chain.back() == chain.front() && adjacent_[chain.front()].size() == 2 && chain.front() < crossingCount_;
+    const size_t m = closed ? chain.size() - 1 : chain.size();
+    if (closed && m < 3)
+      return;
+    FeatureSegments piece;
+    for (size_t k = 0; k < m; ++k)
+      piece.points.push_back(nodes_[chain[k]]);
+    for (size_t k = 0; k + 1 < m; ++k)
+      piece.segments.push_back({ static_cast<int>(k), static_cast<int>(k + 1) });
+    if (closed)
+      piece.segments.push_back({ static_cast<int>(m - 1), 0 });
+    resampleCurve(piece, line.materials);
+    std::vector<int> order = chainOrder(piece);
+    if (!closed && norm(piece.points[order.front()] - nodes_[chain.front()]) > 0)
+      std::reverse(order.begin(), order.end());
+    for (size_t k = 0; k < order.size(); ++k)
+    {
+      if (!closed && k == 0)
+        line.points.push_back(pointOfNode(chain.front()));
+      else if (!closed && k + 1 == order.size())
+        line.points.push_back(pointOfNode(chain.back()));
+      else if (closed && k + 1 == order.size() && order[k] == order[0])
+        line.points.push_back(line.points.front());
+      else
+      {
+        line.points.push_back(static_cast<int>(result_.segments.points.size()));
+        result_.segments.points.push_back(piece.points[order[k]]);
+      }
+    }
+    for (size_t k = 0; k + 1 < line.points.size(); ++k)
+      if (line.points[k] != line.points[k + 1])
+        result_.segments.segments.push_back({ line.points[k], line.points[k + 1] });
+    result_.lines.push_back(std::move(line));
+  }
+
+  /// At the smallest segment length asked for the curve's materials (none: left as found), within
+  /// the smallest of their chord tolerances.
+  void resampleCurve(FeatureSegments& piece, const std::vector<int>& materials) const
+  {
+    const double length = lengthFor(materials);
+    if (length > 0)
+      resampleFeatureLines(piece, length, toleranceFor(materials, length), options_.smallAngle);
+  }
+
+  const HierarchicalOracle& oracle_;
+  const FeatureLineOptions& options_;
+  FeatureLines& result_;
+  double diagonal_ = 0, h_ = 0, precision_ = 0, tolerance_ = 0;
+  Vec3 origin_;
+  std::int64_t nx_ = 0, ny_ = 0, nz_ = 0;
+  std::int64_t stride_[3] = { 0, 0, 0 };
+  std::vector<Region> region_;
+  std::unordered_map<std::int64_t, EdgeRegions> edges_;
+  std::vector<Crossing> crossings_;
+  std::unordered_map<std::int64_t, int> faceCrossing_; // 3 * lowest corner + normal axis -> crossing or -1
+  std::vector<Link> links_;
+  std::vector<std::pair<std::int64_t, std::vector<int>>> junctionCubes_; // cube, curves ending in it
+  int crossingCount_ = 0;
+  std::vector<Vec3> nodes_;
+  std::vector<std::vector<int>> adjacent_;
+  std::map<int, int> sharedPoint_; // node -> point of result.segments
+};
+
 }
 
 std::vector<SmallFeatureAngle> findSmallFeatureAngles(const FeatureSegments& f, double below, std::vector<std::string>& warnings)
@@ -318,446 +867,18 @@ std::vector<SmallFeatureAngle> findSmallFeatureAngles(const FeatureSegments& f, 
 FeatureLines findFeatureLines(const HierarchicalOracle& oracle, const FeatureLineOptions& options)
 {
   FeatureLines result;
-  const BoundingBox box = oracle.bounds(); // throws for an empty or unbounded oracle
-  const double diagonal = norm(box.size());
-  double h = options.spacing > 0 ? options.spacing
-    : options.maxSegmentLength > 0 ? 0.5 * options.maxSegmentLength
-                                   : diagonal / 64.0;
-  h = std::min(h, diagonal / 4.0);
-  if (!(h > 0) || !std::isfinite(h))
-    throw InputError("feature lines: the search grid's spacing " + std::to_string(h) + " is not a positive number");
-  // Two grid steps of room around the materials; the origin is shifted by odd fractions of a step
-  // so that grid planes do not fall on the round coordinates inputs like to have.
-  const Vec3 shift{ 0.5 + 0.1234567, 0.5 + 0.2718282, 0.5 + 0.3141593 };
-  auto gridSize = [&](double step) {
-    std::array<int, 3> n;
-    for (int i = 0; i < 3; ++i)
-      n[i] = static_cast<int>(std::ceil(box.size()[i] / step + 2 * shift[i])) + 2;
-    return n;
-  };
-  std::array<int, 3> n = gridSize(h);
-  const double wanted = h;
-  while (static_cast<double>(n[0]) * n[1] * n[2] > static_cast<double>(options.maximumGridPoints))
-    n = gridSize(h *= 1.1);
-  if (h > wanted)
-    result.warnings.push_back("feature lines: the search grid's spacing was widened from " + std::to_string(wanted) +
-      " to " + std::to_string(h) + " (at most " + std::to_string(options.maximumGridPoints) +
-      " grid points): curves shorter or closer than that can be missed");
-  result.spacing = h;
-  const Vec3 origin{ box.min.x - shift.x * h, box.min.y - shift.y * h, box.min.z - shift.z * h };
-  const std::int64_t nx = n[0], ny = n[1], nz = n[2];
-  const std::int64_t stride[3] = { 1, nx, nx * ny };
-  auto index = [&](std::int64_t i, std::int64_t j, std::int64_t k) { return i + nx * (j + ny * k); };
-  auto pointAt = [&](std::int64_t id) {
-    const std::int64_t i = id % nx, j = (id / nx) % ny, k = id / (nx * ny);
-    return Vec3{ origin.x + i * h, origin.y + j * h, origin.z + k * h };
-  };
-  auto report = [&](double fraction) {
-    if (options.progress && !options.progress(fraction))
-      throw FeatureSearchAborted();
-  };
-
-  // 1. Regions at the grid points.
-  std::vector<Region> region(static_cast<size_t>(nx * ny * nz));
-  for (std::int64_t k = 0; k < nz; ++k)
-  {
-    for (std::int64_t j = 0; j < ny; ++j)
-      for (std::int64_t i = 0; i < nx; ++i)
-      {
-        const std::int64_t id = index(i, j, k);
-        region[id] = oracle.decide(pointAt(id));
-      }
-    report(0.4 * (k + 1) / nz);
-  }
-
-  // 2. Grid faces of mixed cubes: walked along their edges (cached: each edge is shared by four
-  // faces), then bisected where a curve passes.
-  std::unordered_map<std::int64_t, EdgeRegions> edges;
-  auto edge = [&](std::int64_t p, int axis) -> const EdgeRegions& {
-    const std::int64_t key = 3 * p + axis;
-    auto it = edges.find(key);
-    if (it == edges.end())
-      it = edges.emplace(key, regionsAlong(oracle, pointAt(p), pointAt(p + stride[axis]))).first;
-    return it->second;
-  };
-  const double precision = 1e-10 * diagonal;
-  std::vector<Crossing> crossings;
-  std::unordered_map<std::int64_t, int> faceCrossing; // 3 * lowest corner + normal axis -> crossing or -1
-  auto face = [&](std::int64_t p, int axis) {
-    const std::int64_t key = 3 * p + axis;
-    if (auto it = faceCrossing.find(key); it != faceCrossing.end())
-      return it->second;
-    const int u = (axis + 1) % 3, v = (axis + 2) % 3;
-    Vec3 U, V;
-    U[u] = h;
-    V[v] = h;
-    Rect q{ pointAt(p), U, V, edge(p, u), edge(p + stride[v], u), edge(p, v), edge(p + stride[u], v) };
-    int found = -1;
-    if (holdsCurve(loopOf(q)))
-    {
-      Crossing c = locate(oracle, std::move(q), precision);
-      if (c.regions.size() >= 3 && isFeature(c.regions))
-      {
-        found = static_cast<int>(crossings.size());
-        crossings.push_back(std::move(c));
-      }
-    }
-    faceCrossing.emplace(key, found);
-    return found;
-  };
-
-  struct Link
-  {
-    int a, b;
-  };
-  std::vector<Link> links;
-  std::vector<std::pair<std::int64_t, std::vector<int>>> junctionCubes; // cube, curves ending in it
-  for (std::int64_t k = 0; k + 1 < nz; ++k)
-  {
-    for (std::int64_t j = 0; j + 1 < ny; ++j)
-      for (std::int64_t i = 0; i + 1 < nx; ++i)
-      {
-        const std::int64_t p = index(i, j, k);
-        bool mixed = false;
-        for (int c = 1; c < 8 && !mixed; ++c)
-          mixed = region[p + (c & 1) * stride[0] + ((c >> 1) & 1) * stride[1] + ((c >> 2) & 1) * stride[2]] != region[p];
-        if (!mixed)
-          continue;
-        std::map<Signature, std::vector<int>> bySignature;
-        for (int axis = 0; axis < 3; ++axis)
-          for (std::int64_t side : { std::int64_t(0), stride[axis] })
-          {
-            const int c = face(p + side, axis);
-            if (c >= 0)
-              bySignature[crossings[c].regions].push_back(c);
-          }
-        std::vector<int> ending;
-        for (const auto& [signature, ids] : bySignature)
-        {
-          if (ids.size() == 2)
-            links.push_back({ ids[0], ids[1] });
-          else if (ids.size() == 4)
-          {
-            // one curve passing the cube twice (a fold, two near-parallel pieces): two passes, paired
-            // by the shorter total chord, not a junction (that made zigzags meeting at 0 degrees)
-            const auto d = [&](int a, int b) { return norm(crossings[ids[a]].point - crossings[ids[b]].point); };
-            const double p01 = d(0, 1) + d(2, 3), p02 = d(0, 2) + d(1, 3), p03 = d(0, 3) + d(1, 2);
-            const int partner = p01 <= p02 && p01 <= p03 ? 1 : p02 <= p03 ? 2 : 3;
-            const int rest[2] = { partner == 1 ? 2 : 1, partner == 3 ? 2 : 3 };
-            links.push_back({ ids[0], ids[partner] });
-            links.push_back({ ids[rest[0]], ids[rest[1]] });
-          }
-          else
-            ending.insert(ending.end(), ids.begin(), ids.end());
-        }
-        if (!ending.empty())
-          junctionCubes.push_back({ p, ending });
-      }
-    report(0.4 + 0.5 * (k + 1) / nz);
-  }
-  result.gridFacesCrossed = crossings.size();
-
-  // Between two crossings joined in a cube the curve may bend (a corner of a box, a tight curve):
-  // the crossing on the plane halfway between them, where it lies off their chord, is inserted, and
-  // so on down to the tolerance; corners are then kept within a 256th of a grid step.
-  const double tolerance = options.tolerance > 0 ? options.tolerance
-    : options.maxSegmentLength > 0            ? 0.05 * options.maxSegmentLength
-                                              : 0.01 * h;
-  std::function<void(int, int, int, std::vector<int>&)> refine = [&](int a, int b, int depth, std::vector<int>& path) {
-    const Vec3 pa = crossings[a].point, pb = crossings[b].point;
-    const Vec3 d = pb - pa;
-    const double L = norm(d);
-    if (depth == 0 || !(L > 4 * precision))
-      return;
-    const Vec3 t = (1.0 / L) * d;
-    const int axis = std::abs(t.x) <= std::abs(t.y) && std::abs(t.x) <= std::abs(t.z) ? 0 : std::abs(t.y) <= std::abs(t.z) ? 1 : 2;
-    Vec3 e;
-    e[axis] = 1.0;
-    Vec3 e1 = cross(t, e);
-    e1 = (1.0 / norm(e1)) * e1;
-    const Vec3 e2 = cross(t, e1);
-    const Vec3 o = 0.5 * (pa + pb) - (0.5 * L) * (e1 + e2);
-    Rect q{ o, L * e1, L * e2, regionsAlong(oracle, o, o + L * e1), regionsAlong(oracle, o + L * e2, o + L * (e1 + e2)),
-      regionsAlong(oracle, o, o + L * e2), regionsAlong(oracle, o + L * e1, o + L * (e1 + e2)) };
-    if (!holdsCurve(loopOf(q)))
-      return;
-    Crossing m = locate(oracle, std::move(q), precision);
-    const double off = norm(m.point - 0.5 * (pa + pb));
-    if (m.regions != crossings[a].regions || !(off > tolerance))
-      return;
-    const int id = static_cast<int>(crossings.size());
-    crossings.push_back(std::move(m));
-    refine(a, id, depth - 1, path);
-    path.push_back(id);
-    refine(id, b, depth - 1, path);
-  };
-  {
-    std::vector<Link> refined;
-    for (const Link& l : links)
-    {
-      std::vector<int> path{ l.a };
-      refine(l.a, l.b, 8, path);
-      path.push_back(l.b);
-      for (size_t k = 0; k + 1 < path.size(); ++k)
-        refined.push_back({ path[k], path[k + 1] });
-    }
-    links = std::move(refined);
-  }
-
-  // 3. The graph: crossings, then one junction vertex per cube where curves end.
-  const int crossingCount = static_cast<int>(crossings.size());
-  std::vector<Vec3> nodes;
-  for (const Crossing& c : crossings)
-    nodes.push_back(c.point);
-  std::vector<std::vector<int>> adjacent(nodes.size());
-  for (const Link& l : links)
-  {
-    adjacent[l.a].push_back(l.b);
-    adjacent[l.b].push_back(l.a);
-  }
-  // Curves that meet near a face or corner of the grid end in neighbouring cubes (one arm in each):
-  // cubes where curves end and that touch (26 neighbours) are one junction.
-  struct Junction
-  {
-    Vec3 centre;
-    std::vector<int> ending;
-  };
-  std::vector<Junction> junctions;
-  {
-    std::unordered_map<std::int64_t, int> cubeIndex;
-    for (size_t c = 0; c < junctionCubes.size(); ++c)
-      cubeIndex.emplace(junctionCubes[c].first, static_cast<int>(c));
-    std::vector<int> parent(junctionCubes.size());
-    for (size_t c = 0; c < parent.size(); ++c)
-      parent[c] = static_cast<int>(c);
-    std::function<int(int)> root = [&](int c) { return parent[c] == c ? c : parent[c] = root(parent[c]); };
-    for (size_t c = 0; c < junctionCubes.size(); ++c)
-      for (int d = 0; d < 27; ++d)
-      {
-        const std::int64_t q = junctionCubes[c].first + (d % 3 - 1) * stride[0] + ((d / 3) % 3 - 1) * stride[1] + (d / 9 - 1) * stride[2];
-        if (auto it = cubeIndex.find(q); it != cubeIndex.end())
-        {
-          const int a = root(static_cast<int>(c)), b = root(it->second);
-          if (a != b)
-            parent[std::max(a, b)] = std::min(a, b);
-        }
-      }
-    std::map<int, std::pair<std::vector<Vec3>, std::set<int>>> groups;
-    for (size_t c = 0; c < junctionCubes.size(); ++c)
-    {
-      auto& g = groups[root(static_cast<int>(c))];
-      g.first.push_back(pointAt(junctionCubes[c].first) + Vec3{ 0.5 * h, 0.5 * h, 0.5 * h });
-      g.second.insert(junctionCubes[c].second.begin(), junctionCubes[c].second.end());
-    }
-    for (const auto& [unused, g] : groups)
-      if (g.second.size() >= 2)
-      {
-        Junction j;
-        for (const Vec3& c : g.first)
-          j.centre = j.centre + (1.0 / g.first.size()) * c;
-        j.ending.assign(g.second.begin(), g.second.end());
-        junctions.push_back(std::move(j));
-      }
-  }
-  for (const auto& [centre, ending] : junctions)
-  {
-    // the meeting point of the curves' tangents (exact for straight curves), else their mean
-    std::vector<Vec3> at, along;
-    Vec3 mean;
-    for (int c : ending)
-    {
-      mean = mean + (1.0 / ending.size()) * nodes[c];
-      if (adjacent[c].size() == 1 && adjacent[c][0] < crossingCount)
-      {
-        const Vec3 d = nodes[c] - nodes[adjacent[c][0]];
-        if (norm(d) > 0)
-        {
-          at.push_back(nodes[c]);
-          along.push_back((1.0 / norm(d)) * d);
-        }
-      }
-    }
-    Vec3 x;
-    if (at.size() < 2 || !nearestToLines(at, along, x) || norm(x - centre) > 1.5 * h)
-      x = mean;
-    const int junction = static_cast<int>(nodes.size());
-    nodes.push_back(x);
-    adjacent.emplace_back();
-    for (int c : ending)
-    {
-      adjacent[c].push_back(junction);
-      adjacent[junction].push_back(c);
-    }
-  }
-
-  // 4. Curves: chains between vertices that do not continue exactly one curve, then loops.
-  std::set<std::pair<int, int>> walked;
-  auto take = [&](int a, int b) { return walked.insert({ std::min(a, b), std::max(a, b) }).second; };
-  std::vector<std::vector<int>> chains;
-  auto walk = [&](int start, int next) {
-    std::vector<int> chain{ start, next };
-    // junctions end chains, so that a chain is one curve with one signature
-    for (int previous = start, v = next; adjacent[v].size() == 2 && v != start && v < crossingCount;)
-    {
-      const int w = adjacent[v][0] == previous ? adjacent[v][1] : adjacent[v][0];
-      if (!take(v, w))
-        break;
-      chain.push_back(w);
-      previous = v;
-      v = w;
-    }
-    chains.push_back(std::move(chain));
-  };
-  for (int v = 0; v < static_cast<int>(nodes.size()); ++v)
-    if (adjacent[v].size() != 2 || v >= crossingCount)
-      for (int w : adjacent[v])
-        if (take(v, w))
-          walk(v, w);
-  for (int v = 0; v < static_cast<int>(nodes.size()); ++v)
-    for (int w : adjacent[v])
-      if (take(v, w))
-        walk(v, w);
-
-  // A junction is placed inside its cube, from the curves' tangents; where curves meet at a small
-  // angle the last crossing of an arm can lie beyond it, and the arm would turn back there (a
-  // fold at 0 degrees). Such crossings are left out: the arm runs straight to the junction.
-  for (auto& chain : chains)
-    for (int end = 0; end < 2; ++end)
-    {
-      while (chain.size() > 2 && chain.front() >= crossingCount &&
-        angleAt(nodes[chain[1]], nodes[chain[0]], nodes[chain[2]]) < 90.0)
-        chain.erase(chain.begin() + 1);
-      std::reverse(chain.begin(), chain.end());
-    }
-
-  // The chord length of a curve between these materials: the smallest listed, else the global one.
-  auto lengthFor = [&](const std::vector<int>& materials) {
-    double length = options.maxSegmentLength;
-    for (int material : materials)
-      if (auto it = options.materialSegmentLength.find(material); it != options.materialSegmentLength.end())
-        length = length > 0 ? std::min(length, it->second) : it->second;
-    return length;
-  };
-  auto toleranceFor = [&](const std::vector<int>& materials, double length) {
-    const double global = options.tolerance > 0 ? options.tolerance : 0.05 * length;
-    double tolerance = HUGE_VAL;
-    for (int material : materials)
-      if (material >= 0)
-      {
-        auto it = options.materialTolerance.find(material);
-        tolerance = std::min(tolerance, it != options.materialTolerance.end() ? it->second : global);
-      }
-    return std::isfinite(tolerance) ? tolerance : global;
-  };
-  auto tagOf = [&](const std::vector<int>& chain) { return chain[chain[0] < crossingCount ? 0 : 1]; };
-
-  // 4b. Curves between two junctions shorter than their chord length (curves crossing or touching
-  // at a small angle run within a grid step of each other for a while, and each cube along that
-  // stretch made a junction) collapse to one vertex: the mesh could not show them, and their ends
-  // would meet the other curves there at angles down to 0 degrees.
-  std::vector<int> representative(nodes.size());
-  for (size_t v = 0; v < nodes.size(); ++v)
-    representative[v] = static_cast<int>(v);
-  std::function<int(int)> find = [&](int v) { return representative[v] == v ? v : representative[v] = find(representative[v]); };
-  std::vector<char> collapsed(chains.size(), 0);
-  for (size_t c = 0; c < chains.size(); ++c)
-  {
-    const auto& chain = chains[c];
-    if (chain.size() < 2 || chain.front() < crossingCount || chain.back() < crossingCount)
-      continue;
-    double length = 0.0;
-    for (size_t k = 0; k + 1 < chain.size(); ++k)
-      length += norm(nodes[chain[k + 1]] - nodes[chain[k]]);
-    if (!(length < lengthFor(materialsOf(crossings[tagOf(chain)].regions))))
-      continue;
-    collapsed[c] = 1;
-    const int a = find(chain.front()), b = find(chain.back());
-    if (a != b)
-      representative[std::max(a, b)] = std::min(a, b);
-  }
-  {
-    std::map<int, std::vector<int>> members;
-    for (int v = crossingCount; v < static_cast<int>(nodes.size()); ++v)
-      members[find(v)].push_back(v);
-    for (const auto& [root, group] : members)
-      if (group.size() > 1)
-      {
-        Vec3 mean;
-        for (int v : group)
-          mean = mean + (1.0 / group.size()) * nodes[v];
-        nodes[root] = mean;
-      }
-    std::vector<std::vector<int>> kept;
-    for (size_t c = 0; c < chains.size(); ++c)
-      if (!collapsed[c])
-      {
-        std::vector<int> chain = chains[c];
-        chain.front() = find(chain.front());
-        chain.back() = find(chain.back());
-        kept.push_back(std::move(chain));
-      }
-    chains = std::move(kept);
-  }
-
-  // 5. Each curve resampled on its own (its ends stay, being ends), then shared end vertices.
-  std::map<int, int> sharedPoint; // node -> point of result.segments
-  auto pointOfNode = [&](int node) {
-    auto [it, added] = sharedPoint.emplace(node, static_cast<int>(result.segments.points.size()));
-    if (added)
-      result.segments.points.push_back(nodes[node]);
-    return it->second;
-  };
-  for (const auto& chain : chains)
-  {
-    if (chain.size() < 2)
-      continue;
-    const int tagged = tagOf(chain);
-    if (tagged >= crossingCount)
-      continue; // two junctions joined directly: no crossing tells the regions (does not happen)
-    FeatureLine line;
-    line.materials = materialsOf(crossings[tagged].regions);
-    line.triple = line.materials.size() >= 3;
-    // A loop through a junction stays open there, so the junction is kept as its two ends.
-    const bool closed = chain.back() == chain.front() && adjacent[chain.front()].size() == 2 && chain.front() < crossingCount;
-    const size_t m = closed ? chain.size() - 1 : chain.size();
-    if (closed && m < 3)
-      continue;
-    FeatureSegments piece;
-    for (size_t k = 0; k < m; ++k)
-      piece.points.push_back(nodes[chain[k]]);
-    for (size_t k = 0; k + 1 < m; ++k)
-      piece.segments.push_back({ static_cast<int>(k), static_cast<int>(k + 1) });
-    if (closed)
-      piece.segments.push_back({ static_cast<int>(m - 1), 0 });
-    const double length = lengthFor(line.materials);
-    if (length > 0)
-      resampleFeatureLines(piece, length, toleranceFor(line.materials, length), options.smallAngle);
-    std::vector<int> order = chainOrder(piece);
-    if (!closed && norm(piece.points[order.front()] - nodes[chain.front()]) > 0)
-      std::reverse(order.begin(), order.end());
-    for (size_t k = 0; k < order.size(); ++k)
-    {
-      if (!closed && k == 0)
-        line.points.push_back(pointOfNode(chain.front()));
-      else if (!closed && k + 1 == order.size())
-        line.points.push_back(pointOfNode(chain.back()));
-      else if (closed && k + 1 == order.size() && order[k] == order[0])
-        line.points.push_back(line.points.front());
-      else
-      {
-        line.points.push_back(static_cast<int>(result.segments.points.size()));
-        result.segments.points.push_back(piece.points[order[k]]);
-      }
-    }
-    for (size_t k = 0; k + 1 < line.points.size(); ++k)
-      if (line.points[k] != line.points[k + 1])
-        result.segments.segments.push_back({ line.points[k], line.points[k + 1] });
-    result.lines.push_back(std::move(line));
-  }
-
+  FeatureLineSearch search(oracle, options, result);
+  search.classifyGridPoints();
+  search.findCrossings();
+  search.refineLinks();
+  search.buildGraph();
+  std::vector<std::vector<int>> chains = search.curves();
+  search.trimArms(chains);
+  search.collapseShortCurves(chains);
+  search.addCurves(chains);
   // 6. Small angles: between curves at a shared vertex, and where one curve turns sharply.
   result.smallAngles = findSmallFeatureAngles(result.segments, options.smallAngle, result.warnings);
-  report(1.0);
+  search.report(1.0);
   return result;
 }
 }

@@ -3,12 +3,13 @@
 #include "SelfIntersections.h"
 
 #include "InputError.h"
+#include "OrientedTriangles.h"
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
-#include <CGAL/Polygon_mesh_processing/orient_polygon_soup.h>
 #include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
 #include <CGAL/Polygon_mesh_processing/self_intersections.h>
 #include <CGAL/Surface_mesh.h>
+#include <boost/property_map/function_property_map.hpp>
 
 #include <algorithm>
 #include <iterator>
@@ -70,19 +71,11 @@ bool meetBeyondSharedVertices(const TriangleSurface& s, int f, int g)
 
 std::vector<std::pair<int, int>> selfIntersections(const TriangleSurface& surface, size_t limit)
 {
-  std::vector<Point> points;
-  points.reserve(surface.points.size());
-  for (const auto& p : surface.points)
-    points.push_back(toCgal(p));
-  std::vector<std::vector<std::size_t>> polygons;
-  polygons.reserve(surface.triangles.size());
-  for (const auto& t : surface.triangles)
-    polygons.push_back({ static_cast<std::size_t>(t[0]), static_cast<std::size_t>(t[1]), static_cast<std::size_t>(t[2]) });
   // A halfedge mesh needs one orientation per edge; this duplicates non-manifold vertices (and
-  // keeps the polygons in their order: face i is triangle i).
-  PMP::orient_polygon_soup(points, polygons);
+  // keeps the triangles in their order: face i is triangle i).
+  const OrientedTriangles oriented = orientTriangles(surface);
   std::vector<std::pair<int, int>> pairs;
-  if (!PMP::is_polygon_soup_a_polygon_mesh(polygons))
+  if (!oriented.halfedgeMesh)
   {
     // CGAL cannot build a mesh of it; test the triangles pairwise through their boxes instead
     // (same exact predicates), which is what self_intersections does on a mesh.
@@ -112,7 +105,8 @@ std::vector<std::pair<int, int>> selfIntersections(const TriangleSurface& surfac
   else
   {
     Mesh mesh;
-    PMP::polygon_soup_to_polygon_mesh(points, polygons, mesh);
+    PMP::polygon_soup_to_polygon_mesh(oriented.surface.points, oriented.surface.triangles, mesh,
+      CGAL::parameters::point_map(boost::make_function_property_map<Vec3>(&toCgal)));
     std::vector<std::pair<Mesh::Face_index, Mesh::Face_index>> found;
     try
     {

@@ -18,7 +18,13 @@ namespace omesh
 /// the domain gives (every label of a label map); "per material" name one material id (the
 /// tetrahedralizer's table, the scene's "mesh.materials"). Two sources of one level that give one
 /// material's criterion different values are a contradiction: CriteriaLevel::add throws.
-/// There are no per-feature-line criteria: EdgeSize is global (feature lines belong to no material).
+/// EdgeSize, the bound of the constrained segments' pieces, has one more level, per feature:
+/// global < per material < per feature. A feature line's own value (FeatureSegments::edgeSizes:
+/// the feature polydata's "EdgeSize" cell array, a scene feature entry's "edge_size") wins; else
+/// the finest EdgeSize set by the materials the line separates or lies in (a surface domain's own
+/// EdgeSize thus applies to its sharp edges); else the global one (featureEdgeSize in
+/// FeatureEdgeSizes.h). One line given two different values is a contradiction
+/// (mergeFeatureSegments throws).
 struct MeshCriteria
 {
   std::optional<double> facetAngle;          ///< lower bound of facet angles, degrees (<= 30 for termination)

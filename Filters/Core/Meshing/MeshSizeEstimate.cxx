@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "MeshSizeEstimate.h"
 
+#include "FeatureEdgeSizes.h"
 #include "HierarchicalOracle.h"
 
 #include <algorithm>
@@ -94,9 +95,10 @@ double estimateMeshVertices(const HierarchicalOracle& oracle, const MaterialCrit
     // triangles of circumradius `facet` have an area of about 1.3 facet^2; two per vertex
     vertices += a / (2.6 * facet * facet);
   }
-  const double edge = orDefault(criteria.globalValues().edgeSize, fallback);
+  // each segment at its own edge size (global < per material < per feature, FeatureEdgeSizes.h)
+  const std::vector<double> edges = resolveFeatureEdgeSizes(features, criteria, oracle);
   for (size_t s = 0; s < features.segments.size(); ++s)
-    vertices += features.length(s) / edge;
+    vertices += features.length(s) / (edges[s] > 0 ? edges[s] : fallback);
   return vertices;
 }
 }

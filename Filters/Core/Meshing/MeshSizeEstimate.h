@@ -17,8 +17,8 @@ class HierarchicalOracle;
 constexpr double kBytesPerMeshVertex = 4096.0;
 
 /// A generous estimate of the vertices the criteria ask for: per material, its volume over the cell
-/// size cubed; its interfaces' area over the facet size squared; the feature lines' length over the
-/// edge size. Volumes and areas come from sampling the oracle on a grid (24 cells along each axis),
+/// size cubed; its interfaces' area over the facet size squared; the feature lines' length over
+/// their edge size (each segment's, resolveFeatureEdgeSizes). Volumes and areas come from sampling the oracle on a grid (24 cells along each axis),
 /// so the estimate is rough (within a small factor), which is enough to tell a mesh that fits in
 /// memory from one of 10^12 vertices. Criteria that are unset count as 1/20 of the diagonal.
 double estimateMeshVertices(const HierarchicalOracle& oracle, const MaterialCriteria& criteria,

@@ -5,12 +5,15 @@
 // warns on other CGAL versions.
 #include "OracleMesher.h"
 
+#include "FieldDataKeys.h"
 #include "HierarchicalOracle.h"
+#include "FeatureEdgeSizes.h"
 #include "FeatureNetworkSimplification.h"
 #include "InputError.h"
 #include "MeshQuality.h"
 #include "MeshSizeEstimate.h"
 #include "MeshValidity.h"
+#include "ComplexSnapshot.h"
 #include "ConformingMesher3.h"
 #include "MaterialCriteria3.h"
 #include "MeshTriangulation3.h"
@@ -31,6 +34,7 @@
 #include <CGAL/refine_mesh_3.h>
 #include <optional>
 
+#include <algorithm>
 #include <array>
 #include <atomic>
 #include <chrono>
@@ -141,17 +145,37 @@ struct ProtectionStopped
 {
 };
 
-/// The edge size of CGAL's feature protection, constant, reading the stop flag too: CGAL reads
-/// its own flag only between passes, and one pass took minutes (148 s past a 20 s time limit, balls
-/// on feature lines meeting at 1 degree), while it asks the size at every ball it places or checks.
+/// The edge size of CGAL's feature protection, reading the stop flag too: CGAL reads its own flag
+/// only between passes, and one pass took minutes (148 s past a 20 s time limit, balls on feature
+/// lines meeting at 1 degree), while it asks the size at every ball it places or checks.
+/// Per polyline (the per-feature level): a ball on curve c takes that curve's size, a corner ball
+/// the finest of the curves that meet there; `size` elsewhere (and for every ball when no curve
+/// has its own: the meshes of before).
 struct StoppableEdgeSize
 {
   double size;
   const std::atomic<bool>* stop;
-  double operator()(const K::Point_3&, int, const MeshDomain::Index&) const
+  const MeshDomain* domain = nullptr;
+  std::shared_ptr<const std::vector<double>> curveSizes;                    ///< of curve index c at c - 1
+  std::shared_ptr<const std::map<std::array<double, 3>, double>> cornerSizes; ///< by the corner's coordinates
+  double operator()(const K::Point_3& p, int dim, const MeshDomain::Index& index) const
   {
     if (stop->load(std::memory_order_relaxed))
       throw ProtectionStopped{};
+    if (!curveSizes)
+      return size;
+    if (dim == 1 || dim == -2)
+    {
+      const int c = domain->curve_index(index);
+      if (c >= 1 && static_cast<size_t>(c) <= curveSizes->size())
+        return (*curveSizes)[c - 1];
+    }
+    else if (dim == 0 || dim == -1)
+    {
+      const auto it = cornerSizes->find({ p.x(), p.y(), p.z() });
+      if (it != cornerSizes->end())
+        return it->second;
+    }
     return size;
   }
 };
@@ -162,7 +186,15 @@ struct StoppableEdgeSize
 /// generated bone/implant mesh; as a polyline's end the bend becomes a protected corner.
 constexpr double kPolylineCorner = 20.0; // degrees of turn
 
-std::vector<std::vector<K::Point_3>> toPolylines(const FeatureSegments& f)
+/// The polylines for CGAL, each with one edge size: they also break where the segments' resolved
+/// edge sizes (`sizes`, one per segment) differ.
+struct Polylines
+{
+  std::vector<std::vector<K::Point_3>> lines;
+  std::vector<double> sizes; ///< of lines[k], the edge size of its segments
+};
+
+Polylines toPolylines(const FeatureSegments& f, const std::vector<double>& sizes)
 {
   std::vector<std::vector<size_t>> inc(f.points.size());
   for (size_t s = 0; s < f.segments.size(); ++s)
@@ -181,10 +213,10 @@ std::vector<std::vector<K::Point_3>> toPolylines(const FeatureSegments& f)
       continue;
     }
     const Vec3 in = f.points[p] - f.points[other(inc[p][0], p)], out = f.points[other(inc[p][1], p)] - f.points[p];
-    breaks[p] = dot(in, out) < cosCorner * norm(in) * norm(out);
+    breaks[p] = dot(in, out) < cosCorner * norm(in) * norm(out) || sizes[inc[p][0]] != sizes[inc[p][1]];
   }
   std::vector<char> used(f.segments.size(), 0);
-  std::vector<std::vector<K::Point_3>> lines;
+  Polylines lines;
   auto walk = [&](int start, size_t first) {
     std::vector<K::Point_3> line{ toPoint(f.points[start]) };
     int at = start;
@@ -201,7 +233,8 @@ std::vector<std::vector<K::Point_3>> toPolylines(const FeatureSegments& f)
         break;
       s = next;
     }
-    lines.push_back(std::move(line));
+    lines.lines.push_back(std::move(line));
+    lines.sizes.push_back(sizes[first]);
   };
   for (size_t p = 0; p < f.points.size(); ++p)
     if (breaks[p])
@@ -474,10 +507,17 @@ std::optional<FeatureSegments> resampledFeatures(const FeatureSegments& given, c
       distance = d;
   FeatureNetworkTolerances tolerances;
   tolerances.edgeLength = g.edgeSize > 0 ? g.edgeSize : g.facetSize > 0 ? g.facetSize : norm(inner.size()) / 40.0;
+  // a line with a finer edge size of its own (or of its materials) keeps its detail: h is the finest
+  if (!given.edgeSizes.empty() || hasMaterialEdgeSizes(options.criteria))
+    for (double e : resolveFeatureEdgeSizes(given, options.criteria, oracle))
+      if (e > 0)
+        tolerances.edgeLength = std::min(tolerances.edgeLength, e);
   tolerances.chordTolerance = distance > 0 ? 0.5 * distance : 0.05 * tolerances.edgeLength;
   tolerances.inDomain = [&oracle](const Vec3& p) { return oracle.material(p) != kOutside; };
   FeatureSegments resampled = given;
   report = simplifyFeatureNetwork(resampled, tolerances);
+  // each chord keeps the own edge size of the given line nearest to it
+  transferEdgeSizes(given, resampled, std::numeric_limits<double>::infinity());
   if (resampled.segments.size() != given.segments.size() || resampled.points.size() != given.points.size())
   {
     std::ostringstream o;
@@ -531,9 +571,11 @@ private:
   void measure(std::map<std::string, double>& st) const
   {
     // during a parallel refinement the sequential complex holds its start: its vertex count is the last seen
-    st["vertices"] = std::max(c3t3_ ? static_cast<double>(c3t3_->triangulation().number_of_vertices()) : 0.0,
-      static_cast<double>(parallelVertices_));
-    st["tetrahedra"] = c3t3_ ? static_cast<double>(c3t3_->number_of_cells_in_complex()) : 0.0;
+    // (after validatedMesh cleared the complex, the output's counts)
+    st["vertices"] = std::max({ c3t3_ ? static_cast<double>(c3t3_->triangulation().number_of_vertices()) : 0.0,
+      static_cast<double>(parallelVertices_), static_cast<double>(outputVertices_) });
+    st["tetrahedra"] = std::max(c3t3_ ? static_cast<double>(c3t3_->number_of_cells_in_complex()) : 0.0,
+      static_cast<double>(outputTets_));
     st["feature_points"] =
       static_cast<double>(segments_ ? segments_->segments().points.size() : conformed_.points.size());
     st["refinement_steps"] = static_cast<double>(steps_);
@@ -543,6 +585,7 @@ private:
   void prepareInputs()
   {
     inner_ = oracle_.bounds(); // throws for an empty or unbounded oracle
+    given_.checkEdgeSizes();   // named on the lines as given, before resampling moves them
     resampled_ = resampledFeatures(given_, options_, oracle_, inner_, warnings_, network_);
     features_ = resampled_ ? &*resampled_ : &given_;
     deadline_.check("feature-line resampling");
@@ -554,6 +597,7 @@ private:
       warnings_.insert(warnings_.end(), w.begin(), w.end());
       deadline_.check("feature-line validation");
     }
+    edgeSizes_ = resolveFeatureEdgeSizes(*features_, options_.criteria, oracle_);
     report(0.0, "initialisation");
   }
 
@@ -568,22 +612,51 @@ private:
     box_.add(box_.max + pad);
     domain_ = std::make_unique<MeshDomain>(oracle_, box_, options_.seed);
     protect_ = options_.strategy == FeatureStrategy::ProtectingBalls && !features_->empty();
-    if (protect_)
-    {
-      auto lines = toPolylines(*features_);
-      domain_->add_features(lines.begin(), lines.end());
-    }
+    StoppableEdgeSize sizing{ 1.0, &stopProtection_ };
     edgeSize_ = g_.edgeSize;
-    if (protect_ && edgeSize_ <= 0)
-    {
-      edgeSize_ = norm(inner_.size()) / 50.0;
-      for (double v : { g_.facetSize, g_.cellSize })
-        if (v > 0)
-          edgeSize_ = std::min(edgeSize_, v);
-      warnings_.push_back("EdgeSize not set: protecting balls use " + std::to_string(edgeSize_));
-    }
-    criteria_ = std::make_unique<Criteria>(materialMeshCriteria<Tr>(
-      options_, Criteria::Edge_criteria(StoppableEdgeSize{ edgeSize_ > 0 ? edgeSize_ : 1.0, &stopProtection_ })));
+    if (protect_)
+      sizing = protectedFeatures();
+    else
+      sizing.size = edgeSize_ > 0 ? edgeSize_ : 1.0;
+    criteria_ = std::make_unique<Criteria>(materialMeshCriteria<Tr>(options_, Criteria::Edge_criteria(sizing)));
+  }
+
+  /// ProtectingBalls: the polylines added to the domain and the balls' sizes, per polyline when
+  /// their edge sizes differ. A line without a bound (0) gets min(diagonal / 50, facet size, cell
+  /// size), with a warning.
+  StoppableEdgeSize protectedFeatures()
+  {
+    Polylines lines = toPolylines(*features_, edgeSizes_);
+    domain_->add_features(lines.lines.begin(), lines.lines.end());
+    double fallback = norm(inner_.size()) / 50.0;
+    for (double v : { g_.facetSize, g_.cellSize })
+      if (v > 0)
+        fallback = std::min(fallback, v);
+    const bool unbounded = std::any_of(lines.sizes.begin(), lines.sizes.end(), [](double e) { return e <= 0; });
+    if (unbounded)
+      warnings_.push_back("EdgeSize not set: protecting balls use " + std::to_string(fallback));
+    for (double& e : lines.sizes)
+      if (e <= 0)
+        e = fallback;
+    StoppableEdgeSize sizing{ g_.edgeSize > 0 ? g_.edgeSize : fallback, &stopProtection_ };
+    const bool uniform = std::all_of(lines.sizes.begin(), lines.sizes.end(), [&](double e) { return e == sizing.size; });
+    edgeSize_ = sizing.size;
+    if (uniform)
+      return sizing; // one size for every ball, as before per-feature sizes
+    auto corners = std::make_shared<std::map<std::array<double, 3>, double>>();
+    for (size_t k = 0; k < lines.lines.size(); ++k)
+      for (const K::Point_3* p : { &lines.lines[k].front(), &lines.lines[k].back() })
+      {
+        const auto [it, inserted] = corners->emplace(std::array<double, 3>{ p->x(), p->y(), p->z() }, lines.sizes[k]);
+        if (!inserted)
+          it->second = std::min(it->second, lines.sizes[k]);
+      }
+    sizing.domain = domain_.get();
+    sizing.size = *std::min_element(lines.sizes.begin(), lines.sizes.end());
+    sizing.curveSizes = std::make_shared<const std::vector<double>>(std::move(lines.sizes));
+    sizing.cornerSizes = corners;
+    edgeSize_ = sizing.size;
+    return sizing;
   }
 
   /// Conforming: rule T1 on the segments alone first (SegmentConformation.h); the domain's
@@ -602,7 +675,7 @@ private:
       return;
     const size_t budget = options_.maximumNumberOfVertices ? options_.maximumNumberOfVertices : 1000000;
     conformed_ =
-      conformSegments(*features_, g_.edgeSize, budget, warnings_, [this] { deadline_.tick("feature-line conformation"); });
+      conformSegments(*features_, edgeSizes_, budget, warnings_, [this] { deadline_.tick("feature-line conformation"); });
     domain_->avoidInitialPointsNear(conformed_.points);
   }
 
@@ -911,14 +984,16 @@ private:
   }
 
   /// CGAL's exuder changes weights, which can flip a sub-segment out of the (regular)
-  /// triangulation: it is undone when it would break a segment the refinement kept.
+  /// triangulation: it is undone when it would break a segment the refinement kept. The complex
+  /// from before it is kept as a compact record (ComplexSnapshot.h), not as a copy: a copy of the
+  /// triangulation was the run's peak memory.
   void exudeKeepingSegments()
   {
     report(0.8, "exudation");
-    std::unique_ptr<C3t3> kept;
+    std::optional<ComplexSnapshot<C3t3>> kept;
     const size_t missingBefore = conforming_ ? segments_->countNotEdges() : 0;
     if (conforming_)
-      kept = std::make_unique<C3t3>(*c3t3_);
+      kept.emplace(*c3t3_);
     // The budget also ends CGAL's exuder where it cycles (seen next to protecting balls); it stops
     // between two cells, where the mesh is consistent. Without a budget, 10 pumps per cell still
     // end a cycle.
@@ -931,12 +1006,18 @@ private:
       return;
     segments_->locateVertices(); // the exuder re-creates vertices: find the segment points again
     const size_t missing = segments_->countNotEdges();
-    if (const size_t broken = missing > missingBefore ? missing - missingBefore : 0)
-    {
-      c3t3_->swap(*kept);
-      warnings_.push_back("exudation undone: it would have removed " + std::to_string(broken) +
-        " constrained sub-segments from the mesh");
-    }
+    const size_t broken = missing > missingBefore ? missing - missingBefore : 0;
+    if (broken == 0 && !options_.undoExudationForTesting)
+      return;
+    const auto lost = kept->restore(*c3t3_);
+    kept.reset();
+    segments_->locateVertices(); // the restored vertices are new ones
+    warnings_.push_back("exudation undone: it would have removed " + std::to_string(broken) +
+      " constrained sub-segments from the mesh");
+    if (lost.any()) // not seen: the rebuilt triangulation is the one recorded (ComplexSnapshot.h)
+      warnings_.push_back("exudation undone, but the mesh from before it came back incomplete (" +
+        std::to_string(lost.vertices) + " vertices, " + std::to_string(lost.cells) + " tetrahedra, " +
+        std::to_string(lost.facets) + " interface triangles missing)");
   }
 
   /// The output mesh, checked on its own (what a finite-element code would reject), with the
@@ -944,6 +1025,11 @@ private:
   TetMesh validatedMesh()
   {
     TetMesh mesh = toTetMesh(*c3t3_);
+    outputVertices_ = mesh.points.size();
+    outputTets_ = mesh.tets.size();
+    // Only the output is needed from here on: the triangulation's memory goes back before the
+    // checks build their own tables (else both at once were the run's peak).
+    c3t3_->clear();
     mesh.segments = locateFeatureSegments(mesh, *features_);
     deadline_.check("locating the feature lines in the mesh");
     const double coverage = featureCoverage(mesh.segments, *features_);
@@ -1007,7 +1093,7 @@ private:
     st["vertices"] = static_cast<double>(mesh.points.size());
     st["min_dihedral_angle"] = mesh.tets.empty() ? 0.0 : minAngle;
     st["mean_min_dihedral_angle"] = mesh.tets.empty() ? 0.0 : sumAngle / mesh.tets.size();
-    st["feature_coverage"] = coverage;
+    st[keys::FEATURE_COVERAGE] = coverage;
     st["feature_segments"] = static_cast<double>(features_->segments.size());
     if (resampled_)
     {
@@ -1102,7 +1188,8 @@ private:
   std::unique_ptr<MeshDomain> domain_;
   std::unique_ptr<Criteria> criteria_;
   bool protect_ = false, conforming_ = false;
-  double edgeSize_ = 0.0; ///< of the protecting balls (0 = none asked)
+  double edgeSize_ = 0.0; ///< of the protecting balls (0 = none asked; the finest when lines differ)
+  std::vector<double> edgeSizes_; ///< each feature segment's edge size (the per-feature level, FeatureEdgeSizes.h)
   int threads_ = 1;       ///< of the refinement (MesherOptions::threads; 1 for Conforming with feature lines)
   /// Vertices of a running parallel refinement, as last seen (0 otherwise).
   size_t parallelVertices_ = 0;
@@ -1112,6 +1199,7 @@ private:
   Segments::MissingCensus missing_;
   double expected_ = 1000.0;
   size_t steps_ = 0, repaired_ = 0;
+  size_t outputVertices_ = 0, outputTets_ = 0; ///< of the output, once the complex is cleared
   int rounds_ = 0;
   bool budgetHit_ = false, stalled_ = false;
   double initTime_ = 0.0, refineTime_ = 0.0, refineCpu_ = 0.0, optTime_ = 0.0, optCpu_ = 0.0;

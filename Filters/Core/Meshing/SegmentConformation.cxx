@@ -222,9 +222,9 @@ void trimAtStarVertices(SegmentSet& set, const FeatureSegments& f, const std::fu
 }
 
 /// T1.2 on the segments alone: midpoint splits until no sub-segment is encroached by a segment
-/// point (or longer than `edgeSize`), mirrored in small-angle clusters. Returns false when it
-/// stopped at `maxPoints`. Calls `check` at every sub-segment it looks at.
-bool splitEncroached(SegmentSet& set, double edgeSize, size_t maxPoints, std::vector<std::string>& warnings,
+/// point (or longer than its input segment's `edgeSizes`), mirrored in small-angle clusters. Returns
+/// false when it stopped at `maxPoints`. Calls `check` at every sub-segment it looks at.
+bool splitEncroached(SegmentSet& set, const std::vector<double>& edgeSizes, size_t maxPoints, std::vector<std::string>& warnings,
   const std::function<void()>& check)
 {
   std::vector<double> lengths;
@@ -253,6 +253,7 @@ bool splitEncroached(SegmentSet& set, double edgeSize, size_t maxPoints, std::ve
       if (s < given.size() && given[s])
         continue;
       const Vec3 a = set.points[set.subs[s][0]], b = set.points[set.subs[s][1]];
+      const double edgeSize = edgeSizes[set.subs[s][2]];
       const bool tooLong = edgeSize > 0 && dot(b - a, b - a) > edgeSize * edgeSize;
       const bool encroached = !tooLong && grid.anyEncroaching(a, b, set.subs[s][0], set.subs[s][1]);
       const std::optional<double> t = rules::splitEncroachedT12(a, b, encroached, edgeSize, floor);
@@ -290,12 +291,18 @@ bool splitEncroached(SegmentSet& set, double edgeSize, size_t maxPoints, std::ve
 }
 }
 
-SegmentSet conformSegments(const FeatureSegments& f, double edgeSize, size_t maxPoints, std::vector<std::string>& warnings,
-  const std::function<void()>& check)
+SegmentSet conformSegments(const FeatureSegments& f, const std::vector<double>& edgeSizes, size_t maxPoints,
+  std::vector<std::string>& warnings, const std::function<void()>& check)
 {
   SegmentSet set(f);
   trimAtStarVertices(set, f, check);
-  splitEncroached(set, edgeSize, maxPoints, warnings, check);
+  splitEncroached(set, edgeSizes, maxPoints, warnings, check);
   return set;
+}
+
+SegmentSet conformSegments(const FeatureSegments& f, double edgeSize, size_t maxPoints, std::vector<std::string>& warnings,
+  const std::function<void()>& check)
+{
+  return conformSegments(f, std::vector<double>(f.segments.size(), edgeSize), maxPoints, warnings, check);
 }
 }

@@ -68,9 +68,13 @@ private:
 
 /// Rule T1 applied to the segments alone (the paper's initial conformation, before any other
 /// point): trims the segments at star vertices to l_min/3 (T1.1), then splits at midpoints every
-/// sub-segment encroached by a segment point or longer than `edgeSize` (T1.2), mirrored in
-/// small-angle clusters. Stops with a warning at `maxPoints` points. Calls `check` (which may throw:
-/// the mesher's deadline) at every sub-segment it looks at.
+/// sub-segment encroached by a segment point or longer than its input segment's edge size
+/// `edgeSizes[input]` (T1.2; one per input segment, resolveFeatureEdgeSizes; <= 0 = no bound),
+/// mirrored in small-angle clusters. Stops with a warning at `maxPoints` points. Calls `check`
+/// (which may throw: the mesher's deadline) at every sub-segment it looks at.
+SegmentSet conformSegments(const FeatureSegments& f, const std::vector<double>& edgeSizes, size_t maxPoints,
+  std::vector<std::string>& warnings, const std::function<void()>& check = {});
+/// The same with one edge size for every segment.
 SegmentSet conformSegments(const FeatureSegments& f, double edgeSize, size_t maxPoints,
   std::vector<std::string>& warnings, const std::function<void()>& check = {});
 }

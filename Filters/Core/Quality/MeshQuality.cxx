@@ -75,6 +75,73 @@ std::map<int, double> materialVolumes(const TetMesh& mesh)
   return v;
 }
 
+namespace
+{
+uint64_t edgeKey(int a, int b)
+{
+  const uint64_t lo = static_cast<uint64_t>(std::min(a, b)), hi = static_cast<uint64_t>(std::max(a, b));
+  return (lo << 32) | hi;
+}
+
+/// The vertices that tetrahedra use, hashed on a grid of spacing h.
+class UsedVertexGrid
+{
+public:
+  UsedVertexGrid(const TetMesh& mesh, const std::vector<char>& used, double h)
+    : mesh_(mesh)
+    , h_(h)
+  {
+    for (size_t i = 0; i < mesh.points.size(); ++i)
+      if (used[i])
+        grid_[key(mesh.points[i])].push_back(static_cast<int>(i));
+  }
+
+  /// The vertices within `tol` of segment ab of length `len`: (parameter along ab clamped to
+  /// [0, len], vertex), sorted.
+  std::vector<std::pair<double, int>> onSegment(const Vec3& a, const Vec3& b, double len, double tol) const
+  {
+    const Vec3 d = (1.0 / len) * (b - a);
+    std::vector<std::pair<double, int>> on;
+    std::unordered_set<int> seen;
+    const int steps = static_cast<int>(std::ceil(len / h_)) + 1;
+    for (int k = 0; k <= steps; ++k)
+    {
+      const Vec3 c = lerp(a, b, std::min(1.0, double(k) / steps));
+      for (int dx = -1; dx <= 1; ++dx)
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dz = -1; dz <= 1; ++dz)
+          {
+            auto it = grid_.find(key(c + Vec3{ dx * h_, dy * h_, dz * h_ }));
+            if (it == grid_.end())
+              continue;
+            for (int v : it->second)
+            {
+              if (!seen.insert(v).second)
+                continue;
+              const Vec3 w = mesh_.points[v] - a;
+              const double t = dot(w, d);
+              if (t >= -tol && t <= len + tol && norm(w - t * d) <= tol)
+                on.emplace_back(std::clamp(t, 0.0, len), v);
+            }
+          }
+    }
+    std::sort(on.begin(), on.end());
+    return on;
+  }
+
+private:
+  uint64_t key(const Vec3& p) const
+  {
+    const auto q = [this](double x) { return static_cast<uint64_t>(static_cast<int64_t>(std::floor(x / h_)) & 0x1fffff); };
+    return (q(p.x) << 42) | (q(p.y) << 21) | q(p.z);
+  }
+
+  const TetMesh& mesh_;
+  const double h_;
+  std::unordered_map<uint64_t, std::vector<int>> grid_;
+};
+}
+
 std::vector<TetMesh::Segment> locateFeatureSegments(
   const TetMesh& mesh, const FeatureSegments& features, double tolerance)
 {
@@ -89,55 +156,19 @@ std::vector<TetMesh::Segment> locateFeatureSegments(
     {
       used[t[i]] = 1;
       for (int j = i + 1; j < 4; ++j)
-      {
-        const uint64_t lo = static_cast<uint64_t>(std::min(t[i], t[j])), hi = static_cast<uint64_t>(std::max(t[i], t[j]));
-        edges.insert((lo << 32) | hi);
-      }
+        edges.insert(edgeKey(t[i], t[j]));
     }
   // Hash the vertices of tetrahedra on a grid of the mean segment length.
   double total = 0.0;
   for (size_t s = 0; s < features.segments.size(); ++s)
     total += features.length(s);
-  const double h = std::max(total / features.segments.size(), 1e-12);
-  auto key = [h](const Vec3& p) {
-    const auto q = [h](double x) { return static_cast<uint64_t>(static_cast<int64_t>(std::floor(x / h)) & 0x1fffff); };
-    return (q(p.x) << 42) | (q(p.y) << 21) | q(p.z);
-  };
-  std::unordered_map<uint64_t, std::vector<int>> grid;
-  for (size_t i = 0; i < mesh.points.size(); ++i)
-    if (used[i])
-      grid[key(mesh.points[i])].push_back(static_cast<int>(i));
+  const UsedVertexGrid grid(mesh, used, std::max(total / features.segments.size(), 1e-12));
 
   for (size_t s = 0; s < features.segments.size(); ++s)
   {
     const Vec3 a = features.points[features.segments[s][0]], b = features.points[features.segments[s][1]];
     const double len = features.length(s), tol = tolerance * len;
-    const Vec3 d = (1.0 / len) * (b - a);
-    std::vector<std::pair<double, int>> on;
-    std::unordered_set<int> seen;
-    const int steps = static_cast<int>(std::ceil(len / h)) + 1;
-    for (int k = 0; k <= steps; ++k)
-    {
-      const Vec3 c = lerp(a, b, std::min(1.0, double(k) / steps));
-      for (int dx = -1; dx <= 1; ++dx)
-        for (int dy = -1; dy <= 1; ++dy)
-          for (int dz = -1; dz <= 1; ++dz)
-          {
-            auto it = grid.find(key(c + Vec3{ dx * h, dy * h, dz * h }));
-            if (it == grid.end())
-              continue;
-            for (int v : it->second)
-            {
-              if (!seen.insert(v).second)
-                continue;
-              const Vec3 w = mesh.points[v] - a;
-              const double t = dot(w, d);
-              if (t >= -tol && t <= len + tol && norm(w - t * d) <= tol)
-                on.emplace_back(std::clamp(t, 0.0, len), v);
-            }
-          }
-    }
-    std::sort(on.begin(), on.end());
+    const std::vector<std::pair<double, int>> on = grid.onSegment(a, b, len, tol);
     // Pieces between consecutive stations: the segment's ends (mesh vertices or not) and the
     // mesh vertices on it.
     std::vector<std::pair<double, int>> stations;
@@ -155,11 +186,7 @@ std::vector<TetMesh::Segment> locateFeatureSegments(
       piece.bId = stations[i + 1].second;
       piece.input = static_cast<int>(s);
       if (piece.aId >= 0 && piece.bId >= 0)
-      {
-        const uint64_t lo = static_cast<uint64_t>(std::min(piece.aId, piece.bId));
-        const uint64_t hi = static_cast<uint64_t>(std::max(piece.aId, piece.bId));
-        piece.present = edges.count((lo << 32) | hi) > 0;
-      }
+        piece.present = edges.count(edgeKey(piece.aId, piece.bId)) > 0;
       pieces.push_back(piece);
     }
   }

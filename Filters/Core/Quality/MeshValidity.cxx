@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "MeshValidity.h"
 
+#include "FieldDataKeys.h"
 #include "MeshQuality.h"
 
 #include <algorithm>
@@ -121,24 +122,24 @@ std::string MeshValidity::describe() const
 std::vector<std::pair<std::string, double>> MeshValidity::asStatistics() const
 {
   auto d = [](std::size_t n) { return static_cast<double>(n); };
-  return { { "validity.defects", d(defects()) }, { "validity.duplicate_vertices", d(duplicateVertices) },
-    { "validity.micro_tetrahedra", d(microTetrahedra) }, { "validity.flat_tetrahedra", d(flatTetrahedra) },
-    { "validity.inverted_tetrahedra", d(invertedTetrahedra) }, { "validity.non_manifold_faces", d(nonManifoldFaces) },
-    { "validity.bad_vertex_indices", d(badIndices) }, { "validity.material_mismatches", d(materialMismatches) },
-    { "validity.missing_segment_pieces", d(missingSegmentPieces) }, { "validity.median_edge", medianEdge },
-    { "validity.shortest_edge", shortestEdge }, { "validity.unused_vertices", d(unusedVertices) } };
+  return { { keys::VALIDITY_DEFECTS, d(defects()) }, { keys::VALIDITY_DUPLICATE_VERTICES, d(duplicateVertices) },
+    { keys::VALIDITY_MICRO_TETRAHEDRA, d(microTetrahedra) }, { keys::VALIDITY_FLAT_TETRAHEDRA, d(flatTetrahedra) },
+    { keys::VALIDITY_INVERTED_TETRAHEDRA, d(invertedTetrahedra) }, { keys::VALIDITY_NON_MANIFOLD_FACES, d(nonManifoldFaces) },
+    { keys::VALIDITY_BAD_VERTEX_INDICES, d(badIndices) }, { keys::VALIDITY_MATERIAL_MISMATCHES, d(materialMismatches) },
+    { keys::VALIDITY_MISSING_SEGMENT_PIECES, d(missingSegmentPieces) }, { keys::VALIDITY_MEDIAN_EDGE, medianEdge },
+    { keys::VALIDITY_SHORTEST_EDGE, shortestEdge }, { keys::VALIDITY_UNUSED_VERTICES, d(unusedVertices) } };
 }
 
-MeshValidity checkMeshValidity(const TetMesh& mesh, const std::function<int(const Vec3&)>& materialAt,
-  const ValidityThresholds& th, std::vector<unsigned char>* tetDefects)
+namespace
 {
-  MeshValidity r;
-  std::vector<unsigned char> flags(mesh.tets.size(), 0);
+/// The tetrahedra with valid indices (four distinct points of the mesh); the others are counted and
+/// flagged. Marks the points the good ones use and lists their edge lengths.
+std::vector<std::size_t> tetsWithValidIndices(const TetMesh& mesh, MeshValidity& r, std::vector<unsigned char>& flags,
+  std::vector<char>& used, std::vector<double>& edges)
+{
   const int n = static_cast<int>(mesh.points.size());
-  std::vector<char> used(mesh.points.size(), 0);
-  std::vector<std::size_t> good; // tetrahedra with valid indices
+  std::vector<std::size_t> good;
   good.reserve(mesh.tets.size());
-  std::vector<double> edges;
   edges.reserve(6 * mesh.tets.size());
   for (std::size_t t = 0; t < mesh.tets.size(); ++t)
   {
@@ -164,6 +165,40 @@ MeshValidity checkMeshValidity(const TetMesh& mesh, const std::function<int(cons
         edges.push_back(norm(mesh.points[k[i]] - mesh.points[k[j]]));
     }
   }
+  return good;
+}
+
+/// Micro, flat, inverted (relative to the median edge L), and a material mismatch when all four
+/// corners are inside a material.
+unsigned char shapeAndMaterialDefects(const TetMesh& mesh, std::size_t t,
+  const std::function<int(const Vec3&)>& materialAt, const ValidityThresholds& th, double L)
+{
+  const auto& k = mesh.tets[t];
+  const Vec3 &a = mesh.points[k[0]], &b = mesh.points[k[1]], &c = mesh.points[k[2]], &d = mesh.points[k[3]];
+  const double longest = std::max({ norm(b - a), norm(c - a), norm(d - a), norm(c - b), norm(d - b), norm(d - c) });
+  const double v = signedVolume(a, b, c, d);
+  unsigned char flags = (longest < th.micro * L ? kMicro : 0) |
+    (!(std::abs(v) >= th.flat * longest * longest * longest) ? kFlat : 0) | (v < 0 ? kInverted : 0);
+  if (materialAt && t < mesh.tetMaterial.size() && mesh.pointDimension.size() == mesh.points.size())
+  {
+    bool inside = true;
+    for (int i = 0; i < 4; ++i)
+      inside = inside && mesh.pointDimension[k[i]] == 3;
+    if (inside && materialAt(0.25 * (a + b + c + d)) != mesh.tetMaterial[t])
+      flags |= kMaterialMismatch;
+  }
+  return flags;
+}
+}
+
+MeshValidity checkMeshValidity(const TetMesh& mesh, const std::function<int(const Vec3&)>& materialAt,
+  const ValidityThresholds& th, std::vector<unsigned char>* tetDefects)
+{
+  MeshValidity r;
+  std::vector<unsigned char> flags(mesh.tets.size(), 0);
+  std::vector<char> used(mesh.points.size(), 0);
+  std::vector<double> edges;
+  const std::vector<std::size_t> good = tetsWithValidIndices(mesh, r, flags, used, edges);
   for (char u : used)
     r.unusedVertices += !u;
   if (edges.empty())
@@ -178,23 +213,7 @@ MeshValidity checkMeshValidity(const TetMesh& mesh, const std::function<int(cons
   const double L = r.medianEdge;
 
   for (std::size_t t : good)
-  {
-    const auto& k = mesh.tets[t];
-    const Vec3 &a = mesh.points[k[0]], &b = mesh.points[k[1]], &c = mesh.points[k[2]], &d = mesh.points[k[3]];
-    const double longest =
-      std::max({ norm(b - a), norm(c - a), norm(d - a), norm(c - b), norm(d - b), norm(d - c) });
-    const double v = signedVolume(a, b, c, d);
-    flags[t] |= (longest < th.micro * L ? kMicro : 0) |
-      (!(std::abs(v) >= th.flat * longest * longest * longest) ? kFlat : 0) | (v < 0 ? kInverted : 0);
-    if (materialAt && t < mesh.tetMaterial.size() && mesh.pointDimension.size() == mesh.points.size())
-    {
-      bool inside = true;
-      for (int i = 0; i < 4; ++i)
-        inside = inside && mesh.pointDimension[k[i]] == 3;
-      if (inside && materialAt(0.25 * (a + b + c + d)) != mesh.tetMaterial[t])
-        flags[t] |= kMaterialMismatch;
-    }
-  }
+    flags[t] |= shapeAndMaterialDefects(mesh, t, materialAt, th, L);
   const double tol = th.duplicate * L;
   if (tol > 0)
   {

@@ -24,6 +24,7 @@ import time
 from .atomic import write_text
 from .defaults import mesh_defaults
 from .errors import MeshingError, OracleMeshError, update
+from . import fieldkeys
 from .meshing import mesh
 from .progress import ProgressPrinter
 from .scene import FEATURE_SOURCES, STRATEGIES, load_scene
@@ -118,7 +119,7 @@ def _sample(args):
         write_vtk_xml(image, args.output, vtkXMLImageDataWriter)
     names = scene.material_names()
     fd = image.GetFieldData()
-    ids, volumes = fd.GetArray("MaterialIds"), fd.GetArray("MaterialVolume")
+    ids, volumes = fd.GetArray(fieldkeys.MATERIAL_IDS), fd.GetArray(fieldkeys.MATERIAL_VOLUME)
     total = sum(volumes.GetValue(i) for i in range(volumes.GetNumberOfTuples()))
     lines = [f"Oracle of {args.scene} sampled on {' x '.join(map(str, args.dims))} points "
              f"({time.perf_counter() - started:.2f} s)",
@@ -128,7 +129,7 @@ def _sample(args):
         lines.append(f"{m:>8}  {names.get(m, '?'):<18} {v:>14.1f} {100 * v / total:>6.1f}%")
     lines.append(f"{'all':>8}  {'':<18} {total:>14.1f}")
     if args.output:
-        lines.append(f"wrote {args.output} (point array 'Material', -1 outside): open it in ParaView")
+        lines.append(f"wrote {args.output} (point array '{fieldkeys.MATERIAL}', -1 outside): open it in ParaView")
     _publish(lines, args.report)
     return 0
 
@@ -194,9 +195,9 @@ def _mesh(args):
     if args.summary:
         stats = statistics(result.grid)
         summary = {"tets": q["tets"], "vertices": q["vertices"], "min_dihedral": q["min_dihedral"],
-                   "feature_coverage": stats.get("feature_coverage") if scene.mesh.get("features") else None,
+                   fieldkeys.FEATURE_COVERAGE: stats.get(fieldkeys.FEATURE_COVERAGE) if scene.mesh.get("features") else None,
                    "seconds": result.seconds, "outputs": outputs,
-                   "validity_defects": q["validity"]["validity.defects"],
+                   "validity_defects": q["validity"][fieldkeys.VALIDITY_DEFECTS],
                    "validity": {key: int(q["validity"][key]) for key, _ in VALIDITY_ITEMS if key in q["validity"]},
                    "materials": {str(m): {"tets": row["tets"], "volume": row["volume"],
                                           "min_dihedral": row["min_dihedral"]}
@@ -211,7 +212,7 @@ def _mesh(args):
 def _strict_status(args, q, what, input_warnings=()):
     """3 when --strict and the mesh has validity defects or warnings about its inputs (frames or
     units that do not match, materials or labels without a tetrahedron; the report lists them), else 0."""
-    defects = int(q["validity"]["validity.defects"])
+    defects = int(q["validity"][fieldkeys.VALIDITY_DEFECTS])
     where = ', '.join(what) if isinstance(what, list) else what
     status = 0
     if args.strict and defects:
@@ -241,7 +242,7 @@ def _report(args):
     _publish(lines, args.report)
     from .fielddata import strings
 
-    return _strict_status(args, q, args.mesh, strings(grid.GetFieldData(), "InputWarnings"))
+    return _strict_status(args, q, args.mesh, strings(grid.GetFieldData(), fieldkeys.INPUT_WARNINGS))
 
 
 def _batch(args):

@@ -28,6 +28,7 @@ from concurrent.futures import ThreadPoolExecutor
 
 from .progress import PROGRESS_PREFIX
 from .errors import OracleMeshError
+from . import fieldkeys
 
 RESULT_VERSION = 1  # of result.json; a change redoes every case
 STUDY_KEYS = {"scenes", "sweep", "formats", "description", "comment"}
@@ -35,7 +36,7 @@ STUDY_KEYS = {"scenes", "sweep", "formats", "description", "comment"}
 VALIDITY_COLUMNS = ("duplicate_vertices", "micro_tetrahedra", "flat_tetrahedra", "inverted_tetrahedra",
                     "non_manifold_faces", "bad_vertex_indices", "material_mismatches", "missing_segment_pieces")
 HEAD_COLUMNS = ("case", "scene")
-MESH_COLUMNS = ("status", "tets", "vertices", "min_dihedral", "feature_coverage", "validity_defects") \
+MESH_COLUMNS = ("status", "tets", "vertices", "min_dihedral", fieldkeys.FEATURE_COVERAGE, "validity_defects") \
     + VALIDITY_COLUMNS
 TAIL_COLUMNS = ("seconds", "outputs", "error")
 MATERIAL_COLUMNS = ("tets", "volume", "volume_error", "min_dihedral")  # per material: tets_<id>, ...
@@ -163,7 +164,8 @@ def _inputs(scene):
     features = (description.get("mesh") or {}).get("features") if isinstance(description.get("mesh"), dict) else None
     if isinstance(features, dict):
         more = features.get("files", [])
-        files += [more] if isinstance(more, str) else more if isinstance(more, list) else []
+        more = [more] if isinstance(more, (str, dict)) else more if isinstance(more, list) else []
+        files += [m.get("file") if isinstance(m, dict) else m for m in more]  # {"file": ..., "edge_size": ...} entries
     out = []
     for file in files:
         if isinstance(file, str) and file:
@@ -217,7 +219,7 @@ def _row_head(case):
 def _summary_row(case, summary, files):
     """The CSV row of a case meshed: totals, validity counts, per material tets, volume, volume error
     (when the scene gives a reference volume: (mesh - reference) / reference) and min dihedral."""
-    coverage = summary.get("feature_coverage")
+    coverage = summary.get(fieldkeys.FEATURE_COVERAGE)
     validity = summary.get("validity", {})
     row = dict(status="ok", tets=summary["tets"], vertices=summary["vertices"],
                min_dihedral=f"{summary['min_dihedral']:.3f}",

@@ -491,8 +491,8 @@ def _scene(variant, seed, cut, radius_edge, strategy):
         "domains": domains,
         "mesh": {
             "strategy": strategy,
-            # edge_size is global: the mesher bounds the feature lines with the global value only
-            # (per-material edge_size is accepted but unused), and every feature line is the implant's.
+            # the implant's sharp edges take the global edge_size: no material sets one of its own
+            # (a per-material edge_size would bound the lines of that material: MeshCriteria.h).
             "criteria": {"facet_angle": 25.0, "cell_radius_edge_ratio": float(radius_edge), **bone_criteria,
                          "edge_size": 0.5},
             "materials": materials,

@@ -6,6 +6,8 @@ import re
 from vtkmodules.util.misc import calldata_type
 from vtkmodules.util.vtkConstants import VTK_STRING
 
+from . import fieldkeys
+
 
 class OracleMeshError(RuntimeError):
     """Bad input or a failed pipeline stage; the message names the input and what is wrong."""
@@ -64,7 +66,7 @@ def _statistics(output):
     """The mesher's statistics {name: value} in `output`'s field data (empty without)."""
     from .fielddata import labelled
 
-    return dict(labelled(output.GetFieldData(), "StatisticValues")) if output is not None else {}
+    return dict(labelled(output.GetFieldData(), fieldkeys.STATISTIC_VALUES)) if output is not None else {}
 
 
 def update(algorithm, port=0):

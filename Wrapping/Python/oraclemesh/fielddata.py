@@ -10,8 +10,11 @@ columns of the spreadsheet view (Attribute: Field Data) and in the Information p
 
 ``labelled`` and ``strings`` read both forms (the mesher's grid and a file written before or since).
 """
+from . import fieldkeys
+
 # string array -> the numeric array it labels
-LABELLED = {"StatisticNames": "StatisticValues", "MaterialNames": "MaterialIds", "ValidityNames": "ValidityValues"}
+LABELLED = {fieldkeys.STATISTIC_NAMES: fieldkeys.STATISTIC_VALUES, fieldkeys.MATERIAL_NAMES: fieldkeys.MATERIAL_IDS,
+            fieldkeys.VALIDITY_NAMES: fieldkeys.VALIDITY_VALUES}
 # field data the oracle's first domain passes down the pipeline: it describes that domain, not the mesh
 DOMAIN_PREFIX = "OracleMesh_"
 
@@ -114,8 +117,8 @@ def add_material_names(field_data, names):
     from vtkmodules.vtkCommonCore import vtkIntArray, vtkStringArray
 
     ids, strings = vtkIntArray(), vtkStringArray()
-    ids.SetName("MaterialIds")
-    strings.SetName("MaterialNames")
+    ids.SetName(fieldkeys.MATERIAL_IDS)
+    strings.SetName(fieldkeys.MATERIAL_NAMES)
     for m, name in sorted(names.items()):
         ids.InsertNextValue(m)
         strings.InsertNextValue(name)

@@ -18,6 +18,7 @@ import re
 from .fielddata import add_material_names
 from .errors import OracleMeshError, update
 from .writers import MESH_FORMATS
+from . import fieldkeys
 
 
 def min_dihedral_angles(points, cells):
@@ -53,7 +54,7 @@ def _grid(points, cells, material, names):
                  numpy_to_vtk(np.ascontiguousarray(cells, dtype=np.int64).ravel(), deep=True))
     grid.SetCells(VTK_QUADRATIC_TETRA if width == 10 else VTK_TETRA, tets)
     array = numpy_to_vtk(np.asarray(material, dtype=np.int32), deep=True)
-    array.SetName("Material")
+    array.SetName(fieldkeys.MATERIAL)
     grid.GetCellData().AddArray(array)
     add_material_names(grid.GetFieldData(), names)
     return grid
@@ -172,9 +173,9 @@ def read_mesh(path):
             raise OracleMeshError(f"{path}: reading '{ext}' needs meshio (Debian: apt-get install python3-meshio)") \
                 from None
         grid = _from_meshio(path, ext)
-    if grid.GetCellData().GetArray("MinDihedralAngle") is None:
+    if grid.GetCellData().GetArray(fieldkeys.MIN_DIHEDRAL_ANGLE) is None:
         points, cells, _ = tetrahedra(grid, path)
         angles = numpy_to_vtk(min_dihedral_angles(points, cells), deep=True)
-        angles.SetName("MinDihedralAngle")
+        angles.SetName(fieldkeys.MIN_DIHEDRAL_ANGLE)
         grid.GetCellData().AddArray(angles)
     return grid

@@ -15,6 +15,7 @@ from .defaults import CRITERIA_KEYS, FEATURE_SOURCES, MESH_PROPERTIES, domain_cr
 from .fielddata import add_material_names
 from .errors import OracleMeshError, update
 from .scene import Scene, build_scene, load_scene
+from . import fieldkeys
 
 
 def mesher_for(scene, strategy=None, element_order=None, features=None, threads=None):
@@ -56,14 +57,24 @@ def mesher_for(scene, strategy=None, element_order=None, features=None, threads=
             edges.SetFeatureAngle(features["feature_angle"])
             parts.append(edges)
         parts.extend(scene.feature_readers)
-        if len(parts) == 1:
+        sizes = [None] * len(features["from_surface"]) + list(scene.feature_edge_sizes)
+        names = [f"the sharp edges of {scene.domains[i].GetMaterialName()}" for i in features["from_surface"]] + features["files"]
+        if any(size is not None for size in sizes) or (len(parts) > 1 and any(
+                _edge_size_array(part) is not None for part in scene.feature_readers)):
+            # per-feature edge sizes: each part's lines get an "EdgeSize" cell array (-1 = none), so
+            # that appending keeps it (vtkAppendPolyData drops arrays some inputs lack)
+            parts = [_with_edge_sizes(part, size, name) for part, size, name in zip(parts, sizes, names)]
+            lines = vtkAppendPolyData()
+            for part in parts:
+                lines.AddInputData(part)
+        elif len(parts) == 1:
             lines = parts[0]
         else:
             lines = vtkAppendPolyData()
             for part in parts:
                 lines.AddInputConnection(part.GetOutputPort())
         mesher.SetInputConnection(1, lines.GetOutputPort())
-        scene.feature_lines = lines  # keeps the Python objects alive with the scene
+        scene.feature_lines = (lines, parts)  # keeps the Python objects alive with the scene
     for key, prop in MESH_PROPERTIES.items():
         if key in spec:
             getattr(mesher, "Set" + prop)(spec[key])
@@ -74,6 +85,38 @@ def mesher_for(scene, strategy=None, element_order=None, features=None, threads=
     if threads is not None:
         mesher.SetThreads(threads)
     return mesher
+
+
+def _edge_size_array(part):
+    """The "EdgeSize" cell array of a feature-line source's output (None without one)."""
+    part.Update()
+    return part.GetOutput().GetCellData().GetArray("EdgeSize")
+
+
+def _with_edge_sizes(part, size, name):
+    """The lines of `part` with an "EdgeSize" cell array: the file's own values, `size` (the scene's
+    "edge_size" of that entry) where the file has none (-1), -1 where neither gives one. A line that
+    the file and the scene give different values is a contradiction."""
+    from vtkmodules.vtkCommonCore import vtkDoubleArray
+    from vtkmodules.vtkCommonDataModel import vtkPolyData
+
+    own = _edge_size_array(part)
+    lines = vtkPolyData()
+    lines.ShallowCopy(part.GetOutput())
+    values = vtkDoubleArray()
+    values.SetName("EdgeSize")
+    values.SetNumberOfTuples(lines.GetNumberOfCells())
+    for cell in range(lines.GetNumberOfCells()):
+        value = own.GetComponent(cell, 0) if own is not None else -1.0
+        if size is not None:
+            if value != -1.0 and value != size:
+                raise OracleMeshError(f"feature lines: line {cell} of {name} gets EdgeSize {value:g} from the file and "
+                                      f"{size:g} from the scene's edge_size (give it once: drop one of them)")
+            value = size
+        values.SetValue(cell, value)
+    lines.GetCellData().RemoveArray("EdgeSize")
+    lines.GetCellData().AddArray(values)
+    return lines
 
 
 def describe(grid, names, feature_segments):
@@ -94,7 +137,7 @@ def add_input_warnings(grid, warnings):
     --strict fails on them."""
     from vtkmodules.vtkCommonCore import vtkStringArray
 
-    for name in ("Warnings", "InputWarnings"):
+    for name in (fieldkeys.WARNINGS, fieldkeys.INPUT_WARNINGS):
         if not warnings:
             break
         array = grid.GetFieldData().GetAbstractArray(name)
@@ -138,8 +181,8 @@ class MeshResult:
         self.grid, self.scene, self.strategy, self.seconds = grid, scene, strategy, seconds
         self.material_names = scene.material_names()
         self.statistics = statistics(grid)
-        self.warnings = strings(grid.GetFieldData(), "Warnings")
-        self.input_warnings = strings(grid.GetFieldData(), "InputWarnings")
+        self.warnings = strings(grid.GetFieldData(), fieldkeys.WARNINGS)
+        self.input_warnings = strings(grid.GetFieldData(), fieldkeys.INPUT_WARNINGS)
         lines, self.quality = report_lines(grid, title, self.material_names, recheck=False)
         self.report = "\n".join(lines)
         self._arrays = None

@@ -7,6 +7,11 @@ layers show. Runs under ParaView's pvbatch (needs an X display: use xvfb-run):
 import json
 import sys
 
+try:
+    from . import fieldkeys
+except ImportError:  # run as a script by pvbatch: the package folder is on sys.path
+    import fieldkeys
+
 
 def render(data_file, png_file, names=None, size=(1200, 900)):
     """Renders a sampled oracle (.vti, point data Material) or a tetrahedral mesh (.vtu, cell data
@@ -20,7 +25,7 @@ def render(data_file, png_file, names=None, size=(1200, 900)):
     else:
         reader = pv.XMLImageDataReader(FileName=[data_file])
         solid = pv.Threshold(Input=reader)
-        solid.Scalars = ["POINTS", "Material"]
+        solid.Scalars = ["POINTS", fieldkeys.MATERIAL]
         solid.LowerThreshold = 0
         solid.UpperThreshold = 1.0e9
         association = "POINTS"
@@ -42,8 +47,8 @@ def render(data_file, png_file, names=None, size=(1200, 900)):
     if mesh:
         display.SetRepresentationType("Surface With Edges")
         display.EdgeColor = [0.2, 0.2, 0.2]
-    pv.ColorBy(display, (association, "Material"))
-    lut = pv.GetColorTransferFunction("Material")
+    pv.ColorBy(display, (association, fieldkeys.MATERIAL))
+    lut = pv.GetColorTransferFunction(fieldkeys.MATERIAL)
     lut.InterpretValuesAsCategories = 1
     ids = sorted(int(k) for k in (names or {}))
     if ids:
@@ -51,7 +56,7 @@ def render(data_file, png_file, names=None, size=(1200, 900)):
     lut.ApplyPreset("Brewer Qualitative Set1", True)
     display.SetScalarBarVisibility(view, True)
     bar = pv.GetScalarBar(lut, view)
-    bar.Title = "Material"
+    bar.Title = fieldkeys.MATERIAL
     bar.TitleColor = [0, 0, 0]
     bar.LabelColor = [0, 0, 0]
     view.CameraPosition = [-160.0, -260.0, 140.0]

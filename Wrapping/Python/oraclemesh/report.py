@@ -7,6 +7,7 @@ from .errors import OracleMeshError
 from .fielddata import labelled, strings
 from .meshfiles import read_mesh  # noqa: F401  (the report's reader; kept here for its users)
 from .writers import element_nodes, tetrahedra
+from . import fieldkeys
 
 # Text histogram bins [degrees]: a tetrahedron's minimal dihedral angle is at most 70.53 degrees.
 TEXT_BINS = (0, 5, 10, 20, 30, 40, 50, 60, 90)
@@ -18,24 +19,24 @@ def _strings(array):
 
 def material_names(grid):
     """{material id: name} stored in the mesh's field data by ``oraclemesh mesh`` (may be empty)."""
-    return {int(m): name for name, m in labelled(grid.GetFieldData(), "MaterialIds")}
+    return {int(m): name for name, m in labelled(grid.GetFieldData(), fieldkeys.MATERIAL_IDS)}
 
 
 def statistics(grid):
     """The mesher's statistics {name: value} from the field data (empty for other meshes)."""
-    return dict(labelled(grid.GetFieldData(), "StatisticValues"))
+    return dict(labelled(grid.GetFieldData(), fieldkeys.STATISTIC_VALUES))
 
 
 # Defect counts of the validity check, in report order: (statistic name, words).
 VALIDITY_ITEMS = (
-    ("validity.duplicate_vertices", "duplicate vertices"),
-    ("validity.micro_tetrahedra", "micro tetrahedra"),
-    ("validity.flat_tetrahedra", "flat tetrahedra"),
-    ("validity.inverted_tetrahedra", "inverted tetrahedra"),
-    ("validity.non_manifold_faces", "faces shared by more than two tetrahedra"),
-    ("validity.bad_vertex_indices", "tetrahedra with bad vertex indices"),
-    ("validity.material_mismatches", "tetrahedra whose material differs from the oracle's inside them"),
-    ("validity.missing_segment_pieces", "feature-line pieces missing from the mesh edges"),
+    (fieldkeys.VALIDITY_DUPLICATE_VERTICES, "duplicate vertices"),
+    (fieldkeys.VALIDITY_MICRO_TETRAHEDRA, "micro tetrahedra"),
+    (fieldkeys.VALIDITY_FLAT_TETRAHEDRA, "flat tetrahedra"),
+    (fieldkeys.VALIDITY_INVERTED_TETRAHEDRA, "inverted tetrahedra"),
+    (fieldkeys.VALIDITY_NON_MANIFOLD_FACES, "faces shared by more than two tetrahedra"),
+    (fieldkeys.VALIDITY_BAD_VERTEX_INDICES, "tetrahedra with bad vertex indices"),
+    (fieldkeys.VALIDITY_MATERIAL_MISMATCHES, "tetrahedra whose material differs from the oracle's inside them"),
+    (fieldkeys.VALIDITY_MISSING_SEGMENT_PIECES, "feature-line pieces missing from the mesh edges"),
 )
 
 
@@ -49,31 +50,31 @@ def validity(grid, recheck=True):
     from . import vtkMeshValidityCheck
 
     made = statistics(grid)
-    if not recheck and "validity.defects" in made:
+    if not recheck and fieldkeys.VALIDITY_DEFECTS in made:
         return {k: v for k, v in made.items() if k.startswith("validity.")}
     check = vtkMeshValidityCheck()
     check.SetInputData(grid)
     check.Update()
     fd = check.GetOutput().GetFieldData()
-    names, values = fd.GetAbstractArray("ValidityNames"), fd.GetArray("ValidityValues")
+    names, values = fd.GetAbstractArray(fieldkeys.VALIDITY_NAMES), fd.GetArray(fieldkeys.VALIDITY_VALUES)
     counts = {n: values.GetValue(i) for i, n in enumerate(_strings(names))} if names is not None else {}
-    for key in ("validity.material_mismatches", "validity.missing_segment_pieces"):
+    for key in (fieldkeys.VALIDITY_MATERIAL_MISMATCHES, fieldkeys.VALIDITY_MISSING_SEGMENT_PIECES):
         if key in made:
             counts[key] = made[key]
-    counts["validity.defects"] = sum(counts.get(key, 0) for key, _ in VALIDITY_ITEMS)
+    counts[fieldkeys.VALIDITY_DEFECTS] = sum(counts.get(key, 0) for key, _ in VALIDITY_ITEMS)
     return counts
 
 
 def validity_line(counts):
     """One line: "validity: no defects (...)" or "validity: N DEFECTS: ..."."""
-    shortest = counts.get("validity.shortest_edge", 0) / max(counts.get("validity.median_edge", 1), 1e-300)
-    if not counts.get("validity.defects"):
+    shortest = counts.get(fieldkeys.VALIDITY_SHORTEST_EDGE, 0) / max(counts.get(fieldkeys.VALIDITY_MEDIAN_EDGE, 1), 1e-300)
+    if not counts.get(fieldkeys.VALIDITY_DEFECTS):
         return (f"validity: no defects (no duplicate vertices, micro, flat or inverted tetrahedra, non-manifold "
-                f"faces{', material mismatches' if 'validity.material_mismatches' in counts else ''}"
-                f"{', missing feature-line pieces' if 'validity.missing_segment_pieces' in counts else ''}); "
+                f"faces{', material mismatches' if fieldkeys.VALIDITY_MATERIAL_MISMATCHES in counts else ''}"
+                f"{', missing feature-line pieces' if fieldkeys.VALIDITY_MISSING_SEGMENT_PIECES in counts else ''}); "
                 f"shortest/median edge {shortest:.2g}")
     found = ", ".join(f"{int(counts[key])} {words}" for key, words in VALIDITY_ITEMS if counts.get(key))
-    return f"validity: {int(counts['validity.defects'])} DEFECTS: {found}; shortest/median edge {shortest:.2g}"
+    return f"validity: {int(counts[fieldkeys.VALIDITY_DEFECTS])} DEFECTS: {found}; shortest/median edge {shortest:.2g}"
 
 
 def quality(grid, source="mesh"):
@@ -91,9 +92,9 @@ def quality(grid, source="mesh"):
 
     points, nodes, material = element_nodes(grid, source)
     cells = nodes[:, :4]
-    array = grid.GetCellData().GetArray("MinDihedralAngle")
+    array = grid.GetCellData().GetArray(fieldkeys.MIN_DIHEDRAL_ANGLE)
     if array is None:
-        raise OracleMeshError(f"{source}: no cell array 'MinDihedralAngle' (write meshes with 'oraclemesh mesh')")
+        raise OracleMeshError(f"{source}: no cell array '{fieldkeys.MIN_DIHEDRAL_ANGLE}' (write meshes with 'oraclemesh mesh')")
     angles = vtk_to_numpy(array).astype(np.float64)
     p = points[cells]
     quadratic = nodes.shape[1] == 10
@@ -133,18 +134,18 @@ def report_lines(grid, title, names=None, source="mesh", recheck=True):
     segments = grid.GetFieldData().GetArray("FeatureSegments")
     if segments is not None and segments.GetValue(0) == 0:
         lines.append("feature lines: none given")
-    elif "feature_coverage" in stats:
-        lines.append(f"feature lines present as mesh edges: {100 * stats['feature_coverage']:.1f}%"
+    elif fieldkeys.FEATURE_COVERAGE in stats:
+        lines.append(f"feature lines present as mesh edges: {100 * stats[fieldkeys.FEATURE_COVERAGE]:.1f}%"
                      + (f" ({segments.GetValue(0)} segments)" if segments is not None else ""))
     q["validity"] = validity(grid, recheck)
     lines.append(validity_line(q["validity"]))
     if q["order"] == 2:
         line = (f"quadratic tetrahedra: smallest Jacobian ratio {q['min_jacobian_ratio']:.3g} (det J at the 10 nodes "
                 f"and 4 Gauss points over the straight tetrahedron's; <= 0 is inverted)")
-        if "quadratic.snapped_nodes" in stats:
-            line += (f"; {int(stats['quadratic.snapped_nodes'])} of {int(stats['quadratic.interface_edges'])} interface "
-                     f"mid-edge nodes on the true surfaces, {int(stats['quadratic.relaxed_nodes'])} pulled back for "
-                     f"validity, {int(stats['quadratic.unsnapped_interface_edges'])} straight (junctions, creases)")
+        if fieldkeys.QUADRATIC_SNAPPED_NODES in stats:
+            line += (f"; {int(stats[fieldkeys.QUADRATIC_SNAPPED_NODES])} of {int(stats[fieldkeys.QUADRATIC_INTERFACE_EDGES])} interface "
+                     f"mid-edge nodes on the true surfaces, {int(stats[fieldkeys.QUADRATIC_RELAXED_NODES])} pulled back for "
+                     f"validity, {int(stats[fieldkeys.QUADRATIC_UNSNAPPED_INTERFACE_EDGES])} straight (junctions, creases)")
         lines.append(line)
     phases = [(phase, stats[f"optimisation.{phase}_steps"], stats.get(f"optimisation.{phase}_cut_short"),
                stats.get(f"time.{phase}", 0.0)) for phase in ("perturbation", "exudation")
@@ -153,7 +154,7 @@ def report_lines(grid, title, names=None, source="mesh", recheck=True):
         lines.append("optimisation: " + "; ".join(
             f"{phase} {int(steps)} steps in {seconds:.1f} s, " + ("ended at its budget" if cut else "done")
             for phase, steps, cut, seconds in phases))
-    for warning in strings(grid.GetFieldData(), "Warnings"):
+    for warning in strings(grid.GetFieldData(), fieldkeys.WARNINGS):
         if not warning.startswith("mesh validity:"):  # the line above says it
             lines.append("warning: " + warning)
     return lines, q
@@ -180,7 +181,7 @@ def save_histogram(q, png_path, names=None, title=None):
     axes.set_ylabel("tetrahedra")
     axes.set_xlim(0, 72)
     axes.set_title(title or "Dihedral angles")
-    axes.legend(title="Material")
+    axes.legend(title=fieldkeys.MATERIAL)
     figure.tight_layout()
     from .atomic import atomic_output
 
@@ -259,7 +260,7 @@ def save_section(grid, png_path, names=None, title=None, source="mesh"):
     axes.set_ylabel(f"{v} [mm]")
     axes.set_title(title or f"Section at {'xyz'[axis]} = {position:.4g}")
     axes.legend(handles=[Patch(color=colour[m], label=f"{m}: {names[m]}" if m in names else str(m)) for m in ids],
-                title="Material", loc="upper right", fontsize="small")
+                title=fieldkeys.MATERIAL, loc="upper right", fontsize="small")
     figure.tight_layout()
     from .atomic import atomic_output
 

@@ -74,6 +74,7 @@ class Scene:
         self.outputs = {}
         self.domain_criteria = []
         self.feature_readers = []
+        self.feature_edge_sizes = []  # per feature file: its "edge_size" (None: the lines' own, else the materials')
         self.reference_volumes = {}
         self.source = "scene"
         self.space = "LPS"
@@ -259,6 +260,42 @@ def _paths(problems, value, path, scene):
     return [scene.path(v) for v in items]
 
 
+FEATURE_FILE_KEYS = {"file", "edge_size", "comment"}
+
+
+def _feature_files(problems, value, scene):
+    """[(absolute path, edge size or None)] from "features.files": a file name, or a list of file names
+    and {"file": name, "edge_size": number} entries (the per-feature level of the edge size: it
+    wins over the materials' and the global one, MeshCriteria.h)."""
+    path = "$.mesh.features.files"
+    items = [value] if isinstance(value, (str, dict)) else value
+    if not isinstance(items, list) or not items:
+        problems.add(path, f"must be a file name, a {{\"file\": ..., \"edge_size\": ...}} entry or a list of them, "
+                           f"got {value!r}")
+        return []
+    out = []
+    for k, item in enumerate(items):
+        where = path + (f"[{k}]" if isinstance(value, list) else "")
+        if isinstance(item, str) and item:
+            out.append((scene.path(item), None))
+        elif isinstance(item, dict):
+            _unknown_keys(problems, item, where, FEATURE_FILE_KEYS)
+            file = item.get("file")
+            if not isinstance(file, str) or not file:
+                problems.add(f"{where}.file", f"must be a file name, got {file!r}")
+                continue
+            edge_size = None
+            if "edge_size" in item:
+                edge_size = _number(problems, item, where, "edge_size")
+                if edge_size is not None and edge_size < 0:
+                    problems.add(f"{where}.edge_size", f"must be a number >= 0 (0: no bound), got {item['edge_size']!r}")
+                    edge_size = None
+            out.append((scene.path(file), edge_size))
+        else:
+            problems.add(where, f"must be a file name or a {{\"file\": ..., \"edge_size\": ...}} entry, got {item!r}")
+    return out
+
+
 def _mesh_block(problems, spec, scene):
     """Validates the "mesh" block into scene.mesh (feature files are read by scene.feature_readers)."""
     if not isinstance(spec, dict):
@@ -358,9 +395,10 @@ def _mesh_block(problems, spec, scene):
             problems.add("$.mesh.features.feature_angle", f"must be below 180 degrees, got {angle}")
         out["feature_angle"] = angle or 60.0
     if "files" in features:
-        for k, file in enumerate(_paths(problems, features["files"], "$.mesh.features.files", scene)):
+        for k, (file, edge_size) in enumerate(_feature_files(problems, features["files"], scene)):
             try:
                 scene.feature_readers.append(surface_reader(file))
+                scene.feature_edge_sizes.append(edge_size)
             except OracleMeshError as e:
                 where = "$.mesh.features.files" + (f"[{k}]" if isinstance(features["files"], list) else "")
                 problems.add(where, str(e))

@@ -29,10 +29,28 @@ pair, the exterior last), the same in every format. Every file is written atomic
 """
 import os
 
+from . import fieldkeys
 from .atomic import atomic_output
 from .errors import OracleMeshError
-from .quadratic import face_nodes
-from .surfaces import abaqus_set_name, material_set_names, surface_sets  # noqa: F401  (abaqus_set_name: API)
+
+
+def __getattr__(name):
+    # abaqus_set_name, surface_sets: API here, defined in surfaces.py, which imports numpy: loaded
+    # when first used, so `oraclemesh mesh` loads numpy after the meshing (the process floor and the
+    # mesher's peak memory without numpy's 20 MB).
+    if name in ("abaqus_set_name", "surface_sets"):
+        from . import surfaces
+
+        return getattr(surfaces, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def material_set_names(ids, names=None):
+    """surfaces.material_set_names (loaded on first use, see __getattr__)."""
+    from .surfaces import material_set_names as set_names
+
+    return set_names(ids, names)
+
 
 MESH_FORMATS = (".vtu", ".inp", ".msh", ".mesh")
 SURFACES_SUFFIX = "_surfaces.vtu"
@@ -93,9 +111,9 @@ def element_nodes(grid, source="mesh"):
         wrong = int(np.argmax(types != kind))
         raise OracleMeshError(f"{source}: cell {wrong} is not a {'quadratic ' if kind != VTK_TETRA else ''}"
                               f"tetrahedron like cell 0 (VTK cell type {int(types[wrong])})")
-    material = grid.GetCellData().GetArray("Material")
+    material = grid.GetCellData().GetArray(fieldkeys.MATERIAL)
     if material is None:
-        raise OracleMeshError(f"{source}: no cell array 'Material' (write meshes with 'oraclemesh mesh')")
+        raise OracleMeshError(f"{source}: no cell array '{fieldkeys.MATERIAL}' (write meshes with 'oraclemesh mesh')")
     points = vtk_to_numpy(grid.GetPoints().GetData()).astype(np.float64)
     width = 10 if kind == VTK_QUADRATIC_TETRA else 4
     nodes = vtk_to_numpy(grid.GetCells().GetConnectivityArray()).reshape(-1, width).astype(np.int64)
@@ -120,6 +138,9 @@ class MeshArrays:
         self.quadratic = self.nodes.shape[1] == 10
         self.names = dict(names or {})
         self.ids = sorted(set(self.material.tolist()))
+        from .quadratic import face_nodes
+        from .surfaces import surface_sets
+
         self.sets = surface_sets(self.points, self.cells, self.material, self.names)
         self.face_nodes = face_nodes(self.sets.faces, self.nodes) if self.quadratic else self.sets.faces
         first = max(self.ids) + 1
@@ -159,7 +180,7 @@ def _write_vtu(grid, path, arrays):
     tag.SetName("Surface")
     surfaces.GetCellData().AddArray(tag)
     pair = numpy_to_vtk(sets.pairs.astype(np.int32), deep=True)
-    pair.SetName("Materials")
+    pair.SetName(fieldkeys.MATERIALS)
     pair.SetComponentName(0, "owner")
     pair.SetComponentName(1, "other")
     surfaces.GetCellData().AddArray(pair)

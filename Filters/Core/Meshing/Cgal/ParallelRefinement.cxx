@@ -120,6 +120,55 @@ private:
   std::map<std::thread::id, double> entered_, spent_;
 };
 
+/// copy_tds's vertex copier for copyComplex: a new vertex with the point (the container gives the
+/// time stamp), then its Mesh_3 data, remembering where each went.
+template <class SrcVertex, class DstVertex>
+struct CopyVertex
+{
+  std::unordered_map<const SrcVertex*, DstVertex*>* copied;
+  DstVertex operator()(const SrcVertex& s) const
+  {
+    DstVertex v;
+    v.set_point(s.point());
+    v.set_time_stamp(std::size_t(-1)); // the container gives a new one (the default is not set)
+    return v;
+  }
+  void operator()(const SrcVertex& s, DstVertex& d) const
+  {
+    d.set_point(s.point());
+    d.set_dimension(s.in_dimension());
+    d.set_index(s.index());
+    d.set_meshing_info(s.meshing_info());
+    (*copied)[&s] = &d;
+  }
+};
+
+/// copy_tds's cell copier for copyComplex: subdomain, surface patches and centres, visited facets.
+template <class SrcCell, class DstCell>
+struct CopyCell
+{
+  DstCell operator()(const SrcCell&) const
+  {
+    DstCell c;
+    c.set_time_stamp(std::size_t(-1)); // as for the vertices
+    return c;
+  }
+  void operator()(const SrcCell& s, DstCell& d) const
+  {
+    d.set_subdomain_index(s.subdomain_index());
+    for (int i = 0; i < 4; ++i)
+    {
+      d.set_surface_patch_index(i, s.surface_patch_index(i));
+      d.set_facet_surface_center(i, s.get_facet_surface_center(i));
+      d.set_facet_surface_center_index(i, s.get_facet_surface_center_index(i));
+      if (s.is_facet_visited(i))
+        d.set_facet_visited(i);
+      else
+        d.reset_visited(i);
+    }
+  }
+};
+
 /// Copies a complex between the sequential and the parallel triangulation types (same traits, same
 /// vertex and cell bases): the triangulation with the Mesh_3 data of its vertices (dimension, index,
 /// ball size) and cells (subdomain, surface patches and centres, visited facets), then the complex:
@@ -136,52 +185,10 @@ void copyComplex(const Src& src, Dst& dst)
   using DstCell = typename DstTr::Cell;
   std::unordered_map<const SrcVertex*, DstVertex*> copied;
   copied.reserve(src.triangulation().number_of_vertices() + 1);
-  struct CopyVertex
-  {
-    std::unordered_map<const SrcVertex*, DstVertex*>* copied;
-    DstVertex operator()(const SrcVertex& s) const
-    {
-      DstVertex v;
-      v.set_point(s.point());
-      v.set_time_stamp(std::size_t(-1)); // the container gives a new one (the default is not set)
-      return v;
-    }
-    void operator()(const SrcVertex& s, DstVertex& d) const
-    {
-      d.set_point(s.point());
-      d.set_dimension(s.in_dimension());
-      d.set_index(s.index());
-      d.set_meshing_info(s.meshing_info());
-      (*copied)[&s] = &d;
-    }
-  };
-  struct CopyCell
-  {
-    DstCell operator()(const SrcCell&) const
-    {
-      DstCell c;
-      c.set_time_stamp(std::size_t(-1)); // as for the vertices
-      return c;
-    }
-    void operator()(const SrcCell& s, DstCell& d) const
-    {
-      d.set_subdomain_index(s.subdomain_index());
-      for (int i = 0; i < 4; ++i)
-      {
-        d.set_surface_patch_index(i, s.surface_patch_index(i));
-        d.set_facet_surface_center(i, s.get_facet_surface_center(i));
-        d.set_facet_surface_center_index(i, s.get_facet_surface_center_index(i));
-        if (s.is_facet_visited(i))
-          d.set_facet_visited(i);
-        else
-          d.reset_visited(i);
-      }
-    }
-  };
   dst.clear();
   const SrcTr& from = src.triangulation();
   DstTr& to = dst.triangulation();
-  to.tds().copy_tds(from.tds(), typename SrcTr::Vertex_handle(), CopyVertex{ &copied }, CopyCell{});
+  to.tds().copy_tds(from.tds(), typename SrcTr::Vertex_handle(), CopyVertex<SrcVertex, DstVertex>{ &copied }, CopyCell<SrcCell, DstCell>{});
   auto handle = [&](typename SrcTr::Vertex_handle v) { return to.tds().vertices().iterator_to(*copied.at(&*v)); };
   to.set_infinite_vertex(handle(from.infinite_vertex()));
   dst.rescan_after_load_of_triangulation(); // facets and cells of the complex; corners get index 1

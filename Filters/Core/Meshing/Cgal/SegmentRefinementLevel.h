@@ -22,6 +22,7 @@
 #include <deque>
 #include <functional>
 #include <iterator>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -156,9 +157,13 @@ public:
       inQueue_[s] = 0;
       const bool vetoed = mustSplit_[s] != 0;
       mustSplit_[s] = 0;
-      if (refused_[s] || !(vetoed || state_.encroached(s)))
+      if (refused_[s])
         continue;
-      if (!state_.splittable(s) || !split(s, visitor))
+      const bool bad = vetoed || state_.encroached(s);
+      const std::optional<double> t = state_.splitT12(s, bad); // rules::splitEncroachedT12
+      if (!t && !bad)
+        continue;
+      if (!t || !split(s, *t, visitor)) // bad but at the floor, or its point already a vertex
       {
         refused_[s] = 1;
         ++state_.counters().unsplittable;
@@ -274,13 +279,13 @@ private:
     }
   }
 
-  /// T1.2: splits sub-segment s at its midpoint and keeps the shells of its small-angle cluster
-  /// (the same distance from the apex on the cluster's other segments, see SegmentSet).
+  /// T1.2: splits sub-segment s at parameter t (the rule's midpoint) and keeps the shells of its
+  /// small-angle cluster (the same distance from the apex on the cluster's other segments, see SegmentSet).
   template <class V>
-  bool split(int s, V& visitor)
+  bool split(int s, double t, V& visitor)
   {
-    const auto mirrors = state_.mirrorSplits(s, 0.5);
-    if (!insertSplit(s, 0.5, visitor))
+    const auto mirrors = state_.mirrorSplits(s, t);
+    if (!insertSplit(s, t, visitor))
       return false;
     for (const auto& [x, t] : mirrors)
       state_.counters().mirrored += insertSplit(x, t, visitor);

@@ -13,6 +13,7 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <optional>
 #include <unordered_map>
 #include <vector>
 
@@ -107,8 +108,19 @@ public:
   Counters& counters() { return count_; }
   const Counters& counters() const { return count_; }
 
-  /// Longer than twice the smallest piece refinement allows.
-  bool splittable(int s) const { return segs_.length(s) > 2.0 * minLength_; }
+  /// The floor of rule T1.2 during refinement: halves stay strictly longer than the smallest
+  /// piece (rules::splitEncroachedT12 splits at half-length >= floor, so the next double up).
+  double splitFloor() const { return std::nextafter(minLength_, std::numeric_limits<double>::infinity()); }
+
+  /// T1.2 would split sub-segment s if it were encroached (longer than twice the smallest piece).
+  bool splittable(int s) const { return splitT12(s, true).has_value(); }
+
+  /// Rule T1.2 on sub-segment s, `bad` when encroached or asked for by T2.1/T3.1: the split
+  /// parameter, or nothing. The refinement has no length bound (conformSegments applied it).
+  std::optional<double> splitT12(int s, bool bad) const
+  {
+    return rules::splitEncroachedT12(segs_.points[segs_.subs[s][0]], segs_.points[segs_.subs[s][1]], bad, 0.0, splitFloor());
+  }
 
   /// Section 2.1 on sub-segment s.
   bool encroachedBy(int s, const Bare_point& p) const

@@ -1,0 +1,40 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Private to the module (uses core types): the core's tetrahedral mesh as the tetrahedralizer's
+// three VTK outputs, and the statistics' field-data arrays (also written for a failed run).
+#pragma once
+
+#include "FeatureSelection.h"
+#include "QuadraticTets.h"
+#include "TetMesh.h"
+
+#include <map>
+#include <string>
+#include <vector>
+
+class vtkFieldData;
+class vtkPolyData;
+class vtkUnstructuredGrid;
+
+class TetMeshOutput
+{
+public:
+  /// Port 0: tetrahedra positively oriented (10-node ones when `quadratic` is given), cell arrays
+  /// Material, MinDihedralAngle, RadiusEdgeRatio (and Defects when validated), point array
+  /// Dimension, field data: statistics, warnings and `inputWarnings` (the ones --strict refuses).
+  static void FillGrid(vtkUnstructuredGrid* grid, const omesh::TetMesh& mesh, const omesh::QuadraticTetMesh* quadratic,
+    const std::vector<std::string>& inputWarnings);
+  /// Port 1: interface triangles on the grid's points, cell array Materials (the two sides).
+  static void FillInterfaces(vtkPolyData* interfaces, const omesh::TetMesh& mesh, vtkUnstructuredGrid* grid);
+  /// Port 2: the constrained segments as they stand in the mesh (cell arrays Present, InputSegment;
+  /// Origin, 0 given, 1 found where the inputs meet, and Materials, the 4 materials a found piece
+  /// separates, from `selection`: by the piece's input segment when `sameSegments` (the mesher
+  /// kept the selection's numbering), else by the selection's segment nearest to its midpoint).
+  static void FillSegments(vtkPolyData* segments, const omesh::TetMesh& mesh, const omesh::FeatureSelection& selection,
+    bool sameSegments);
+  /// The statistics as two field-data arrays, StatisticNames and StatisticValues.
+  static void AddStatistics(vtkFieldData* fieldData, const std::map<std::string, double>& statistics);
+
+private:
+  static void AddTetrahedra(vtkUnstructuredGrid* grid, const omesh::TetMesh& mesh, const omesh::QuadraticTetMesh* quadratic);
+  static void AddStrings(vtkFieldData* fieldData, const char* name, const std::vector<std::string>& strings);
+};
