@@ -11,7 +11,7 @@ on a fine grid). The summary gives the Conforming/None tetrahedron ratio (the pa
 radius-edge 1.1) and whether Conforming was valid on every case.
 
     /usr/bin/python3 Benchmarks/bone_implant_study.py [--cases 20] [--radius-edge 1.3] [--jobs 2]
-        [--strategies Conforming None ProtectingBalls] [--work DIR] [--check]
+        [--strategies Conforming None ProtectingBalls] [--features Both] [--work DIR] [--check]
 
 Needs PYTHONPATH=<build>/lib/python3.11/site-packages and the `oraclemesh` command (ORACLEMESH_COMMAND,
 else `python3 -m oraclemesh`). --check (the ctest version) exits 1 unless every Conforming mesh is
@@ -110,9 +110,9 @@ OPTIMISER_VARIANTS = {
 }
 
 
-def mesh_case(case, strategy, timeout):
+def mesh_case(case, strategy, timeout, features=None):
     """Meshes one case with one strategy (with a suffix of OPTIMISER_VARIANTS: its optimiser
-    settings); returns the table row."""
+    settings) and, when given, a Features option (None, Given, Automatic, Both); returns the table row."""
     tag = strategy.replace(":", "_")
     out = os.path.join(case["dir"], f"mesh_{tag}.vtu")
     summary = os.path.join(case["dir"], f"summary_{tag}.json")
@@ -128,8 +128,9 @@ def mesh_case(case, strategy, timeout):
         scene = os.path.join(case["dir"], f"scene_{tag}.json")
         with open(scene, "w") as f:
             json.dump(description, f)
+    extra = ["--features", features] if features else []
     rc, seconds, tail = run_measured(command() + ["mesh", scene, "--strategy", strategy.split(":")[0], "-o", out,
-                                                  "--summary", summary], timeout)
+                                                  "--summary", summary] + extra, timeout)
     row = {"case": case["name"], "strategy": strategy, "rc": rc, "seconds": seconds, "error": ""}
     if rc != 0 or not os.path.exists(out):
         row["error"] = tail or f"exit {rc}"
@@ -278,6 +279,8 @@ def main():
     parser.add_argument("--sample-dims", type=int, default=160)
     parser.add_argument("--work", help="folder for cases and meshes (default: a temporary one)")
     parser.add_argument("--check", action="store_true", help="assert validity, coverage and volumes (ctest)")
+    parser.add_argument("--features", choices=["None", "Given", "Automatic", "Both"],
+                        help="which feature lines the mesher keeps (default: the scenes' own, Given)")
     args = parser.parse_args()
     tmp = None if args.work else tempfile.TemporaryDirectory()
     work = args.work or tmp.name
@@ -286,10 +289,11 @@ def main():
                       not args.no_optimise)
     jobs = [(c, s) for c in made for s in args.strategies]
     with ThreadPoolExecutor(max_workers=max(1, args.jobs)) as pool:
-        rows = list(pool.map(lambda job: mesh_case(job[0], job[1], args.timeout), jobs))
+        rows = list(pool.map(lambda job: mesh_case(job[0], job[1], args.timeout, args.features), jobs))
     print(f"Bone/implant study: {len(made)} cases, radius-edge {args.radius_edge}"
           f"{', no optimisation' if args.no_optimise else ''}, implant cell 1 / facet distance "
-          f"0.1 / edge 0.5, bone cell 3 / facet distance 2, facet angle 25; {args.jobs} jobs at once "
+          f"0.1 / edge 0.5, bone cell 3 / facet distance 2, facet angle 25"
+          f"{', features ' + args.features if args.features else ''}; {args.jobs} jobs at once "
           f"({time.perf_counter() - started:.0f} s in all)")
     print_table(rows)
     for line in summarise(rows, args.strategies):

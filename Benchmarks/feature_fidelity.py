@@ -110,7 +110,7 @@ def run(name, make, h):
     rows = []
     for features in ("Given", "Automatic"):
         started = time.perf_counter()
-        mesher = om.meshing.mesher_for(om.meshing.as_scene(scene), None, features)
+        mesher = om.meshing.mesher_for(om.meshing.as_scene(scene), None, features=features)
         grid = om.update(mesher)
         seconds = time.perf_counter() - started
 

@@ -110,7 +110,8 @@ void TetMeshOutput::FillInterfaces(vtkPolyData* interfaces, const omesh::TetMesh
   interfaces->GetCellData()->AddArray(sides);
 }
 
-void TetMeshOutput::FillSegments(vtkPolyData* segments, const omesh::TetMesh& mesh)
+void TetMeshOutput::FillSegments(
+  vtkPolyData* segments, const omesh::TetMesh& mesh, const omesh::FeatureSelection& selection, bool sameSegments)
 {
   vtkNew<vtkPoints> points;
   points->SetDataTypeToDouble();
@@ -119,18 +120,31 @@ void TetMeshOutput::FillSegments(vtkPolyData* segments, const omesh::TetMesh& me
   present->SetName(omesh::keys::PRESENT);
   vtkNew<vtkIntArray> input;
   input->SetName(omesh::keys::INPUT_SEGMENT);
+  vtkNew<vtkIntArray> origin;
+  origin->SetName(omesh::keys::ORIGIN);
+  vtkNew<vtkIntArray> separates;
+  separates->SetName(omesh::keys::MATERIALS);
+  separates->SetNumberOfComponents(4);
   for (const auto& s : mesh.segments)
   {
     const vtkIdType ids[2] = { points->InsertNextPoint(s.a.x, s.a.y, s.a.z), points->InsertNextPoint(s.b.x, s.b.y, s.b.z) };
     lines->InsertNextCell(2, ids);
     present->InsertNextValue(s.present ? 1 : 0);
     input->InsertNextValue(s.input);
+    const int k = sameSegments && s.input >= 0 && static_cast<std::size_t>(s.input) < selection.origin.size()
+      ? s.input
+      : selection.nearestSegment(omesh::lerp(s.a, s.b, 0.5));
+    const omesh::FeatureSelection::Origin o = k >= 0 ? selection.origin[k] : omesh::FeatureSelection::Origin{};
+    origin->InsertNextValue(o.automatic ? 1 : 0);
+    separates->InsertNextTypedTuple(o.materials.data());
   }
   segments->SetPoints(points);
   segments->SetLines(lines);
   segments->GetCellData()->AddArray(present);
   segments->GetCellData()->SetScalars(present);
   segments->GetCellData()->AddArray(input);
+  segments->GetCellData()->AddArray(origin);
+  segments->GetCellData()->AddArray(separates);
 }
 
 void TetMeshOutput::AddStatistics(vtkFieldData* fieldData, const std::map<std::string, double>& statistics)

@@ -3,6 +3,7 @@
 // three VTK outputs, and the statistics' field-data arrays (also written for a failed run).
 #pragma once
 
+#include "FeatureSelection.h"
 #include "QuadraticTets.h"
 #include "TetMesh.h"
 
@@ -24,8 +25,12 @@ public:
     const std::vector<std::string>& inputWarnings);
   /// Port 1: interface triangles on the grid's points, cell array Materials (the two sides).
   static void FillInterfaces(vtkPolyData* interfaces, const omesh::TetMesh& mesh, vtkUnstructuredGrid* grid);
-  /// Port 2: the constrained segments as they stand in the mesh (cell arrays Present, InputSegment).
-  static void FillSegments(vtkPolyData* segments, const omesh::TetMesh& mesh);
+  /// Port 2: the constrained segments as they stand in the mesh (cell arrays Present, InputSegment;
+  /// Origin, 0 given, 1 found where the inputs meet, and Materials, the 4 materials a found piece
+  /// separates, from `selection`: by the piece's input segment when `sameSegments` (the mesher
+  /// kept the selection's numbering), else by the selection's segment nearest to its midpoint).
+  static void FillSegments(vtkPolyData* segments, const omesh::TetMesh& mesh, const omesh::FeatureSelection& selection,
+    bool sameSegments);
   /// The statistics as two field-data arrays, StatisticNames and StatisticValues.
   static void AddStatistics(vtkFieldData* fieldData, const std::map<std::string, double>& statistics);
 

@@ -203,6 +203,7 @@ struct vtkFeaturePreservingTetrahedralizer::MeshingRun
   omesh::MesherOptions options;
   std::shared_ptr<omesh::HierarchicalOracle> oracle;
   omesh::FeatureSegments features;
+  omesh::FeatureSelection selection; // how `features` were chosen: each segment's origin
   std::vector<omesh::Vec3> seedPoints;
   std::vector<std::string> notes;      // this adapter's warnings, listed before the mesher's
   std::vector<std::string> inputNotes; // of them, those about the inputs (field data InputWarnings)
@@ -351,12 +352,7 @@ void vtkFeaturePreservingTetrahedralizer::GatherInputs(vtkInformationVector** in
                                                 this->FacetDistance, this->CellSize, this->CellRadiusEdgeRatio,
                                                 this->EdgeSize },
     { &domainLevel, &tableLevel });
-  // The lines to keep: given, found where the inputs meet, or both.
-  const omesh::FeatureSelection selection = omesh::selectFeatures(*run.oracle, run.features,
-    static_cast<omesh::FeatureSource>(this->Features), run.options.criteria,
-    [this](double) { return !this->GetAbortExecute(); });
-  run.features = selection.segments;
-  run.notes.insert(run.notes.end(), selection.warnings.begin(), selection.warnings.end());
+  this->SelectFeatures(run);
   if (seeds)
     OracleBuilder::CheckCoordinates(seeds->GetPoints(), "seed points (input port 2)", "");
   for (vtkIdType i = 0; seeds && i < seeds->GetNumberOfPoints(); ++i)
@@ -365,6 +361,31 @@ void vtkFeaturePreservingTetrahedralizer::GatherInputs(vtkInformationVector** in
     seeds->GetPoint(i, x);
     run.seedPoints.push_back({ x[0], x[1], x[2] });
   }
+}
+
+void vtkFeaturePreservingTetrahedralizer::SelectFeatures(MeshingRun& run)
+{
+  // The lines to keep: given, found where the inputs meet, or both. The search runs under the
+  // run's time limit (the mesher gets what is left) and takes the first tenth of the progress.
+  const auto source = static_cast<omesh::FeatureSource>(this->Features);
+  const bool searching = source == omesh::FeatureSource::Automatic || source == omesh::FeatureSource::Both;
+  const omesh::MeshingDeadline deadline(omesh::effectiveTimeLimit(run.options));
+  run.selection = omesh::selectFeatures(*run.oracle, run.features, source, run.options.criteria, [this, &deadline](double f) {
+    deadline.check("feature line search");
+    this->UpdateProgress(0.1 * f);
+    return !this->GetAbortExecute();
+  });
+  run.features = run.selection.segments;
+  if (searching)
+  {
+    if (deadline.limited())
+      run.options.timeLimit = std::max(1e-3, deadline.limit() - deadline.elapsed());
+    run.options.progress = [this](double fraction, const char*) {
+      this->UpdateProgress(0.1 + 0.9 * fraction);
+      return !this->GetAbortExecute();
+    };
+  }
+  run.notes.insert(run.notes.end(), run.selection.warnings.begin(), run.selection.warnings.end());
 }
 
 void vtkFeaturePreservingTetrahedralizer::MeshInputs(MeshingRun& run)
@@ -396,7 +417,9 @@ void vtkFeaturePreservingTetrahedralizer::AssembleOutputs(MeshingRun& run, vtkIn
   vtkUnstructuredGrid* grid = vtkUnstructuredGrid::GetData(outputVector, 0);
   TetMeshOutput::FillGrid(grid, run.mesh, run.options.elementOrder == 2 ? &run.quadratic : nullptr, run.inputNotes);
   TetMeshOutput::FillInterfaces(vtkPolyData::GetData(outputVector, 1), run.mesh, grid);
-  TetMeshOutput::FillSegments(vtkPolyData::GetData(outputVector, 2), run.mesh);
+  // without resampling the mesher's segments are the selection's, else it renumbered them
+  TetMeshOutput::FillSegments(
+    vtkPolyData::GetData(outputVector, 2), run.mesh, run.selection, !run.options.resampleFeatureLines);
 }
 
 void vtkFeaturePreservingTetrahedralizer::PrintSelf(ostream& os, vtkIndent indent)

@@ -34,7 +34,8 @@
  * 3 volume), field data StatisticNames/StatisticValues and Warnings; port 1, the interface
  * triangles with cell data Materials (2 components: the materials on the two sides, -1 outside);
  * port 2, the constrained segments cut at the mesh vertices on them, cell data Present (1 when the
- * piece is a mesh edge).
+ * piece is a mesh edge), Origin (0 given, 1 found where the inputs meet) and Materials (4
+ * components: the materials a found piece separates, ascending, -2 none).
  */
 #ifndef vtkFeaturePreservingTetrahedralizer_h
 #define vtkFeaturePreservingTetrahedralizer_h
@@ -83,8 +84,9 @@ public:
   /// Which feature lines are kept: none, the given ones (port 1), the ones found where the inputs
   /// meet (cut rims, entry curves, triple lines: omesh::findFeatureLines, as vtkOracleFeatureLines
   /// shows them, resampled to the edge size of the materials they separate), or both. Default
-  /// Given (see omesh::kDefaultFeatureSource for why). Automatic segments that cross given ones are
-  /// dropped with a warning. With Conforming they are kept like given ones.
+  /// Given (see omesh::kDefaultFeatureSource for why). Automatic segments that run along or cross
+  /// given ones are dropped with a warning. With Conforming they are kept like given ones. The
+  /// search runs under TimeLimit and reports the first tenth of the progress.
   vtkSetMacro(Features, int);
   vtkGetMacro(Features, int);
   void SetFeaturesToNone() { this->SetFeatures(FEATURES_NONE); }
@@ -281,6 +283,8 @@ private:
   void CheckProperties() const;
   void SetUpOptions(MeshingRun& run);
   void GatherInputs(vtkInformationVector** inputVector, MeshingRun& run);
+  // (of GatherInputs) the lines to mesh (Features), the search under the run's time limit
+  void SelectFeatures(MeshingRun& run);
   void MeshInputs(MeshingRun& run);
   void AssembleOutputs(MeshingRun& run, vtkInformationVector* outputVector);
 

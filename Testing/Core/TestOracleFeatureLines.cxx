@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // Feature lines found where the oracle's inputs meet, checked against curves known exactly.
+#include "BoxDomain.h"
 #include "CylinderDomain.h"
 #include "FeatureSelection.h"
 #include "HalfSpaceDomain.h"
@@ -15,6 +16,7 @@
 #include <cmath>
 #include <functional>
 #include <memory>
+#include <optional>
 
 using namespace omesh;
 
@@ -316,4 +318,183 @@ TEST(OracleFeatureLines, AGivenLineCrossingACurveSharesOneVertexWithIt)
   EXPECT_EQ(selectFeatures(oracle, given, FeatureSource::Given, criteria).segments.segments.size(), 1u);
   EXPECT_EQ(selectFeatures(oracle, given, FeatureSource::Automatic, criteria).automatic.lines.size(), 2u);
   EXPECT_TRUE(selectFeatures(oracle, given, FeatureSource::None, criteria).segments.empty());
+}
+
+namespace
+{
+/// A tray (box, material 3) seated on a cut plane z = 0, coplanar with it, over a ball of bone
+/// (material 1) whose section by the plane is a circle of radius `rimRadius` about the origin: the
+/// demo scene's situation.
+HierarchicalOracle trayOnCutPlane(const Vec3& trayMin, const Vec3& trayMax, double rimRadius)
+{
+  HierarchicalOracle oracle;
+  oracle.add(std::make_shared<BoxDomain>(trayMin, trayMax, 3, "tray"));
+  auto cut = std::make_shared<HalfSpaceDomain>(Vec3{ 0, 0, 0 }, Vec3{ 0, 0, -1 }, 0, "resection");
+  cut->setCut(true);
+  oracle.add(cut);
+  oracle.add(std::make_shared<SphereDomain>(Vec3{ 0, 0, -0.3 }, std::sqrt(rimRadius * rimRadius + 0.09), 1, "bone"));
+  return oracle;
+}
+
+bool onRectangle(const Vec3& p, const Vec3& lo, const Vec3& hi)
+{
+  const bool inX = p.x > lo.x - 1e-6 && p.x < hi.x + 1e-6, inY = p.y > lo.y - 1e-6 && p.y < hi.y + 1e-6;
+  return std::abs(p.z) < 1e-6 && ((inY && (std::abs(p.x - lo.x) < 1e-6 || std::abs(p.x - hi.x) < 1e-6)) ||
+                                   (inX && (std::abs(p.y - lo.y) < 1e-6 || std::abs(p.y - hi.y) < 1e-6)));
+}
+}
+
+TEST(OracleFeatureLines, TrayOnTheCutPlaneHasOneRimAndMeshesWithAutomaticLines)
+{
+  // The tray's bottom face lies in the cut plane: its rim (tray, bone, cut away meet) is found
+  // once, not twice, and the bone's rim on the plane around it is the circle.
+  const Vec3 lo{ -0.5, -0.35, 0 }, hi{ 0.5, 0.35, 0.2 };
+  const double rimRadius = 0.74;
+  HierarchicalOracle oracle = trayOnCutPlane(lo, hi, rimRadius);
+  MaterialCriteria criteria;
+  criteria.global = { 25.0, 0.15, 0.02, 0.15, 3.0, 0.1 }; // angle, facet size, distance, cell size, radius-edge, edge
+  const FeatureSelection selection = selectFeatures(oracle, {}, FeatureSource::Automatic, criteria);
+  const FeatureLines& f = selection.automatic;
+  double trayRim = 0.0, boneRim = 0.0;
+  for (const FeatureLine& l : f.lines)
+  {
+    if (l.materials == std::vector<int>{ kOutside, 1, 3 })
+    {
+      for (int p : l.points)
+        EXPECT_TRUE(onRectangle(f.segments.points[p], lo, hi));
+      trayRim += lineLength(f, l);
+    }
+    else
+    {
+      EXPECT_EQ(l.materials, (std::vector<int>{ kOutside, 1 }));
+      for (int p : l.points)
+      {
+        EXPECT_NEAR(f.segments.points[p].z, 0.0, 1e-6);
+        EXPECT_NEAR(std::hypot(f.segments.points[p].x, f.segments.points[p].y), rimRadius, 1e-6);
+      }
+      boneRim += lineLength(f, l);
+    }
+  }
+  EXPECT_NEAR(trayRim, 2 * (1.0 + 0.7), 0.01);
+  EXPECT_NEAR(boneRim, 2 * M_PI * rimRadius, 0.01 * 2 * M_PI * rimRadius);
+  EXPECT_TRUE(f.smallAngles.empty());
+  // every segment is marked as found, with the materials of its curve
+  ASSERT_EQ(selection.origin.size(), selection.segments.segments.size());
+  for (const auto& o : selection.origin)
+  {
+    EXPECT_TRUE(o.automatic);
+    EXPECT_EQ(o.materials[0], kOutside);
+    EXPECT_EQ(o.materials[1], 1);
+  }
+
+  MesherOptions options;
+  options.criteria = criteria;
+  options.seed = 1;
+  const TetMesh mesh = meshOracle(oracle, selection.segments, {}, options);
+  ASSERT_FALSE(mesh.tets.empty());
+  for (const auto& s : mesh.segments)
+    EXPECT_TRUE(s.present);
+  EXPECT_TRUE(checkMeshValidity(mesh).valid());
+}
+
+TEST(OracleFeatureLines, CurvesCrossingAtASmallAngleMeetOnceWithoutFolds)
+{
+  // The tray overhangs the bone at its corners: the rectangle and the circle cross at a small
+  // angle. Where they cross, three curves end at one vertex (the rim over bone, the circle under
+  // the tray, the circle around it); no curve turns back on itself, and each curve keeps to one
+  // of the two known lines between its ends.
+  const Vec3 lo{ -0.5, -0.42, 0 }, hi{ 0.5, 0.42, 0.2 };
+  const double rimRadius = 0.6;
+  HierarchicalOracle oracle = trayOnCutPlane(lo, hi, rimRadius);
+  FeatureLineOptions options;
+  options.maxSegmentLength = 0.08;
+  const FeatureLines f = findFeatureLines(oracle, options);
+  auto onCircle = [&](const Vec3& p) {
+    return std::abs(p.z) < 1e-6 && std::abs(std::hypot(p.x, p.y) - rimRadius) < 1e-6;
+  };
+  std::vector<std::vector<int>> degree(f.segments.points.size());
+  for (const FeatureLine& l : f.lines)
+  {
+    ASSERT_GE(l.points.size(), 2u);
+    bool rectangle = true, circle = true;
+    for (size_t k = 1; k + 1 < l.points.size(); ++k)
+    {
+      const Vec3& p = f.segments.points[l.points[k]];
+      rectangle = rectangle && onRectangle(p, lo, hi);
+      circle = circle && onCircle(p);
+      // no fold: consecutive chords of one curve never turn back (rectangle corners are 90 degrees)
+      EXPECT_GE(angleAt(p, f.segments.points[l.points[k - 1]], f.segments.points[l.points[k + 1]]), 89.0);
+    }
+    EXPECT_TRUE(rectangle || circle) << "a curve of materials " << l.materials.size() << " runs on both lines";
+    if (!l.closed())
+      for (int end : { l.points.front(), l.points.back() })
+        degree[end].push_back(1);
+  }
+  // the eight crossings of the rectangle with the circle, each one vertex ending three curves
+  int junctions = 0;
+  for (size_t p = 0; p < degree.size(); ++p)
+    if (degree[p].size() >= 3)
+    {
+      ++junctions;
+      EXPECT_EQ(degree[p].size(), 3u);
+      EXPECT_NEAR(std::hypot(f.segments.points[p].x, f.segments.points[p].y), rimRadius, f.spacing);
+    }
+  EXPECT_EQ(junctions, 8);
+  // What the mesher gets: no two segments leave a vertex at less than 30 degrees (the curves
+  // crossing at a few degrees share a trunk), and every segment is marked as found.
+  MaterialCriteria criteria;
+  criteria.global.edgeSize = 0.08;
+  criteria.global.facetDistance = 0.01;
+  const FeatureSelection selection = selectFeatures(oracle, {}, FeatureSource::Automatic, criteria);
+  ASSERT_FALSE(selection.segments.empty());
+  EXPECT_GE(selection.segments.smallestAngle(), 30.0);
+  for (const auto& o : selection.origin)
+    EXPECT_TRUE(o.automatic);
+}
+
+TEST(OracleFeatureLines, BothKeepsTheGivenLinesOwnEdgeSizesThroughTheSelection)
+{
+  // The tray's rim given by hand, each side with its own edge size (one none, one 0 = no bound),
+  // and found again: the found rim is dropped along it, the circle's arcs end on it (the given
+  // sides split there). Every piece of a side keeps that side's size, the found arcs have none,
+  // one entry per segment (FeatureSegments' invariant), and the lines validate.
+  const Vec3 lo{ -0.5, -0.42, 0 }, hi{ 0.5, 0.42, 0.2 };
+  HierarchicalOracle oracle = trayOnCutPlane(lo, hi, 0.6);
+  FeatureSegments given;
+  given.points = { { lo.x, lo.y, 0 }, { hi.x, lo.y, 0 }, { hi.x, hi.y, 0 }, { lo.x, hi.y, 0 } };
+  given.segments = { { 0, 1 }, { 1, 2 }, { 2, 3 }, { 3, 0 } };
+  const std::vector<std::optional<double>> sideSize{ 0.05, std::nullopt, 0.07, 0.0 };
+  given.edgeSizes = sideSize;
+  MaterialCriteria criteria;
+  criteria.global.edgeSize = 0.08;
+  criteria.global.facetDistance = 0.01;
+  const FeatureSelection both = selectFeatures(oracle, given, FeatureSource::Both, criteria);
+  const FeatureSegments& f = both.segments;
+  EXPECT_GT(both.droppedAlongGiven, 0u);
+  EXPECT_GT(f.segments.size(), given.segments.size());
+  ASSERT_EQ(f.edgeSizes.size(), f.segments.size());
+  ASSERT_EQ(both.origin.size(), f.segments.size());
+  EXPECT_NO_THROW(f.checkEdgeSizes());
+  EXPECT_NO_THROW(f.validate(oracle, 3.0));
+  std::size_t pieces = 0, found = 0;
+  for (size_t s = 0; s < f.segments.size(); ++s)
+  {
+    const Vec3 m = lerp(f.points[f.segments[s][0]], f.points[f.segments[s][1]], 0.5);
+    if (!onRectangle(m, lo, hi))
+    {
+      EXPECT_FALSE(f.edgeSizes[s].has_value()) << f.describe(s);
+      EXPECT_TRUE(both.origin[s].automatic) << f.describe(s);
+      ++found;
+      continue;
+    }
+    const int side = std::abs(m.y - lo.y) < 1e-6 ? 0 : std::abs(m.x - hi.x) < 1e-6 ? 1 : std::abs(m.y - hi.y) < 1e-6 ? 2 : 3;
+    EXPECT_EQ(f.edgeSizes[s], sideSize[side]) << f.describe(s);
+    EXPECT_FALSE(both.origin[s].automatic) << f.describe(s);
+    ++pieces;
+  }
+  EXPECT_GT(pieces, given.segments.size());
+  EXPECT_GT(found, 0u);
+  // Given alone: the lines as they were, sizes and all; None: no lines, no sizes.
+  EXPECT_EQ(selectFeatures(oracle, given, FeatureSource::Given, criteria).segments.edgeSizes, sideSize);
+  EXPECT_TRUE(selectFeatures(oracle, given, FeatureSource::None, criteria).segments.edgeSizes.empty());
 }

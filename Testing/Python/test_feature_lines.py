@@ -10,6 +10,7 @@ import tempfile
 import unittest
 
 import oraclemesh as om
+from oraclemesh import fieldkeys
 from oraclemesh.defaults import FEATURE_SOURCES, mesh_defaults
 from oraclemesh.scene import build_scene
 
@@ -74,6 +75,49 @@ class FeaturesOption(unittest.TestCase):
                                   "--features", "Sometimes"], capture_output=True, text=True, timeout=100)
             self.assertNotEqual(bad.returncode, 0)
             self.assertIn("--features", bad.stderr)
+
+    def _mesher(self, features, time_limit=0):
+        from vtkmodules.vtkFiltersSources import vtkLineSource
+        scene = build_scene(rim_scene())
+        line = vtkLineSource()  # a given line inside the ball, across no curve
+        line.SetPoint1(0.1, 0.2, -0.5)
+        line.SetPoint2(0.1, 0.2, 0.2)
+        mesher = om.vtkFeaturePreservingTetrahedralizer()
+        mesher.SetInputConnection(0, scene.oracle.GetOutputPort())
+        mesher.SetInputConnection(1, line.GetOutputPort())
+        mesher.SetCellSize(0.3)
+        mesher.SetFacetSize(0.3)
+        mesher.SetFacetDistance(0.02)
+        mesher.SetEdgeSize(0.2)
+        mesher.SetSeed(1)
+        mesher.SetFeatures(FEATURE_SOURCES.index(features))
+        mesher.SetTimeLimit(time_limit)
+        return scene, line, mesher
+
+    def test_port_2_marks_the_found_lines_and_their_materials(self):
+        keep = self._mesher("Both")
+        mesher = keep[2]
+        om.update(mesher)
+        lines = mesher.GetOutputDataObject(2)
+        origin = lines.GetCellData().GetArray(fieldkeys.ORIGIN)
+        materials = lines.GetCellData().GetArray(fieldkeys.MATERIALS)
+        self.assertEqual(lines.GetNumberOfCells(), origin.GetNumberOfTuples())
+        seen = set()
+        for c in range(lines.GetNumberOfCells()):
+            a, b = (lines.GetPoint(lines.GetCell(c).GetPointId(k)) for k in (0, 1))
+            seen.add(origin.GetValue(c))
+            if origin.GetValue(c) == 1:  # on the rim
+                self.assertAlmostEqual(a[2], CUT_AT, delta=1e-6)
+                self.assertEqual(materials.GetTuple(c), (-1, 1, -2, -2))
+            else:  # on the given line
+                self.assertAlmostEqual(math.hypot(a[0] - 0.1, a[1] - 0.2), 0, delta=1e-6)
+                self.assertEqual(materials.GetTuple(c), (-2, -2, -2, -2))
+        self.assertEqual(seen, {0, 1})
+
+    def test_the_search_runs_under_the_time_limit(self):
+        keep = self._mesher("Automatic", time_limit=1e-4)
+        with self.assertRaisesRegex(om.OracleMeshError, "time limit .* reached in feature line search"):
+            om.update(keep[2])
 
     def test_a_bad_value_is_named(self):
         with self.assertRaisesRegex(om.OracleMeshError, r"\$\.mesh\.features\.use: must be one of None, Given"):

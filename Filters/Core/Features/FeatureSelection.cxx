@@ -29,6 +29,10 @@ const char* toString(FeatureSource s)
 
 namespace
 {
+/// Automatic curves leaving a vertex at less than this (degrees) share a trunk (selectFeatures), as
+/// given lines do in simplifyFeatureNetwork (FeatureNetworkTolerances::minAngle).
+constexpr double kTrunkAngle = 30.0;
+
 /// Where a given line (a sharp edge of the implant) passes through another input's boundary and an
 /// automatic curve passes nearby (the implant's entry curve), both get that exact point as one
 /// vertex: the given segment is split there, and the curve's nearest segment too.
@@ -101,6 +105,79 @@ void shareCrossings(const HierarchicalOracle& oracle, FeatureSegments& given, Fe
   }
   given.segments = std::move(split);
 }
+
+/// Distance from x to the segment ab, and the parameter of the nearest point.
+std::pair<double, double> toSegment(const Vec3& x, const Vec3& a, const Vec3& b)
+{
+  const Vec3 d = b - a;
+  const double dd = dot(d, d);
+  const double t = dd > 0 ? std::clamp(dot(x - a, d) / dd, 0.0, 1.0) : 0.0;
+  return { norm(x - (a + t * d)), t };
+}
+
+/// Automatic curves that run along given lines (the tray's bottom rim, a sharp edge of the implant,
+/// is also where implant, bone and the cut meet) would be near-duplicate segments the segment level
+/// splits without end: those within `eps` of the given lines all along are dropped, and the ends of
+/// the kept ones that lie on a given line are moved onto it and become vertices of it (joined, not
+/// a T: the given line keeps its course, the automatic end moves by at most `eps`).
+/// Segments [0, firstAutomatic) are given. Returns the number dropped; firstAutomatic is updated.
+std::size_t dropAutomaticAlongGiven(FeatureSegments& f, std::size_t& firstAutomatic, double eps)
+{
+  std::vector<std::array<int, 2>> given(f.segments.begin(), f.segments.begin() + static_cast<long>(firstAutomatic));
+  std::vector<std::array<int, 2>> automatic(f.segments.begin() + static_cast<long>(firstAutomatic), f.segments.end());
+  auto nearestGiven = [&](const Vec3& x) {
+    std::pair<double, int> best{ HUGE_VAL, -1 };
+    for (size_t g = 0; g < given.size(); ++g)
+      best = std::min(best, { toSegment(x, f.points[given[g][0]], f.points[given[g][1]]).first, static_cast<int>(g) });
+    return best;
+  };
+  std::size_t dropped = 0;
+  std::vector<std::array<int, 2>> kept;
+  for (const auto& s : automatic)
+  {
+    const Vec3 a = f.points[s[0]], b = f.points[s[1]];
+    if (nearestGiven(a).first <= eps && nearestGiven(b).first <= eps && nearestGiven(lerp(a, b, 0.5)).first <= eps &&
+      nearestGiven(lerp(a, b, 0.25)).first <= eps && nearestGiven(lerp(a, b, 0.75)).first <= eps)
+      ++dropped;
+    else
+      kept.push_back(s);
+  }
+  if (dropped == 0)
+    return 0;
+  // the kept automatic ends on a given line: that line's end point, or a new vertex of it
+  std::set<int> ends;
+  for (const auto& s : kept)
+    ends.insert({ s[0], s[1] });
+  std::map<int, int> remap;
+  for (int v : ends)
+  {
+    const Vec3 x = f.points[v];
+    const auto [d, g] = nearestGiven(x);
+    if (g < 0 || d > eps)
+      continue;
+    const int g0 = given[g][0], g1 = given[g][1];
+    if (v == g0 || v == g1)
+      continue;
+    if (norm(f.points[g0] - x) <= eps || norm(f.points[g1] - x) <= eps)
+    {
+      remap[v] = norm(f.points[g0] - x) <= norm(f.points[g1] - x) ? g0 : g1;
+      continue;
+    }
+    const auto [unused, t] = toSegment(x, f.points[g0], f.points[g1]);
+    f.points[v] = lerp(f.points[g0], f.points[g1], t); // onto the given line, which stays straight
+    given[g] = { g0, v };
+    given.push_back({ v, g1 });
+  }
+  for (auto& s : kept)
+    for (int& v : s)
+      if (auto it = remap.find(v); it != remap.end())
+        v = it->second;
+  kept.erase(std::remove_if(kept.begin(), kept.end(), [](const std::array<int, 2>& s) { return s[0] == s[1]; }), kept.end());
+  firstAutomatic = given.size();
+  f.segments = std::move(given);
+  f.segments.insert(f.segments.end(), kept.begin(), kept.end());
+  return dropped;
+}
 }
 
 FeatureLineOptions featureLineOptions(const HierarchicalOracle& oracle, const MaterialCriteria& criteria)
@@ -111,8 +188,10 @@ FeatureLineOptions featureLineOptions(const HierarchicalOracle& oracle, const Ma
   };
   const MeshCriteria::Values g = criteria.globalValues();
   o.maxSegmentLength = lengthOf(g) > 0 ? lengthOf(g) : norm(oracle.bounds().size()) / 40.0;
-  double distance = g.facetDistance;
   double finest = o.maxSegmentLength;
+  // a tenth of the facet distance (issue 13's aim for the curves' deviation), not the half that
+  // resampling given lines uses: these chords are the mesh's edges on the curve. Per material, so
+  // that the implant's 0.1 mm does not make the bone's rims a staircase of 0.01 mm pieces.
   for (const auto& [m, unused] : criteria.perMaterial)
   {
     const MeshCriteria::Values v = criteria.of(m);
@@ -121,35 +200,113 @@ FeatureLineOptions featureLineOptions(const HierarchicalOracle& oracle, const Ma
       o.materialSegmentLength[m] = lengthOf(v);
       finest = std::min(finest, lengthOf(v));
     }
-    if (v.facetDistance > 0 && (distance <= 0 || v.facetDistance < distance))
-      distance = v.facetDistance;
+    if (v.facetDistance > 0)
+      o.materialTolerance[m] = 0.1 * v.facetDistance;
   }
-  // a tenth of the facet distance (issue 13's aim for the curves' deviation), not the half that
-  // resampling given lines uses: these chords are the mesh's edges on the curve
-  o.tolerance = distance > 0 ? 0.1 * distance : 0.05 * finest;
+  o.tolerance = g.facetDistance > 0 ? 0.1 * g.facetDistance : 0.05 * finest;
   o.spacing = 0.5 * finest;
   return o;
 }
 
 namespace
 {
-/// selectFeatures without the given lines' own edge sizes.
-FeatureSelection selectWithoutEdgeSizes(const HierarchicalOracle& oracle, const FeatureSegments& given,
-  FeatureSource source, const MaterialCriteria& criteria, const std::function<bool(double)>& progress)
+/// The curves found, triple lines first, then the longest first.
+std::vector<const FeatureLine*> triplesThenLongest(const FeatureLines& automatic)
 {
-  FeatureSelection out;
-  if (source == FeatureSource::Given || source == FeatureSource::Both)
-    out.segments = given;
-  if (source != FeatureSource::Automatic && source != FeatureSource::Both)
-    return out;
-  FeatureLineOptions options = featureLineOptions(oracle, criteria);
-  options.progress = progress;
-  out.automatic = findFeatureLines(oracle, options);
-  out.warnings = out.automatic.warnings;
-  if (!out.segments.empty())
-    shareCrossings(oracle, out.segments, out.automatic);
-  // Appended; a point with the coordinates of a given one (a shared crossing) is that point.
-  const std::size_t firstAutomatic = out.segments.segments.size();
+  const FeatureSegments& A = automatic.segments;
+  std::vector<const FeatureLine*> order;
+  std::map<const FeatureLine*, double> length;
+  for (const FeatureLine& l : automatic.lines)
+  {
+    order.push_back(&l);
+    for (size_t k = 0; k + 1 < l.points.size(); ++k)
+      length[&l] += norm(A.points[l.points[k + 1]] - A.points[l.points[k]]);
+  }
+  std::stable_sort(order.begin(), order.end(), [&](const FeatureLine* a, const FeatureLine* b) {
+    return a->materials.size() != b->materials.size() ? a->materials.size() > b->materials.size() : length[a] > length[b];
+  });
+  return order;
+}
+
+/// Curves that still leave a vertex at a very small angle (crossing at a few degrees) share a
+/// trunk, as simplifyFeatureNetwork does for given lines: the longer segment is replaced by the
+/// shorter one and the chord from its far end (moving that curve by at most sin(angle) times the
+/// shorter segment). Wider angles are the segment level's (clusters below 30 degrees). Returns the
+/// number of segments rerouted. `f` has no own edge sizes (automatic segments have none).
+std::size_t shareTrunks(FeatureSegments& f)
+{
+  std::size_t shared = 0;
+  for (int round = 0; round < 16; ++round)
+  {
+    std::vector<std::vector<size_t>> at(f.points.size());
+    for (size_t k = 0; k < f.segments.size(); ++k)
+      for (int v : f.segments[k])
+        at[v].push_back(k);
+    bool changed = false;
+    std::vector<char> touched(f.segments.size(), 0);
+    for (size_t v = 0; v < at.size(); ++v)
+      for (size_t i = 0; i < at[v].size(); ++i)
+        for (size_t j = i + 1; j < at[v].size(); ++j)
+        {
+          const size_t si = at[v][i], sj = at[v][j];
+          if (touched[si] || touched[sj])
+            continue;
+          const int a = f.segments[si][0] == int(v) ? f.segments[si][1] : f.segments[si][0];
+          const int b = f.segments[sj][0] == int(v) ? f.segments[sj][1] : f.segments[sj][0];
+          if (a == b || !(angleAt(f.points[v], f.points[a], f.points[b]) < kTrunkAngle))
+            continue;
+          const Vec3 pv = f.points[v];
+          const bool iShorter = norm(f.points[a] - pv) <= norm(f.points[b] - pv);
+          f.segments[iShorter ? sj : si] = iShorter ? std::array<int, 2>{ a, b } : std::array<int, 2>{ b, a };
+          touched[si] = touched[sj] = 1;
+          ++shared;
+          changed = true;
+        }
+    if (!changed)
+      break;
+  }
+  return shared;
+}
+
+/// Curves closer than half a grid step along a stretch (a tray's rim beside a label map's
+/// staircase rim on the same plane, arms leaving a junction at a few degrees) are one line for
+/// the search and could only be meshed with tetrahedra that small: taken in order (triple lines,
+/// then the longest first), a curve's segments that run along the curves already taken are
+/// dropped and its ends there moved onto them, so such curves share a trunk and part at a wider
+/// angle (shareTrunks). The small-angle warnings then describe the lines as they are now.
+void dropNearDuplicateCurves(FeatureSelection& out, double smallAngle)
+{
+  FeatureSegments& A = out.automatic.segments;
+  FeatureSegments taken;
+  taken.points = A.points;
+  for (const FeatureLine* l : triplesThenLongest(out.automatic))
+  {
+    std::size_t first = taken.segments.size();
+    for (size_t k = 0; k + 1 < l->points.size(); ++k)
+      if (l->points[k] != l->points[k + 1])
+        taken.segments.push_back({ l->points[k], l->points[k + 1] });
+    if (first > 0)
+      out.droppedNearDuplicate += dropAutomaticAlongGiven(taken, first, 0.5 * out.automatic.spacing);
+  }
+  out.trunksShared += shareTrunks(taken);
+  A = std::move(taken);
+  out.warnings.erase(std::remove_if(out.warnings.begin(), out.warnings.end(),
+                       [](const std::string& w) { return w.rfind("feature lines meet", 0) == 0; }),
+    out.warnings.end());
+  out.automatic.smallAngles = findSmallFeatureAngles(A, smallAngle, out.warnings);
+  if (out.droppedNearDuplicate > 0)
+    out.warnings.push_back("feature lines: " + std::to_string(out.droppedNearDuplicate) +
+      " segment(s) of the lines found run within half a grid step of other curves found and were dropped (they share their trunk)");
+}
+
+/// The automatic segments appended to out.segments (a point with the coordinates of a given one, a
+/// shared crossing, is that point). A segment on the domain's outer boundary where the rim bends
+/// inwards (a label map's rim on a cut plane is a staircase at voxel scale) has no material next
+/// to it, nor have the halves and quarters the segment level would split it into: no tetrahedron
+/// can hold it as an edge. Dropped, as simplifyFeatureNetwork drops given segments that leave the
+/// domain.
+void appendAutomatic(const HierarchicalOracle& oracle, FeatureSelection& out)
+{
   std::map<std::array<double, 3>, int> givenPoint;
   for (size_t i = 0; i < out.segments.points.size(); ++i)
     givenPoint.emplace(std::array<double, 3>{ out.segments.points[i].x, out.segments.points[i].y, out.segments.points[i].z },
@@ -166,20 +323,49 @@ FeatureSelection selectWithoutEdgeSizes(const HierarchicalOracle& oracle, const 
       out.segments.points.push_back(p);
     }
   }
+  std::size_t unmeshable = 0;
   for (auto s : out.automatic.segments.segments)
-    out.segments.segments.push_back({ index[s[0]], index[s[1]] });
-  if (firstAutomatic == 0 || out.automatic.segments.empty())
-    return out;
-  // Given lines win over automatic ones that cross them.
+  {
+    const Vec3 a = out.automatic.segments.points[s[0]], b = out.automatic.segments.points[s[1]];
+    bool meshable = true;
+    for (int parts = 1; parts <= 4 && meshable; parts *= 2)
+      for (int k = 0; k < parts && meshable; ++k)
+        meshable = oracle.touchesMaterial(lerp(a, b, double(k) / parts), lerp(a, b, double(k + 1) / parts));
+    if (meshable)
+      out.segments.segments.push_back({ index[s[0]], index[s[1]] });
+    else
+      ++unmeshable;
+  }
+  if (unmeshable > 0)
+  {
+    out.droppedUnmeshable = unmeshable;
+    out.warnings.push_back("feature lines: " + std::to_string(unmeshable) +
+      " segment(s) of the lines found where inputs meet have no material next to them (a rim of the domain's outer "
+      "boundary bending inwards) and were dropped: no tetrahedron could hold them as an edge");
+  }
+}
+
+/// Given lines win: the automatic segments (from `firstAutomatic` on) that run along given lines
+/// (the search cannot tell curves closer than its grid step apart, nor can the mesh at twice
+/// that), then those that cross given ones, are dropped.
+void dropAutomaticAtGiven(FeatureSelection& out, std::size_t firstAutomatic)
+{
+  std::size_t automaticFrom = firstAutomatic;
+  if (const std::size_t along = dropAutomaticAlongGiven(out.segments, automaticFrom, 0.5 * out.automatic.spacing))
+  {
+    out.droppedAlongGiven = along;
+    out.warnings.push_back("feature lines: " + std::to_string(along) +
+      " segment(s) of the lines found where inputs meet run along given lines and were dropped (the given ones are kept)");
+  }
   std::set<std::size_t> drop;
   for (const auto& [s, t] : out.segments.crossingPairs())
   {
-    const bool sAuto = s >= firstAutomatic, tAuto = t >= firstAutomatic;
+    const bool sAuto = s >= automaticFrom, tAuto = t >= automaticFrom;
     if (sAuto != tAuto)
       drop.insert(sAuto ? s : t);
   }
   if (drop.empty())
-    return out;
+    return;
   std::vector<std::array<int, 2>> kept;
   for (std::size_t s = 0; s < out.segments.segments.size(); ++s)
     if (!drop.count(s))
@@ -188,9 +374,80 @@ FeatureSelection selectWithoutEdgeSizes(const HierarchicalOracle& oracle, const 
   out.droppedAutomatic = drop.size();
   out.warnings.push_back("feature lines: " + std::to_string(drop.size()) +
     " segment(s) of the lines found where inputs meet cross given lines and were dropped (the given ones are kept)");
-  mergeFeatureSegments(out.segments); // drops the points no segment uses any more
+}
+
+/// selectFeatures without the given lines' own edge sizes: `given.edgeSizes` is empty unless
+/// `source` is Given or None (nothing below runs then), so the steps that drop, split and move
+/// segments keep no edge-size vector; selectFeatures carries the sizes onto the result.
+FeatureSelection selectWithoutEdgeSizes(const HierarchicalOracle& oracle, const FeatureSegments& given,
+  FeatureSource source, const MaterialCriteria& criteria, const std::function<bool(double)>& progress)
+{
+  FeatureSelection out;
+  if (source == FeatureSource::Given || source == FeatureSource::Both)
+    out.segments = given;
+  if (source != FeatureSource::Automatic && source != FeatureSource::Both)
+    return out;
+  FeatureLineOptions options = featureLineOptions(oracle, criteria);
+  options.progress = progress;
+  out.automatic = findFeatureLines(oracle, options);
+  out.warnings = out.automatic.warnings;
+  dropNearDuplicateCurves(out, options.smallAngle);
+  if (!out.segments.empty())
+    shareCrossings(oracle, out.segments, out.automatic);
+  const std::size_t firstAutomatic = out.segments.segments.size();
+  appendAutomatic(oracle, out);
+  if (firstAutomatic > 0 && !out.automatic.segments.empty())
+    dropAutomaticAtGiven(out, firstAutomatic);
+  if (out.droppedUnmeshable + out.droppedAlongGiven + out.droppedNearDuplicate + out.droppedAutomatic > 0)
+    mergeFeatureSegments(out.segments); // drops the points no segment uses any more
   return out;
 }
+
+/// Origins by geometry (the steps above drop, split and renumber): a segment is automatic when its
+/// midpoint lies nearer to one of the curves found than to the given lines.
+void labelOrigins(FeatureSelection& out, const FeatureSegments& given)
+{
+  const auto& P = out.segments.points;
+  out.origin.assign(out.segments.segments.size(), {});
+  const auto& A = out.automatic.segments.points;
+  for (size_t s = 0; s < out.segments.segments.size(); ++s)
+  {
+    const Vec3 m = lerp(P[out.segments.segments[s][0]], P[out.segments.segments[s][1]], 0.5);
+    double nearest = HUGE_VAL;
+    const FeatureLine* line = nullptr;
+    for (const FeatureLine& l : out.automatic.lines)
+      for (size_t k = 0; k + 1 < l.points.size(); ++k)
+        if (const double d = toSegment(m, A[l.points[k]], A[l.points[k + 1]]).first; d < nearest)
+        {
+          nearest = d;
+          line = &l;
+        }
+    if (!line || !(nearest < 0.5 * out.automatic.spacing))
+      continue;
+    bool closerToGiven = false;
+    for (size_t g = 0; g < given.segments.size() && !closerToGiven; ++g)
+      closerToGiven = toSegment(m, given.points[given.segments[g][0]], given.points[given.segments[g][1]]).first < nearest;
+    if (closerToGiven)
+      continue;
+    out.origin[s].automatic = true;
+    for (size_t k = 0; k < line->materials.size() && k < 4; ++k)
+      out.origin[s].materials[k] = line->materials[k];
+  }
+}
+}
+
+int FeatureSelection::nearestSegment(const Vec3& x) const
+{
+  int best = -1;
+  double nearest = HUGE_VAL;
+  for (size_t s = 0; s < segments.segments.size(); ++s)
+    if (const double d = toSegment(x, segments.points[segments.segments[s][0]], segments.points[segments.segments[s][1]]).first;
+        d < nearest)
+    {
+      nearest = d;
+      best = static_cast<int>(s);
+    }
+  return best;
 }
 
 FeatureSelection selectFeatures(const HierarchicalOracle& oracle, const FeatureSegments& given, FeatureSource source,
@@ -201,14 +458,18 @@ FeatureSelection selectFeatures(const HierarchicalOracle& oracle, const FeatureS
     FeatureSelection out = selectWithoutEdgeSizes(oracle, given, source, criteria, progress);
     if (source == FeatureSource::None)
       out.segments.edgeSizes.clear();
+    labelOrigins(out, given);
     return out;
   }
-  // Given lines split where automatic ones meet them keep their own edge sizes on every piece;
-  // the automatic lines have none (their materials' count).
+  // Given lines split where automatic ones meet them (shared crossings, automatic ends moved onto
+  // them) keep their own edge sizes on every piece, found by geometry (the given lines keep their
+  // course); the automatic lines have none (their materials' count). Segments dropped or merged
+  // leave no entry behind: the sizes are assigned to the final segments, one each.
   FeatureSegments bare = given;
   bare.edgeSizes.clear();
   FeatureSelection out = selectWithoutEdgeSizes(oracle, bare, source, criteria, progress);
   transferEdgeSizes(given, out.segments, 1e-9 * norm(oracle.bounds().size()));
+  labelOrigins(out, given);
   return out;
 }
 }

@@ -4,6 +4,7 @@
 #include "FeatureSegments.h"
 #include "OracleFeatureLines.h"
 
+#include <array>
 #include <cstddef>
 #include <functional>
 #include <string>
@@ -26,10 +27,9 @@ enum class FeatureSource
 
 /// The default, the one source of it (the VTK filter, the plugin XML, the scene loader and the
 /// command line take theirs from here): Given, the meshes of before. Not Both (Automatic when no
-/// lines are given), which issue 13 suggests: on the demo scene (a tray seated on the resection
-/// plane, coplanar with it) the lines found meet at angles down to 0 degrees, and the mesher then
-/// ran into the vertex budget (the demo, the bone/implant cases and the doors timed out at 300-600 s).
-/// Automatic lines are one option away until the mesher copes with such angles.
+/// lines are given), which issue 13 suggests: on the demo scene Both without resampling the given
+/// lines still ends in micro tetrahedra, with resampling the found lines are moved by up to 1.7 mm,
+/// and the found lines cost 1.1-2.6x the tetrahedra (README, "Feature lines where inputs meet").
 constexpr FeatureSource kDefaultFeatureSource = FeatureSource::Given;
 
 const char* toString(FeatureSource s);
@@ -40,7 +40,22 @@ struct FeatureSelection
   FeatureSegments segments;           ///< given (as they are) then automatic, vertices shared where equal
   FeatureLines automatic;             ///< the lines found (all of them, before dropping any)
   std::size_t droppedAutomatic = 0;   ///< automatic segments dropped because they cross a given one
+  std::size_t droppedUnmeshable = 0;  ///< automatic segments dropped because no material touches them
+  std::size_t droppedAlongGiven = 0;  ///< automatic segments dropped because they run along a given line
+  std::size_t droppedNearDuplicate = 0; ///< automatic segments dropped because they run along another curve found
+  std::size_t trunksShared = 0;       ///< automatic segments rerouted because they left a vertex at < 30 degrees to another
   std::vector<std::string> warnings;  ///< the search's (small angles), the drops
+  /// Per segment of `segments`: found where the inputs meet or given, and the materials an
+  /// automatic one separates (ascending, -2 for none; the given ones: all -2).
+  struct Origin
+  {
+    bool automatic = false;
+    std::array<int, 4> materials{ -2, -2, -2, -2 };
+  };
+  std::vector<Origin> origin;
+  /// The segment of `segments` nearest to x (-1 when there are none): for pieces of lines the
+  /// mesher simplified, whose numbering is its own.
+  int nearestSegment(const Vec3& x) const;
 };
 
 /// The lines the mesher gets for `source`. Automatic lines are resampled to the edge size of the

@@ -277,6 +277,40 @@ struct Link
   int a, b;
 };
 
+/// Sets of 0..n-1 joined pairwise; a set's root is its smallest member.
+class SmallestRoot
+{
+public:
+  explicit SmallestRoot(size_t n)
+    : parent_(n)
+  {
+    for (size_t v = 0; v < n; ++v)
+      parent_[v] = static_cast<int>(v);
+  }
+  int root(int v)
+  {
+    while (parent_[v] != v)
+      v = parent_[v] = parent_[parent_[v]];
+    return v;
+  }
+  void join(int a, int b)
+  {
+    a = root(a), b = root(b);
+    if (a != b)
+      parent_[std::max(a, b)] = std::min(a, b);
+  }
+
+private:
+  std::vector<int> parent_;
+};
+
+/// Where curves meet: the centre of the cubes they end in and the crossings ending there.
+struct Junction
+{
+  Vec3 centre;
+  std::vector<int> ending;
+};
+
 /// findFeatureLines' state and steps: the search grid and the regions at its points, the grid
 /// edges walked (cached: each is shared by four faces), the crossings found on grid faces and how
 /// cubes link them, then the graph of crossings and junctions whose curves become the result.
@@ -372,7 +406,7 @@ public:
     links_ = std::move(refined);
   }
 
-  /// 3. The graph: crossings, then one junction vertex per cube where curves end.
+  /// 3. The graph: crossings, then one junction vertex per group of touching cubes where curves end.
   void buildGraph()
   {
     crossingCount_ = static_cast<int>(crossings_.size());
@@ -384,11 +418,12 @@ public:
       adjacent_[l.a].push_back(l.b);
       adjacent_[l.b].push_back(l.a);
     }
-    for (const auto& [cube, ending] : junctionCubes_)
-      addJunction(cube, ending);
+    for (const auto& [centre, ending] : mergeJunctionCubes())
+      addJunction(centre, ending);
   }
 
-  /// 4. Curves: chains between vertices that do not continue exactly one curve, then loops.
+  /// 4. Curves: chains between junctions and vertices that do not continue exactly one curve, then
+  /// loops.
   std::vector<std::vector<int>> curves() const
   {
     std::set<std::pair<int, int>> walked;
@@ -396,7 +431,8 @@ public:
     std::vector<std::vector<int>> chains;
     auto walk = [&](int start, int next) {
       std::vector<int> chain{ start, next };
-      for (int previous = start, v = next; adjacent_[v].size() == 2 && v != start;)
+      // junctions end chains, so that a chain is one curve with one signature
+      for (int previous = start, v = next; adjacent_[v].size() == 2 && v != start && v < crossingCount_;)
       {
         const int w = adjacent_[v][0] == previous ? adjacent_[v][1] : adjacent_[v][0];
         if (!take(v, w))
@@ -408,7 +444,7 @@ public:
       chains.push_back(std::move(chain));
     };
     for (int v = 0; v < static_cast<int>(nodes_.size()); ++v)
-      if (adjacent_[v].size() != 2)
+      if (adjacent_[v].size() != 2 || v >= crossingCount_)
         for (int w : adjacent_[v])
           if (take(v, w))
             walk(v, w);
@@ -417,6 +453,65 @@ public:
         if (take(v, w))
           walk(v, w);
     return chains;
+  }
+
+  /// 4a. A junction is placed inside its cube, from the curves' tangents; where curves meet at a
+  /// small angle the last crossing of an arm can lie beyond it, and the arm would turn back there (a
+  /// fold at 0 degrees). Such crossings are left out: the arm runs straight to the junction.
+  void trimArms(std::vector<std::vector<int>>& chains) const
+  {
+    for (auto& chain : chains)
+      for (int end = 0; end < 2; ++end)
+      {
+        while (chain.size() > 2 && chain.front() >= crossingCount_ &&
+          angleAt(nodes_[chain[1]], nodes_[chain[0]], nodes_[chain[2]]) < 90.0)
+          chain.erase(chain.begin() + 1);
+        std::reverse(chain.begin(), chain.end());
+      }
+  }
+
+  /// 4b. Curves between two junctions shorter than their chord length (curves crossing or touching
+  /// at a small angle run within a grid step of each other for a while, and each cube along that
+  /// stretch made a junction) collapse to one vertex: the mesh could not show them, and their ends
+  /// would meet the other curves there at angles down to 0 degrees.
+  void collapseShortCurves(std::vector<std::vector<int>>& chains)
+  {
+    SmallestRoot same(nodes_.size());
+    std::vector<char> collapsed(chains.size(), 0);
+    for (size_t c = 0; c < chains.size(); ++c)
+    {
+      const auto& chain = chains[c];
+      if (chain.size() < 2 || chain.front() < crossingCount_ || chain.back() < crossingCount_)
+        continue;
+      double length = 0.0;
+      for (size_t k = 0; k + 1 < chain.size(); ++k)
+        length += norm(nodes_[chain[k + 1]] - nodes_[chain[k]]);
+      if (!(length < lengthFor(materialsOf(crossings_[tagOf(chain)].regions))))
+        continue;
+      collapsed[c] = 1;
+      same.join(chain.front(), chain.back());
+    }
+    std::map<int, std::vector<int>> members;
+    for (int v = crossingCount_; v < static_cast<int>(nodes_.size()); ++v)
+      members[same.root(v)].push_back(v);
+    for (const auto& [root, group] : members)
+      if (group.size() > 1)
+      {
+        Vec3 mean;
+        for (int v : group)
+          mean = mean + (1.0 / group.size()) * nodes_[v];
+        nodes_[root] = mean;
+      }
+    std::vector<std::vector<int>> kept;
+    for (size_t c = 0; c < chains.size(); ++c)
+      if (!collapsed[c])
+      {
+        std::vector<int> chain = chains[c];
+        chain.front() = same.root(chain.front());
+        chain.back() = same.root(chain.back());
+        kept.push_back(std::move(chain));
+      }
+    chains = std::move(kept);
   }
 
   /// 5. Each curve resampled on its own (its ends stay, being ends), then shared end vertices.
@@ -495,11 +590,26 @@ private:
     {
       if (ids.size() == 2)
         links_.push_back({ ids[0], ids[1] });
+      else if (ids.size() == 4)
+        pairPasses(ids);
       else
         ending.insert(ending.end(), ids.begin(), ids.end());
     }
-    if (ending.size() >= 2)
+    // one ending curve is kept too: its junction may be shared with a touching cube (mergeJunctionCubes)
+    if (!ending.empty())
       junctionCubes_.push_back({ p, ending });
+  }
+
+  /// One curve passing a cube twice (a fold, two near-parallel pieces): two passes, paired by the
+  /// shorter total chord, not a junction (that made zigzags meeting at 0 degrees).
+  void pairPasses(const std::vector<int>& ids)
+  {
+    const auto d = [&](int a, int b) { return norm(crossings_[ids[a]].point - crossings_[ids[b]].point); };
+    const double p01 = d(0, 1) + d(2, 3), p02 = d(0, 2) + d(1, 3), p03 = d(0, 3) + d(1, 2);
+    const int partner = p01 <= p02 && p01 <= p03 ? 1 : p02 <= p03 ? 2 : 3;
+    const int rest[2] = { partner == 1 ? 2 : 1, partner == 3 ? 2 : 3 };
+    links_.push_back({ ids[0], ids[partner] });
+    links_.push_back({ ids[rest[0]], ids[rest[1]] });
   }
 
   void refine(int a, int b, int depth, std::vector<int>& path)
@@ -532,9 +642,72 @@ private:
     refine(id, b, depth - 1, path);
   }
 
-  /// A junction vertex for the curves `ending` in `cube`: the meeting point of their tangents
+  /// Curves that meet near a face or corner of the grid end in neighbouring cubes (one arm in each):
+  /// cubes where curves end and that touch (26 neighbours) are one junction, where two or more end.
+  std::vector<Junction> mergeJunctionCubes() const
+  {
+    std::unordered_map<std::int64_t, int> cubeIndex;
+    for (size_t c = 0; c < junctionCubes_.size(); ++c)
+      cubeIndex.emplace(junctionCubes_[c].first, static_cast<int>(c));
+    SmallestRoot touching(junctionCubes_.size());
+    for (size_t c = 0; c < junctionCubes_.size(); ++c)
+      for (int d = 0; d < 27; ++d)
+      {
+        const std::int64_t q = junctionCubes_[c].first + (d % 3 - 1) * stride_[0] + ((d / 3) % 3 - 1) * stride_[1] + (d / 9 - 1) * stride_[2];
+        if (auto it = cubeIndex.find(q); it != cubeIndex.end())
+          touching.join(static_cast<int>(c), it->second);
+      }
+    std::map<int, std::pair<std::vector<Vec3>, std::set<int>>> groups;
+    for (size_t c = 0; c < junctionCubes_.size(); ++c)
+    {
+      auto& g = groups[touching.root(static_cast<int>(c))];
+      g.first.push_back(pointAt(junctionCubes_[c].first) + Vec3{ 0.5 * h_, 0.5 * h_, 0.5 * h_ });
+      g.second.insert(junctionCubes_[c].second.begin(), junctionCubes_[c].second.end());
+    }
+    std::vector<Junction> junctions;
+    for (const auto& [unused, g] : groups)
+      if (g.second.size() >= 2)
+      {
+        Junction j;
+        for (const Vec3& c : g.first)
+          j.centre = j.centre + (1.0 / g.first.size()) * c;
+        j.ending.assign(g.second.begin(), g.second.end());
+        junctions.push_back(std::move(j));
+      }
+    return junctions;
+  }
+
+  /// The chord length of a curve between these materials: the smallest listed, else the global one.
+  double lengthFor(const std::vector<int>& materials) const
+  {
+    double length = options_.maxSegmentLength;
+    for (int material : materials)
+      if (auto it = options_.materialSegmentLength.find(material); it != options_.materialSegmentLength.end())
+        length = length > 0 ? std::min(length, it->second) : it->second;
+    return length;
+  }
+
+  /// The chord tolerance of a curve between these materials: the smallest of their own
+  /// (options.materialTolerance), the global one for materials without.
+  double toleranceFor(const std::vector<int>& materials, double length) const
+  {
+    const double global = options_.tolerance > 0 ? options_.tolerance : 0.05 * length;
+    double tolerance = HUGE_VAL;
+    for (int material : materials)
+      if (material >= 0)
+      {
+        auto it = options_.materialTolerance.find(material);
+        tolerance = std::min(tolerance, it != options_.materialTolerance.end() ? it->second : global);
+      }
+    return std::isfinite(tolerance) ? tolerance : global;
+  }
+
+  /// The crossing that tells a chain's regions: its first vertex, unless that is a junction.
+  int tagOf(const std::vector<int>& chain) const { return chain[chain[0] < crossingCount_ ? 0 : 1]; }
+
+  /// A junction vertex for the curves `ending` near `centre`: the meeting point of their tangents
   /// (exact for straight curves), else their mean.
-  void addJunction(std::int64_t cube, const std::vector<int>& ending)
+  void addJunction(const Vec3& centre, const std::vector<int>& ending)
   {
     std::vector<Vec3> at, along;
     Vec3 mean;
@@ -552,8 +725,7 @@ private:
       }
     }
     Vec3 x;
-    const Vec3 centre = pointAt(cube) + Vec3{ 0.5 * h_, 0.5 * h_, 0.5 * h_ };
-    if (at.size() < 2 || !nearestToLines(at, along, x) || norm(x - centre) > h_)
+    if (at.size() < 2 || !nearestToLines(at, along, x) || norm(x - centre) > 1.5 * h_)
       x = mean;
     const int junction = static_cast<int>(nodes_.size());
     nodes_.push_back(x);
@@ -578,14 +750,14 @@ private:
   {
     if (chain.size() < 2)
       return;
-    const int tagged = chain[chain[0] < crossingCount_ ? 0 : 1];
+    const int tagged = tagOf(chain);
     if (tagged >= crossingCount_)
       return; // two junctions joined directly: no crossing tells the regions (does not happen)
     FeatureLine line;
     line.materials = materialsOf(crossings_[tagged].regions);
     line.triple = line.materials.size() >= 3;
     // A loop through a junction stays open there, so the junction is kept as its two ends.
-    const bool closed = chain.back() == chain.front() && adjacent_[chain.front()].size() == 2;
+    const bool closed = chain.back() == chain.front() && adjacent_[chain.front()].size() == 2 && chain.front() < crossingCount_;
     const size_t m = closed ? chain.size() - 1 : chain.size();
     if (closed && m < 3)
       return;
@@ -620,15 +792,13 @@ private:
     result_.lines.push_back(std::move(line));
   }
 
-  /// At the smallest segment length asked for the curve's materials (none: left as found).
+  /// At the smallest segment length asked for the curve's materials (none: left as found), within
+  /// the smallest of their chord tolerances.
   void resampleCurve(FeatureSegments& piece, const std::vector<int>& materials) const
   {
-    double length = options_.maxSegmentLength;
-    for (int material : materials)
-      if (auto it = options_.materialSegmentLength.find(material); it != options_.materialSegmentLength.end())
-        length = length > 0 ? std::min(length, it->second) : it->second;
+    const double length = lengthFor(materials);
     if (length > 0)
-      resampleFeatureLines(piece, length, options_.tolerance > 0 ? options_.tolerance : 0.05 * length, options_.smallAngle);
+      resampleFeatureLines(piece, length, toleranceFor(materials, length), options_.smallAngle);
   }
 
   const HierarchicalOracle& oracle_;
@@ -650,13 +820,14 @@ private:
   std::map<int, int> sharedPoint_; // node -> point of result.segments
 };
 
-/// 6. Small angles: between curves at a shared vertex, and where one curve turns sharply (the
-/// first five named, the rest counted).
-void warnSmallAngles(double smallAngle, FeatureLines& result)
+}
+
+std::vector<SmallFeatureAngle> findSmallFeatureAngles(const FeatureSegments& f, double below, std::vector<std::string>& warnings)
 {
-  const auto& P = result.segments.points;
+  std::vector<SmallFeatureAngle> found;
+  const auto& P = f.points;
   std::vector<std::vector<int>> neighbours(P.size());
-  for (const auto& s : result.segments.segments)
+  for (const auto& s : f.segments)
   {
     neighbours[s[0]].push_back(s[1]);
     neighbours[s[1]].push_back(s[0]);
@@ -667,30 +838,30 @@ void warnSmallAngles(double smallAngle, FeatureLines& result)
     for (size_t a = 0; a < neighbours[v].size(); ++a)
       for (size_t b = a + 1; b < neighbours[v].size(); ++b)
         smallest = std::min(smallest, angleAt(P[v], P[neighbours[v][a]], P[neighbours[v][b]]));
-    if (smallest < smallAngle)
+    if (smallest < below)
     {
-      result.smallAngles.push_back({ static_cast<int>(v), smallest });
-      if (result.smallAngles.size() > 5)
-        continue;
+      found.push_back({ static_cast<int>(v), smallest });
+      if (found.size() > 5)
+        continue; // the first five named, the rest counted below
       std::ostringstream o;
       o.precision(3);
-      o << "feature lines meet at " << smallest << " degrees at " << describe(P[v]) << " (below " << smallAngle
+      o << "feature lines meet at " << smallest << " degrees at " << describe(P[v]) << " (below " << below
         << ": refinement may not end there; the vertex budget bounds it)";
-      result.warnings.push_back(o.str());
+      warnings.push_back(o.str());
     }
   }
-  if (result.smallAngles.size() > 5)
+  if (found.size() > 5)
   {
     double smallest = 180.0;
-    for (const auto& a : result.smallAngles)
+    for (const auto& a : found)
       smallest = std::min(smallest, a.degrees);
     std::ostringstream o;
     o.precision(3);
-    o << "feature lines meet below " << smallAngle << " degrees at " << result.smallAngles.size() - 5
+    o << "feature lines meet below " << below << " degrees at " << found.size() - 5
       << " more vertices (smallest angle of all " << smallest << " degrees)";
-    result.warnings.push_back(o.str());
+    warnings.push_back(o.str());
   }
-}
+  return found;
 }
 
 FeatureLines findFeatureLines(const HierarchicalOracle& oracle, const FeatureLineOptions& options)
@@ -701,8 +872,12 @@ FeatureLines findFeatureLines(const HierarchicalOracle& oracle, const FeatureLin
   search.findCrossings();
   search.refineLinks();
   search.buildGraph();
-  search.addCurves(search.curves());
-  warnSmallAngles(options.smallAngle, result);
+  std::vector<std::vector<int>> chains = search.curves();
+  search.trimArms(chains);
+  search.collapseShortCurves(chains);
+  search.addCurves(chains);
+  // 6. Small angles: between curves at a shared vertex, and where one curve turns sharply.
+  result.smallAngles = findSmallFeatureAngles(result.segments, options.smallAngle, result.warnings);
   search.report(1.0);
   return result;
 }

@@ -29,6 +29,9 @@ struct FeatureLineOptions
   /// Per material: a curve takes the smallest of its materials' lengths listed here (else
   /// maxSegmentLength): the local edge size.
   std::map<int, double> materialSegmentLength;
+  /// Per material: a curve's chords keep within the smallest of its materials' tolerances (those
+  /// listed here, `tolerance` for the others): a tenth of the facet distance of what it separates.
+  std::map<int, double> materialTolerance;
   /// Curves meeting at a shared vertex, or one curve turning, at less than this angle (degrees)
   /// are reported: the paper's termination argument needs 60.
   double smallAngle = 60.0;
@@ -75,6 +78,10 @@ struct FeatureLines
   double spacing = 0.0;              ///< the grid step used
   std::size_t gridFacesCrossed = 0;  ///< crossing points located (before resampling)
 };
+
+/// The vertices of `f` where segments meet at less than `below` degrees, the first five named in
+/// `warnings` and the rest counted.
+std::vector<SmallFeatureAngle> findSmallFeatureAngles(const FeatureSegments& f, double below, std::vector<std::string>& warnings);
 
 /// The curves where three or more regions meet: a region is a material together with the domain
 /// that decides it (HierarchicalOracle::decide), so that a cut-away point and a point outside every
