@@ -397,6 +397,48 @@ TEST(OracleFeatureLines, TrayOnTheCutPlaneHasOneRimAndMeshesWithAutomaticLines)
   EXPECT_TRUE(checkMeshValidity(mesh).valid());
 }
 
+TEST(OracleFeatureLines, GivenRimFoundAgainLeavesNoPointBesideItAndMeshes)
+{
+  // Issue 9: the tray's rim given (its sharp edges, one chord per side) and found again by the
+  // search. The found rim is dropped along the given one, but its vertices lie on the given chords
+  // to the bisection's 1e-10 without being their vertices; the mesher inserts every point of its
+  // lines, and such a point beside a segment is encroached by every split of it (micro tetrahedra
+  // on the demo's rim chord).
+  const Vec3 lo{ -0.5, -0.35, 0 }, hi{ 0.5, 0.35, 0.2 };
+  HierarchicalOracle oracle = trayOnCutPlane(lo, hi, 0.74);
+  FeatureSegments given;
+  given.points = { { lo.x, lo.y, 0 }, { hi.x, lo.y, 0 }, { hi.x, hi.y, 0 }, { lo.x, hi.y, 0 } };
+  given.segments = { { 0, 1 }, { 1, 2 }, { 2, 3 }, { 3, 0 } };
+  MaterialCriteria criteria;
+  criteria.global = { 25.0, 0.15, 0.02, 0.15, 3.0, 0.1 }; // angle, facet size, distance, cell size, radius-edge, edge
+  const FeatureSelection both = selectFeatures(oracle, given, FeatureSource::Both, criteria);
+  ASSERT_GT(both.droppedAlongGiven, 0u); // the found rim was there and was dropped
+  const FeatureSegments& f = both.segments;
+  EXPECT_TRUE(f.crossingPairs().empty());
+  std::vector<int> uses(f.points.size(), 0);
+  for (const auto& s : f.segments)
+    for (int v : s)
+      ++uses[v];
+  const double tiny = 1e-4; // a thousandth of the edge size
+  for (size_t p = 0; p < f.points.size(); ++p)
+  {
+    EXPECT_GT(uses[p], 0) << "point " << p << " is on no segment";
+    for (const auto& s : f.segments)
+      if (s[0] != int(p) && s[1] != int(p))
+        EXPECT_GT(toSegment(f.points[p], f.points[s[0]], f.points[s[1]]), tiny)
+          << "point (" << f.points[p].x << ", " << f.points[p].y << ", " << f.points[p].z << ") lies on a segment it does not end";
+  }
+
+  MesherOptions options;
+  options.criteria = criteria;
+  options.seed = 1;
+  const TetMesh mesh = meshOracle(oracle, f, {}, options);
+  ASSERT_FALSE(mesh.tets.empty());
+  for (const auto& s : mesh.segments)
+    EXPECT_TRUE(s.present);
+  EXPECT_TRUE(checkMeshValidity(mesh).valid());
+}
+
 TEST(OracleFeatureLines, CurvesCrossingAtASmallAngleMeetOnceWithoutFolds)
 {
   // The tray overhangs the bone at its corners: the rectangle and the circle cross at a small

@@ -403,6 +403,32 @@ FeatureSelection selectWithoutEdgeSizes(const HierarchicalOracle& oracle, const 
   return out;
 }
 
+/// The mesher inserts every point of its lines as a corner vertex, used or not. A vertex of a
+/// dropped curve stays a point (mergeFeatureSegments keeps the points when it merges nothing), and
+/// those of the curves found along a given line lie on that line to the search's 1e-10: a point a
+/// hair beside a segment that is no vertex of it, which every split of that segment encroaches
+/// (issue 9: micro tetrahedra on the tray's rim chord at the found vertices). Dropped, in order.
+void dropUnusedPoints(FeatureSegments& f)
+{
+  std::vector<int> renumber(f.points.size(), -1);
+  for (const auto& s : f.segments)
+    for (int v : s)
+      renumber[v] = 0;
+  std::vector<Vec3> points;
+  for (size_t i = 0; i < f.points.size(); ++i)
+    if (renumber[i] == 0)
+    {
+      renumber[i] = static_cast<int>(points.size());
+      points.push_back(f.points[i]);
+    }
+  if (points.size() == f.points.size())
+    return;
+  for (auto& s : f.segments)
+    for (int& v : s)
+      v = renumber[v];
+  f.points = std::move(points);
+}
+
 /// Origins by geometry (the steps above drop, split and renumber): a segment is automatic when its
 /// midpoint lies nearer to one of the curves found than to the given lines.
 void labelOrigins(FeatureSelection& out, const FeatureSegments& given)
@@ -453,11 +479,15 @@ int FeatureSelection::nearestSegment(const Vec3& x) const
 FeatureSelection selectFeatures(const HierarchicalOracle& oracle, const FeatureSegments& given, FeatureSource source,
   const MaterialCriteria& criteria, const std::function<bool(double)>& progress)
 {
+  // Points no segment uses are dropped, whatever the source (dropUnusedPoints): the points of
+  // curves the selection dropped, and stray points of given polylines, which the mesher would
+  // otherwise insert as corner vertices.
   if (given.edgeSizes.empty() || source == FeatureSource::Given || source == FeatureSource::None)
   {
     FeatureSelection out = selectWithoutEdgeSizes(oracle, given, source, criteria, progress);
     if (source == FeatureSource::None)
       out.segments.edgeSizes.clear();
+    dropUnusedPoints(out.segments);
     labelOrigins(out, given);
     return out;
   }
@@ -468,6 +498,7 @@ FeatureSelection selectFeatures(const HierarchicalOracle& oracle, const FeatureS
   FeatureSegments bare = given;
   bare.edgeSizes.clear();
   FeatureSelection out = selectWithoutEdgeSizes(oracle, bare, source, criteria, progress);
+  dropUnusedPoints(out.segments);
   transferEdgeSizes(given, out.segments, 1e-9 * norm(oracle.bounds().size()));
   labelOrigins(out, given);
   return out;
