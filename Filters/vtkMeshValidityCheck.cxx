@@ -15,6 +15,7 @@
 #include <vtkPointData.h>
 #include <vtkStringArray.h>
 
+#include <algorithm>
 #include <utility>
 #include <vtkUnsignedCharArray.h>
 #include <vtkUnstructuredGrid.h>
@@ -59,6 +60,21 @@ omesh::TetMesh toTetMesh(vtkUnstructuredGrid* grid, std::vector<vtkIdType>& tetC
   }
   return mesh;
 }
+
+/// Points that no tetrahedron (linear or 10-node) has among its nodes.
+std::size_t UnusedByTetrahedra(vtkUnstructuredGrid* grid, const std::vector<vtkIdType>& tetCell)
+{
+  std::vector<bool> used(static_cast<size_t>(grid->GetNumberOfPoints()), false);
+  for (vtkIdType c : tetCell)
+  {
+    vtkIdType count;
+    const vtkIdType* ids;
+    grid->GetCellPoints(c, count, ids);
+    for (vtkIdType k = 0; k < count; ++k)
+      used[static_cast<size_t>(ids[k])] = true;
+  }
+  return static_cast<std::size_t>(std::count(used.begin(), used.end(), false));
+}
 }
 
 void vtkMeshValidityCheck::PrintSelf(ostream& os, vtkIndent indent)
@@ -101,7 +117,9 @@ int vtkMeshValidityCheck::RequestData(vtkInformation*, vtkInformationVector** in
   thresholds.micro = this->MicroTolerance;
   thresholds.flat = this->FlatTolerance;
   std::vector<unsigned char> flags;
-  const omesh::MeshValidity v = omesh::checkMeshValidity(mesh, {}, thresholds, &flags);
+  omesh::MeshValidity v = omesh::checkMeshValidity(mesh, {}, thresholds, &flags);
+  // The core sees the corners only; a 10-node tetrahedron's mid-edge nodes are used too.
+  v.unusedVertices = UnusedByTetrahedra(input, tetCell);
   this->NumberOfDefects = static_cast<vtkIdType>(v.defects());
 
   vtkNew<vtkUnsignedCharArray> defects;

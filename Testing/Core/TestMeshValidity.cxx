@@ -133,3 +133,15 @@ TEST(MeshValidity, StatisticsNameEveryCount)
   EXPECT_EQ(st.at("validity.inverted_tetrahedra"), 1.0);
   EXPECT_EQ(st.at("validity.defects"), static_cast<double>(v.defects()));
 }
+
+// A node without an element is a zero row of a stiffness matrix: a defect, named.
+TEST(MeshValidity, UnusedVertexIsSeen)
+{
+  TetMesh m = twoTets();
+  m.points.push_back({ 5, 5, 5 });
+  m.pointDimension.push_back(2);
+  const MeshValidity v = checkMeshValidity(m);
+  EXPECT_EQ(v.unusedVertices, 1u);
+  EXPECT_EQ(v.defects(), 1u);
+  EXPECT_NE(v.describe().find("1 vertices no tetrahedron uses"), std::string::npos);
+}

@@ -475,8 +475,17 @@ TetMesh toTetMesh(const C3t3& c3t3)
     out.tets.push_back(t);
     out.tetMaterial.push_back(materialOf(c3t3.subdomain_index(c)));
   }
+  std::size_t dangling = 0;
   for (auto f = c3t3.facets_in_complex_begin(); f != c3t3.facets_in_complex_end(); ++f)
   {
+    // A restricted facet with no tetrahedron of the complex on either side (a patch between two
+    // outside regions, e.g. the cut-away part and the exterior) bounds nothing: kept, its corners
+    // would be nodes no element uses, which finite-element codes reject or leave singular.
+    if (!c3t3.is_in_complex(f->first) && !c3t3.is_in_complex(f->first->neighbor(f->second)))
+    {
+      ++dangling;
+      continue;
+    }
     const auto patch = c3t3.surface_patch_index(*f);
     std::array<int, 3> tri;
     for (int k = 0; k < 3; ++k)
@@ -484,6 +493,7 @@ TetMesh toTetMesh(const C3t3& c3t3)
     out.interfaceTriangles.push_back(tri);
     out.interfaceMaterials.push_back({ materialOf(patch.first), materialOf(patch.second) });
   }
+  out.statistics["interface_triangles_without_tetrahedra"] = static_cast<double>(dangling);
   return out;
 }
 }

@@ -108,7 +108,8 @@ std::string MeshValidity::describe() const
     { invertedTetrahedra, "inverted tetrahedra" }, { nonManifoldFaces, "faces shared by more than two tetrahedra" },
     { badIndices, "tetrahedra with bad vertex indices" },
     { materialMismatches, "tetrahedra whose material differs from the oracle's inside them" },
-    { missingSegmentPieces, "constrained segment pieces missing from the mesh edges" } };
+    { missingSegmentPieces, "constrained segment pieces missing from the mesh edges" },
+    { unusedVertices, "vertices no tetrahedron uses" } };
   const char* sep = "";
   for (const auto& [n, what] : items)
     if (n)

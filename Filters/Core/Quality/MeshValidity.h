@@ -37,15 +37,17 @@ struct MeshValidity
   std::size_t materialMismatches = 0;
   /// Pieces of the constrained segments (TetMesh::segments) that are not mesh edges.
   std::size_t missingSegmentPieces = 0;
+  /// Points no tetrahedron uses: nodes without an element leave a zero row in a stiffness matrix
+  /// (a singular system) or are refused by finite-element codes.
+  std::size_t unusedVertices = 0;
 
   double medianEdge = 0.0;     ///< L (not a defect)
   double shortestEdge = 0.0;   ///< not a defect
-  std::size_t unusedVertices = 0; ///< points no tetrahedron uses (not a defect)
 
   std::size_t defects() const
   {
     return duplicateVertices + microTetrahedra + flatTetrahedra + invertedTetrahedra + nonManifoldFaces +
-      badIndices + materialMismatches + missingSegmentPieces;
+      badIndices + materialMismatches + missingSegmentPieces + unusedVertices;
   }
   bool valid() const { return defects() == 0; }
   /// "3 duplicate vertices, 12 micro tetrahedra" (empty when valid).

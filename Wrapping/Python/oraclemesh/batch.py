@@ -30,11 +30,12 @@ from .progress import PROGRESS_PREFIX
 from .errors import OracleMeshError
 from . import fieldkeys
 
-RESULT_VERSION = 1  # of result.json; a change redoes every case
+RESULT_VERSION = 2  # of result.json; a change redoes every case (2: the unused_vertices column)
 STUDY_KEYS = {"scenes", "sweep", "formats", "description", "comment"}
 # The validity check's counts (report.VALIDITY_ITEMS), one column each, without "validity.".
 VALIDITY_COLUMNS = ("duplicate_vertices", "micro_tetrahedra", "flat_tetrahedra", "inverted_tetrahedra",
-                    "non_manifold_faces", "bad_vertex_indices", "material_mismatches", "missing_segment_pieces")
+                    "non_manifold_faces", "bad_vertex_indices", "material_mismatches", "missing_segment_pieces",
+                    "unused_vertices")
 HEAD_COLUMNS = ("case", "scene")
 MESH_COLUMNS = ("status", "tets", "vertices", "min_dihedral", fieldkeys.FEATURE_COVERAGE, "validity_defects") \
     + VALIDITY_COLUMNS

@@ -37,6 +37,7 @@ VALIDITY_ITEMS = (
     (fieldkeys.VALIDITY_BAD_VERTEX_INDICES, "tetrahedra with bad vertex indices"),
     (fieldkeys.VALIDITY_MATERIAL_MISMATCHES, "tetrahedra whose material differs from the oracle's inside them"),
     (fieldkeys.VALIDITY_MISSING_SEGMENT_PIECES, "feature-line pieces missing from the mesh edges"),
+    (fieldkeys.VALIDITY_UNUSED_VERTICES, "vertices no tetrahedron uses"),
 )
 
 
@@ -69,7 +70,7 @@ def validity_line(counts):
     """One line: "validity: no defects (...)" or "validity: N DEFECTS: ..."."""
     shortest = counts.get(fieldkeys.VALIDITY_SHORTEST_EDGE, 0) / max(counts.get(fieldkeys.VALIDITY_MEDIAN_EDGE, 1), 1e-300)
     if not counts.get(fieldkeys.VALIDITY_DEFECTS):
-        return (f"validity: no defects (no duplicate vertices, micro, flat or inverted tetrahedra, non-manifold "
+        return (f"validity: no defects (no duplicate or unused vertices, micro, flat or inverted tetrahedra, non-manifold "
                 f"faces{', material mismatches' if fieldkeys.VALIDITY_MATERIAL_MISMATCHES in counts else ''}"
                 f"{', missing feature-line pieces' if fieldkeys.VALIDITY_MISSING_SEGMENT_PIECES in counts else ''}); "
                 f"shortest/median edge {shortest:.2g}")
