@@ -1,7 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "vtkFeaturePreservingTetrahedralizer.h"
 
-#include "FeatureLinePreparation.h"
 #include "FeatureMerge.h"
 #include "FeatureSelection.h"
 #include "HierarchicalOracle.h"
@@ -205,7 +204,6 @@ struct vtkFeaturePreservingTetrahedralizer::MeshingRun
   std::shared_ptr<omesh::HierarchicalOracle> oracle;
   omesh::FeatureSegments features;
   omesh::FeatureSelection selection; // how `features` were chosen: each segment's origin
-  std::map<std::string, double> featureStatistics; // of the given lines' simplification (feature_network.*)
   std::vector<omesh::Vec3> seedPoints;
   std::vector<std::string> notes;      // this adapter's warnings, listed before the mesher's
   std::vector<std::string> inputNotes; // of them, those about the inputs (field data InputWarnings)
@@ -367,37 +365,33 @@ void vtkFeaturePreservingTetrahedralizer::GatherInputs(vtkInformationVector** in
 
 void vtkFeaturePreservingTetrahedralizer::SelectFeatures(MeshingRun& run)
 {
-  // The lines to keep: given, found where the inputs meet, or both; the given ones simplified on
-  // their own first (ResampleFeatureLines), the found ones never (prepareFeatureLines). The search
-  // runs under the run's time limit (the mesher gets what is left) and takes the first tenth of the progress.
+  // The lines to keep: given, found where the inputs meet, or both. The search runs under the
+  // run's time limit (the mesher gets what is left) and takes the first tenth of the progress.
   const auto source = static_cast<omesh::FeatureSource>(this->Features);
   const bool searching = source == omesh::FeatureSource::Automatic || source == omesh::FeatureSource::Both;
   const omesh::MeshingDeadline deadline(omesh::effectiveTimeLimit(run.options));
-  omesh::PreparedFeatureLines prepared = omesh::prepareFeatureLines(*run.oracle, run.features, source, run.options,
-    [this, &deadline](double f) {
-      deadline.check("feature line search");
-      this->UpdateProgress(0.1 * f);
-      return !this->GetAbortExecute();
-    });
-  deadline.check("feature-line resampling");
-  run.selection = std::move(prepared.selection);
+  run.selection = omesh::selectFeatures(*run.oracle, run.features, source, run.options.criteria, [this, &deadline](double f) {
+    deadline.check("feature line search");
+    this->UpdateProgress(0.1 * f);
+    return !this->GetAbortExecute();
+  });
   run.features = run.selection.segments;
-  prepared.addStatistics(run.featureStatistics);
-  if ((searching || prepared.network) && deadline.limited())
-    run.options.timeLimit = std::max(1e-3, deadline.limit() - deadline.elapsed());
   if (searching)
+  {
+    if (deadline.limited())
+      run.options.timeLimit = std::max(1e-3, deadline.limit() - deadline.elapsed());
     run.options.progress = [this](double fraction, const char*) {
       this->UpdateProgress(0.1 + 0.9 * fraction);
       return !this->GetAbortExecute();
     };
-  run.notes.insert(run.notes.end(), prepared.warnings.begin(), prepared.warnings.end());
+  }
+  run.notes.insert(run.notes.end(), run.selection.warnings.begin(), run.selection.warnings.end());
 }
 
 void vtkFeaturePreservingTetrahedralizer::MeshInputs(MeshingRun& run)
 {
   checkMeshMemory(*run.oracle, run.features, run.options);
   run.mesh = omesh::meshOracle(*run.oracle, run.features, run.seedPoints, run.options);
-  run.mesh.statistics.insert(run.featureStatistics.begin(), run.featureStatistics.end());
   if (run.options.elementOrder == 2)
   {
     const auto started = std::chrono::steady_clock::now();
@@ -423,8 +417,9 @@ void vtkFeaturePreservingTetrahedralizer::AssembleOutputs(MeshingRun& run, vtkIn
   vtkUnstructuredGrid* grid = vtkUnstructuredGrid::GetData(outputVector, 0);
   TetMeshOutput::FillGrid(grid, run.mesh, run.options.elementOrder == 2 ? &run.quadratic : nullptr, run.inputNotes);
   TetMeshOutput::FillInterfaces(vtkPolyData::GetData(outputVector, 1), run.mesh, grid);
-  // the mesher's segments are the selection's: prepareFeatureLines simplified the given ones before
-  TetMeshOutput::FillSegments(vtkPolyData::GetData(outputVector, 2), run.mesh, run.selection, true);
+  // without resampling the mesher's segments are the selection's, else it renumbered them
+  TetMeshOutput::FillSegments(
+    vtkPolyData::GetData(outputVector, 2), run.mesh, run.selection, !run.options.resampleFeatureLines);
 }
 
 void vtkFeaturePreservingTetrahedralizer::PrintSelf(ostream& os, vtkIndent indent)

@@ -2,7 +2,6 @@
 // Feature lines found where the oracle's inputs meet, checked against curves known exactly.
 #include "BoxDomain.h"
 #include "CylinderDomain.h"
-#include "FeatureLinePreparation.h"
 #include "FeatureSelection.h"
 #include "HalfSpaceDomain.h"
 #include "HierarchicalOracle.h"
@@ -14,13 +13,10 @@
 
 #include <gtest/gtest.h>
 
-#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <memory>
 #include <optional>
-#include <set>
-#include <utility>
 
 using namespace omesh;
 
@@ -543,95 +539,4 @@ TEST(OracleFeatureLines, BothKeepsTheGivenLinesOwnEdgeSizesThroughTheSelection)
   // Given alone: the lines as they were, sizes and all; None: no lines, no sizes.
   EXPECT_EQ(selectFeatures(oracle, given, FeatureSource::Given, criteria).segments.edgeSizes, sideSize);
   EXPECT_TRUE(selectFeatures(oracle, given, FeatureSource::None, criteria).segments.edgeSizes.empty());
-}
-
-TEST(OracleFeatureLines, FoundLinesReachTheMesherUnmovedWhenGivenLinesAreResampled)
-{
-  // Issue 13: with resampling on, the network simplification ran over the given and found lines
-  // together and moved the found ones (up to 1.7 mm on the demo), which the search had placed on
-  // the true curves. Now the given lines are simplified on their own, before the selection, and the
-  // mesher gets the found vertices as the search made them.
-  const Vec3 lo{ -0.5, -0.35, 0 }, hi{ 0.5, 0.35, 0.2 };
-  HierarchicalOracle oracle = trayOnCutPlane(lo, hi, 0.74);
-  // the tray's top rim as noisy sharp edges: 12 pieces a side, every other point 0.003 below it
-  FeatureSegments given;
-  const std::array<Vec3, 4> corner{ Vec3{ lo.x, lo.y, hi.z }, Vec3{ hi.x, lo.y, hi.z }, Vec3{ hi.x, hi.y, hi.z },
-    Vec3{ lo.x, hi.y, hi.z } };
-  for (int side = 0; side < 4; ++side)
-    for (int k = 0; k < 12; ++k)
-      given.points.push_back(lerp(corner[side], corner[(side + 1) % 4], k / 12.0) - Vec3{ 0, 0, k % 2 ? 0.003 : 0.0 });
-  for (int p = 0; p < 48; ++p)
-    given.segments.push_back({ p, (p + 1) % 48 });
-  MaterialCriteria criteria;
-  // the search keeps the bone's rim (radius 0.74) within a tenth of the facet distance (chords of
-  // about 0.05), the simplification within half of it (chords of the edge size, 0.1)
-  criteria.global = { 25.0, 0.15, 0.005, 0.15, 3.0, 0.1 }; // angle, facet size, distance, cell size, radius-edge, edge
-
-  for (FeatureSource source : { FeatureSource::Automatic, FeatureSource::Both })
-  {
-    SCOPED_TRACE(toString(source));
-    MesherOptions options;
-    options.criteria = criteria;
-    options.seed = 1;
-    options.resampleFeatureLines = true;
-    const PreparedFeatureLines prepared = prepareFeatureLines(oracle, given, source, options);
-    EXPECT_FALSE(options.resampleFeatureLines); // the mesher simplifies nothing again
-    const FeatureSelection& s = prepared.selection;
-    ASSERT_FALSE(s.automatic.segments.empty());
-    // each found segment the mesher gets is a chord of the search, between the very same vertices
-    // (not near ones: the search bisected them onto the curve)
-    const FeatureSegments& search = s.automatic.segments;
-    std::set<std::pair<int, int>> chords;
-    for (const auto& c : search.segments)
-      chords.insert(std::minmax(c[0], c[1]));
-    const auto searchVertices = [&search](const Vec3& p) {
-      std::vector<int> same;
-      for (size_t i = 0; i < search.points.size(); ++i)
-        if (search.points[i].x == p.x && search.points[i].y == p.y && search.points[i].z == p.z)
-          same.push_back(static_cast<int>(i));
-      return same;
-    };
-    std::size_t automaticSegments = 0, givenSegments = 0;
-    for (size_t k = 0; k < s.segments.segments.size(); ++k)
-    {
-      if (!s.origin[k].automatic)
-      {
-        ++givenSegments;
-        continue;
-      }
-      ++automaticSegments;
-      bool chord = false;
-      for (int a : searchVertices(s.segments.points[s.segments.segments[k][0]]))
-        for (int b : searchVertices(s.segments.points[s.segments.segments[k][1]]))
-          chord = chord || chords.count(std::minmax(a, b)) > 0;
-      EXPECT_TRUE(chord) << s.segments.describe(k) << " is no chord of the search's lines";
-    }
-    EXPECT_GT(automaticSegments, 0u);
-    if (source == FeatureSource::Both)
-    {
-      // the given rim was simplified (fewer, longer chords) and is there
-      ASSERT_TRUE(prepared.network.has_value());
-      EXPECT_GT(givenSegments, 0u);
-      EXPECT_LT(givenSegments, given.segments.size());
-    }
-    else
-    {
-      EXPECT_FALSE(prepared.network.has_value());
-      EXPECT_EQ(givenSegments, 0u);
-    }
-
-    // and in the mesh: every piece of a found segment lies on the search's chords
-    const TetMesh mesh = meshOracle(oracle, s.segments, {}, options);
-    ASSERT_FALSE(mesh.tets.empty());
-    EXPECT_TRUE(checkMeshValidity(mesh).valid());
-    for (const auto& m : mesh.segments)
-    {
-      EXPECT_TRUE(m.present);
-      if (m.input < 0 || !s.origin[m.input].automatic)
-        continue;
-      const auto& in = s.segments.segments[m.input];
-      EXPECT_LT(toSegment(m.a, s.segments.points[in[0]], s.segments.points[in[1]]), 1e-9);
-      EXPECT_LT(toSegment(m.b, s.segments.points[in[0]], s.segments.points[in[1]]), 1e-9);
-    }
-  }
 }

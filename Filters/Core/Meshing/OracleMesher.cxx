@@ -8,7 +8,6 @@
 #include "FieldDataKeys.h"
 #include "HierarchicalOracle.h"
 #include "FeatureEdgeSizes.h"
-#include "FeatureLinePreparation.h"
 #include "FeatureNetworkSimplification.h"
 #include "InputError.h"
 #include "MeshQuality.h"
@@ -502,6 +501,45 @@ TetMesh toTetMesh(const C3t3& c3t3)
 
 namespace
 {
+/// The feature lines simplified and resampled as MesherOptions::resampleFeatureLines asks
+/// (simplifyFeatureNetwork: chords up to the edge size, else the facet size, else 1/40 of the
+/// diagonal, within half the smallest facet distance), or nothing when it does not.
+std::optional<FeatureSegments> resampledFeatures(const FeatureSegments& given, const MesherOptions& options,
+  const HierarchicalOracle& oracle, const BoundingBox& inner, std::vector<std::string>& warnings,
+  FeatureNetworkReport& report)
+{
+  if (!options.resampleFeatureLines || given.empty())
+    return std::nullopt;
+  const MeshCriteria::Values g = options.criteria.globalValues();
+  double distance = g.facetDistance;
+  for (const auto& [m, unused] : options.criteria.perMaterial)
+    if (const double d = options.criteria.of(m).facetDistance; d > 0 && (distance <= 0 || d < distance))
+      distance = d;
+  FeatureNetworkTolerances tolerances;
+  tolerances.edgeLength = g.edgeSize > 0 ? g.edgeSize : g.facetSize > 0 ? g.facetSize : norm(inner.size()) / 40.0;
+  // a line with a finer edge size of its own (or of its materials) keeps its detail: h is the finest
+  if (!given.edgeSizes.empty() || hasMaterialEdgeSizes(options.criteria))
+    for (double e : resolveFeatureEdgeSizes(given, options.criteria, oracle))
+      if (e > 0)
+        tolerances.edgeLength = std::min(tolerances.edgeLength, e);
+  tolerances.chordTolerance = distance > 0 ? 0.5 * distance : 0.05 * tolerances.edgeLength;
+  tolerances.inDomain = [&oracle](const Vec3& p) { return oracle.material(p) != kOutside; };
+  FeatureSegments resampled = given;
+  report = simplifyFeatureNetwork(resampled, tolerances);
+  // each chord keeps the own edge size of the given line nearest to it
+  transferEdgeSizes(given, resampled, std::numeric_limits<double>::infinity());
+  if (resampled.segments.size() != given.segments.size() || resampled.points.size() != given.points.size())
+  {
+    std::ostringstream o;
+    o << "feature lines simplified: " << given.segments.size() << " segments became " << resampled.segments.size()
+      << " (chords up to " << tolerances.edgeLength << "; points closer than " << tolerances.mergeDistance()
+      << " merged, spurs shorter than " << tolerances.spurLength() << " dropped; the lines moved by at most "
+      << std::max(report.givenToSimplified, report.simplifiedToGiven) << ")";
+    warnings.push_back(o.str());
+  }
+  return resampled;
+}
+
 /// One call of meshOracle, as the paper's chain of phases: the inputs, rule T1 on the segments
 /// alone, the initial points, refinement (the segment, facet and cell levels together, rules
 /// T1.2, T2, T3), optimisation, then the output mesh with its validity check and statistics.
@@ -558,8 +596,7 @@ private:
   {
     inner_ = oracle_.bounds(); // throws for an empty or unbounded oracle
     given_.checkEdgeSizes();   // named on the lines as given, before resampling moves them
-    if (options_.resampleFeatureLines)
-      resampled_ = simplifyGivenFeatureLines(given_, options_.criteria, oracle_, network_, warnings_);
+    resampled_ = resampledFeatures(given_, options_, oracle_, inner_, warnings_, network_);
     features_ = resampled_ ? &*resampled_ : &given_;
     deadline_.check("feature-line resampling");
     checkCriteria(options_.criteria, warnings_);
@@ -1074,7 +1111,19 @@ private:
     st[keys::FEATURE_COVERAGE] = coverage;
     st["feature_segments"] = static_cast<double>(features_->segments.size());
     if (resampled_)
-      addFeatureNetworkStatistics(network_, given_.segments.size(), st);
+    {
+      st["feature_segments_before_resampling"] = static_cast<double>(given_.segments.size());
+      st["feature_network.points_merged"] = static_cast<double>(network_.pointsMerged);
+      st["feature_network.points_snapped"] = static_cast<double>(network_.pointsSnapped);
+      st["feature_network.spurs_dropped"] = static_cast<double>(network_.spursDropped);
+      st["feature_network.pieces_dropped"] = static_cast<double>(network_.piecesDropped);
+      st["feature_network.segments_outside_dropped"] = static_cast<double>(network_.segmentsOutside);
+      st["feature_network.short_pieces_length"] = network_.shortPiecesLength;
+      st["feature_network.given_to_simplified"] = network_.givenToSimplified;
+      st["feature_network.simplified_to_given"] = network_.simplifiedToGiven;
+      st["feature_network.smallest_angle"] = network_.smallestAngle;
+      st["feature_network.shortest_segment"] = network_.shortestSegment;
+    }
     st["refinement_steps"] = static_cast<double>(steps_);
     st["refinement_threads"] = threads_;
     st["refinement_rounds"] = rounds_;
