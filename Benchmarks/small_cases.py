@@ -70,10 +70,14 @@ def mesher_seconds(vtu):
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--oraclemesh", required=True, help="build/bin/oraclemesh")
-    ap.add_argument("--work", default="small_cases")
+    ap.add_argument("--work", default=None, help="folder for the scenes and meshes (default: a temporary one)")
     ap.add_argument("--repeat", type=int, default=5)
     ap.add_argument("--cases", nargs="+", default=["labels", "cad"], choices=["labels", "cad"])
     a = ap.parse_args()
+    if a.work is None:  # never into the caller's working directory
+        import tempfile
+
+        a.work = tempfile.mkdtemp(prefix="small_cases_")
     os.makedirs(a.work, exist_ok=True)
     paths = scenes(a.work)
     python = sys.executable
