@@ -486,7 +486,11 @@ public:
       double length = 0.0;
       for (size_t k = 0; k + 1 < chain.size(); ++k)
         length += norm(nodes_[chain[k + 1]] - nodes_[chain[k]]);
-      if (!(length < lengthFor(materialsOf(crossings_[tagOf(chain)].regions))))
+      // two junctions joined directly have no crossing between them to tell the materials
+      // (crossings_ holds crossings only): the global chord length
+      const int tag = tagOf(chain);
+      const std::vector<int> materials = tag < crossingCount_ ? materialsOf(crossings_[tag].regions) : std::vector<int>{};
+      if (!(length < lengthFor(materials)))
         continue;
       collapsed[c] = 1;
       same.join(chain.front(), chain.back());
