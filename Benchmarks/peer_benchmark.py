@@ -33,8 +33,8 @@ import time
 # Mesh sizes h per case (cell size = facet size = h): about 10k to 2M tetrahedra.
 SIZES = {
     "labels": [4.0, 2.0, 1.0, 0.65],
-    "surface": [3.5, 2.0, 1.0, 0.8],
-    "cad": [2.0, 1.0, 0.5, 0.4],
+    "surface": [3.5, 2.0, 1.0, 0.62],
+    "cad": [2.0, 1.0, 0.5, 0.34],
 }
 QUICK_SIZES = {"labels": [4.0], "surface": [3.5], "cad": [2.0]}
 TIME_KEYS = ("setup", "refine", "perturb", "exude", "optimise", "call", "call_cpu", "refine_cpu", "optimise_cpu",

@@ -14,6 +14,17 @@ namespace omesh
 {
 namespace
 {
+/// floor(x) for x >= -1, as std::floor, without its library call (the x86-64 baseline has no
+/// rounding instruction; the call was 7 % of a label map's meshing): truncation of x + 1 is
+/// floor(x) + 1 or, where the sum rounded up to the next integer, one more.
+inline int floorAboveMinusOne(double x)
+{
+  int i = static_cast<int>(x + 1.0) - 1;
+  if (static_cast<double>(i) > x)
+    --i;
+  return i;
+}
+
 AffineMap voxelToWorld(const Vec3& origin, const Vec3& spacing, const std::array<double, 9>& d, double shift)
 {
   // world = origin + D * diag(spacing) * (u + shift)
@@ -99,6 +110,64 @@ LabelMapDomain::LabelMapDomain(const std::array<int, 3>& dims, const std::vector
     }
     index_[v] = it->second;
   }
+  if (interpolation_ == LabelInterpolation::Trilinear)
+    buildBlocks();
+}
+
+void LabelMapDomain::buildBlocks()
+{
+  // Cell c (per axis) of voxel centres has its lower corner at voxel c - 1 (c = 0 .. dims: the
+  // half cells at the grid's faces, whose corners are clamped). A block's cells read the voxels
+  // kBlock * b - 1 .. kBlock * b + kBlock - 1, clamped to the grid.
+  for (int a = 0; a < 3; ++a)
+    blocks_[a] = (dims_[a] + 1 + kBlock - 1) / kBlock;
+  blockIndex_.assign(static_cast<size_t>(blocks_[0]) * blocks_[1] * blocks_[2], kMixed);
+  auto range = [&](int a, int b, int& lo, int& hi) {
+    lo = std::max(0, kBlock * b - 1);
+    hi = std::min(dims_[a] - 1, kBlock * b + kBlock - 1);
+  };
+  for (int bz = 0; bz < blocks_[2]; ++bz)
+    for (int by = 0; by < blocks_[1]; ++by)
+      for (int bx = 0; bx < blocks_[0]; ++bx)
+      {
+        int x0, x1, y0, y1, z0, z1;
+        range(0, bx, x0, x1);
+        range(1, by, y0, y1);
+        range(2, bz, z0, z1);
+        const uint16_t first = index_[static_cast<size_t>(x0) + static_cast<size_t>(dims_[0]) * (y0 + static_cast<size_t>(dims_[1]) * z0)];
+        bool uniform = true;
+        for (int z = z0; z <= z1 && uniform; ++z)
+          for (int y = y0; y <= y1 && uniform; ++y)
+          {
+            const uint16_t* row = index_.data() + static_cast<size_t>(dims_[0]) * (y + static_cast<size_t>(dims_[1]) * z);
+            uniform = std::all_of(row + x0, row + x1 + 1, [&](uint16_t i) { return i == first; });
+          }
+        if (uniform)
+          blockIndex_[bx + static_cast<size_t>(blocks_[0]) * (by + static_cast<size_t>(blocks_[1]) * bz)] = first;
+      }
+}
+
+uint16_t LabelMapDomain::uniformAlong(const Vec3& ua, const Vec3& ub) const
+{
+  int lo[3], hi[3];
+  for (int a = 0; a < 3; ++a)
+  {
+    // cells (lower corner + 1) of both clamped ends, then their blocks
+    const double x0 = std::clamp(ua[a], 0.0, dimsD_[a]) - 0.5, x1 = std::clamp(ub[a], 0.0, dimsD_[a]) - 0.5;
+    lo[a] = (floorAboveMinusOne(std::min(x0, x1)) + 1) / kBlock;
+    hi[a] = (floorAboveMinusOne(std::max(x0, x1)) + 1) / kBlock;
+  }
+  uint16_t common = kMixed;
+  for (int z = lo[2]; z <= hi[2]; ++z)
+    for (int y = lo[1]; y <= hi[1]; ++y)
+      for (int x = lo[0]; x <= hi[0]; ++x)
+      {
+        const uint16_t b = blockIndex_[x + static_cast<size_t>(blocks_[0]) * (y + static_cast<size_t>(blocks_[1]) * z)];
+        if (b == kMixed || (common != kMixed && b != common))
+          return kMixed;
+        common = b;
+      }
+  return common;
 }
 
 void LabelMapDomain::crossings(const Vec3& a, const Vec3& b, std::vector<double>& ts) const
@@ -158,17 +227,20 @@ struct Corners
   int lo[3] = { std::numeric_limits<int>::min(), 0, 0 };
   uint16_t idx[8] = {};
   bool uniform = false;
+  // the distinct labels in order of first appearance, and each corner's place among them
+  int distinctCount = 0;
+  uint16_t distinct[8] = {};
+  uint8_t slot[8] = {};
 };
 
-/// Lower voxel-centre corner and fractions of u (continuous voxel coordinates).
+/// Lower voxel-centre corner and fractions of u (continuous voxel coordinates, on the grid).
 inline void splitCell(const Vec3& u, int lo[3], double f[3])
 {
   for (int a = 0; a < 3; ++a)
   {
     const double x = u[a] - 0.5;
-    const double fl = std::floor(x);
-    lo[a] = static_cast<int>(fl);
-    f[a] = x - fl;
+    lo[a] = floorAboveMinusOne(x);
+    f[a] = x - lo[a];
   }
 }
 
@@ -188,6 +260,27 @@ inline void loadCorners(const std::array<int, 3>& dims, const uint16_t* index, c
   for (int c = 0; c < 8; ++c)
     k.idx[c] = index[off[0][c & 1] + off[1][(c >> 1) & 1] + off[2][(c >> 2) & 1]];
   k.uniform = std::all_of(k.idx + 1, k.idx + 8, [&](uint16_t i) { return i == k.idx[0]; });
+  if (k.uniform)
+    return;
+  k.distinctCount = 0;
+  for (int c = 0; c < 8; ++c)
+  {
+    int s = 0;
+    while (s < k.distinctCount && k.distinct[s] != k.idx[c])
+      ++s;
+    if (s == k.distinctCount)
+      k.distinct[k.distinctCount++] = k.idx[c];
+    k.slot[c] = static_cast<uint8_t>(s);
+  }
+}
+
+/// Summed trilinear weight of each distinct label of k at fractions f (sums in corner order).
+inline void labelWeights(const Corners& k, const double f[3], double sums[8])
+{
+  const double g[3] = { 1.0 - f[0], 1.0 - f[1], 1.0 - f[2] };
+  std::fill(sums, sums + k.distinctCount, 0.0);
+  for (int c = 0; c < 8; ++c)
+    sums[k.slot[c]] += (((c & 1) ? f[0] : g[0]) * ((c & 2) ? f[1] : g[1])) * ((c & 4) ? f[2] : g[2]);
 }
 
 /// Compact label index with the largest summed trilinear weight; ties go to the smaller index.
@@ -195,34 +288,34 @@ inline uint16_t pickLabel(const Corners& k, const double f[3])
 {
   if (k.uniform)
     return k.idx[0]; // inside one label: the common case
-  double w[8];
-  for (int c = 0; c < 8; ++c)
-  {
-    double weight = 1.0;
-    for (int a = 0; a < 3; ++a)
-      weight *= ((c >> a) & 1) ? f[a] : 1.0 - f[a];
-    w[c] = weight;
-  }
-  const uint16_t* idx = k.idx;
-  uint16_t best = idx[0];
-  double bestWeight = -1.0;
-  for (int c = 0; c < 8; ++c)
-  {
-    bool seen = false;
-    for (int j = 0; j < c && !seen; ++j)
-      seen = idx[j] == idx[c];
-    if (seen)
-      continue;
-    double sum = 0.0;
-    for (int j = c; j < 8; ++j)
-      sum += idx[j] == idx[c] ? w[j] : 0.0;
-    if (sum > bestWeight || (sum == bestWeight && idx[c] < best))
+  double sums[8];
+  labelWeights(k, f, sums);
+  uint16_t best = k.distinct[0];
+  double bestWeight = sums[0];
+  for (int s = 1; s < k.distinctCount; ++s)
+    if (sums[s] > bestWeight || (sums[s] == bestWeight && k.distinct[s] < best))
     {
-      best = idx[c];
-      bestWeight = sum;
+      best = k.distinct[s];
+      bestWeight = sums[s];
     }
-  }
   return best;
+}
+
+/// How far `label` leads the strongest other label at fractions f (summed trilinear weights):
+/// positive where it wins. The label change along a piece is a root of this piecewise cubic.
+inline double labelLead(const Corners& k, const double f[3], uint16_t label)
+{
+  if (k.uniform)
+    return k.idx[0] == label ? 1.0 : -1.0;
+  double sums[8];
+  labelWeights(k, f, sums);
+  double own = 0.0, other = 0.0;
+  for (int s = 0; s < k.distinctCount; ++s)
+    if (k.distinct[s] == label)
+      own = sums[s];
+    else
+      other = std::max(other, sums[s]);
+  return own - other;
 }
 }
 
@@ -243,7 +336,14 @@ void LabelMapDomain::trilinearCrossings(
   // segment): sample each such piece four times and bisect every change of label to full
   // precision. Two changes closer than a quarter of a piece may be missed (a sliver of a label
   // thinner than about a quarter voxel along the segment).
+  // Most of the mesher's segments lie inside one label, far from any boundary: the blocks say
+  // so at once, and the walk below would find nothing there.
+  if (uniformAlong(ua + t0 * d, ua + t1 * d) != kMixed)
+    return;
   thread_local std::vector<double> planes; // reused: no allocation per query
+  thread_local std::vector<uint16_t> labelsBefore; // the label before each crossing found here
+  labelsBefore.clear();
+  const size_t ownFrom = ts.size();
   planes.clear();
   planes.push_back(t0);
   planes.push_back(t1);
@@ -268,6 +368,74 @@ void LabelMapDomain::trilinearCrossings(
     if (!sameCell(lo, cache.lo))
       loadCorners(dims_, index_.data(), lo, cache);
     return pickLabel(cache, f);
+  };
+  // The label at t and how far `label` leads there (for the interpolating search below).
+  auto leadAt = [&](double t, uint16_t label, uint16_t& at) {
+    const Vec3 u = clampToGrid(ua + t * d);
+    int lo[3];
+    double f[3];
+    splitCell(u, lo, f);
+    if (!sameCell(lo, cache.lo))
+      loadCorners(dims_, index_.data(), lo, cache);
+    at = pickLabel(cache, f);
+    return labelLead(cache, f, label);
+  };
+  // The last t where `label` holds between lo (it holds) and hi (it does not), to 1e-12: a
+  // bracketing search (Illinois regula falsi on the label's lead, a bisection whenever that does
+  // not halve the bracket) that keeps the bisection's answer to its tolerance with about a
+  // fifth of its label evaluations.
+  auto lastOf = [&](uint16_t label, double lo, double hi) {
+    uint16_t at = 0;
+    double gLo = leadAt(lo, label, at), gHi = leadAt(hi, label, at);
+    int side = 0; // which end the last step moved: -1 lo, +1 hi
+    double reference = hi - lo; // a bisection once 3 steps have not halved the bracket from here
+    int steps = 0;
+    while (hi - lo > 1e-12 * (1.0 + std::abs(hi)))
+    {
+      const double w = hi - lo, tol = 1e-12 * (1.0 + std::abs(hi));
+      if (w <= 0.5 * reference)
+      {
+        reference = w;
+        steps = 0;
+      }
+      double mid = 0.5 * (lo + hi);
+      if (++steps <= 3 && gLo >= 0.0 && gHi <= 0.0)
+      {
+        // A little past the interpolated root, away from the end that moved last: once the
+        // root is known to the tolerance, that closes the bracket in one step. A lead of
+        // exactly 0 is a tie decided by index: the change is most likely right at that end.
+        double x = lo + w * gLo / (gLo - gHi) + 0.5 * tol * (side == -1 ? 1.0 : side == 1 ? -1.0 : 0.0);
+        if (gLo == 0.0)
+          x = lo + 0.5 * tol;
+        else if (gHi == 0.0)
+          x = hi - 0.5 * tol;
+        if (x > lo && x < hi)
+          mid = x;
+      }
+      else
+      {
+        reference = w;
+        steps = 0;
+      }
+      const double g = leadAt(mid, label, at);
+      if (at == label)
+      {
+        lo = mid;
+        gLo = g;
+        if (side == -1)
+          gHi *= 0.5; // Illinois: the end that stayed twice counts half
+        side = -1;
+      }
+      else
+      {
+        hi = mid;
+        gHi = g;
+        if (side == 1)
+          gLo *= 0.5;
+        side = 1;
+      }
+    }
+    return hi;
   };
   constexpr int kSamples = 4;
   double previousT = t0;
@@ -298,14 +466,27 @@ void LabelMapDomain::trilinearCrossings(
       // every change between the previous sample and t (a few at most)
       for (int guard = 0; label != previous && guard < 8; ++guard)
       {
-        double lo = previousT, hi = t;
-        while (hi - lo > 1e-12 * (1.0 + std::abs(hi)))
+        const double hi = lastOf(previous, previousT, t);
+        const uint16_t after = labelAt(hi);
+        if (ts.size() > ownFrom && hi - ts.back() <= 1e-12 * (1.0 + std::abs(hi)))
         {
-          const double mid = 0.5 * (lo + hi);
-          (labelAt(mid) == previous ? lo : hi) = mid;
+          // Two changes within the tolerance: the label flickers where two labels tie along
+          // the segment (rounding decides). They are one change, or none if it comes back.
+          const uint16_t origin = labelsBefore.back();
+          ts.pop_back();
+          labelsBefore.pop_back();
+          if (origin != after)
+          {
+            ts.push_back(hi);
+            labelsBefore.push_back(origin);
+          }
         }
-        ts.push_back(hi);
-        previous = labelAt(hi);
+        else
+        {
+          ts.push_back(hi);
+          labelsBefore.push_back(previous);
+        }
+        previous = after;
         previousT = hi;
       }
       previous = label;

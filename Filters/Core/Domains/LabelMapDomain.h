@@ -80,11 +80,21 @@ private:
   /// Compact label index of the largest trilinear indicator at voxel coordinates u (in the grid).
   uint16_t trilinearIndex(const Vec3& u) const;
   void trilinearCrossings(const Vec3& ua, const Vec3& d, double t0, double t1, std::vector<double>& ts) const;
+  /// Fills blockIndex_: per block of kBlock^3 cells of voxel centres, the one label index all their
+  /// corners carry, or kMixed.
+  void buildBlocks();
+  /// The label index all of a segment's cells carry when the blocks its bounding box touches are
+  /// all that one label (no trilinear crossing on it), else kMixed.
+  uint16_t uniformAlong(const Vec3& ua, const Vec3& ub) const;
+  static constexpr int kBlock = 8;
+  static constexpr uint16_t kMixed = 0xFFFF;
 
   std::array<int, 3> dims_;
   std::array<double, 3> dimsD_;
   std::vector<uint16_t> index_;    ///< compact label index per voxel (2 bytes a voxel)
   std::vector<int> indexMaterial_; ///< compact index -> material id (kOutside for the background)
+  std::array<int, 3> blocks_{};     ///< blocks per axis over the cells of voxel centres
+  std::vector<uint16_t> blockIndex_; ///< per block: its one label index, or kMixed (Trilinear only)
   AffineMap worldToVoxel_;
   double voxelVolume_ = 0.0;
   LabelInterpolation interpolation_ = LabelInterpolation::Nearest;
