@@ -19,7 +19,8 @@ Intersection HierarchicalOracle::intersect(const Vec3& a, const Vec3& b) const
 {
   Intersection result;
   result.materialBefore = material(a);
-  std::vector<double> ts;
+  thread_local std::vector<double> ts; // reused: the mesher asks millions of times
+  ts.clear();
   for (const auto& d : domains_)
     d->crossings(a, b, ts);
   std::sort(ts.begin(), ts.end());
