@@ -726,23 +726,34 @@ private:
     int endPoint[2] = { -1, -1 };
   };
 
-  /// Who is seen beside the crease at m: the input (domain `owner`) must decide the material on its
-  /// side (probed along the inward bisector of the faces' normals, which way is inside asked of the
-  /// input itself) and another material must lie across (the outward bisector). Empty: not seen.
-  std::vector<int> seenAt(int owner, const Vec3& m, const std::array<Vec3, 2>& n) const
+  /// Who is seen beside the crease at m (on chord ab): the input (domain `owner`) must decide the
+  /// material on its side (probed along the inward bisector of the faces' normals, which way is
+  /// inside asked of the input itself) and another material must lie across (the outward
+  /// bisector). Empty: not seen, or three materials around it (a ring of probes): then it is a
+  /// triple line the search finds (a tray's bottom edge on the cut plane over the bone).
+  std::vector<int> seenAt(int owner, const Vec3& m, const Vec3& a, const Vec3& b, const std::array<Vec3, 2>& n) const
   {
-    Vec3 b = n[0] + n[1];
-    if (!(norm(b) > 1e-6))
+    const Vec3 t = (1.0 / norm(b - a)) * (b - a);
+    Vec3 s = n[0] + n[1];
+    s = s - dot(s, t) * t;
+    if (!(norm(s) > 1e-6))
       return {};
-    b = (probe_ / norm(b)) * b;
+    s = (1.0 / norm(s)) * s;
+    const Vec3 step = probe_ * s;
     const Domain& d = *oracle_.domains()[owner];
-    const bool plus = d.material(m + b) != kOutside, minus = d.material(m - b) != kOutside;
+    const bool plus = d.material(m + step) != kOutside, minus = d.material(m - step) != kOutside;
     if (plus == minus)
       return {};
-    const Vec3 in = plus ? m + b : m - b, out = plus ? m - b : m + b;
+    const Vec3 in = plus ? m + step : m - step, out = plus ? m - step : m + step;
     const Decision mine = oracle_.decide(in);
     const int across = oracle_.material(out);
     if (mine.domain != owner || across == mine.material)
+      return {};
+    const Vec3 s2 = cross(t, s);
+    std::set<int> around{ mine.material, across };
+    for (int k = 0; k < 16 && around.size() < 3; ++k)
+      around.insert(oracle_.material(m + probe_ * (std::cos(k * M_PI / 8) * s + std::sin(k * M_PI / 8) * s2)));
+    if (around.size() >= 3)
       return {};
     return { std::min(mine.material, across), std::max(mine.material, across) };
   }
@@ -757,6 +768,8 @@ private:
     for (size_t k = 0; k + 1 < c.points.size(); ++k)
     {
       const Vec3 a = c.points[k], b = c.points[k + 1];
+      if (!(norm(b - a) > 0))
+        continue;
       std::vector<double> ts{ 0.0, 1.0 };
       for (size_t j = 0; j < oracle_.domains().size(); ++j)
         if (static_cast<int>(j) != owner)
@@ -768,7 +781,7 @@ private:
           continue;
         at.push_back(ts[q] == 0.0 ? a : lerp(a, b, ts[q]));
         entry.push_back(ts[q] > 0.0);
-        seen.push_back(seenAt(owner, lerp(a, b, 0.5 * (ts[q] + ts[q + 1])), c.normals[k]));
+        seen.push_back(seenAt(owner, lerp(a, b, 0.5 * (ts[q] + ts[q + 1])), a, b, c.normals[k]));
       }
     }
     if (seen.empty())
