@@ -6,7 +6,8 @@ curve) to the mesh's interface edges is printed, meshed with the given features 
 and with the automatic ones (Features = Automatic), with tetrahedra, min dihedral and seconds; and
 the largest distance from the centroids of the interface triangles within 2 facet distances of a
 curve to the nearest input surface.
-Aim: deviation <= 0.1 x facet distance, tetrahedra <= 1.2 x.
+Aim: deviation <= 0.1 x facet distance, tetrahedra <= 1.2 x. The screw's rims and the box implant's
+edges are creases of one input (Domain::creases), kept by Automatic too.
 
     PYTHONPATH=build/lib/python3.11/site-packages /usr/bin/python3 Benchmarks/feature_fidelity.py [--scale 1]
 """
@@ -44,7 +45,33 @@ def screw_in_ball(h):
             x, y = a[0] + rs * math.cos(t), a[1] + rs * math.sin(t)
             pts.append((x, y, sign * math.sqrt(r * r - x * x - y * y)))
         curves.append(pts)
-    surfaces = lambda p: min(abs(math.dist(p, (0, 0, 0)) - r), abs(math.hypot(p[0] - a[0], p[1] - a[1]) - rs))  # noqa: E731
+        curves.append(circle(a, sign * 15, rs))  # the screw's rims (creases of the cylinder)
+    surfaces = lambda p: min(abs(math.dist(p, (0, 0, 0)) - r), abs(math.hypot(p[0] - a[0], p[1] - a[1]) - rs),  # noqa: E731
+                             abs(abs(p[2]) - 15))
+    return scene, curves, surfaces
+
+
+def box_in_ball(h):
+    """A box implant (first) half inside a ball: its 12 edges are creases of the box alone, seen
+    beside the ball or the outside; the curve where it enters the ball is not measured here."""
+    r, lo, hi = 10.0, (-3.0, -2.5, 4.0), (3.5, 2.5, 14.0)
+    scene = {"domains": [{"name": "implant", "type": "box", "bounds": [lo[0], hi[0], lo[1], hi[1], lo[2], hi[2]],
+                          "material": 2},
+                         {"name": "ball", "type": "sphere", "center": [0, 0, 0], "radius": r, "material": 1}]}
+    corners = [(hi[0] if c & 1 else lo[0], hi[1] if c & 2 else lo[1], hi[2] if c & 4 else lo[2]) for c in range(8)]
+    curves = []
+    for c in range(8):
+        for axis in range(3):
+            if not c & (1 << axis):
+                a, b = corners[c], corners[c | (1 << axis)]
+                curves.append([tuple(a[i] + (b[i] - a[i]) * k / 500 for i in range(3)) for k in range(501)])
+
+    def box_distance(p):
+        d = [max(lo[i] - p[i], p[i] - hi[i]) for i in range(3)]
+        outside = math.sqrt(sum(max(x, 0.0) ** 2 for x in d))
+        return outside if outside > 0 else -max(d)
+
+    surfaces = lambda p: min(abs(math.dist(p, (0, 0, 0)) - r), box_distance(p))  # noqa: E731
     return scene, curves, surfaces
 
 
@@ -133,7 +160,7 @@ def main():
           "| boundary near the curve / facet distance | s |")
     print("|---|---|---|---|---|---|---|---|---|")
     for name, make in (("ball cut by a plane", cut_ball), ("screw through a ball", screw_in_ball),
-                       ("lid on a ball", lid_on_ball)):
+                       ("lid on a ball", lid_on_ball), ("box implant in a ball", box_in_ball)):
         run(name, make, args.size)
 
 

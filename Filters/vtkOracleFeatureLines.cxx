@@ -43,7 +43,7 @@ int vtkOracleFeatureLines::FillInputPortInformation(int, vtkInformation* info)
 
 namespace
 {
-/// The curves as polylines: cell arrays Materials (up to four, -2 pads) and Triple, point array
+/// The curves as polylines: cell arrays Materials (up to four, -2 pads), Triple and Crease, point array
 /// SmallAngle (180 where none), field data Warnings.
 void toPolyData(const omesh::FeatureLines& found, vtkPolyData* output)
 {
@@ -57,6 +57,8 @@ void toPolyData(const omesh::FeatureLines& found, vtkPolyData* output)
   materials->SetNumberOfComponents(4);
   vtkNew<vtkIntArray> triple;
   triple->SetName("Triple");
+  vtkNew<vtkIntArray> crease;
+  crease->SetName("Crease");
   for (const omesh::FeatureLine& l : found.lines)
   {
     lines->InsertNextCell(static_cast<vtkIdType>(l.points.size()));
@@ -67,6 +69,7 @@ void toPolyData(const omesh::FeatureLines& found, vtkPolyData* output)
       m[k] = l.materials[k];
     materials->InsertNextTypedTuple(m);
     triple->InsertNextValue(l.triple ? 1 : 0);
+    crease->InsertNextValue(l.crease ? 1 : 0);
   }
   vtkNew<vtkDoubleArray> smallAngle;
   smallAngle->SetName("SmallAngle");
@@ -82,6 +85,7 @@ void toPolyData(const omesh::FeatureLines& found, vtkPolyData* output)
   output->SetLines(lines);
   output->GetCellData()->AddArray(materials);
   output->GetCellData()->AddArray(triple);
+  output->GetCellData()->AddArray(crease);
   output->GetPointData()->AddArray(smallAngle);
   output->GetFieldData()->AddArray(warnings);
 }

@@ -6,10 +6,12 @@
  * Input: the output of vtkHierarchicalOracle (or one domain). Output: vtkPolyData polylines, one
  * cell per curve: cut rims (a cut domain crossing a surface or label-map interface), entry curves
  * (one input's surface entering another's material), triple lines of label maps and of mixed
- * inputs (see omesh::findFeatureLines). Vertices on the true curves (to 1e-10 of the oracle's
- * diagonal), curves ending at one shared vertex, corners kept. Cell data: Materials (4
- * components: the materials meeting along the curve, ascending, -1 = outside, -2 = none) and
- * Triple (1 when three or more materials meet, 0 for a crease between two); point data
+ * inputs, and the creases of single inputs where they are seen (a box's edges, a finite
+ * cylinder's rims, a surface's sharp edges above 60 degrees; see omesh::findFeatureLines).
+ * Vertices on the true curves (to 1e-10 of the oracle's diagonal), curves ending at one shared
+ * vertex, corners kept. Cell data: Materials (4 components: the materials meeting along the curve,
+ * ascending, -1 = outside, -2 = none), Triple (1 when three or more materials meet, 0 for a
+ * crease between two) and Crease (1 for a crease of one input); point data
  * SmallAngle (degrees: the smallest angle between curves or chords at the vertex, 180 if none);
  * field data Warnings (curves meeting below 60 degrees, which threaten the mesher's termination).
  *

@@ -10,6 +10,8 @@
 #include "OracleFeatureLines.h"
 #include "OracleMesher.h"
 #include "SphereDomain.h"
+#include "SurfaceDomain.h"
+#include "TestShapes.h"
 
 #include <gtest/gtest.h>
 
@@ -195,10 +197,17 @@ TEST(OracleFeatureLines, CylinderEnteringASphereGivesTwoClosedCurves)
   oracle.add(std::make_shared<CylinderDomain>(axisAt, Vec3{ 0, 0, 1 }, radius, 3.0, 2, "screw"));
   oracle.add(std::make_shared<SphereDomain>(Vec3{ 0, 0, 0 }, 1.0, 1, "bone"));
   const FeatureLines f = findFeatureLines(oracle);
-  ASSERT_EQ(f.lines.size(), 2u);
+  ASSERT_EQ(f.lines.size(), 4u);
   for (const FeatureLine& l : f.lines)
   {
     EXPECT_TRUE(l.closed());
+    if (l.crease) // the screw's rims at z = +-1.5, outside the bone
+    {
+      EXPECT_EQ(l.materials, (std::vector<int>{ kOutside, 2 }));
+      for (int p : l.points)
+        EXPECT_NEAR(std::abs(f.segments.points[p].z), 1.5, 1e-9);
+      continue;
+    }
     EXPECT_TRUE(l.triple);
     EXPECT_EQ(l.materials, (std::vector<int>{ kOutside, 1, 2 }));
     const double z = f.segments.points[l.points[0]].z;
@@ -316,7 +325,7 @@ TEST(OracleFeatureLines, AGivenLineCrossingACurveSharesOneVertexWithIt)
   }
   // Given alone is the line as it was; Automatic alone the two curves.
   EXPECT_EQ(selectFeatures(oracle, given, FeatureSource::Given, criteria).segments.segments.size(), 1u);
-  EXPECT_EQ(selectFeatures(oracle, given, FeatureSource::Automatic, criteria).automatic.lines.size(), 2u);
+  EXPECT_EQ(selectFeatures(oracle, given, FeatureSource::Automatic, criteria).automatic.lines.size(), 4u); // and the screw's rims
   EXPECT_TRUE(selectFeatures(oracle, given, FeatureSource::None, criteria).segments.empty());
 }
 
@@ -358,6 +367,8 @@ TEST(OracleFeatureLines, TrayOnTheCutPlaneHasOneRimAndMeshesWithAutomaticLines)
   double trayRim = 0.0, boneRim = 0.0;
   for (const FeatureLine& l : f.lines)
   {
+    if (l.crease) // the tray's own edges (its bottom ones run along the rim; the selection keeps one)
+      continue;
     if (l.materials == std::vector<int>{ kOutside, 1, 3 })
     {
       for (int p : l.points)
@@ -383,8 +394,8 @@ TEST(OracleFeatureLines, TrayOnTheCutPlaneHasOneRimAndMeshesWithAutomaticLines)
   for (const auto& o : selection.origin)
   {
     EXPECT_TRUE(o.automatic);
-    EXPECT_EQ(o.materials[0], kOutside);
-    EXPECT_EQ(o.materials[1], 1);
+    EXPECT_TRUE(o.materials[0] == kOutside || o.materials[0] == 1); // the rims; the tray's edges: 3 beside them
+    EXPECT_TRUE(o.materials[1] == 1 || o.materials[1] == 3);
   }
 
   MesherOptions options;
@@ -457,6 +468,8 @@ TEST(OracleFeatureLines, CurvesCrossingAtASmallAngleMeetOnceWithoutFolds)
   std::vector<std::vector<int>> degree(f.segments.points.size());
   for (const FeatureLine& l : f.lines)
   {
+    if (l.crease) // the tray's own edges
+      continue;
     ASSERT_GE(l.points.size(), 2u);
     bool rectangle = true, circle = true;
     for (size_t k = 1; k + 1 < l.points.size(); ++k)
@@ -539,4 +552,200 @@ TEST(OracleFeatureLines, BothKeepsTheGivenLinesOwnEdgeSizesThroughTheSelection)
   // Given alone: the lines as they were, sizes and all; None: no lines, no sizes.
   EXPECT_EQ(selectFeatures(oracle, given, FeatureSource::Given, criteria).segments.edgeSizes, sideSize);
   EXPECT_TRUE(selectFeatures(oracle, given, FeatureSource::None, criteria).segments.edgeSizes.empty());
+}
+
+namespace
+{
+/// The 12 edges of the box [lo, hi] mapped by `toWorld`.
+std::vector<std::array<Vec3, 2>> boxEdges(const Vec3& lo, const Vec3& hi, const AffineMap& toWorld = {})
+{
+  std::vector<std::array<Vec3, 2>> edges;
+  for (int a = 0; a < 8; ++a)
+    for (int axis = 0; axis < 3; ++axis)
+      if (!(a & (1 << axis)))
+      {
+        const int b = a | (1 << axis);
+        auto corner = [&](int c) {
+          return toWorld.apply({ (c & 1) ? hi.x : lo.x, (c & 2) ? hi.y : lo.y, (c & 4) ? hi.z : lo.z });
+        };
+        edges.push_back({ corner(a), corner(b) });
+      }
+  return edges;
+}
+
+double nearestEdge(const Vec3& p, const std::vector<std::array<Vec3, 2>>& edges)
+{
+  double nearest = 1e300;
+  for (const auto& e : edges)
+    nearest = std::min(nearest, toSegment(p, e[0], e[1]));
+  return nearest;
+}
+
+/// Meshes the selection and expects a valid mesh with every piece of the lines as mesh edges.
+void expectMeshedWithEveryLine(const HierarchicalOracle& oracle, const FeatureSelection& selection, const MaterialCriteria& criteria)
+{
+  MesherOptions options;
+  options.criteria = criteria;
+  options.seed = 1;
+  const TetMesh mesh = meshOracle(oracle, selection.segments, {}, options);
+  ASSERT_FALSE(mesh.tets.empty());
+  ASSERT_FALSE(mesh.segments.empty());
+  double present = 0.0, total = 0.0;
+  for (const auto& s : mesh.segments)
+  {
+    const double l = norm(s.b - s.a);
+    total += l;
+    present += s.present ? l : 0.0;
+  }
+  EXPECT_EQ(present, total) << "coverage " << 100.0 * present / total << "%";
+  EXPECT_TRUE(checkMeshValidity(mesh).valid());
+}
+}
+
+TEST(OracleFeatureLines, ABoxAloneGivesItsTwelveEdgesAndTheMeshKeepsThem)
+{
+  // A turned box: its edges come from the box itself (no other input meets it), exactly.
+  const Vec3 lo{ -0.5, -0.3, -0.2 }, hi{ 0.5, 0.3, 0.25 };
+  const double c = std::cos(0.3), s = std::sin(0.3);
+  const AffineMap toWorld({ c, -s, 0, 0.1, s, c, 0, -0.05, 0, 0, 1, 0.02 });
+  auto box = std::make_shared<BoxDomain>(lo, hi, 1, "box");
+  box->setWorldToLocal(toWorld.inverse());
+  HierarchicalOracle oracle;
+  oracle.add(box);
+  const auto edges = boxEdges(lo, hi, toWorld);
+  MaterialCriteria criteria;
+  criteria.global = { 25.0, 0.2, 0.02, 0.2, 3.0, 0.15 }; // angle, facet size, distance, cell size, radius-edge, edge
+  const FeatureSelection selection = selectFeatures(oracle, {}, FeatureSource::Automatic, criteria);
+  const FeatureLines& f = selection.automatic;
+  ASSERT_EQ(f.lines.size(), 12u);
+  double length = 0.0;
+  for (const FeatureLine& l : f.lines)
+  {
+    EXPECT_TRUE(l.crease);
+    EXPECT_EQ(l.materials, (std::vector<int>{ kOutside, 1 }));
+    length += lineLength(f, l);
+  }
+  EXPECT_NEAR(length, 4 * (1.0 + 0.6 + 0.45), 1e-9);
+  for (const Vec3& p : f.segments.points)
+    EXPECT_LT(nearestEdge(p, edges), 1e-9);
+  EXPECT_EQ(f.segments.points.size(), 8 + f.segments.segments.size() - 12); // corners shared by their edges
+  EXPECT_TRUE(f.smallAngles.empty());
+  for (const auto& o : selection.origin)
+    EXPECT_TRUE(o.automatic);
+  expectMeshedWithEveryLine(oracle, selection, criteria);
+}
+
+TEST(OracleFeatureLines, ABoxHalfInsideASphereKeepsItsVisibleEdgesEndingOnTheEntryCurve)
+{
+  // The ball decides first: the box's edges inside it are buried; the four along x leave it at
+  // (sqrt(0.75), +-0.4, +-0.3), where the box enters the ball, and end there on the entry curve.
+  const Vec3 lo{ 0.3, -0.4, -0.3 }, hi{ 1.5, 0.4, 0.3 };
+  HierarchicalOracle oracle;
+  oracle.add(std::make_shared<SphereDomain>(Vec3{ 0, 0, 0 }, 1.0, 1, "ball"));
+  oracle.add(std::make_shared<BoxDomain>(lo, hi, 2, "box"));
+  FeatureLineOptions options;
+  options.maxSegmentLength = 0.15;
+  const FeatureLines f = findFeatureLines(oracle, options);
+  const auto edges = boxEdges(lo, hi);
+  double creaseLength = 0.0;
+  std::map<int, int> degree;
+  for (const auto& s : f.segments.segments)
+    ++degree[s[0]], ++degree[s[1]];
+  int entries = 0;
+  for (const FeatureLine& l : f.lines)
+  {
+    if (!l.crease)
+    {
+      EXPECT_EQ(l.materials, (std::vector<int>{ kOutside, 1, 2 })); // the entry curve
+      continue;
+    }
+    EXPECT_EQ(l.materials, (std::vector<int>{ kOutside, 2 }));
+    for (int p : l.points)
+    {
+      EXPECT_LT(nearestEdge(f.segments.points[p], edges), 1e-9);
+      EXPECT_GT(norm(f.segments.points[p]), 1.0 - 1e-6);
+    }
+    creaseLength += lineLength(f, l);
+    for (int p : { l.points.front(), l.points.back() })
+      if (const Vec3 x = f.segments.points[p]; std::abs(norm(x) - 1.0) < 1e-6)
+      {
+        ++entries;
+        EXPECT_NEAR(x.x, std::sqrt(0.75), 1e-6);
+        EXPECT_EQ(degree[p], 3) << "the crease's end is a vertex of the entry curve";
+      }
+  }
+  EXPECT_EQ(entries, 4);
+  EXPECT_NEAR(creaseLength, 4 * (1.5 - std::sqrt(0.75)) + 2 * (0.8 + 0.6), 1e-9);
+
+  // The box first: every edge is seen, beside the ball or the outside; the two pieces of an edge
+  // along x and the entry curve share the vertex where it enters.
+  HierarchicalOracle boxFirst;
+  boxFirst.add(std::make_shared<BoxDomain>(lo, hi, 2, "box"));
+  boxFirst.add(std::make_shared<SphereDomain>(Vec3{ 0, 0, 0 }, 1.0, 1, "ball"));
+  const FeatureLines g = findFeatureLines(boxFirst, options);
+  std::map<int, int> degreeG;
+  for (const auto& s : g.segments.segments)
+    ++degreeG[s[0]], ++degreeG[s[1]];
+  double seen = 0.0;
+  int shared = 0;
+  for (const FeatureLine& l : g.lines)
+    if (l.crease)
+    {
+      seen += lineLength(g, l);
+      EXPECT_EQ(l.materials[1], 2);
+      shared += std::abs(norm(g.segments.points[l.points.front()]) - 1.0) < 1e-6 && degreeG[l.points.front()] == 4;
+      shared += std::abs(norm(g.segments.points[l.points.back()]) - 1.0) < 1e-6 && degreeG[l.points.back()] == 4;
+    }
+  EXPECT_NEAR(seen, 4 * (1.2 + 0.8 + 0.6), 1e-9);
+  EXPECT_EQ(shared, 8); // four entry points, each the end of two pieces
+}
+
+TEST(OracleFeatureLines, ACylinderCutByAPlaneKeepsTheRimThatIsLeft)
+{
+  // The top rim (z = 1) is cut away; the bottom one is a crease of the cylinder alone, the plane's
+  // rim at z = 0.4 the curve the search finds.
+  HierarchicalOracle oracle;
+  auto cut = std::make_shared<HalfSpaceDomain>(Vec3{ 0, 0, 0.4 }, Vec3{ 0, 0, -1 }, 0, "cut");
+  cut->setCut(true);
+  oracle.add(cut);
+  oracle.add(std::make_shared<CylinderDomain>(Vec3{ 0, 0, 0 }, Vec3{ 0, 0, 1 }, 0.5, 2.0, 1, "peg"));
+  FeatureLineOptions options;
+  options.maxSegmentLength = 0.15;
+  const FeatureLines f = findFeatureLines(oracle, options);
+  ASSERT_EQ(f.lines.size(), 2u);
+  for (const FeatureLine& l : f.lines)
+  {
+    EXPECT_TRUE(l.closed());
+    EXPECT_EQ(l.materials, (std::vector<int>{ kOutside, 1 }));
+    const double z = l.crease ? -1.0 : 0.4;
+    for (int p : l.points)
+    {
+      EXPECT_NEAR(f.segments.points[p].z, z, 1e-9);
+      EXPECT_NEAR(std::hypot(f.segments.points[p].x, f.segments.points[p].y), 0.5, 1e-9);
+    }
+    EXPECT_NEAR(lineLength(f, l), 2 * M_PI * 0.5, 0.005 * 2 * M_PI * 0.5); // chords of 0.15
+  }
+  EXPECT_NE(f.lines[0].crease, f.lines[1].crease);
+}
+
+TEST(OracleFeatureLines, ASurfaceCubeKeepsItsTwelveEdgesInAutomatic)
+{
+  HierarchicalOracle oracle;
+  oracle.add(std::make_shared<SurfaceDomain>(test::cube(-0.5, 0.5), 1, "cube"));
+  MaterialCriteria criteria;
+  criteria.global = { 25.0, 0.2, 0.02, 0.2, 3.0, 0.2 }; // angle, facet size, distance, cell size, radius-edge, edge
+  const FeatureSelection selection = selectFeatures(oracle, {}, FeatureSource::Automatic, criteria);
+  const FeatureLines& f = selection.automatic;
+  ASSERT_EQ(f.lines.size(), 12u); // the faces' diagonals are flat
+  const auto edges = boxEdges({ -0.5, -0.5, -0.5 }, { 0.5, 0.5, 0.5 });
+  double length = 0.0;
+  for (const FeatureLine& l : f.lines)
+  {
+    EXPECT_TRUE(l.crease);
+    length += lineLength(f, l);
+  }
+  EXPECT_NEAR(length, 12.0, 1e-9);
+  for (const Vec3& p : f.segments.points)
+    EXPECT_LT(nearestEdge(p, edges), 1e-9);
+  expectMeshedWithEveryLine(oracle, selection, criteria);
 }

@@ -43,6 +43,22 @@ class FeatureLinesFilter(unittest.TestCase):
             self.assertAlmostEqual(math.dist(p, CENTER), RADIUS, delta=1e-6)
         self.assertEqual(out.GetFieldData().GetAbstractArray("Warnings").GetNumberOfValues(), 0)
 
+    def test_a_box_shows_its_twelve_edges_as_creases(self):
+        # a box's edges are creases of the box alone: the scene's box through the ParaView source
+        scene = build_scene({"domains": [{"name": "block", "type": "box", "bounds": [0, 2, 0, 1, 0, 0.5],
+                                          "material": 4}]})
+        lines = om.vtkOracleFeatureLines()
+        lines.SetInputConnection(scene.oracle.GetOutputPort())
+        lines.SetMaximumSegmentLength(0.4)
+        out = om.update(lines)
+        self.assertEqual(out.GetNumberOfLines(), 12)
+        for c in range(12):
+            self.assertEqual(out.GetCellData().GetArray("Crease").GetValue(c), 1)
+            self.assertEqual(out.GetCellData().GetArray("Materials").GetTuple(c), (-1, 4, -2, -2))
+        on_edge = lambda p: sum(min(abs(x), abs(x - hi)) < 1e-9 for x, hi in zip(p, (2, 1, 0.5))) >= 2  # noqa: E731
+        for i in range(out.GetNumberOfPoints()):
+            self.assertTrue(on_edge(out.GetPoint(i)), out.GetPoint(i))
+
     def test_no_input_is_an_error(self):
         with self.assertRaises(om.OracleMeshError):
             om.update(om.vtkOracleFeatureLines())

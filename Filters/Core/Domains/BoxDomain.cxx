@@ -45,4 +45,27 @@ void BoxDomain::crossingsLocal(const Vec3& qa, const Vec3& qb, std::vector<doubl
     ts.push_back(t1);
   }
 }
+
+std::vector<Crease> BoxDomain::localCreases(double) const
+{
+  std::vector<Crease> edges;
+  for (int axis = 0; axis < 3; ++axis)
+  {
+    const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+    for (int su = 0; su < 2; ++su)
+      for (int sv = 0; sv < 2; ++sv)
+      {
+        Vec3 a, nu, nv;
+        a[u] = su ? box_.max[u] : box_.min[u];
+        a[v] = sv ? box_.max[v] : box_.min[v];
+        a[axis] = box_.min[axis];
+        Vec3 b = a;
+        b[axis] = box_.max[axis];
+        nu[u] = su ? 1.0 : -1.0;
+        nv[v] = sv ? 1.0 : -1.0;
+        edges.push_back({ { a, b }, { { nu, nv } }, 90.0 });
+      }
+  }
+  return edges;
+}
 }

@@ -17,6 +17,8 @@ protected:
   bool containsLocal(const Vec3& q) const override { return box_.contains(q); }
   void crossingsLocal(const Vec3& qa, const Vec3& qb, std::vector<double>& ts) const override;
   BoundingBox localBounds() const override { return box_; }
+  /// The 12 edges, each from corner to corner (a corner is the same point in its three edges).
+  std::vector<Crease> localCreases(double sagitta) const override;
 
 private:
   BoundingBox box_;

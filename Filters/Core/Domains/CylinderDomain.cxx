@@ -3,6 +3,7 @@
 
 #include "InputError.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace omesh
@@ -50,5 +51,35 @@ BoundingBox CylinderDomain::localBounds() const
   b.add(center_ - ext);
   b.add(center_ + ext);
   return b;
+}
+
+std::vector<Crease> CylinderDomain::localCreases(double sagitta) const
+{
+  if (!bounded())
+    return {};
+  // Chords of angle theta stay within r (1 - cos(theta / 2)) of the circle.
+  const double theta = 2.0 * std::acos(std::clamp(1.0 - sagitta / radius_, -1.0, 1.0));
+  const int n = std::clamp(static_cast<int>(std::ceil(2.0 * M_PI / std::max(theta, 1e-12))), 16, 100000);
+  Vec3 e1 = cross(axis_, std::abs(axis_.x) < 0.9 ? Vec3{ 1, 0, 0 } : Vec3{ 0, 1, 0 });
+  e1 = (1.0 / norm(e1)) * e1;
+  const Vec3 e2 = cross(axis_, e1);
+  std::vector<Crease> rims;
+  for (double side : { -1.0, 1.0 })
+  {
+    Crease rim;
+    const Vec3 centre = center_ + (side * halfHeight_) * axis_;
+    for (int k = 0; k <= n; ++k)
+    {
+      const double phi = 2.0 * M_PI * (k % n) / n;
+      rim.points.push_back(centre + radius_ * (std::cos(phi) * e1 + std::sin(phi) * e2));
+      if (k < n)
+      {
+        const double mid = 2.0 * M_PI * (k + 0.5) / n;
+        rim.normals.push_back({ side * axis_, std::cos(mid) * e1 + std::sin(mid) * e2 });
+      }
+    }
+    rims.push_back(std::move(rim));
+  }
+  return rims;
 }
 }

@@ -27,6 +27,8 @@ protected:
   }
   void crossingsLocal(const Vec3& qa, const Vec3& qb, std::vector<double>& ts) const override;
   BoundingBox localBounds() const override;
+  /// A finite cylinder's two rims, circles sampled with chords within `sagitta` of them.
+  std::vector<Crease> localCreases(double sagitta) const override;
 
 private:
   Vec3 center_, axis_;

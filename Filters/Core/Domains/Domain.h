@@ -4,6 +4,7 @@
 #include "BoundingBox.h"
 #include "Vec3.h"
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -11,6 +12,24 @@ namespace omesh
 {
 /// Material id for "not in any material". Material ids are >= 0.
 constexpr int kOutside = -1;
+
+/// A sharp edge of one input's own boundary (a box's edge, a finite cylinder's rim, a surface's
+/// sharp edge), given exactly: `points` lie on it in order (a closed crease repeats its first point
+/// last); between them it is straight (box, surface) or a curve whose chords keep within the sagitta
+/// asked for (cylinder rims). `normals[k]` are the two faces' outward unit normals beside chord k.
+struct Crease
+{
+  std::vector<Vec3> points;
+  std::vector<std::array<Vec3, 2>> normals;
+  /// 180 degrees minus the angle between the two faces' normals (a box: 90, the dihedral angle
+  /// inside a convex crease), the smallest along the crease.
+  double dihedral = 90.0;
+  bool closed() const
+  {
+    return points.size() > 2 && points.front().x == points.back().x && points.front().y == points.back().y &&
+      points.front().z == points.back().z;
+  }
+};
 
 /// One input of the hierarchical oracle: a region of space that assigns materials to the points it
 /// contains. Implementations must be safe to query from several threads at once (const queries).
@@ -38,6 +57,15 @@ public:
 
   /// Material ids this domain can return (for per-material reports).
   virtual std::vector<int> materials() const = 0;
+
+  /// The creases of this domain's own boundary where its faces' normals differ by more than
+  /// `featureAngle` degrees; curved ones sampled with chords within `sagitta` of them. Smooth
+  /// shapes (spheres, half-spaces, label maps: their voxel staircase is no crease) have none.
+  virtual std::vector<Crease> creases(double featureAngle, double sagitta) const
+  {
+    (void)featureAngle, (void)sagitta;
+    return {};
+  }
 
   const std::string& name() const { return name_; }
   void setName(const std::string& n) { name_ = n; }

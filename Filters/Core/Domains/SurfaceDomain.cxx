@@ -11,6 +11,7 @@
 #include <CGAL/AABB_traits.h>
 #include <CGAL/AABB_tree.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Polygon_mesh_processing/detect_features.h>
 #include <CGAL/Polygon_mesh_processing/measure.h>
 #include <CGAL/Polygon_mesh_processing/orientation.h>
 #include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
@@ -451,6 +452,75 @@ double SurfaceDomain::volume() const
   Mesh copy = impl_->mesh;
   PMP::orient_to_bound_a_volume(copy);
   return PMP::volume(copy);
+}
+
+std::vector<Crease> SurfaceDomain::creases(double featureAngle, double) const
+{
+  const Mesh& mesh = impl_->mesh;
+  using Edge = Mesh::Edge_index;
+  using Vertex = Mesh::Vertex_index;
+  std::vector<char> sharp(mesh.number_of_edges(), 0);
+  PMP::detect_sharp_edges(mesh, featureAngle,
+    boost::make_function_property_map<Edge, char&>([&](Edge e) -> char& { return sharp[e.idx()]; }));
+  auto toVec = [&](Vertex v) {
+    const Point& p = mesh.point(v);
+    return Vec3{ p.x(), p.y(), p.z() };
+  };
+  auto faceNormal = [&](Mesh::Halfedge_index h, Vec3& n) {
+    const Vec3 a = toVec(mesh.source(h)), b = toVec(mesh.target(h)), c = toVec(mesh.target(mesh.next(h)));
+    const Vec3 m = cross(b - a, c - a);
+    if (!(norm(m) > 0))
+      return false;
+    n = (1.0 / norm(m)) * m;
+    return true;
+  };
+  // the sharp edges as a graph on the vertices; an edge beside a zero-area triangle has no normal
+  std::vector<std::vector<Mesh::Halfedge_index>> out(mesh.number_of_vertices());
+  std::vector<std::array<Vec3, 2>> normals(mesh.number_of_edges());
+  for (Edge e : mesh.edges())
+  {
+    if (!sharp[e.idx()] || mesh.is_border(e))
+      continue;
+    const auto h = mesh.halfedge(e);
+    auto& n = normals[e.idx()];
+    if (!faceNormal(h, n[0]) || !faceNormal(mesh.opposite(h), n[1]))
+      continue;
+    out[mesh.source(h).idx()].push_back(h);
+    out[mesh.target(h).idx()].push_back(mesh.opposite(h));
+  }
+  std::vector<bool> walked(mesh.number_of_edges(), false);
+  std::vector<Crease> creases;
+  auto walk = [&](Mesh::Halfedge_index h) {
+    Crease c;
+    c.dihedral = 180.0;
+    c.points.push_back(toVec(mesh.source(h)));
+    for (;;)
+    {
+      const Edge e = mesh.edge(h);
+      walked[e.idx()] = true;
+      c.points.push_back(toVec(mesh.target(h)));
+      c.normals.push_back(normals[e.idx()]);
+      const double cosine = std::clamp(dot(normals[e.idx()][0], normals[e.idx()][1]), -1.0, 1.0);
+      c.dihedral = std::min(c.dihedral, 180.0 - std::acos(cosine) * 180.0 / M_PI);
+      const auto& next = out[mesh.target(h).idx()];
+      if (next.size() != 2)
+        break;
+      h = walked[mesh.edge(next[0]).idx()] ? next[1] : next[0];
+      if (walked[mesh.edge(h).idx()])
+        break; // back at the start of a loop
+    }
+    creases.push_back(std::move(c));
+  };
+  for (Vertex v : mesh.vertices()) // chains from their ends, then the loops
+    if (out[v.idx()].size() != 2)
+      for (auto h : out[v.idx()])
+        if (!walked[mesh.edge(h).idx()])
+          walk(h);
+  for (Vertex v : mesh.vertices())
+    for (auto h : out[v.idx()])
+      if (!walked[mesh.edge(h).idx()])
+        walk(h);
+  return creases;
 }
 
 size_t SurfaceDomain::numberOfTriangles() const

@@ -53,6 +53,10 @@ public:
   BoundingBox bounds() const override;
   const char* kind() const override { return "Surface"; }
   std::vector<int> materials() const override { return { materialId_ }; }
+  /// The sharp edges (CGAL's detect_sharp_edges: the normals of the two triangles differ by more
+  /// than featureAngle, as vtkFeatureEdges) chained into polylines between the vertices where other
+  /// than two meet. Border edges and edges of zero-area triangles are none.
+  std::vector<Crease> creases(double featureAngle, double sagitta) const override;
 
   int materialId() const { return materialId_; }
   /// Exact inside test without the grid shortcut (for tests and benchmarks).

@@ -452,7 +452,9 @@ void labelOrigins(FeatureSelection& out, const FeatureSegments& given)
       continue;
     bool closerToGiven = false;
     for (size_t g = 0; g < given.segments.size() && !closerToGiven; ++g)
-      closerToGiven = toSegment(m, given.points[given.segments[g][0]], given.points[given.segments[g][1]]).first < nearest;
+      // on both to rounding (a box's edge given by hand and found as its crease): given
+      closerToGiven = toSegment(m, given.points[given.segments[g][0]], given.points[given.segments[g][1]]).first <=
+        nearest + 1e-9 * out.automatic.spacing;
     if (closerToGiven)
       continue;
     out.origin[s].automatic = true;

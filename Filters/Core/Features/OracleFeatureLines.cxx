@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "OracleFeatureLines.h"
 
+#include "Domain.h"
 #include "HierarchicalOracle.h"
 #include "InputError.h"
 
@@ -354,6 +355,7 @@ public:
     nx_ = n[0], ny_ = n[1], nz_ = n[2];
     stride_[0] = 1, stride_[1] = nx_, stride_[2] = nx_ * ny_;
     precision_ = 1e-10 * diagonal_;
+    probe_ = 1e-7 * diagonal_;
   }
 
   /// 1. Regions at the grid points.
@@ -525,6 +527,29 @@ public:
       addCurve(chain);
   }
 
+  /// 6. Creases of single inputs: each crease walked chord by chord, cut at the other inputs'
+  /// crossings along it (exact for straight chords), each stretch probed beside its middle; runs of
+  /// stretches seen with the same materials are the pieces. Ends where the crease passes into
+  /// another input become vertices of the found curves there; the pieces are resampled as curves.
+  void addCreases()
+  {
+    std::vector<CreasePiece> pieces;
+    const auto& domains = oracle_.domains();
+    for (size_t i = 0; i < domains.size(); ++i)
+      for (const Crease& c : domains[i]->creases(options_.creaseAngle, 1e-3 * h_))
+        visiblePieces(static_cast<int>(i), c, pieces);
+    // the ends first, while result_ holds the found curves only: one that enters another input
+    // lies on the curve found there (within the grid step the chords keep to); the crease's own
+    // end (a box's corner) joins a curve only when that curve has a corner right there (the
+    // search keeps corners to 1/256 of a step: a tray's bottom corner on the cut plane's rim)
+    for (CreasePiece& piece : pieces)
+      if (!piece.closed)
+        for (int end = 0; end < 2; ++end)
+          piece.endPoint[end] = endVertex(end ? piece.points.back() : piece.points.front(), piece.entering[end] ? h_ : h_ / 64);
+    for (const CreasePiece& piece : pieces)
+      addCreasePiece(piece);
+  }
+
   void report(double fraction) const
   {
     if (options_.progress && !options_.progress(fraction))
@@ -691,6 +716,220 @@ private:
     return length;
   }
 
+  /// A crease seen with one set of materials; an end that enters another input is `entering`.
+  struct CreasePiece
+  {
+    std::vector<Vec3> points;
+    std::vector<int> materials;
+    bool closed = false;
+    bool entering[2] = { false, false };
+    int endPoint[2] = { -1, -1 };
+  };
+
+  /// Who is seen beside the crease at m (on chord ab): the input (domain `owner`) must decide the
+  /// material on its side (probed along the inward bisector of the faces' normals, which way is
+  /// inside asked of the input itself) and another material must lie across (the outward
+  /// bisector). Empty: not seen, or three materials around it (a ring of probes): then it is a
+  /// triple line the search finds (a tray's bottom edge on the cut plane over the bone).
+  std::vector<int> seenAt(int owner, const Vec3& m, const Vec3& a, const Vec3& b, const std::array<Vec3, 2>& n) const
+  {
+    const Vec3 t = (1.0 / norm(b - a)) * (b - a);
+    Vec3 s = n[0] + n[1];
+    s = s - dot(s, t) * t;
+    if (!(norm(s) > 1e-6))
+      return {};
+    s = (1.0 / norm(s)) * s;
+    const Vec3 step = probe_ * s;
+    const Domain& d = *oracle_.domains()[owner];
+    const bool plus = d.material(m + step) != kOutside, minus = d.material(m - step) != kOutside;
+    if (plus == minus)
+      return {};
+    const Vec3 in = plus ? m + step : m - step, out = plus ? m - step : m + step;
+    const Decision mine = oracle_.decide(in);
+    const int across = oracle_.material(out);
+    if (mine.domain != owner || across == mine.material)
+      return {};
+    const Vec3 s2 = cross(t, s);
+    std::set<int> around{ mine.material, across };
+    for (int k = 0; k < 16 && around.size() < 3; ++k)
+      around.insert(oracle_.material(m + probe_ * (std::cos(k * M_PI / 8) * s + std::sin(k * M_PI / 8) * s2)));
+    if (around.size() >= 3)
+      return {};
+    return { std::min(mine.material, across), std::max(mine.material, across) };
+  }
+
+  void visiblePieces(int owner, const Crease& c, std::vector<CreasePiece>& pieces) const
+  {
+    // stations along the crease: its points and the other inputs' crossings, each with the
+    // materials seen on the stretch to the next one
+    std::vector<Vec3> at;
+    std::vector<std::vector<int>> seen;
+    std::vector<char> entry; // the station is a crossing of another input
+    for (size_t k = 0; k + 1 < c.points.size(); ++k)
+    {
+      const Vec3 a = c.points[k], b = c.points[k + 1];
+      if (!(norm(b - a) > 0))
+        continue;
+      std::vector<double> ts{ 0.0, 1.0 };
+      for (size_t j = 0; j < oracle_.domains().size(); ++j)
+        if (static_cast<int>(j) != owner)
+          oracle_.domains()[j]->crossings(a, b, ts);
+      std::sort(ts.begin(), ts.end());
+      for (size_t q = 0; q + 1 < ts.size(); ++q)
+      {
+        if (!(ts[q + 1] - ts[q] > 1e-12) && !(q == 0 && ts.size() == 2))
+          continue;
+        at.push_back(ts[q] == 0.0 ? a : lerp(a, b, ts[q]));
+        entry.push_back(ts[q] > 0.0);
+        seen.push_back(seenAt(owner, lerp(a, b, 0.5 * (ts[q] + ts[q + 1])), a, b, c.normals[k]));
+      }
+    }
+    if (seen.empty())
+      return;
+    at.push_back(c.points.back());
+    entry.push_back(0);
+    std::vector<CreasePiece> runs;
+    std::vector<std::array<size_t, 2>> span;
+    for (size_t q = 0; q < seen.size();)
+    {
+      size_t r = q + 1;
+      while (r < seen.size() && seen[r] == seen[q])
+        ++r;
+      if (!seen[q].empty())
+      {
+        CreasePiece p;
+        p.materials = seen[q];
+        p.points.assign(at.begin() + static_cast<long>(q), at.begin() + static_cast<long>(r) + 1);
+        p.entering[0] = entry[q];
+        p.entering[1] = entry[r];
+        runs.push_back(std::move(p));
+        span.push_back({ q, r });
+      }
+      q = r;
+    }
+    if (c.closed() && !runs.empty() && span.front()[0] == 0 && span.back()[1] == seen.size())
+    {
+      if (runs.size() == 1)
+        runs[0].closed = true; // seen all around
+      else if (runs.front().materials == runs.back().materials)
+      { // the last piece runs on through the crease's first point
+        CreasePiece& last = runs.back();
+        last.points.insert(last.points.end(), runs.front().points.begin() + 1, runs.front().points.end());
+        last.entering[1] = runs.front().entering[1];
+        runs.erase(runs.begin());
+      }
+    }
+    for (CreasePiece& p : runs)
+    {
+      double length = 0.0;
+      for (size_t k = 0; k + 1 < p.points.size(); ++k)
+        length += norm(p.points[k + 1] - p.points[k]);
+      // a crease peeking out of another input for less than a grid step: the curve found there runs
+      // within that of it (as for curves found, shorter ones are not kept)
+      if ((p.entering[0] || p.entering[1]) && length < 0.5 * h_)
+        continue;
+      pieces.push_back(std::move(p));
+    }
+  }
+
+  /// The vertex of a crease's end x (the same point for every crease ending there: a box's corner).
+  /// When a curve found passes within `reach`, x becomes a vertex of it: its nearest segment's end
+  /// is moved onto x when within a quarter of that segment (a corner the search kept to 1/256 of a
+  /// step), else the segment is split at x.
+  int endVertex(const Vec3& x, double reach)
+  {
+    if (auto it = creasePoint_.find(key(x)); it != creasePoint_.end())
+      return it->second;
+    auto& S = result_.segments;
+    int best = -1;
+    double nearest = reach;
+    for (size_t s = 0; s < S.segments.size(); ++s)
+    {
+      const Vec3 a = S.points[S.segments[s][0]], d = S.points[S.segments[s][1]] - a;
+      const double u = dot(d, d) > 0 ? std::clamp(dot(x - a, d) / dot(d, d), 0.0, 1.0) : 0.0;
+      if (const double dist = norm(x - (a + u * d)); dist < nearest)
+      {
+        nearest = dist;
+        best = static_cast<int>(s);
+      }
+    }
+    int v = -1;
+    if (best >= 0)
+    {
+      auto& seg = S.segments[best];
+      const double quarter = 0.25 * norm(S.points[seg[1]] - S.points[seg[0]]);
+      const double d0 = norm(S.points[seg[0]] - x), d1 = norm(S.points[seg[1]] - x);
+      if (std::min(d0, d1) <= quarter)
+      {
+        v = d0 <= d1 ? seg[0] : seg[1];
+        S.points[v] = x;
+      }
+      else
+      {
+        v = static_cast<int>(S.points.size());
+        S.points.push_back(x);
+        const int a = seg[0], b = seg[1];
+        seg[1] = v;
+        S.segments.push_back({ v, b });
+        for (FeatureLine& l : result_.lines)
+          for (size_t k = 0; k + 1 < l.points.size(); ++k)
+            if ((l.points[k] == a && l.points[k + 1] == b) || (l.points[k] == b && l.points[k + 1] == a))
+            {
+              l.points.insert(l.points.begin() + static_cast<long>(k) + 1, v);
+              k = l.points.size(); // one occurrence per line
+            }
+      }
+    }
+    else
+    {
+      v = static_cast<int>(S.points.size());
+      S.points.push_back(x);
+    }
+    creasePoint_.emplace(key(x), v);
+    return v;
+  }
+
+  static std::array<double, 3> key(const Vec3& p) { return { p.x, p.y, p.z }; }
+
+  void addCreasePiece(const CreasePiece& p)
+  {
+    FeatureLine line;
+    line.materials = p.materials;
+    line.triple = line.materials.size() >= 3;
+    line.crease = true;
+    const size_t m = p.closed ? p.points.size() - 1 : p.points.size();
+    FeatureSegments piece;
+    piece.points.assign(p.points.begin(), p.points.begin() + static_cast<long>(m));
+    for (size_t k = 0; k + 1 < m; ++k)
+      piece.segments.push_back({ static_cast<int>(k), static_cast<int>(k + 1) });
+    if (p.closed)
+      piece.segments.push_back({ static_cast<int>(m - 1), 0 });
+    resampleCurve(piece, line.materials);
+    std::vector<int> order = chainOrder(piece);
+    if (!p.closed && norm(piece.points[order.front()] - p.points.front()) > 0)
+      std::reverse(order.begin(), order.end());
+    for (size_t k = 0; k < order.size(); ++k)
+    {
+      const bool first = !p.closed && k == 0, last = !p.closed && k + 1 == order.size();
+      if (first || last)
+      {
+        const int end = first ? 0 : 1;
+        line.points.push_back(p.endPoint[end]);
+      }
+      else if (p.closed && k + 1 == order.size() && order[k] == order[0])
+        line.points.push_back(line.points.front());
+      else
+      {
+        line.points.push_back(static_cast<int>(result_.segments.points.size()));
+        result_.segments.points.push_back(piece.points[order[k]]);
+      }
+    }
+    for (size_t k = 0; k + 1 < line.points.size(); ++k)
+      if (line.points[k] != line.points[k + 1])
+        result_.segments.segments.push_back({ line.points[k], line.points[k + 1] });
+    result_.lines.push_back(std::move(line));
+  }
+
   /// The chord tolerance of a curve between these materials: the smallest of their own
   /// (options.materialTolerance), the global one for materials without.
   double toleranceFor(const std::vector<int>& materials, double length) const
@@ -822,6 +1061,8 @@ private:
   std::vector<Vec3> nodes_;
   std::vector<std::vector<int>> adjacent_;
   std::map<int, int> sharedPoint_; // node -> point of result.segments
+  std::map<std::array<double, 3>, int> creasePoint_; // crease ends -> point of result.segments
+  double probe_ = 0;                                  // how far beside a crease its sides are probed
 };
 
 }
@@ -880,6 +1121,7 @@ FeatureLines findFeatureLines(const HierarchicalOracle& oracle, const FeatureLin
   search.trimArms(chains);
   search.collapseShortCurves(chains);
   search.addCurves(chains);
+  search.addCreases();
   // 6. Small angles: between curves at a shared vertex, and where one curve turns sharply.
   result.smallAngles = findSmallFeatureAngles(result.segments, options.smallAngle, result.warnings);
   search.report(1.0);

@@ -35,6 +35,10 @@ struct FeatureLineOptions
   /// Curves meeting at a shared vertex, or one curve turning, at less than this angle (degrees)
   /// are reported: the paper's termination argument needs 60.
   double smallAngle = 60.0;
+  /// Creases of single inputs (Domain::creases) where their faces' normals differ by more than
+  /// this (degrees): a surface's sharp edges, as features.feature_angle's default and
+  /// vtkFeatureEdges; a box's edges and a cylinder's rims (90) at any angle below 90.
+  double creaseAngle = 60.0;
   /// The grid has at most this many points; a finer spacing is widened (with a warning).
   std::size_t maximumGridPoints = 4000000;
   /// Called with a fraction in [0, 1]; return false to stop (findFeatureLines then throws
@@ -59,6 +63,9 @@ struct FeatureLine
   /// true: three or more materials meet (a triple line: implant entering bone, label maps);
   /// false: two materials, the interface creased where two inputs' boundaries meet (a cut rim).
   bool triple = false;
+  /// true: a crease of one input (Domain::creases: a box's edge, a cylinder's rim, a surface's
+  /// sharp edge) where that input is seen; its vertices lie on the crease.
+  bool crease = false;
   bool closed() const { return points.size() > 2 && points.front() == points.back(); }
 };
 
@@ -96,7 +103,11 @@ std::vector<SmallFeatureAngle> findSmallFeatureAngles(const FeatureSegments& f, 
 /// by bisection with the same test (to 1e-10 of the bounding-box diagonal), so every point found
 /// lies on the true curve. Crossings of one grid cube with the same regions are joined; curves that
 /// end in one cube meet at one shared vertex there (least-squares meeting point of their tangents).
-/// Creases of a single input (sharp edges of a surface, a box's edges) are not found here.
+/// Then the creases of single inputs (Domain::creases: a box's edges, a finite cylinder's rims, a
+/// surface's sharp edges above options.creaseAngle), the pieces where the input decides the material
+/// on its side of the crease and another material lies across: their ends where they pass into
+/// another input are that input's exact crossing along the crease, and one vertex with the curve
+/// found there (an entry curve), moved onto it or split at it.
 /// Throws InputError for an empty or unbounded oracle (HierarchicalOracle::bounds).
 FeatureLines findFeatureLines(const HierarchicalOracle& oracle, const FeatureLineOptions& options = {});
 }
