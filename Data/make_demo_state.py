@@ -122,13 +122,15 @@ def build_pipeline(scene_file, file_prefix=None):
     mesher = pv.FeaturePreservingTetrahedralizer(Input=oracle)
     features = spec.get("features")
     if features:
+        if "feature_angle" in features:  # one angle: the sharp edges below and the creases Automatic finds
+            mesher.CreaseAngle = float(features["feature_angle"])
         surfaces = features["from_surface"]
         surfaces = [surfaces] if isinstance(surfaces, str) else surfaces
         parts = [readers[s] for s in surfaces]
         edges = pv.FeatureEdges(Input=parts[0] if len(parts) == 1 else pv.AppendGeometry(Input=parts))
         edges.BoundaryEdges = edges.NonManifoldEdges = edges.ManifoldEdges = 0
         edges.FeatureEdges = 1
-        edges.FeatureAngle = float(features.get("feature_angle", 60))
+        edges.FeatureAngle = mesher.CreaseAngle  # the C++ default when the scene gives none
         pv.RenameSource("Feature Edges", edges)
         proxies["Feature Edges"] = edges
         mesher.FeatureLines = edges

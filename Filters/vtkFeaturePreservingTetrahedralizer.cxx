@@ -101,6 +101,7 @@ vtkFeaturePreservingTetrahedralizer::vtkFeaturePreservingTetrahedralizer()
     : defaults.strategy == omesh::FeatureStrategy::None                          ? NONE
                                                                                  : PROTECTING_BALLS;
   this->Features = static_cast<int>(omesh::kDefaultFeatureSource); // the enums share their order
+  this->CreaseAngle = omesh::kDefaultCreaseAngle;
   const omesh::MeshCriteria::Values c = defaults.criteria.globalValues();
   this->FacetAngle = c.facetAngle;
   this->FacetSize = c.facetSize;
@@ -268,6 +269,7 @@ void vtkFeaturePreservingTetrahedralizer::CheckProperties() const
   checkRange("ElementOrder", this->ElementOrder, 1, 2, ": 1 linear, 2 quadratic tetrahedra");
   checkRange("Features", this->Features, FEATURES_NONE, FEATURES_BOTH,
     ": 0 None, 1 Given, 2 Automatic, 3 Both");
+  omesh::checkCreaseAngle(this->CreaseAngle, "vtkFeaturePreservingTetrahedralizer: CreaseAngle");
   checkRange("SliverAngle", this->SliverAngle, 0.0, 30.0, " degrees; 0 = off");
   checkRange("InterfaceSliverAngle", this->InterfaceSliverAngle, 0.0, 30.0, " degrees; 0 = off");
   if (this->MaximumNumberOfVertices < 0)
@@ -370,11 +372,12 @@ void vtkFeaturePreservingTetrahedralizer::SelectFeatures(MeshingRun& run)
   const auto source = static_cast<omesh::FeatureSource>(this->Features);
   const bool searching = source == omesh::FeatureSource::Automatic || source == omesh::FeatureSource::Both;
   const omesh::MeshingDeadline deadline(omesh::effectiveTimeLimit(run.options));
-  run.selection = omesh::selectFeatures(*run.oracle, run.features, source, run.options.criteria, [this, &deadline](double f) {
-    deadline.check("feature line search");
-    this->UpdateProgress(0.1 * f);
-    return !this->GetAbortExecute();
-  });
+  run.selection = omesh::selectFeatures(*run.oracle, run.features, source, run.options.criteria, this->CreaseAngle,
+    [this, &deadline](double f) {
+      deadline.check("feature line search");
+      this->UpdateProgress(0.1 * f);
+      return !this->GetAbortExecute();
+    });
   run.features = run.selection.segments;
   if (searching)
   {
@@ -427,6 +430,7 @@ void vtkFeaturePreservingTetrahedralizer::PrintSelf(ostream& os, vtkIndent inden
   this->Superclass::PrintSelf(os, indent);
   os << indent << "FeatureStrategy: " << this->FeatureStrategy << "\n";
   os << indent << "Features: " << this->Features << "\n";
+  os << indent << "CreaseAngle: " << this->CreaseAngle << "\n";
   os << indent << "FacetAngle: " << this->FacetAngle << "\n";
   os << indent << "FacetSize: " << this->FacetSize << "\n";
   os << indent << "FacetDistance: " << this->FacetDistance << "\n";

@@ -82,7 +82,7 @@ public:
 
   ///@{
   /// Which feature lines are kept: none, the given ones (port 1), the ones found where the inputs
-  /// meet (cut rims, entry curves, triple lines: omesh::findFeatureLines, as vtkOracleFeatureLines
+  /// meet (cut rims, entry curves, triple lines, creases above CreaseAngle: omesh::findFeatureLines, as vtkOracleFeatureLines
   /// shows them, resampled to the edge size of the materials they separate), or both. Default
   /// Given (see omesh::kDefaultFeatureSource for why). Automatic segments that run along or cross
   /// given ones are dropped with a warning. With Conforming they are kept like given ones. The
@@ -93,6 +93,15 @@ public:
   void SetFeaturesToGiven() { this->SetFeatures(FEATURES_GIVEN); }
   void SetFeaturesToAutomatic() { this->SetFeatures(FEATURES_AUTOMATIC); }
   void SetFeaturesToBoth() { this->SetFeatures(FEATURES_BOTH); }
+  ///@}
+
+  ///@{
+  /// With Features Automatic or Both: the creases of single inputs (a surface's sharp edges, a
+  /// box's edges, a cylinder's rims) are kept where their faces' normals differ by more than this
+  /// (degrees; default 60, the core's omesh::kDefaultCreaseAngle), as vtkOracleFeatureLines'
+  /// CreaseAngle. 180 = no creases (only the curves where inputs meet). Range: above 0 to 180.
+  vtkSetMacro(CreaseAngle, double); // (0, 180]
+  vtkGetMacro(CreaseAngle, double);
   ///@}
 
   ///@{
@@ -252,6 +261,7 @@ protected:
   // Set by the constructor from the core's defaults (omesh::MesherOptions).
   int FeatureStrategy;
   int Features;
+  double CreaseAngle;
   bool ResampleFeatureLines;
   double SliverAngle;
   double InterfaceSliverAngle;

@@ -32,6 +32,7 @@ vtkOracleFeatureLines::vtkOracleFeatureLines()
   this->EdgeSize = c.edgeSize;
   this->FacetSize = c.facetSize;
   this->FacetDistance = c.facetDistance;
+  this->CreaseAngle = omesh::kDefaultCreaseAngle;
 }
 
 int vtkOracleFeatureLines::FillInputPortInformation(int, vtkInformation* info)
@@ -102,6 +103,7 @@ int vtkOracleFeatureLines::RequestData(vtkInformation*, vtkInformationVector** i
       if (!std::isfinite(v))
         throw omesh::InputError("vtkOracleFeatureLines: MaximumSegmentLength, Spacing, EdgeSize, FacetSize and "
                                 "FacetDistance must be numbers (0 = automatic / no bound)");
+    omesh::checkCreaseAngle(this->CreaseAngle, "vtkOracleFeatureLines: CreaseAngle");
     if (!input)
       throw omesh::InputError("vtkOracleFeatureLines: no input on port 0 (connect a vtkHierarchicalOracle)");
     auto oracle = OracleBuilder::BuildOracle(input);
@@ -117,6 +119,7 @@ int vtkOracleFeatureLines::RequestData(vtkInformation*, vtkInformationVector** i
     }
     if (this->Spacing > 0)
       options.spacing = this->Spacing;
+    options.creaseAngle = this->CreaseAngle;
     options.progress = [this](double f) {
       this->UpdateProgress(f);
       return !this->GetAbortExecute();
@@ -145,6 +148,7 @@ void vtkOracleFeatureLines::PrintSelf(ostream& os, vtkIndent indent)
   this->Superclass::PrintSelf(os, indent);
   os << indent << "MaximumSegmentLength: " << this->MaximumSegmentLength << "\n";
   os << indent << "Spacing: " << this->Spacing << "\n";
+  os << indent << "CreaseAngle: " << this->CreaseAngle << "\n";
   os << indent << "EdgeSize: " << this->EdgeSize << "\n";
   os << indent << "FacetSize: " << this->FacetSize << "\n";
   os << indent << "FacetDistance: " << this->FacetDistance << "\n";

@@ -7,7 +7,7 @@
  * cell per curve: cut rims (a cut domain crossing a surface or label-map interface), entry curves
  * (one input's surface entering another's material), triple lines of label maps and of mixed
  * inputs, and the creases of single inputs where they are seen (a box's edges, a finite
- * cylinder's rims, a surface's sharp edges above 60 degrees; see omesh::findFeatureLines).
+ * cylinder's rims, a surface's sharp edges above CreaseAngle; see omesh::findFeatureLines).
  * Vertices on the true curves (to 1e-10 of the oracle's diagonal), curves ending at one shared
  * vertex, corners kept. Cell data: Materials (4 components: the materials meeting along the curve,
  * ascending, -1 = outside, -2 = none), Triple (1 when three or more materials meet, 0 for a
@@ -57,6 +57,15 @@ public:
   vtkGetMacro(Spacing, double);
   ///@}
 
+  ///@{
+  /// Creases of single inputs are kept where their faces' normals differ by more than this
+  /// (degrees; default 60, the core's omesh::kDefaultCreaseAngle): a surface's sharp edges, a box's
+  /// edges and a cylinder's rims (90) below 90. 180 = no creases. Out of range (0 or less, above
+  /// 180, NaN): the next update fails with an error naming the property.
+  vtkSetMacro(CreaseAngle, double);
+  vtkGetMacro(CreaseAngle, double);
+  ///@}
+
 protected:
   vtkOracleFeatureLines();
   ~vtkOracleFeatureLines() override = default;
@@ -65,6 +74,7 @@ protected:
 
   double MaximumSegmentLength = 0.0;
   double Spacing = 0.0;
+  double CreaseAngle;
   double EdgeSize;
   double FacetSize;
   double FacetDistance;

@@ -5,6 +5,7 @@
 #include "FeatureSelection.h"
 #include "HalfSpaceDomain.h"
 #include "HierarchicalOracle.h"
+#include "InputError.h"
 #include "LabelMapDomain.h"
 #include "MeshValidity.h"
 #include "OracleFeatureLines.h"
@@ -748,4 +749,73 @@ TEST(OracleFeatureLines, ASurfaceCubeKeepsItsTwelveEdgesInAutomatic)
   for (const Vec3& p : f.segments.points)
     EXPECT_LT(nearestEdge(p, edges), 1e-9);
   expectMeshedWithEveryLine(oracle, selection, criteria);
+}
+
+TEST(OracleFeatureLines, TheCreaseAngleSelectsWhichEdgesOfASurfaceAreFound)
+{
+  // A cube with one chamfered edge: its 90-degree edges are creases above any angle below 90, the
+  // chamfer's two 135-degree edges (normals 45 apart) only below 45; above 90 none is found.
+  const double c = 0.25;
+  HierarchicalOracle oracle;
+  oracle.add(std::make_shared<SurfaceDomain>(test::chamferedCube(c), 1, "chamfered cube"));
+  MaterialCriteria criteria;
+  criteria.global = { 25.0, 0.2, 0.02, 0.2, 3.0, 0.2 }; // angle, facet size, distance, cell size, radius-edge, edge
+  const std::array<Vec3, 2> chamferA{ Vec3{ 1, 1 - c, 0 }, Vec3{ 1, 1 - c, 1 } };
+  const std::array<Vec3, 2> chamferB{ Vec3{ 1 - c, 1, 0 }, Vec3{ 1 - c, 1, 1 } };
+  struct Case
+  {
+    double angle;
+    size_t lines;   // curves between the corners where three creases meet
+    double length;
+    bool chamfer;   // the chamfer's edges among them
+  };
+  const double caps = 2 * (1 + 1 + 2 * (1 - c) + c * std::sqrt(2.0));
+  for (const Case& k : { Case{ kDefaultCreaseAngle, 9, caps + 3, false }, Case{ 30.0, 15, caps + 5, true },
+         Case{ 89.0, 9, caps + 3, false }, Case{ 100.0, 0, 0.0, false }, Case{ 180.0, 0, 0.0, false } })
+  {
+    SCOPED_TRACE(k.angle);
+    const FeatureLines f = selectFeatures(oracle, {}, FeatureSource::Automatic, criteria, k.angle).automatic;
+    ASSERT_EQ(f.lines.size(), k.lines);
+    double length = 0.0;
+    for (const FeatureLine& l : f.lines)
+    {
+      EXPECT_TRUE(l.crease);
+      EXPECT_EQ(l.materials, (std::vector<int>{ kOutside, 1 }));
+      length += lineLength(f, l);
+    }
+    EXPECT_NEAR(length, k.length, 1e-9);
+    size_t onChamfer = 0; // segments along the chamfer's edges
+    for (const auto& sg : f.segments.segments)
+    {
+      const Vec3 m = 0.5 * (f.segments.points[sg[0]] + f.segments.points[sg[1]]);
+      if (std::min(toSegment(m, chamferA[0], chamferA[1]), toSegment(m, chamferB[0], chamferB[1])) < 1e-9)
+        ++onChamfer;
+    }
+    EXPECT_EQ(onChamfer > 0, k.chamfer);
+  }
+}
+
+TEST(OracleFeatureLines, ACreaseAngleOutOfRangeIsAnInputErrorNamingIt)
+{
+  HierarchicalOracle oracle;
+  oracle.add(std::make_shared<SurfaceDomain>(test::chamferedCube(0.25), 1, "chamfered cube"));
+  FeatureLineOptions options;
+  options.spacing = 0.2;
+  for (double bad : { 0.0, -10.0, 180.5, std::nan("") })
+  {
+    SCOPED_TRACE(bad);
+    options.creaseAngle = bad;
+    try
+    {
+      findFeatureLines(oracle, options);
+      ADD_FAILURE() << "no error";
+    }
+    catch (const InputError& e)
+    {
+      EXPECT_NE(std::string(e.what()).find("creaseAngle"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("out of range"), std::string::npos) << e.what();
+    }
+    // also where no search runs: a bad option is an error, not ignored
+    EXPECT_THROW(selectFeatures(oracle, {}, FeatureSource::Given, {}, bad), InputError);
+  }
 }

@@ -121,6 +121,29 @@ inline TriangleSurface loftedRectangles(const std::vector<std::pair<std::array<d
   return s;
 }
 
+/// The unit cube [0, 1]^3 with its edge x = y = 1 chamfered, `c` cut from each face: the chamfer's
+/// two edges are 135-degree dihedrals (normals 45 degrees apart), all other edges 90-degree ones.
+/// Pentagon caps at z = 0 and 1 (fans), outward triangles.
+inline TriangleSurface chamferedCube(double c)
+{
+  TriangleSurface s;
+  for (double z : { 0.0, 1.0 })
+    for (const auto& [x, y] : { std::pair{ 0.0, 0.0 }, { 1.0, 0.0 }, { 1.0, 1.0 - c }, { 1.0 - c, 1.0 }, { 0.0, 1.0 } })
+      s.points.push_back({ x, y, z });
+  for (int i = 0; i < 5; ++i) // sides, the pentagon counter-clockwise seen from +z
+  {
+    const int j = (i + 1) % 5;
+    s.triangles.push_back({ i, j, j + 5 });
+    s.triangles.push_back({ i, j + 5, i + 5 });
+  }
+  for (int i = 1; i < 4; ++i)
+  {
+    s.triangles.push_back({ 0, i + 1, i });
+    s.triangles.push_back({ 5, 5 + i, 6 + i });
+  }
+  return s;
+}
+
 /// `s` turned by the unit quaternion (w, x, y, z).
 inline TriangleSurface rotated(TriangleSurface s, const std::array<double, 4>& q)
 {

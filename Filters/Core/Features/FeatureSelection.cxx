@@ -380,7 +380,8 @@ void dropAutomaticAtGiven(FeatureSelection& out, std::size_t firstAutomatic)
 /// `source` is Given or None (nothing below runs then), so the steps that drop, split and move
 /// segments keep no edge-size vector; selectFeatures carries the sizes onto the result.
 FeatureSelection selectWithoutEdgeSizes(const HierarchicalOracle& oracle, const FeatureSegments& given,
-  FeatureSource source, const MaterialCriteria& criteria, const std::function<bool(double)>& progress)
+  FeatureSource source, const MaterialCriteria& criteria, double creaseAngle,
+  const std::function<bool(double)>& progress)
 {
   FeatureSelection out;
   if (source == FeatureSource::Given || source == FeatureSource::Both)
@@ -388,6 +389,7 @@ FeatureSelection selectWithoutEdgeSizes(const HierarchicalOracle& oracle, const 
   if (source != FeatureSource::Automatic && source != FeatureSource::Both)
     return out;
   FeatureLineOptions options = featureLineOptions(oracle, criteria);
+  options.creaseAngle = creaseAngle;
   options.progress = progress;
   out.automatic = findFeatureLines(oracle, options);
   out.warnings = out.automatic.warnings;
@@ -479,14 +481,15 @@ int FeatureSelection::nearestSegment(const Vec3& x) const
 }
 
 FeatureSelection selectFeatures(const HierarchicalOracle& oracle, const FeatureSegments& given, FeatureSource source,
-  const MaterialCriteria& criteria, const std::function<bool(double)>& progress)
+  const MaterialCriteria& criteria, double creaseAngle, const std::function<bool(double)>& progress)
 {
+  checkCreaseAngle(creaseAngle, "feature lines: creaseAngle"); // also when not searching: bad input is an error
   // Points no segment uses are dropped, whatever the source (dropUnusedPoints): the points of
   // curves the selection dropped, and stray points of given polylines, which the mesher would
   // otherwise insert as corner vertices.
   if (given.edgeSizes.empty() || source == FeatureSource::Given || source == FeatureSource::None)
   {
-    FeatureSelection out = selectWithoutEdgeSizes(oracle, given, source, criteria, progress);
+    FeatureSelection out = selectWithoutEdgeSizes(oracle, given, source, criteria, creaseAngle, progress);
     if (source == FeatureSource::None)
       out.segments.edgeSizes.clear();
     dropUnusedPoints(out.segments);
@@ -499,7 +502,7 @@ FeatureSelection selectFeatures(const HierarchicalOracle& oracle, const FeatureS
   // leave no entry behind: the sizes are assigned to the final segments, one each.
   FeatureSegments bare = given;
   bare.edgeSizes.clear();
-  FeatureSelection out = selectWithoutEdgeSizes(oracle, bare, source, criteria, progress);
+  FeatureSelection out = selectWithoutEdgeSizes(oracle, bare, source, criteria, creaseAngle, progress);
   dropUnusedPoints(out.segments);
   transferEdgeSizes(given, out.segments, 1e-9 * norm(oracle.bounds().size()));
   labelOrigins(out, given);

@@ -63,9 +63,11 @@ struct FeatureSelection
 /// is half that fine. Given lines win: an automatic segment that crosses a given one is dropped
 /// (with a warning), so a rim given by hand and found again does not make the lines invalid. The
 /// given lines keep their own edge sizes (FeatureSegments::edgeSizes), also on the pieces of a split.
-/// `progress` as FeatureLineOptions::progress.
+/// `creaseAngle` and `progress` as FeatureLineOptions' (the creases of single inputs are found above
+/// that angle; 180 = none).
 FeatureSelection selectFeatures(const HierarchicalOracle& oracle, const FeatureSegments& given, FeatureSource source,
-  const MaterialCriteria& criteria, const std::function<bool(double)>& progress = {});
+  const MaterialCriteria& criteria, double creaseAngle = kDefaultCreaseAngle,
+  const std::function<bool(double)>& progress = {});
 
 /// The search options selectFeatures derives from the criteria (see there).
 FeatureLineOptions featureLineOptions(const HierarchicalOracle& oracle, const MaterialCriteria& criteria);

@@ -533,6 +533,8 @@ public:
   /// another input become vertices of the found curves there; the pieces are resampled as curves.
   void addCreases()
   {
+    if (options_.creaseAngle >= 180.0)
+      return; // no faces' normals differ by more than 180 degrees: creases off
     std::vector<CreasePiece> pieces;
     const auto& domains = oracle_.domains();
     for (size_t i = 0; i < domains.size(); ++i)
@@ -1109,8 +1111,18 @@ std::vector<SmallFeatureAngle> findSmallFeatureAngles(const FeatureSegments& f, 
   return found;
 }
 
+void checkCreaseAngle(double angle, const char* what)
+{
+  if (angle > 0.0 && angle <= 180.0)
+    return;
+  std::ostringstream o;
+  o << what << " " << angle << " is out of range (above 0 to 180 degrees; 180 = no creases)";
+  throw InputError(o.str());
+}
+
 FeatureLines findFeatureLines(const HierarchicalOracle& oracle, const FeatureLineOptions& options)
 {
+  checkCreaseAngle(options.creaseAngle, "feature lines: creaseAngle");
   FeatureLines result;
   FeatureLineSearch search(oracle, options, result);
   search.classifyGridPoints();

@@ -16,6 +16,15 @@ namespace omesh
 {
 class HierarchicalOracle;
 
+/// The default crease angle (degrees), the one source of it: FeatureLineOptions, selectFeatures, the
+/// VTK filters' CreaseAngle, the plugin XML, the scene's features.feature_angle and the command line
+/// read it from here. 60: the angle vtkFeatureEdges was given for a surface's sharp edges before.
+constexpr double kDefaultCreaseAngle = 60.0;
+
+/// Throws InputError unless 0 < angle <= 180 (180 = no creases: no faces' normals differ by more),
+/// naming `what` (the option or property) in the message.
+void checkCreaseAngle(double angle, const char* what);
+
 /// How findFeatureLines searches and what it returns.
 struct FeatureLineOptions
 {
@@ -36,9 +45,10 @@ struct FeatureLineOptions
   /// are reported: the paper's termination argument needs 60.
   double smallAngle = 60.0;
   /// Creases of single inputs (Domain::creases) where their faces' normals differ by more than
-  /// this (degrees): a surface's sharp edges, as features.feature_angle's default and
-  /// vtkFeatureEdges; a box's edges and a cylinder's rims (90) at any angle below 90.
-  double creaseAngle = 60.0;
+  /// this (degrees; 0 < angle <= 180, else findFeatureLines throws InputError): a surface's sharp
+  /// edges, as vtkFeatureEdges' FeatureAngle (the scene's features.feature_angle sets both); a
+  /// box's edges and a cylinder's rims (90) at any angle below 90. 180 = no creases at all.
+  double creaseAngle = kDefaultCreaseAngle;
   /// The grid has at most this many points; a finer spacing is widened (with a warning).
   std::size_t maximumGridPoints = 4000000;
   /// Called with a fraction in [0, 1]; return false to stop (findFeatureLines then throws

@@ -44,6 +44,7 @@ def _mesh_defaults():
 
     fresh = vtkFeaturePreservingTetrahedralizer()
     out = {"strategy": STRATEGIES[fresh.GetFeatureStrategy()], "features": FEATURE_SOURCES[fresh.GetFeatures()],
+           "feature_angle": fresh.GetCreaseAngle(),
            "criteria": {key: float(getattr(fresh, "Get" + prop)()) for key, prop in CRITERIA_KEYS.items()}}
     for key, prop in MESH_PROPERTIES.items():
         value = getattr(fresh, "Get" + prop)()
@@ -53,7 +54,8 @@ def _mesh_defaults():
 
 def mesh_defaults():
     """{scene "mesh" key: default}: "strategy", "features" (which lines are kept: the scene's
-    "mesh.features.use"), "criteria" {criterion: value} and every key of
+    "mesh.features.use"), "feature_angle" (the scene's "mesh.features.feature_angle": the sharp
+    edges of a surface and the creases Automatic finds), "criteria" {criterion: value} and every key of
     MESH_PROPERTIES, as a fresh vtkFeaturePreservingTetrahedralizer has them."""
     import copy
 

@@ -18,12 +18,15 @@ from .scene import Scene, build_scene, load_scene
 from . import fieldkeys
 
 
-def mesher_for(scene, strategy=None, element_order=None, features=None, threads=None):
+def mesher_for(scene, strategy=None, element_order=None, features=None, threads=None, feature_angle=None):
     """The tetrahedralizer set up from the scene's validated "mesh" block (criteria, the
     "mesh.materials" table, feature lines, strategy, seed, ...); a key the scene leaves out keeps the
     filter's default (defaults.py). The domains carry their own criteria; the core merges them
     (MeshCriteria.h). `strategy`, `element_order` (1 or 2) and `threads` override the scene's, `features`
-    (None, Given, Automatic, Both: which feature lines are kept) the scene's "mesh.features.use"."""
+    (None, Given, Automatic, Both: which feature lines are kept) the scene's "mesh.features.use",
+    `feature_angle` its "mesh.features.feature_angle": one angle for a surface's sharp edges, those of
+    "from_surface" (vtkFeatureEdges) and the creases Automatic/Both find (the filter's CreaseAngle,
+    whose default applies to both when neither gives one)."""
     from vtkmodules.vtkFiltersCore import vtkAppendPolyData, vtkFeatureEdges
 
     from . import vtkFeaturePreservingTetrahedralizer
@@ -46,6 +49,13 @@ def mesher_for(scene, strategy=None, element_order=None, features=None, threads=
             raise OracleMeshError(f"features: must be one of {', '.join(FEATURE_SOURCES)}, got {use!r}")
         getattr(mesher, "SetFeaturesTo" + sources[str(use).lower()])()
     features = spec.get("features")
+    if feature_angle is None and features:
+        feature_angle = features.get("feature_angle")
+    if feature_angle is not None:
+        if isinstance(feature_angle, bool) or not isinstance(feature_angle, (int, float)) or not 0 < feature_angle <= 180:
+            raise OracleMeshError(f"feature_angle: must be a number above 0 and at most 180 degrees (180 = no sharp "
+                                  f"edges), got {feature_angle!r}")
+        mesher.SetCreaseAngle(feature_angle)
     if features and (features["from_surface"] or features["files"]):
         parts = []
         for index in features["from_surface"]:
@@ -54,7 +64,7 @@ def mesher_for(scene, strategy=None, element_order=None, features=None, threads=
             edges.BoundaryEdgesOff()
             edges.NonManifoldEdgesOff()
             edges.ManifoldEdgesOff()
-            edges.SetFeatureAngle(features["feature_angle"])
+            edges.SetFeatureAngle(mesher.GetCreaseAngle())
             parts.append(edges)
         parts.extend(scene.feature_readers)
         sizes = [None] * len(features["from_surface"]) + list(scene.feature_edge_sizes)
@@ -220,7 +230,7 @@ class MeshResult:
 
 
 def mesh(scene, strategy=None, progress=None, base_dir=None, updater=update, element_order=None, features=None,
-         threads=None):
+         threads=None, feature_angle=None):
     """Meshes a scene and returns a MeshResult (``.grid``, ``.report``, ``.statistics``, ``.save()``).
 
     `scene`: a JSON scene file path, a dict in the same format (see the README's "Scene files";
@@ -229,7 +239,8 @@ def mesh(scene, strategy=None, progress=None, base_dir=None, updater=update, ele
     `element_order` its "element_order" (1: 4-node tetrahedra, 2: 10-node ones with the mid-edge nodes
     of interface edges on the true surfaces);
     `features` which feature lines are kept ("None", "Given", "Automatic", "Both"; default the
-    scene's "mesh.features.use", else Given);
+    scene's "mesh.features.use", else Given); `feature_angle` the scene's "mesh.features.feature_angle"
+    (degrees, default 60: a surface's sharp edges and the creases Automatic finds; 180 = none);
     `progress`, if given, is called with the mesher's progress (0..1); `updater` runs the mesher
     (default errors.update; the command line passes one that signals can abort). `threads` overrides
     the scene's "threads": 1 = sequential (the same seed gives the same mesh), N > 1 = the refinement
@@ -241,7 +252,7 @@ def mesh(scene, strategy=None, progress=None, base_dir=None, updater=update, ele
     if threads is not None and (not isinstance(threads, int) or isinstance(threads, bool) or threads < 0):
         raise OracleMeshError(f"threads: must be an integer >= 0 (1 = sequential, 0 = every core), got {threads!r}")
     scene = as_scene(scene, base_dir)
-    mesher = mesher_for(scene, strategy, element_order, features, threads)
+    mesher = mesher_for(scene, strategy, element_order, features, threads, feature_angle)
     if progress is not None:
         mesher.AddObserver("ProgressEvent", lambda algorithm, event: progress(algorithm.GetProgress()))
     grid = updater(mesher)

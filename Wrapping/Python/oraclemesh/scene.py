@@ -194,6 +194,8 @@ def set_mesh_keys(description, settings, source="scene"):
         for part in parts[:-1]:
             if not isinstance(block, dict):
                 raise OracleMeshError(f"{source}: mesh key {key!r}: {where} is not an object")
+            if where == "$.mesh" and part == "features" and isinstance(block.get(part), str):
+                block[part] = {"use": block[part]}  # the short form "features": "Automatic"
             block = block.setdefault(part, {})
             where += "." + part
         if not isinstance(block, dict):
@@ -389,11 +391,14 @@ def _mesh_block(problems, spec, scene):
                 where = "$.mesh.features.from_surface" + (f"[{k}]" if isinstance(features["from_surface"], list) else "")
                 problems.add(where, f"no surface domain named {name!r} "
                                     f"(surfaces: {', '.join(map(str, surfaces)) or 'none'})")
-        angle = _number(problems, features, "$.mesh.features", "feature_angle", positive=True, required=False,
-                        default=60)
-        if angle is not None and angle >= 180:
-            problems.add("$.mesh.features.feature_angle", f"must be below 180 degrees, got {angle}")
-        out["feature_angle"] = angle or 60.0
+    # One angle for a surface's sharp edges: from_surface's (vtkFeatureEdges) and the creases that
+    # Automatic/Both find (the tetrahedralizer's CreaseAngle, whose default it keeps when left out).
+    if "feature_angle" in features:
+        angle = _number(problems, features, "$.mesh.features", "feature_angle", positive=True, required=False)
+        if angle is not None and angle > 180:
+            problems.add("$.mesh.features.feature_angle", f"must be at most 180 degrees (180 = no sharp edges), got {angle}")
+        elif angle is not None:
+            out["feature_angle"] = angle
     if "files" in features:
         for k, (file, edge_size) in enumerate(_feature_files(problems, features["files"], scene)):
             try:
@@ -403,9 +408,9 @@ def _mesh_block(problems, spec, scene):
                 where = "$.mesh.features.files" + (f"[{k}]" if isinstance(features["files"], list) else "")
                 problems.add(where, str(e))
             out["files"].append(file)
-    if "from_surface" not in features and "files" not in features and "use" not in features:
+    if not {"from_surface", "files", "use", "feature_angle"} & set(features):
         problems.add("$.mesh.features", "give 'use' (which lines: None, Given, Automatic, Both), 'from_surface' "
-                                        "(a surface domain's name) and/or 'files' (polylines)")
+                                        "(a surface domain's name), 'files' (polylines) and/or 'feature_angle'")
     # Sharp edges found on a surface are often many tiny noisy segments: resampled unless asked not to.
     resample = features.get("resample", bool(out["from_surface"]))
     if not isinstance(resample, bool):
