@@ -140,5 +140,145 @@ class FeaturesOption(unittest.TestCase):
             build_scene(rim_scene(features={"use": "sometimes"}))
 
 
+CHAMFER = 0.25
+CHAMFER_EDGES = (((1, 1 - CHAMFER, 0), (1, 1 - CHAMFER, 1)), ((1 - CHAMFER, 1, 0), (1 - CHAMFER, 1, 1)))
+
+
+def chamfered_cube(folder):
+    """The unit cube with its edge x = y = 1 chamfered (as the core test's): 90-degree edges, and the
+    chamfer's two at 135 degrees (normals 45 apart). Written as a .vtp; returns its path."""
+    from vtkmodules.vtkCommonCore import vtkPoints
+    from vtkmodules.vtkCommonDataModel import vtkCellArray, vtkPolyData
+    from vtkmodules.vtkIOXML import vtkXMLPolyDataWriter
+
+    ring = [(0, 0), (1, 0), (1, 1 - CHAMFER), (1 - CHAMFER, 1), (0, 1)]  # counter-clockwise from +z
+    points = vtkPoints()
+    for z in (0, 1):
+        for x, y in ring:
+            points.InsertNextPoint(x, y, z)
+    triangles = vtkCellArray()
+    for i in range(5):
+        j = (i + 1) % 5
+        triangles.InsertNextCell(3, (i, j, j + 5))
+        triangles.InsertNextCell(3, (i, j + 5, i + 5))
+    for i in range(1, 4):
+        triangles.InsertNextCell(3, (0, i + 1, i))
+        triangles.InsertNextCell(3, (5, 5 + i, 6 + i))
+    surface = vtkPolyData()
+    surface.SetPoints(points)
+    surface.SetPolys(triangles)
+    path = os.path.join(folder, "chamfered_cube.vtp")
+    writer = vtkXMLPolyDataWriter()
+    writer.SetInputData(surface)
+    writer.SetFileName(path)
+    writer.Write()
+    return path
+
+
+def on_segment(p, a, b):
+    """Distance from p to the segment ab."""
+    ab = [y - x for x, y in zip(a, b)]
+    t = max(0.0, min(1.0, sum((q - x) * d for q, x, d in zip(p, a, ab)) / sum(d * d for d in ab)))
+    return math.dist(p, [x + t * d for x, d in zip(a, ab)])
+
+
+class CreaseAngleOption(unittest.TestCase):
+    """The crease angle (scene mesh.features.feature_angle, CreaseAngle on the filters) selects which
+    edges of a surface Automatic keeps: a chamfered cube's 135-degree edges only below 45 degrees."""
+
+    @classmethod
+    def setUpClass(cls):
+        cls.tmp = tempfile.mkdtemp()
+        cls.surface = chamfered_cube(cls.tmp)
+
+    @classmethod
+    def tearDownClass(cls):
+        import shutil
+        shutil.rmtree(cls.tmp, ignore_errors=True)
+
+    def scene(self, **features):
+        return {"domains": [{"name": "part", "type": "surface", "file": self.surface, "material": 1}],
+                "mesh": {"criteria": {"cell_size": 0.4, "facet_size": 0.4, "facet_distance": 0.05, "edge_size": 0.3},
+                         "features": dict({"use": "Automatic"}, **features), "seed": 1}}
+
+    def kept_lines(self, description, **overrides):
+        """The mesher's port 2 (the lines as they stand in the mesh) after meshing the scene."""
+        from oraclemesh.meshing import mesher_for
+        scene = build_scene(description)
+        mesher = mesher_for(scene, **overrides)
+        om.update(mesher)
+        return mesher.GetOutputDataObject(2)
+
+    def chamfer_segments(self, lines):
+        """How many of the lines' segments lie on the chamfer's edges; every segment is an automatic
+        one on an edge of the part and present in the mesh."""
+        count = 0
+        for c in range(lines.GetNumberOfCells()):
+            self.assertEqual(lines.GetCellData().GetArray(fieldkeys.ORIGIN).GetValue(c), 1)
+            self.assertEqual(lines.GetCellData().GetArray(fieldkeys.PRESENT).GetValue(c), 1)
+            a, b = (lines.GetPoint(lines.GetCell(c).GetPointId(k)) for k in (0, 1))
+            mid = [0.5 * (x + y) for x, y in zip(a, b)]
+            count += any(on_segment(mid, *e) < 1e-9 for e in CHAMFER_EDGES)
+        return count
+
+    def test_the_default_is_the_cxx_one_at_every_door(self):
+        self.assertEqual(mesh_defaults()["feature_angle"], om.vtkFeaturePreservingTetrahedralizer().GetCreaseAngle())
+        self.assertEqual(mesh_defaults()["feature_angle"], om.vtkOracleFeatureLines().GetCreaseAngle())
+        self.assertEqual(mesh_defaults()["feature_angle"], 60.0)  # the meshes of before (vtkFeatureEdges' angle)
+
+    def test_the_scene_angle_selects_the_chamfer_edges(self):
+        default = self.kept_lines(self.scene())
+        self.assertGreater(default.GetNumberOfCells(), 0)  # the 90-degree edges
+        self.assertEqual(self.chamfer_segments(default), 0)
+        below = self.kept_lines(self.scene(feature_angle=30))
+        self.assertGreaterEqual(self.chamfer_segments(below), 2 * 4)  # two edges of length 1, pieces <= 0.3
+        # oraclemesh.mesh's keyword (as mesher_for's) overrides the scene's
+        self.assertEqual(self.chamfer_segments(self.kept_lines(self.scene(feature_angle=30), feature_angle=60)), 0)
+
+    def test_the_filter_shows_the_creases_per_angle(self):
+        scene = build_scene(self.scene())
+        lines = om.vtkOracleFeatureLines()
+        lines.SetInputConnection(scene.oracle.GetOutputPort())
+        lines.SetMaximumSegmentLength(0.3)
+        for angle, count in ((60, 9), (30, 15), (100, 0), (180, 0)):  # curves between corners of 3 creases
+            with self.subTest(angle):
+                lines.SetCreaseAngle(angle)
+                out = om.update(lines)
+                self.assertEqual(out.GetNumberOfLines(), count)
+                for c in range(count):
+                    self.assertEqual(out.GetCellData().GetArray("Crease").GetValue(c), 1)
+
+    def test_the_command_line_sets_the_angle_through_the_scene(self):
+        scene = os.path.join(self.tmp, "scene.json")
+        with open(scene, "w") as f:  # the short form "features": "Automatic" takes --set features.x too
+            json.dump(dict(self.scene(), mesh=dict(self.scene()["mesh"], features="Automatic")), f)
+        out = os.path.join(self.tmp, "none.vtu")
+        run = subprocess.run([sys.executable, "-m", "oraclemesh", "mesh", scene, "-o", out,
+                              "--set", "features.feature_angle=180"], capture_output=True, text=True, timeout=100)
+        self.assertEqual(run.returncode, 0, run.stderr)
+        self.assertIn("feature lines: none given", run.stdout)  # 180: no creases, and nothing else meets
+        bad = subprocess.run([sys.executable, "-m", "oraclemesh", "mesh", scene, "-o", out,
+                              "--set", "features.feature_angle=0"], capture_output=True, text=True, timeout=100)
+        self.assertEqual(bad.returncode, 2, bad.stderr)
+        self.assertIn("$.mesh.features.feature_angle: must be a positive number, got 0", bad.stderr)
+
+    def test_bad_angles_are_named_at_each_door(self):
+        for angle, words in ((0, "must be a positive number, got 0"), (181, "must be at most 180 degrees"),
+                             ("steep", "must be a positive number, got 'steep'")):
+            with self.subTest(angle):
+                with self.assertRaisesRegex(om.OracleMeshError, r"\$\.mesh\.features\.feature_angle: " + words):
+                    build_scene(self.scene(feature_angle=angle))
+        with self.assertRaisesRegex(om.OracleMeshError, "feature_angle: must be a number above 0 and at most 180"):
+            om.mesh(self.scene(), feature_angle=-5)
+        scene = build_scene(self.scene())  # kept alive: the filters hold no reference to its domains
+        for filter_class in (om.vtkOracleFeatureLines, om.vtkFeaturePreservingTetrahedralizer):
+            with self.subTest(filter_class.__name__):
+                f = filter_class()
+                f.SetInputConnection(scene.oracle.GetOutputPort())
+                f.SetCreaseAngle(math.nan)
+                with self.assertRaisesRegex(om.OracleMeshError, filter_class.__name__ + ": CreaseAngle nan is out of range"):
+                    om.update(f)
+
+
 if __name__ == "__main__":
     unittest.main()
