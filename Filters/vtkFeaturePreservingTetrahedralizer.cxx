@@ -111,6 +111,7 @@ vtkFeaturePreservingTetrahedralizer::vtkFeaturePreservingTetrahedralizer()
   this->ResampleFeatureLines = defaults.resampleFeatureLines;
   this->SliverAngle = defaults.sliverAngle;
   this->InterfaceSliverAngle = defaults.interfaceSliverAngle;
+  this->ConformingSliverAngle = defaults.conformingSliverAngle;
   this->Perturb = defaults.perturb;
   this->Exude = defaults.exude;
   this->PerturbationFailuresPerBound = defaults.perturbationFailuresPerBound;
@@ -270,6 +271,7 @@ void vtkFeaturePreservingTetrahedralizer::CheckProperties() const
     ": 0 None, 1 Given, 2 Automatic, 3 Both");
   checkRange("SliverAngle", this->SliverAngle, 0.0, 30.0, " degrees; 0 = off");
   checkRange("InterfaceSliverAngle", this->InterfaceSliverAngle, 0.0, 30.0, " degrees; 0 = off");
+  checkRange("ConformingSliverAngle", this->ConformingSliverAngle, 0.0, 30.0, " degrees; 0 = off");
   if (this->MaximumNumberOfVertices < 0)
     throw omesh::InputError("vtkFeaturePreservingTetrahedralizer: MaximumNumberOfVertices " +
       std::to_string(this->MaximumNumberOfVertices) + " is out of range (>= 0; 0 = unlimited)");
@@ -296,6 +298,7 @@ void vtkFeaturePreservingTetrahedralizer::SetUpOptions(MeshingRun& run)
   options.resampleFeatureLines = this->ResampleFeatureLines;
   options.sliverAngle = this->SliverAngle;
   options.interfaceSliverAngle = this->InterfaceSliverAngle;
+  options.conformingSliverAngle = this->ConformingSliverAngle;
   options.perturb = this->Perturb;
   options.exude = this->Exude;
   options.perturbationFailuresPerBound = this->PerturbationFailuresPerBound;
@@ -436,6 +439,7 @@ void vtkFeaturePreservingTetrahedralizer::PrintSelf(ostream& os, vtkIndent inden
   os << indent << "ResampleFeatureLines: " << this->ResampleFeatureLines << "\n";
   os << indent << "SliverAngle: " << this->SliverAngle << "\n";
   os << indent << "InterfaceSliverAngle: " << this->InterfaceSliverAngle << "\n";
+  os << indent << "ConformingSliverAngle: " << this->ConformingSliverAngle << "\n";
   os << indent << "Perturb: " << this->Perturb << "\n";
   os << indent << "Exude: " << this->Exude << "\n";
   os << indent << "PerturbationFailuresPerBound: " << this->PerturbationFailuresPerBound << "\n";

@@ -203,6 +203,16 @@ public:
   ///@}
 
   ///@{
+  /// Conforming strategy with feature lines: tetrahedra below this bound (degrees; the larger of it
+  /// and SliverAngle) are refined, each at a point picked near its circumcentre so that the new
+  /// tetrahedra are no slivers (Li and Teng's picking region). Bounds the angles before
+  /// optimisation where circumcentres would run into the vertex budget. 0 turns it off (CGAL's
+  /// circumcentres). Default 8.7.
+  vtkSetMacro(ConformingSliverAngle, double); // 0 to 30
+  vtkGetMacro(ConformingSliverAngle, double);
+  ///@}
+
+  ///@{
   /// 1 (default): linear tetrahedra (VTK_TETRA). 2: quadratic tetrahedra (VTK_QUADRATIC_TETRA,
   /// 10 nodes): the mid-edge nodes of edges on interfaces and the boundary are moved onto the
   /// oracle's true surfaces, then pulled back where a curved tetrahedron's Jacobian gets too small
@@ -255,6 +265,7 @@ protected:
   bool ResampleFeatureLines;
   double SliverAngle;
   double InterfaceSliverAngle;
+  double ConformingSliverAngle;
   double FacetAngle;
   double FacetSize;
   double FacetDistance;

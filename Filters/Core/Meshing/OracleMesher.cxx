@@ -630,7 +630,7 @@ private:
       sizing = protectedFeatures();
     else
       sizing.size = edgeSize_ > 0 ? edgeSize_ : 1.0;
-    criteria_ = std::make_unique<Criteria>(materialMeshCriteria<Tr>(options_, Criteria::Edge_criteria(sizing)));
+    criteria_ = std::make_unique<Criteria>(materialMeshCriteria<Tr>(options_, Criteria::Edge_criteria(sizing), pickingRegion().targetAngle));
   }
 
   /// ProtectingBalls: the polylines added to the domain and the balls' sizes, per polyline when
@@ -870,16 +870,24 @@ private:
   /// on a feature line outside every domain).
   bool touchesMaterial(const Vec3& a, const Vec3& b) const { return oracle_.touchesMaterial(a, b); }
 
-  /// Where the cell level takes its refinement points (SliverAvoidingPoint).
+  /// Where the cell level takes its refinement points (SliverAvoidingPoint), and the angle below
+  /// which any cell is refined: Conforming with feature lines picks (ConformingMesher3), the other
+  /// paths take CGAL's circumcentres.
   PickingRegion pickingRegion() const
   {
     PickingRegion r;
-    r.candidates = options_.refinementPointCandidates;
-    r.radius = options_.pickingRadius;
     r.targetAngle = options_.sliverAngle;
     r.seed = options_.seed;
-    if (const char* e = std::getenv("ORACLEMESH_PICK")) // EXPERIMENT: K,radius,target
-      std::sscanf(e, "%d,%lf,%lf", &r.candidates, &r.radius, &r.targetAngle);
+    const bool picking = options_.strategy == FeatureStrategy::Conforming && !features_->empty() &&
+      options_.conformingSliverAngle > 0;
+    if (picking)
+    {
+      r.candidates = kPickingCandidates;
+      r.radius = kPickingRadius;
+      r.targetAngle = std::max(r.targetAngle, options_.conformingSliverAngle);
+      if (const char* e = std::getenv("ORACLEMESH_PICK")) // EXPERIMENT: K,radius
+        std::sscanf(e, "%d,%lf", &r.candidates, &r.radius);
+    }
     return r;
   }
 
@@ -1172,9 +1180,12 @@ private:
     st["cell_points_dropped_in_facet_cycles"] = static_cast<double>(count.cyclesBroken);
     // the picking region (SliverAvoidingPoint): cells looked at, moved off their circumcentre, and
     // those where no candidate reached the sliver bound
-    st["refinement_point_picks"] = static_cast<double>(picking_.cells);
-    st["refinement_point_moved"] = static_cast<double>(picking_.moved);
-    st["refinement_point_below_target"] = static_cast<double>(picking_.unreached);
+    if (pickingRegion().candidates > 0)
+    {
+      st["refinement_point_picks"] = static_cast<double>(picking_.cells);
+      st["refinement_point_moved"] = static_cast<double>(picking_.moved);
+      st["refinement_point_below_target"] = static_cast<double>(picking_.unreached);
+    }
     st["segment_missing_edge_checks"] = static_cast<double>(count.missingChecks);
     // why refinement left sub-segments out of the complex (before optimisation)
     st["segment_pieces_missing_too_short"] = static_cast<double>(missing_.short_);

@@ -38,12 +38,14 @@ struct MesherOptions
   /// leaves. Raising it bounds the angles before optimisation, at a price in tetrahedra; not covered
   /// by CGAL's termination guarantee (refinement also stops at the vertex budget). 0 = off.
   double sliverAngle = 1.0;
-  /// Conforming: points tried around a cell's circumcentre when inserting the circumcentre would
-  /// make cells below `sliverAngle` (Li and Teng's picking region; SliverAvoidingPoint.h); the
-  /// first whose new cells all reach it, else the best, is inserted instead. 0 = the circumcentre.
-  int refinementPointCandidates = 0;
-  /// Radius of that picking region, relative to the cell's circumradius.
-  double pickingRadius = 0.3;
+  /// Conforming with feature lines: tetrahedra below this angle (degrees; the larger of it and
+  /// `sliverAngle`) are refined, and a cell's refinement point is picked in a small ball around its
+  /// circumcentre so that the tetrahedra its insertion makes reach this angle and it encroaches no
+  /// restricted facet (Li and Teng's picking region, SliverAvoidingPoint.h): a sliver split at its
+  /// circumcentre makes new slivers, and this bound alone, with circumcentres, ran the generated
+  /// bone/implant cases at radius-edge 1.1 into the vertex budget. 0 = off (circumcentres, CGAL's
+  /// point). Not covered by CGAL's termination guarantee: refinement also stops at the vertex budget.
+  double conformingSliverAngle = 8.7;
   /// Simplify and resample the feature lines before meshing (simplifyFeatureNetwork in
   /// FeatureNetworkSimplification.h), at h = the edge size (else the facet size, else 1/40 of the
   /// domain's diagonal): points closer than h merged, segments at less than 30 degrees sharing a

@@ -48,7 +48,8 @@ DOMAIN_KEYS = {
 }
 TOP_KEYS = {"description", "comment", "space", "domains", "mesh", "outputs", "reference_volumes"}
 MESH_KEYS = {"strategy", "criteria", "materials", "features", "seed", "maximum_number_of_vertices", "comment",
-             "perturb", "exude", "sliver_angle", "interface_sliver_angle", "perturbation_steps_per_vertex",
+             "perturb", "exude", "sliver_angle", "interface_sliver_angle", "conforming_sliver_angle",
+             "perturbation_steps_per_vertex",
              "exudation_steps_per_cell", "optimisation_time_limit", "perturbation_failures_per_bound",
              "exudation_sliver_bound", "time_limit", "element_order", "threads"}
 FEATURE_KEYS = {"use", "from_surface", "feature_angle", "files", "resample", "comment"}
@@ -326,7 +327,7 @@ def _mesh_block(problems, spec, scene):
             problems.add(f"$.mesh.{flag}", f"must be true or false, got {spec[flag]!r}")
         elif flag in spec:
             mesh[flag] = spec[flag]
-    for key in ("sliver_angle", "interface_sliver_angle"):
+    for key in ("sliver_angle", "interface_sliver_angle", "conforming_sliver_angle"):
         angle = _number(problems, spec, "$.mesh", key, required=False)
         if angle is not None:
             if not 0 <= angle <= 30:

@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdlib>
 #include <limits>
 
 namespace omesh::cgal
@@ -77,6 +78,10 @@ public:
     , anySliverAngle_(sliverAngle)
     , interfaceSliverAngle_(interfaceSliverAngle)
   {
+    if (const char* e = std::getenv("ORACLEMESH_PICKFLOOR")) // EXPERIMENT
+      floorForAny_ = std::atof(e);
+    if (const char* e = std::getenv("ORACLEMESH_PICKFLOORALL")) // EXPERIMENT: fraction of the cell size
+      floorAll_ = std::atof(e);
   }
 
 protected:
@@ -129,8 +134,11 @@ protected:
     const int interfaceVertices = onInterface(0) + onInterface(1) + onInterface(2) + onInterface(3);
     const bool belowFloor = m.cellRadiusEdgeRatio > 0 && m.cellRadiusEdgeRatio < kSliverFloorRadiusEdge &&
       m.cellSize > 0 && sqRadius < squared(m.cellSize / 8.0);
+    double any = floorForAny_ > 0 && interfaceVertices >= 3 && belowFloor ? floorForAny_ : anySliverAngle_;
+    if (floorAll_ > 0 && m.cellSize > 0 && sqRadius < squared(floorAll_ * m.cellSize))
+      any = 1.0;
     const double sliverBound =
-      std::max(anySliverAngle_, interfaceVertices >= 3 && !belowFloor ? interfaceSliverAngle_ : 0.0);
+      std::max(any, interfaceVertices >= 3 && !belowFloor ? interfaceSliverAngle_ : 0.0);
     if (sliverBound > 0 && worst >= 1.0 && !(weighted(0) || weighted(1) || weighted(2) || weighted(3)))
     {
       const double a = minDihedralAngle(toVec(p), toVec(q), toVec(r), toVec(s));
@@ -144,6 +152,7 @@ private:
   MaterialCriteria criteria_;
   double anySliverAngle_;
   double interfaceSliverAngle_;
+  double floorForAny_ = 0, floorAll_ = 0;
 };
 
 /// Per-material facet criteria (angle, surface Delaunay ball radius, centre-to-surface distance).
@@ -218,10 +227,12 @@ private:
 };
 /// The mesher's criteria: ours per material (MaterialFacetCriterion, MaterialCellCriterion) and
 /// CGAL's topology criterion (facet vertices on the surface, T2); `edges` bounds the protecting
-/// balls (the sequential mesher's stops its feature protection on time: StoppableEdgeSize).
+/// balls (the sequential mesher's stops its feature protection on time: StoppableEdgeSize);
+/// `sliverAngle` the angle below which any cell is refined (MesherOptions::sliverAngle, or the
+/// conforming one where refinement points are picked).
 template <class Tr>
 CGAL::Mesh_criteria_3<Tr> materialMeshCriteria(
-  const MesherOptions& options, const typename CGAL::Mesh_criteria_3<Tr>::Edge_criteria& edges)
+  const MesherOptions& options, const typename CGAL::Mesh_criteria_3<Tr>::Edge_criteria& edges, double sliverAngle)
 {
   using Criteria = CGAL::Mesh_criteria_3<Tr>;
   typename Criteria::Facet_criteria facetCriteria(0.0, 0.0, 0.0, CGAL::FACET_VERTICES_ON_SURFACE);
@@ -229,7 +240,7 @@ CGAL::Mesh_criteria_3<Tr> materialMeshCriteria(
   Criteria criteria(edges, facetCriteria, cellCriteria);
   criteria.add_facet_criterion(new MaterialFacetCriterion<Tr>(options.criteria));
   criteria.add_cell_criterion(
-    new MaterialCellCriterion<Tr>(options.criteria, options.sliverAngle, options.interfaceSliverAngle));
+    new MaterialCellCriterion<Tr>(options.criteria, sliverAngle, options.interfaceSliverAngle));
   return criteria;
 }
 }

@@ -19,11 +19,16 @@
 
 namespace omesh::cgal
 {
+/// The picking region of the mesher: 16 candidates in a ball of 0.3 x the circumradius (Li and
+/// Teng's delta; measured on generated bone/implant cases at radius-edge 1.1, see MESHER.md).
+constexpr int kPickingCandidates = 16;
+constexpr double kPickingRadius = 0.3;
+
 /// How a cell's refinement point is chosen (MesherOptions::refinementPointCandidates and friends).
 struct PickingRegion
 {
   int candidates = 0;       ///< points tried besides the circumcentre; 0 = the circumcentre (CGAL's)
-  double radius = 0.3;      ///< of the picking ball, relative to the cell's circumradius
+  double radius = kPickingRadius; ///< of the picking ball, relative to the cell's circumradius
   double targetAngle = 0.0; ///< degrees: the first point whose new cells all reach this is taken
   unsigned seed = 0;
 
