@@ -207,7 +207,7 @@ public:
   /// and SliverAngle) are refined, each at a point picked near its circumcentre so that the new
   /// tetrahedra are no slivers (Li and Teng's picking region). Bounds the angles before
   /// optimisation where circumcentres would run into the vertex budget. 0 turns it off (CGAL's
-  /// circumcentres). Default 8.7.
+  /// circumcentres, the default). 8.7 is the paper's angle at radius-edge 1.1.
   vtkSetMacro(ConformingSliverAngle, double); // 0 to 30
   vtkGetMacro(ConformingSliverAngle, double);
   ///@}

@@ -40,8 +40,6 @@
 #include <chrono>
 #include <future>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <ctime>
 #include <limits>
 #include <map>
@@ -885,8 +883,6 @@ private:
       r.candidates = kPickingCandidates;
       r.radius = kPickingRadius;
       r.targetAngle = std::max(r.targetAngle, options_.conformingSliverAngle);
-      if (const char* e = std::getenv("ORACLEMESH_PICK")) // EXPERIMENT: K,radius
-        std::sscanf(e, "%d,%lf", &r.candidates, &r.radius);
     }
     return r;
   }

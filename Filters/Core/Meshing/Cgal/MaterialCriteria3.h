@@ -12,7 +12,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <cstdlib>
 #include <limits>
 
 namespace omesh::cgal
@@ -78,10 +77,6 @@ public:
     , anySliverAngle_(sliverAngle)
     , interfaceSliverAngle_(interfaceSliverAngle)
   {
-    if (const char* e = std::getenv("ORACLEMESH_PICKFLOOR")) // EXPERIMENT
-      floorForAny_ = std::atof(e);
-    if (const char* e = std::getenv("ORACLEMESH_PICKFLOORALL")) // EXPERIMENT: fraction of the cell size
-      floorAll_ = std::atof(e);
   }
 
 protected:
@@ -134,11 +129,8 @@ protected:
     const int interfaceVertices = onInterface(0) + onInterface(1) + onInterface(2) + onInterface(3);
     const bool belowFloor = m.cellRadiusEdgeRatio > 0 && m.cellRadiusEdgeRatio < kSliverFloorRadiusEdge &&
       m.cellSize > 0 && sqRadius < squared(m.cellSize / 8.0);
-    double any = floorForAny_ > 0 && interfaceVertices >= 3 && belowFloor ? floorForAny_ : anySliverAngle_;
-    if (floorAll_ > 0 && m.cellSize > 0 && sqRadius < squared(floorAll_ * m.cellSize))
-      any = 1.0;
     const double sliverBound =
-      std::max(any, interfaceVertices >= 3 && !belowFloor ? interfaceSliverAngle_ : 0.0);
+      std::max(anySliverAngle_, interfaceVertices >= 3 && !belowFloor ? interfaceSliverAngle_ : 0.0);
     if (sliverBound > 0 && worst >= 1.0 && !(weighted(0) || weighted(1) || weighted(2) || weighted(3)))
     {
       const double a = minDihedralAngle(toVec(p), toVec(q), toVec(r), toVec(s));
@@ -152,7 +144,6 @@ private:
   MaterialCriteria criteria_;
   double anySliverAngle_;
   double interfaceSliverAngle_;
-  double floorForAny_ = 0, floorAll_ = 0;
 };
 
 /// Per-material facet criteria (angle, surface Delaunay ball radius, centre-to-surface distance).
