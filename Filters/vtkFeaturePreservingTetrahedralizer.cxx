@@ -271,7 +271,7 @@ void vtkFeaturePreservingTetrahedralizer::CheckProperties() const
     ": 0 None, 1 Given, 2 Automatic, 3 Both");
   checkRange("SliverAngle", this->SliverAngle, 0.0, 30.0, " degrees; 0 = off");
   checkRange("InterfaceSliverAngle", this->InterfaceSliverAngle, 0.0, 30.0, " degrees; 0 = off");
-  checkRange("ConformingSliverAngle", this->ConformingSliverAngle, 0.0, 30.0, " degrees; 0 = off");
+  checkRange("ConformingSliverAngle", this->ConformingSliverAngle, -1.0, 30.0, " degrees; 0 = off, -1 = automatic");
   if (this->MaximumNumberOfVertices < 0)
     throw omesh::InputError("vtkFeaturePreservingTetrahedralizer: MaximumNumberOfVertices " +
       std::to_string(this->MaximumNumberOfVertices) + " is out of range (>= 0; 0 = unlimited)");

@@ -558,7 +558,7 @@ class PythonApi(unittest.TestCase):
     def test_out_of_range_properties_are_errors_not_clamped(self):
         for setter, value, words in (("SetFeatureStrategy", 7, ["FeatureStrategy", "7"]),
                                      ("SetInterfaceSliverAngle", 90, ["InterfaceSliverAngle", "90"]),
-                                     ("SetConformingSliverAngle", -1, ["ConformingSliverAngle", "-1"]),
+                                     ("SetConformingSliverAngle", 31, ["ConformingSliverAngle", "31"]),
                                      ("SetMaximumNumberOfVertices", -1, ["MaximumNumberOfVertices", "-1"]),
                                      ("SetPerturbationStepsPerVertex", -2, ["PerturbationStepsPerVertex"]),
                                      ("SetOptimisationTimeLimit", -5, ["OptimisationTimeLimit"]),

@@ -49,6 +49,19 @@
 
 namespace omesh
 {
+double effectiveConformingSliverAngle(const MesherOptions& options)
+{
+  if (options.conformingSliverAngle >= 0)
+    return options.conformingSliverAngle;
+  auto tight = [](const MeshCriteria::Values& v) {
+    return v.cellRadiusEdgeRatio > 0 && v.cellRadiusEdgeRatio < kConformingSliverRadiusEdge;
+  };
+  bool anyTight = tight(options.criteria.globalValues());
+  for (const auto& entry : options.criteria.perMaterial)
+    anyTight = anyTight || tight(options.criteria.of(entry.first));
+  return anyTight ? 0.0 : kConformingSliverAngle;
+}
+
 double effectiveTimeLimit(const MesherOptions& options)
 {
   if (options.timeLimit != 0)
@@ -876,13 +889,12 @@ private:
     PickingRegion r;
     r.targetAngle = options_.sliverAngle;
     r.seed = options_.seed;
-    const bool picking = options_.strategy == FeatureStrategy::Conforming && !features_->empty() &&
-      options_.conformingSliverAngle > 0;
-    if (picking)
+    const double angle = effectiveConformingSliverAngle(options_);
+    if (options_.strategy == FeatureStrategy::Conforming && !features_->empty() && angle > 0)
     {
       r.candidates = kPickingCandidates;
       r.radius = kPickingRadius;
-      r.targetAngle = std::max(r.targetAngle, options_.conformingSliverAngle);
+      r.targetAngle = std::max(r.targetAngle, angle);
     }
     return r;
   }

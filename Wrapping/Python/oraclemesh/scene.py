@@ -327,7 +327,7 @@ def _mesh_block(problems, spec, scene):
             problems.add(f"$.mesh.{flag}", f"must be true or false, got {spec[flag]!r}")
         elif flag in spec:
             mesh[flag] = spec[flag]
-    for key in ("sliver_angle", "interface_sliver_angle", "conforming_sliver_angle"):
+    for key in ("sliver_angle", "interface_sliver_angle"):
         angle = _number(problems, spec, "$.mesh", key, required=False)
         if angle is not None:
             if not 0 <= angle <= 30:
@@ -336,7 +336,8 @@ def _mesh_block(problems, spec, scene):
                 mesh[key] = angle
     for key, low, high in (("perturbation_steps_per_vertex", 0, 1e6), ("exudation_steps_per_cell", 0, 1e6),
                            ("optimisation_time_limit", -1, 1e6), ("perturbation_failures_per_bound", 0, 1e6),
-                           ("exudation_sliver_bound", 0, 90), ("time_limit", -1, 1e9)):
+                           ("exudation_sliver_bound", 0, 90), ("time_limit", -1, 1e9),
+                           ("conforming_sliver_angle", -1, 30)):
         value = _number(problems, spec, "$.mesh", key, required=False)
         if value is not None:
             if not low <= value <= high:
