@@ -47,7 +47,7 @@ struct MesherOptions
   /// point). < 0 = automatic (effectiveConformingSliverAngle): kConformingSliverAngle where every
   /// material's radius-edge bound is at least kConformingSliverRadiusEdge, else off. Measured on 15
   /// generated bone/implant cases: at radius-edge 1.3 and 2 every case ends above 8.7 degrees
-  /// before optimisation with 0.97-1.03x the tetrahedra; at 1.1, 14 of 15 do (0.45-1.28x), but the
+  /// before optimisation with 0.98-1.03x the tetrahedra; at 1.1, 14 of 15 do (0.45-1.28x), but the
   /// implant face on a voxel boundary runs into the vertex budget (refinement converging onto one
   /// point). Not covered by CGAL's termination guarantee: refinement also stops at the vertex budget.
   double conformingSliverAngle = -1.0;
