@@ -110,9 +110,10 @@ OPTIMISER_VARIANTS = {
 }
 
 
-def mesh_case(case, strategy, timeout, features=None):
+def mesh_case(case, strategy, timeout, features=None, settings=()):
     """Meshes one case with one strategy (with a suffix of OPTIMISER_VARIANTS: its optimiser
-    settings) and, when given, a Features option (None, Given, Automatic, Both); returns the table row."""
+    settings), when given, a Features option (None, Given, Automatic, Both) and `oraclemesh mesh
+    --set` settings (KEY=VALUE); returns the table row."""
     tag = strategy.replace(":", "_")
     out = os.path.join(case["dir"], f"mesh_{tag}.vtu")
     summary = os.path.join(case["dir"], f"summary_{tag}.json")
@@ -129,6 +130,8 @@ def mesh_case(case, strategy, timeout, features=None):
         with open(scene, "w") as f:
             json.dump(description, f)
     extra = ["--features", features] if features else []
+    for setting in settings:
+        extra += ["--set", setting]
     rc, seconds, tail = run_measured(command() + ["mesh", scene, "--strategy", strategy.split(":")[0], "-o", out,
                                                   "--summary", summary] + extra, timeout)
     row = {"case": case["name"], "strategy": strategy, "rc": rc, "seconds": seconds, "error": ""}
@@ -281,6 +284,9 @@ def main():
     parser.add_argument("--check", action="store_true", help="assert validity, coverage and volumes (ctest)")
     parser.add_argument("--features", choices=["None", "Given", "Automatic", "Both"],
                         help="which feature lines the mesher keeps (default: the scenes' own, Given)")
+    parser.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
+                        help="a key of the scenes' mesh block, as `oraclemesh mesh --set` (repeat for several), "
+                             "e.g. sliver_angle=8.7")
     args = parser.parse_args()
     tmp = None if args.work else tempfile.TemporaryDirectory()
     work = args.work or tmp.name
@@ -289,11 +295,12 @@ def main():
                       not args.no_optimise)
     jobs = [(c, s) for c in made for s in args.strategies]
     with ThreadPoolExecutor(max_workers=max(1, args.jobs)) as pool:
-        rows = list(pool.map(lambda job: mesh_case(job[0], job[1], args.timeout, args.features), jobs))
+        rows = list(pool.map(lambda job: mesh_case(job[0], job[1], args.timeout, args.features, args.set), jobs))
     print(f"Bone/implant study: {len(made)} cases, radius-edge {args.radius_edge}"
           f"{', no optimisation' if args.no_optimise else ''}, implant cell 1 / facet distance "
           f"0.1 / edge 0.5, bone cell 3 / facet distance 2, facet angle 25"
-          f"{', features ' + args.features if args.features else ''}; {args.jobs} jobs at once "
+          f"{', features ' + args.features if args.features else ''}"
+          f"{''.join(', ' + s for s in args.set)}; {args.jobs} jobs at once "
           f"({time.perf_counter() - started:.0f} s in all)")
     print_table(rows)
     for line in summarise(rows, args.strategies):

@@ -5,7 +5,7 @@
 a restructuring that claims to change no behaviour is checked against the build before it.
 
     scripts/compare_meshes.py --snapshot DIR [--build BUILD]    # copy BUILD's binaries to DIR
-    scripts/compare_meshes.py --reference DIR [--build BUILD] [--work WORK] [--scenes NAME...]
+    scripts/compare_meshes.py --reference DIR [--build BUILD] [--work WORK] [--scenes NAME...] [--set KEY=VALUE...]
 
 A snapshot holds the command line, the Python package and the VTK module library of a build; it
 runs with LD_LIBRARY_PATH set to it (the build's libraries carry a RUNPATH, which that overrides).
@@ -13,7 +13,8 @@ Scenes: the demo (Data/demo/scene.json, fewer vertices), a generated bone/implan
 (oraclemesh.cases), a cube with all edges as features, a noisy organic surface with automatic
 sharp edges (Benchmarks/noisy_features.py), a ball cut by a plane with the automatic feature lines
 (its rim) and 10-node tetrahedra (the paths the other four do not take). Exits 1 when any mesh
-differs.
+differs. `--set` passes `oraclemesh mesh --set` settings to the build's runs only: a new option at
+the value that should give the reference's meshes (e.g. a new behaviour turned off).
 """
 import argparse
 import glob
@@ -124,8 +125,10 @@ def cube_edges(path):
     writer.Write()
 
 
-def mesh(root, scene, out):
+def mesh(root, scene, out, settings=()):
     cmd = [sys.executable, os.path.join(root, "bin", "oraclemesh"), "mesh", scene, "-o", out]
+    for setting in settings:
+        cmd += ["--set", setting]
     subprocess.run(cmd, env=environment(root), check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
 
 
@@ -162,6 +165,8 @@ def main(argv=None):
     parser.add_argument("--reference", help="a snapshot to compare the build with")
     parser.add_argument("--work", default=None)
     parser.add_argument("--scenes", nargs="+", default=list(SCENES), choices=SCENES)
+    parser.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
+                        help="a scene mesh key for the build's runs only (repeat for several)")
     args = parser.parse_args(argv)
     if args.snapshot:
         snapshot(args.build, args.snapshot)
@@ -176,7 +181,7 @@ def main(argv=None):
         meshes = {}
         for tag, root in (("reference", args.reference), ("build", args.build)):
             meshes[tag] = os.path.join(work, f"{name}_{tag}.vtu")
-            mesh(root, scene, meshes[tag])
+            mesh(root, scene, meshes[tag], args.set if tag == "build" else ())
         a, b = fingerprint(meshes["reference"]), fingerprint(meshes["build"])
         diff = sorted(k for k in set(a) | set(b) if a.get(k) != b.get(k))
         differ += bool(diff)

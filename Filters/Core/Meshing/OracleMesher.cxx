@@ -49,6 +49,19 @@
 
 namespace omesh
 {
+double effectiveConformingSliverAngle(const MesherOptions& options)
+{
+  if (options.conformingSliverAngle >= 0)
+    return options.conformingSliverAngle;
+  auto tight = [](const MeshCriteria::Values& v) {
+    return v.cellRadiusEdgeRatio > 0 && v.cellRadiusEdgeRatio < kConformingSliverRadiusEdge;
+  };
+  bool anyTight = tight(options.criteria.globalValues());
+  for (const auto& entry : options.criteria.perMaterial)
+    anyTight = anyTight || tight(options.criteria.of(entry.first));
+  return anyTight ? 0.0 : kConformingSliverAngle;
+}
+
 double effectiveTimeLimit(const MesherOptions& options)
 {
   if (options.timeLimit != 0)
@@ -628,7 +641,7 @@ private:
       sizing = protectedFeatures();
     else
       sizing.size = edgeSize_ > 0 ? edgeSize_ : 1.0;
-    criteria_ = std::make_unique<Criteria>(materialMeshCriteria<Tr>(options_, Criteria::Edge_criteria(sizing)));
+    criteria_ = std::make_unique<Criteria>(materialMeshCriteria<Tr>(options_, Criteria::Edge_criteria(sizing), pickingRegion().targetAngle));
   }
 
   /// ProtectingBalls: the polylines added to the domain and the balls' sizes, per polyline when
@@ -868,6 +881,24 @@ private:
   /// on a feature line outside every domain).
   bool touchesMaterial(const Vec3& a, const Vec3& b) const { return oracle_.touchesMaterial(a, b); }
 
+  /// Where the cell level takes its refinement points (SliverAvoidingPoint), and the angle below
+  /// which any cell is refined: Conforming with feature lines picks (ConformingMesher3), the other
+  /// paths take CGAL's circumcentres.
+  PickingRegion pickingRegion() const
+  {
+    PickingRegion r;
+    r.targetAngle = options_.sliverAngle;
+    r.seed = options_.seed;
+    const double angle = effectiveConformingSliverAngle(options_);
+    if (options_.strategy == FeatureStrategy::Conforming && !features_->empty() && angle > 0)
+    {
+      r.candidates = kPickingCandidates;
+      r.radius = kPickingRadius;
+      r.targetAngle = std::max(r.targetAngle, angle);
+    }
+    return r;
+  }
+
   /// One refinement round: Conforming with the segment level below the facets, else CGAL's
   /// Mesher_3.
   void refineOnce()
@@ -876,8 +907,13 @@ private:
     {
       const auto wanted = [this](const Vec3& a, const Vec3& b) { return touchesMaterial(a, b); };
       Segments level(*c3t3_, *segments_, domain_->index_from_curve_index(1));
-      ConformingMesher3<C3t3, Criteria, MeshDomain> mesher(*c3t3_, *domain_, *criteria_, level, CGAL::FACET_VERTICES_ON_SURFACE);
+      ConformingMesher3<C3t3, Criteria, MeshDomain> mesher(
+        *c3t3_, *domain_, *criteria_, level, CGAL::FACET_VERTICES_ON_SURFACE, pickingRegion());
       drive(mesher, [&] { return level.queueMissingFromComplex(wanted) > 0; });
+      const PickingRegion::Counters& picked = mesher.pickingCounters();
+      picking_.cells += picked.cells;
+      picking_.moved += picked.moved;
+      picking_.unreached += picked.unreached;
       missing_ = level.missingCensus(wanted);
     }
     else if (threads_ > 1)
@@ -1150,6 +1186,14 @@ private:
     st["segment_splits_after_optimisation"] = static_cast<double>(repaired_);
     st["vertices_removed_from_segment_balls_after_perturbation"] = static_cast<double>(count.removedEncroachers);
     st["cell_points_dropped_in_facet_cycles"] = static_cast<double>(count.cyclesBroken);
+    // the picking region (SliverAvoidingPoint): cells looked at, moved off their circumcentre, and
+    // those where no candidate reached the sliver bound
+    if (pickingRegion().candidates > 0)
+    {
+      st["refinement_point_picks"] = static_cast<double>(picking_.cells);
+      st["refinement_point_moved"] = static_cast<double>(picking_.moved);
+      st["refinement_point_below_target"] = static_cast<double>(picking_.unreached);
+    }
     st["segment_missing_edge_checks"] = static_cast<double>(count.missingChecks);
     // why refinement left sub-segments out of the complex (before optimisation)
     st["segment_pieces_missing_too_short"] = static_cast<double>(missing_.short_);
@@ -1203,6 +1247,7 @@ private:
   std::unique_ptr<MeshDomain> domain_;
   std::unique_ptr<Criteria> criteria_;
   bool protect_ = false, conforming_ = false;
+  PickingRegion::Counters picking_;
   double edgeSize_ = 0.0; ///< of the protecting balls (0 = none asked; the finest when lines differ)
   std::vector<double> edgeSizes_; ///< each feature segment's edge size (the per-feature level, FeatureEdgeSizes.h)
   int threads_ = 1;       ///< of the refinement (MesherOptions::threads; 1 for Conforming with feature lines)

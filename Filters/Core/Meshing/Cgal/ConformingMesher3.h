@@ -5,6 +5,7 @@
 #pragma once
 
 #include "SegmentRefinementLevel.h"
+#include "SliverAvoidingPoint.h"
 
 #include <functional>
 
@@ -65,6 +66,62 @@ private:
   size_t lastVertices_ = 0;
 };
 
+/// CGAL's cell level whose refinement point may come from the picking region around the
+/// circumcentre (SliverAvoidingPoint). CGAL 5.5 takes the circumcentre in a non-virtual CRTP
+/// call, so one step of this level is Mesher_level::try_to_refine_element again with the point
+/// picked: the same conflict tests (T3.1 / T3.2 through the facet level) on whatever point is chosen.
+template <class CellsBase, class Domain>
+class PickingCellsLevel : public CellsBase
+{
+public:
+  using Tr = typename CellsBase::Triangulation;
+  using Picker = SliverAvoidingPoint<Tr, Domain>;
+  using CellsBase::CellsBase;
+
+  void setPicker(Picker* picker) { picker_ = picker; }
+
+  /// As Mesher_level::one_step, the previous (facet) level first.
+  template <class Visitor, class Previous>
+  void one_step(Visitor visitor, Previous& previous)
+  {
+    if (!picker_ || !picker_->active())
+      CellsBase::one_step(visitor);
+    else if (!previous.is_algorithm_done())
+      previous.one_step(visitor.previous_level());
+    else if (!this->no_longer_element_to_refine())
+    {
+      const typename Tr::Cell_handle cell = this->get_next_element();
+      if (tryToRefine(cell, visitor) == CGAL::CONFLICT_AND_ELEMENT_SHOULD_BE_DROPPED)
+        this->pop_next_element();
+    }
+  }
+
+private:
+  template <class Visitor>
+  CGAL::Mesher_level_conflict_status tryToRefine(typename Tr::Cell_handle cell, Visitor visitor)
+  {
+    const Tr& tr = this->triangulation_ref_impl();
+    const typename Tr::Bare_point centre = this->refinement_point(cell); // also the new vertex's index
+    const typename Tr::Weighted_point p =
+      tr.geom_traits().construct_weighted_point_3_object()(picker_->pick(cell, centre));
+    this->before_conflicts(cell, p, visitor);
+    bool facetInZone = true;
+    typename CellsBase::Zone zone = this->conflicts_zone(p, cell, facetInZone);
+    const CGAL::Mesher_level_conflict_status result = this->test_point_conflict(p, zone);
+    if (result == CGAL::NO_CONFLICT)
+    {
+      this->before_insertion(cell, p, zone, visitor);
+      const typename Tr::Vertex_handle v = this->insert(p, zone);
+      this->after_insertion(v, visitor);
+    }
+    else
+      this->after_no_insertion(cell, p, zone, visitor);
+    return result;
+  }
+
+  Picker* picker_ = nullptr;
+};
+
 template <class C3t3, class Criteria, class MeshDomain>
 class ConformingMesher3
 {
@@ -74,20 +131,24 @@ public:
   using FacetsBase = CGAL::Mesh_3::Refine_facets_3<Tr, typename Criteria::Facet_criteria, MeshDomain, C3t3,
     Segments, CGAL::Sequential_tag, CGAL::Mesh_3::Refine_facets_manifold_base>;
   using Facets = FacetsLevelWithSegments<FacetsBase, Segments>;
-  using Cells = CGAL::Mesh_3::Refine_cells_3<Tr, typename Criteria::Cell_criteria, MeshDomain, C3t3, Facets,
-    CGAL::Sequential_tag>;
+  using Cells = PickingCellsLevel<CGAL::Mesh_3::Refine_cells_3<Tr, typename Criteria::Cell_criteria, MeshDomain,
+                                   C3t3, Facets, CGAL::Sequential_tag>,
+    MeshDomain>;
   using SegmentsVisitor = typename Segments::Visitor;
   using FacetsVisitor = CGAL::Mesh_3::tets::Refine_facets_visitor<Tr, Cells, SegmentsVisitor>;
   using CellsVisitor = CGAL::Null_mesh_visitor_level<FacetsVisitor>;
 
-  ConformingMesher3(C3t3& c3t3, const MeshDomain& domain, const Criteria& criteria, Segments& segments, int topology)
+  ConformingMesher3(C3t3& c3t3, const MeshDomain& domain, const Criteria& criteria, Segments& segments, int topology,
+    const PickingRegion& picking = PickingRegion())
     : segments_(segments)
     , facets_(segments, c3t3.triangulation(), criteria.facet_criteria_object(), domain, segments, c3t3, topology,
         std::size_t(0), nullptr)
     , cells_(c3t3.triangulation(), criteria.cell_criteria_object(), domain, facets_, c3t3, std::size_t(0), nullptr)
     , facetsVisitor_(&cells_, &segmentsVisitor_)
     , cellsVisitor_(facetsVisitor_)
+    , picker_(c3t3.triangulation(), domain, picking)
   {
+    cells_.setPicker(&picker_);
     // a segment point is inserted as the facet level inserts its points: the facets (and, once
     // cells are refined, the cells) of its conflict zone are updated by their levels
     segmentsVisitor_.before = [this](const typename Tr::Weighted_point& p, typename Segments::Zone& zone) {
@@ -141,8 +202,10 @@ public:
       }
     }
     else
-      cells_.one_step(cellsVisitor_);
+      cells_.one_step(cellsVisitor_, facets_);
   }
+
+  const PickingRegion::Counters& pickingCounters() const { return picker_.counters(); }
 
   bool is_algorithm_done() { return cells_.is_algorithm_done(); }
 
@@ -167,6 +230,7 @@ private:
   SegmentsVisitor segmentsVisitor_;
   FacetsVisitor facetsVisitor_;
   CellsVisitor cellsVisitor_;
+  typename Cells::Picker picker_;
   Stage stage_ = Stage::Facets;
 };
 }

@@ -218,10 +218,12 @@ private:
 };
 /// The mesher's criteria: ours per material (MaterialFacetCriterion, MaterialCellCriterion) and
 /// CGAL's topology criterion (facet vertices on the surface, T2); `edges` bounds the protecting
-/// balls (the sequential mesher's stops its feature protection on time: StoppableEdgeSize).
+/// balls (the sequential mesher's stops its feature protection on time: StoppableEdgeSize);
+/// `sliverAngle` the angle below which any cell is refined (MesherOptions::sliverAngle, or the
+/// conforming one where refinement points are picked).
 template <class Tr>
 CGAL::Mesh_criteria_3<Tr> materialMeshCriteria(
-  const MesherOptions& options, const typename CGAL::Mesh_criteria_3<Tr>::Edge_criteria& edges)
+  const MesherOptions& options, const typename CGAL::Mesh_criteria_3<Tr>::Edge_criteria& edges, double sliverAngle)
 {
   using Criteria = CGAL::Mesh_criteria_3<Tr>;
   typename Criteria::Facet_criteria facetCriteria(0.0, 0.0, 0.0, CGAL::FACET_VERTICES_ON_SURFACE);
@@ -229,7 +231,7 @@ CGAL::Mesh_criteria_3<Tr> materialMeshCriteria(
   Criteria criteria(edges, facetCriteria, cellCriteria);
   criteria.add_facet_criterion(new MaterialFacetCriterion<Tr>(options.criteria));
   criteria.add_cell_criterion(
-    new MaterialCellCriterion<Tr>(options.criteria, options.sliverAngle, options.interfaceSliverAngle));
+    new MaterialCellCriterion<Tr>(options.criteria, sliverAngle, options.interfaceSliverAngle));
   return criteria;
 }
 }

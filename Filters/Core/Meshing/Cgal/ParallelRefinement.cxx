@@ -235,7 +235,7 @@ ParallelRefinementRun refineInParallel(SequentialC3t3& c3t3, const MeshDomain& d
   Parallel::C3t3 par;
   copyComplex(c3t3, par);
   const Parallel::Criteria criteria =
-    materialMeshCriteria<Parallel::Tr>(options, Parallel::Criteria::Edge_criteria(edgeSize > 0 ? edgeSize : 1.0));
+    materialMeshCriteria<Parallel::Tr>(options, Parallel::Criteria::Edge_criteria(edgeSize > 0 ? edgeSize : 1.0), options.sliverAngle);
   std::atomic<bool> stop{ false };
   {
     CGAL::Mesh_3::Mesher_3<Parallel::C3t3, Parallel::Criteria, MeshDomain> mesher(
