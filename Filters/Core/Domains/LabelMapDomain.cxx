@@ -360,23 +360,21 @@ void LabelMapDomain::trilinearCrossings(
   // The 8 labels around the last point looked at: the samples and the bisection inside one piece
   // only recompute the weights (the answers are those of trilinearIndex at every point).
   Corners cache;
-  auto labelAt = [&](double t) {
-    const Vec3 u = clampToGrid(ua + t * d);
+  auto cornersAt = [&](double t, double f[3]) { // the cache holds the cell of t afterwards
     int lo[3];
-    double f[3];
-    splitCell(u, lo, f);
+    splitCell(clampToGrid(ua + t * d), lo, f);
     if (!sameCell(lo, cache.lo))
       loadCorners(dims_, index_.data(), lo, cache);
+  };
+  auto labelAt = [&](double t) {
+    double f[3];
+    cornersAt(t, f);
     return pickLabel(cache, f);
   };
   // The label at t and how far `label` leads there (for the interpolating search below).
   auto leadAt = [&](double t, uint16_t label, uint16_t& at) {
-    const Vec3 u = clampToGrid(ua + t * d);
-    int lo[3];
     double f[3];
-    splitCell(u, lo, f);
-    if (!sameCell(lo, cache.lo))
-      loadCorners(dims_, index_.data(), lo, cache);
+    cornersAt(t, f);
     at = pickLabel(cache, f);
     return labelLead(cache, f, label);
   };
@@ -447,12 +445,8 @@ void LabelMapDomain::trilinearCrossings(
       continue;
     {
       // a piece whose 8 voxel centres all carry the label we are in cannot change it
-      const Vec3 um = ua + (0.5 * (a + b)) * d;
-      int lo[3];
       double f[3];
-      splitCell(clampToGrid(um), lo, f);
-      if (!sameCell(lo, cache.lo))
-        loadCorners(dims_, index_.data(), lo, cache);
+      cornersAt(0.5 * (a + b), f);
       if (cache.uniform && cache.idx[0] == previous)
       {
         previousT = b;

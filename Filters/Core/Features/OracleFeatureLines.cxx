@@ -900,25 +900,33 @@ private:
     line.triple = line.materials.size() >= 3;
     line.crease = true;
     const size_t m = p.closed ? p.points.size() - 1 : p.points.size();
+    addResampledCurve(std::move(line), std::vector<Vec3>(p.points.begin(), p.points.begin() + static_cast<long>(m)),
+      p.closed, [&](int end) { return p.endPoint[end]; });
+  }
+
+  /// Resamples the curve through `points` (closed: back to the first, which is not repeated)
+  /// for its materials and adds it as `line`; an open curve's ends are the result's points
+  /// endPoint(0) and endPoint(1), asked for when reached (first end, inner points, last end).
+  template <typename EndPoint>
+  void addResampledCurve(FeatureLine line, std::vector<Vec3> points, bool closed, EndPoint endPoint)
+  {
+    const size_t m = points.size();
     FeatureSegments piece;
-    piece.points.assign(p.points.begin(), p.points.begin() + static_cast<long>(m));
+    piece.points = std::move(points);
     for (size_t k = 0; k + 1 < m; ++k)
       piece.segments.push_back({ static_cast<int>(k), static_cast<int>(k + 1) });
-    if (p.closed)
+    if (closed)
       piece.segments.push_back({ static_cast<int>(m - 1), 0 });
+    const Vec3 first = piece.points.front();
     resampleCurve(piece, line.materials);
     std::vector<int> order = chainOrder(piece);
-    if (!p.closed && norm(piece.points[order.front()] - p.points.front()) > 0)
+    if (!closed && norm(piece.points[order.front()] - first) > 0)
       std::reverse(order.begin(), order.end());
     for (size_t k = 0; k < order.size(); ++k)
     {
-      const bool first = !p.closed && k == 0, last = !p.closed && k + 1 == order.size();
-      if (first || last)
-      {
-        const int end = first ? 0 : 1;
-        line.points.push_back(p.endPoint[end]);
-      }
-      else if (p.closed && k + 1 == order.size() && order[k] == order[0])
+      if (!closed && (k == 0 || k + 1 == order.size()))
+        line.points.push_back(endPoint(k == 0 ? 0 : 1));
+      else if (closed && k + 1 == order.size() && order[k] == order[0])
         line.points.push_back(line.points.front());
       else
       {
@@ -1006,35 +1014,11 @@ private:
     const size_t m = closed ? chain.size() - 1 : chain.size();
     if (closed && m < 3)
       return;
-    FeatureSegments piece;
+    std::vector<Vec3> points;
     for (size_t k = 0; k < m; ++k)
-      piece.points.push_back(nodes_[chain[k]]);
-    for (size_t k = 0; k + 1 < m; ++k)
-      piece.segments.push_back({ static_cast<int>(k), static_cast<int>(k + 1) });
-    if (closed)
-      piece.segments.push_back({ static_cast<int>(m - 1), 0 });
-    resampleCurve(piece, line.materials);
-    std::vector<int> order = chainOrder(piece);
-    if (!closed && norm(piece.points[order.front()] - nodes_[chain.front()]) > 0)
-      std::reverse(order.begin(), order.end());
-    for (size_t k = 0; k < order.size(); ++k)
-    {
-      if (!closed && k == 0)
-        line.points.push_back(pointOfNode(chain.front()));
-      else if (!closed && k + 1 == order.size())
-        line.points.push_back(pointOfNode(chain.back()));
-      else if (closed && k + 1 == order.size() && order[k] == order[0])
-        line.points.push_back(line.points.front());
-      else
-      {
-        line.points.push_back(static_cast<int>(result_.segments.points.size()));
-        result_.segments.points.push_back(piece.points[order[k]]);
-      }
-    }
-    for (size_t k = 0; k + 1 < line.points.size(); ++k)
-      if (line.points[k] != line.points[k + 1])
-        result_.segments.segments.push_back({ line.points[k], line.points[k + 1] });
-    result_.lines.push_back(std::move(line));
+      points.push_back(nodes_[chain[k]]);
+    addResampledCurve(std::move(line), std::move(points), closed,
+      [&](int end) { return pointOfNode(end == 0 ? chain.front() : chain.back()); });
   }
 
   /// At the smallest segment length asked for the curve's materials (none: left as found), within
