@@ -151,5 +151,35 @@ class InputWarnings(unittest.TestCase):
                 self.assertEqual(report.returncode, 3, report.stderr)  # the warning is in the file
 
 
+class CommandLineWarnings(unittest.TestCase):
+    @unittest.skipUnless(COMMAND, "needs ORACLEMESH_COMMAND")
+    def test_each_warning_printed_once(self):
+        """The report lists the mesher's warnings; VTK's own print of them (another format, on
+        stderr) is left out, while messages the report does not hold still reach stderr."""
+        scene = {"domains": [sphere("big", [0, 0, 0], 20, 1), sphere("hidden", [0, 0, 0], 5, 2)], "mesh": MESH}
+        with tempfile.TemporaryDirectory() as tmp:
+            path = os.path.join(tmp, "scene.json")
+            with open(path, "w") as f:
+                json.dump(scene, f)
+            run = subprocess.run([COMMAND, "mesh", path, "-o", os.path.join(tmp, "out.vtu")],
+                                 capture_output=True, text=True)
+            self.assertEqual(run.returncode, 0, run.stderr)
+            both = run.stdout + run.stderr
+            self.assertEqual(both.count("'hidden' is hidden"), 1, both)
+            self.assertNotIn("WARN|", run.stderr)
+            # a message no report holds: a scene whose surface file VTK cannot read is an error
+            # with VTK's own words on stderr
+            with open(os.path.join(tmp, "broken.vtp"), "w") as f:
+                f.write("<VTKFile type='PolyData'><PolyData>")
+            broken = {"domains": [{"name": "part", "type": "surface", "file": "broken.vtp", "material": 1}],
+                      "mesh": MESH}
+            with open(path, "w") as f:
+                json.dump(broken, f)
+            run = subprocess.run([COMMAND, "mesh", path, "-o", os.path.join(tmp, "out.vtu")],
+                                 capture_output=True, text=True)
+            self.assertNotEqual(run.returncode, 0)
+            self.assertIn("broken.vtp", run.stderr)
+
+
 if __name__ == "__main__":
     unittest.main()

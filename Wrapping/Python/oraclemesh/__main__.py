@@ -149,6 +149,43 @@ def _settings(items):
     return settings
 
 
+class _VtkMessages:
+    """VTK's warnings and errors during a run, printed once it ends: without those the report
+    prints anyway (the mesher's warnings, which VTK would print a second time, in its own format)."""
+
+    def __init__(self):
+        self.known = ()
+
+    def __enter__(self):
+        from vtkmodules.vtkCommonCore import vtkLogger, vtkOutputWindow, vtkStringOutputWindow
+
+        # VTK logs each message to stderr besides handing it to the output window: only the window
+        self.cutoff = vtkLogger.GetCurrentVerbosityCutoff()
+        vtkLogger.SetStderrVerbosity(vtkLogger.VERBOSITY_OFF)
+        self.previous = vtkOutputWindow.GetInstance()
+        self.previous.Register(None)  # keep VTK's window alive while it is not the instance
+        self.window = vtkStringOutputWindow()
+        vtkOutputWindow.SetInstance(self.window)
+        return self
+
+    def __exit__(self, *exc):
+        from vtkmodules.vtkCommonCore import vtkLogger, vtkOutputWindow
+
+        vtkLogger.SetStderrVerbosity(self.cutoff)
+        vtkOutputWindow.SetInstance(self.previous)
+        self.previous.UnRegister(None)
+        known = set(self.known)
+        for block in self.window.GetOutput().split("\n\n"):
+            lines = [line for line in block.strip().splitlines() if line]
+            if lines and lines[0].startswith(("Warning: In ", "ERROR: In ", "Generic Warning: In ")):
+                lines = lines[1:]  # the C++ source file and line: of no use here
+            text = "\n".join(lines)
+            if not text or text.partition("): ")[2] in known:
+                continue
+            print(text, file=sys.stderr)
+        return False
+
+
 def _mesh(args):
     from .report import VALIDITY_ITEMS, save_histogram, save_section, statistics
 
@@ -171,8 +208,10 @@ def _mesh(args):
         if path:
             check_output_path(path, what)
     progress = ProgressPrinter(sys.stderr, machine=args.progress_lines) if args.progress or args.progress_lines else None
-    result = mesh(scene, args.strategy, progress, updater=SIGNALS.update, element_order=args.order,
-                  features=args.features, threads=args.threads)
+    with _VtkMessages() as messages:
+        result = mesh(scene, args.strategy, progress, updater=SIGNALS.update, element_order=args.order,
+                      features=args.features, threads=args.threads)
+        messages.known = result.warnings
     started = time.perf_counter()
     written = result.save(*outputs)
     lines = result.report.split("\n")
