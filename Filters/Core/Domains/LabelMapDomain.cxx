@@ -329,11 +329,151 @@ uint16_t LabelMapDomain::trilinearIndex(const Vec3& u) const
   return pickLabel(k, f);
 }
 
+namespace
+{
+/// One segment's walk through the cells of voxel centres (continuous voxel coordinates ua + t d).
+/// The 8 labels around the last point looked at stay loaded: the samples and the search inside
+/// one cell only recompute the weights (the answers are those of trilinearIndex at every point).
+class TrilinearWalk
+{
+public:
+  TrilinearWalk(const std::array<int, 3>& dims, const uint16_t* index, const Vec3& ua, const Vec3& d)
+    : dims_(dims)
+    , index_(index)
+    , ua_(ua)
+    , d_(d)
+  {
+  }
+
+  /// Loads the cell of t; f gets t's fractions in it.
+  void cornersAt(double t, double f[3])
+  {
+    const Vec3 u = ua_ + t * d_;
+    const Vec3 c{ std::clamp(u.x, 0.0, double(dims_[0])), std::clamp(u.y, 0.0, double(dims_[1])),
+      std::clamp(u.z, 0.0, double(dims_[2])) };
+    int lo[3];
+    splitCell(c, lo, f);
+    if (!sameCell(lo, cache_.lo))
+      loadCorners(dims_, index_, lo, cache_);
+  }
+
+  uint16_t labelAt(double t)
+  {
+    double f[3];
+    cornersAt(t, f);
+    return pickLabel(cache_, f);
+  }
+
+  /// Whether the cell at t has `label` at all its 8 corners (no change of label can be in it).
+  bool uniformAt(double t, uint16_t label)
+  {
+    double f[3];
+    cornersAt(t, f);
+    return cache_.uniform && cache_.idx[0] == label;
+  }
+
+  /// The last t where `label` holds between lo (it holds) and hi (it does not), to 1e-12: a
+  /// bracketing search (Illinois regula falsi on the label's lead, a bisection whenever three
+  /// steps do not halve the bracket) that keeps the bisection's answer to its tolerance with about
+  /// a fifth of its label evaluations.
+  double lastOf(uint16_t label, double lo, double hi)
+  {
+    uint16_t at = 0;
+    double gLo = leadAt(lo, label, at), gHi = leadAt(hi, label, at);
+    int side = 0;               // which end the last step moved: -1 lo, +1 hi
+    double reference = hi - lo; // a bisection once 3 steps have not halved the bracket from here
+    int steps = 0;
+    while (hi - lo > 1e-12 * (1.0 + std::abs(hi)))
+    {
+      const double w = hi - lo;
+      if (w <= 0.5 * reference)
+      {
+        reference = w;
+        steps = 0;
+      }
+      double mid = 0.5 * (lo + hi);
+      if (++steps <= 3 && gLo >= 0.0 && gHi <= 0.0)
+        mid = interpolated(lo, hi, gLo, gHi, side, mid);
+      else
+      {
+        reference = w;
+        steps = 0;
+      }
+      const double g = leadAt(mid, label, at);
+      const bool holds = at == label;
+      (holds ? lo : hi) = mid;
+      (holds ? gLo : gHi) = g;
+      if (side == (holds ? -1 : 1))
+        (holds ? gHi : gLo) *= 0.5; // Illinois: the end that stayed twice counts half
+      side = holds ? -1 : 1;
+    }
+    return hi;
+  }
+
+private:
+  /// The label at t and how far `label` leads there.
+  double leadAt(double t, uint16_t label, uint16_t& at)
+  {
+    double f[3];
+    cornersAt(t, f);
+    at = pickLabel(cache_, f);
+    return labelLead(cache_, f, label);
+  }
+
+  /// A little past the interpolated root, away from the end that moved last: once the root is
+  /// known to the tolerance, that closes the bracket in one step. A lead of exactly 0 is a tie
+  /// decided by index: the change is most likely right at that end. `fallback` if outside.
+  static double interpolated(double lo, double hi, double gLo, double gHi, int side, double fallback)
+  {
+    const double tol = 1e-12 * (1.0 + std::abs(hi));
+    double x = lo + (hi - lo) * gLo / (gLo - gHi) + 0.5 * tol * (side == -1 ? 1.0 : side == 1 ? -1.0 : 0.0);
+    if (gLo == 0.0)
+      x = lo + 0.5 * tol;
+    else if (gHi == 0.0)
+      x = hi - 0.5 * tol;
+    return x > lo && x < hi ? x : fallback;
+  }
+
+  const std::array<int, 3>& dims_;
+  const uint16_t* index_;
+  Vec3 ua_, d_;
+  Corners cache_;
+};
+
+/// The crossings a walk appends after the first `from` entries of ts, with the label before each.
+struct WalkCrossings
+{
+  std::vector<double>& ts;
+  size_t from;
+  std::vector<uint16_t>& labelsBefore;
+
+  void add(double t, uint16_t before, uint16_t after)
+  {
+    if (ts.size() > from && t - ts.back() <= 1e-12 * (1.0 + std::abs(t)))
+    {
+      // Two changes within the tolerance: the label flickers where two labels tie along the
+      // segment (rounding decides). They are one change, or none if it comes back.
+      const uint16_t origin = labelsBefore.back();
+      ts.pop_back();
+      labelsBefore.pop_back();
+      if (origin != after)
+      {
+        ts.push_back(t);
+        labelsBefore.push_back(origin);
+      }
+      return;
+    }
+    ts.push_back(t);
+    labelsBefore.push_back(before);
+  }
+};
+}
+
 void LabelMapDomain::trilinearCrossings(
   const Vec3& ua, const Vec3& d, double t0, double t1, std::vector<double>& ts) const
 {
   // Between the planes through voxel centres the indicators are trilinear (cubic along the
-  // segment): sample each such piece four times and bisect every change of label to full
+  // segment): sample each such piece four times and search every change of label to full
   // precision. Two changes closer than a quarter of a piece may be missed (a sliver of a label
   // thinner than about a quarter voxel along the segment).
   // Most of the mesher's segments lie inside one label, far from any boundary: the blocks say
@@ -341,9 +481,9 @@ void LabelMapDomain::trilinearCrossings(
   if (uniformAlong(ua + t0 * d, ua + t1 * d) != kMixed)
     return;
   thread_local std::vector<double> planes; // reused: no allocation per query
-  thread_local std::vector<uint16_t> labelsBefore; // the label before each crossing found here
+  thread_local std::vector<uint16_t> labelsBefore;
   labelsBefore.clear();
-  const size_t ownFrom = ts.size();
+  WalkCrossings found{ ts, ts.size(), labelsBefore };
   planes.clear();
   planes.push_back(t0);
   planes.push_back(t1);
@@ -357,129 +497,30 @@ void LabelMapDomain::trilinearCrossings(
       planes.push_back((k + 0.5 - ua[i]) / d[i]);
   }
   std::sort(planes.begin(), planes.end());
-  // The 8 labels around the last point looked at: the samples and the bisection inside one piece
-  // only recompute the weights (the answers are those of trilinearIndex at every point).
-  Corners cache;
-  auto cornersAt = [&](double t, double f[3]) { // the cache holds the cell of t afterwards
-    int lo[3];
-    splitCell(clampToGrid(ua + t * d), lo, f);
-    if (!sameCell(lo, cache.lo))
-      loadCorners(dims_, index_.data(), lo, cache);
-  };
-  auto labelAt = [&](double t) {
-    double f[3];
-    cornersAt(t, f);
-    return pickLabel(cache, f);
-  };
-  // The label at t and how far `label` leads there (for the interpolating search below).
-  auto leadAt = [&](double t, uint16_t label, uint16_t& at) {
-    double f[3];
-    cornersAt(t, f);
-    at = pickLabel(cache, f);
-    return labelLead(cache, f, label);
-  };
-  // The last t where `label` holds between lo (it holds) and hi (it does not), to 1e-12: a
-  // bracketing search (Illinois regula falsi on the label's lead, a bisection whenever that does
-  // not halve the bracket) that keeps the bisection's answer to its tolerance with about a
-  // fifth of its label evaluations.
-  auto lastOf = [&](uint16_t label, double lo, double hi) {
-    uint16_t at = 0;
-    double gLo = leadAt(lo, label, at), gHi = leadAt(hi, label, at);
-    int side = 0; // which end the last step moved: -1 lo, +1 hi
-    double reference = hi - lo; // a bisection once 3 steps have not halved the bracket from here
-    int steps = 0;
-    while (hi - lo > 1e-12 * (1.0 + std::abs(hi)))
-    {
-      const double w = hi - lo, tol = 1e-12 * (1.0 + std::abs(hi));
-      if (w <= 0.5 * reference)
-      {
-        reference = w;
-        steps = 0;
-      }
-      double mid = 0.5 * (lo + hi);
-      if (++steps <= 3 && gLo >= 0.0 && gHi <= 0.0)
-      {
-        // A little past the interpolated root, away from the end that moved last: once the
-        // root is known to the tolerance, that closes the bracket in one step. A lead of
-        // exactly 0 is a tie decided by index: the change is most likely right at that end.
-        double x = lo + w * gLo / (gLo - gHi) + 0.5 * tol * (side == -1 ? 1.0 : side == 1 ? -1.0 : 0.0);
-        if (gLo == 0.0)
-          x = lo + 0.5 * tol;
-        else if (gHi == 0.0)
-          x = hi - 0.5 * tol;
-        if (x > lo && x < hi)
-          mid = x;
-      }
-      else
-      {
-        reference = w;
-        steps = 0;
-      }
-      const double g = leadAt(mid, label, at);
-      if (at == label)
-      {
-        lo = mid;
-        gLo = g;
-        if (side == -1)
-          gHi *= 0.5; // Illinois: the end that stayed twice counts half
-        side = -1;
-      }
-      else
-      {
-        hi = mid;
-        gHi = g;
-        if (side == 1)
-          gLo *= 0.5;
-        side = 1;
-      }
-    }
-    return hi;
-  };
+  TrilinearWalk walk(dims_, index_.data(), ua, d);
   constexpr int kSamples = 4;
   double previousT = t0;
-  uint16_t previous = labelAt(t0);
+  uint16_t previous = walk.labelAt(t0);
   for (size_t p = 0; p + 1 < planes.size(); ++p)
   {
     const double a = planes[p], b = planes[p + 1];
     if (!(b > a))
       continue;
+    if (walk.uniformAt(0.5 * (a + b), previous))
     {
-      // a piece whose 8 voxel centres all carry the label we are in cannot change it
-      double f[3];
-      cornersAt(0.5 * (a + b), f);
-      if (cache.uniform && cache.idx[0] == previous)
-      {
-        previousT = b;
-        continue;
-      }
+      previousT = b; // all 8 voxel centres carry the label we are in: no change in this piece
+      continue;
     }
     for (int s = 1; s <= kSamples; ++s)
     {
       const double t = a + (b - a) * s / kSamples;
-      const uint16_t label = labelAt(t);
+      const uint16_t label = walk.labelAt(t);
       // every change between the previous sample and t (a few at most)
       for (int guard = 0; label != previous && guard < 8; ++guard)
       {
-        const double hi = lastOf(previous, previousT, t);
-        const uint16_t after = labelAt(hi);
-        if (ts.size() > ownFrom && hi - ts.back() <= 1e-12 * (1.0 + std::abs(hi)))
-        {
-          // Two changes within the tolerance: the label flickers where two labels tie along
-          // the segment (rounding decides). They are one change, or none if it comes back.
-          const uint16_t origin = labelsBefore.back();
-          ts.pop_back();
-          labelsBefore.pop_back();
-          if (origin != after)
-          {
-            ts.push_back(hi);
-            labelsBefore.push_back(origin);
-          }
-        }
-        else
-        {
-          ts.push_back(hi);
-          labelsBefore.push_back(previous);
-        }
+        const double hi = walk.lastOf(previous, previousT, t);
+        const uint16_t after = walk.labelAt(hi);
+        found.add(hi, previous, after);
         previous = after;
         previousT = hi;
       }
