@@ -538,7 +538,10 @@ TEST(OracleMesher, AutomaticConformingSliverAngleFollowsTheRadiusEdgeBounds)
   o.criteria.global.cellRadiusEdgeRatio = 2.0;
   EXPECT_EQ(effectiveConformingSliverAngle(o), kConformingSliverAngle);
   MeshCriteria tight = MeshCriteria::inheritAll();
-  tight.cellRadiusEdgeRatio = 1.1;
+  tight.cellRadiusEdgeRatio = 1.1; // the paper's bound: on
+  o.criteria.perMaterial[3] = tight;
+  EXPECT_EQ(effectiveConformingSliverAngle(o), kConformingSliverAngle);
+  tight.cellRadiusEdgeRatio = 1.05; // below it: not measured, off
   o.criteria.perMaterial[3] = tight;
   EXPECT_EQ(effectiveConformingSliverAngle(o), 0.0);
   o.conformingSliverAngle = 5.0; // a given angle is kept

@@ -45,11 +45,12 @@ struct MesherOptions
   /// circumcentre makes new slivers, and this bound alone, with circumcentres, ran the generated
   /// bone/implant cases at radius-edge 1.1 into the vertex budget. 0 = off (circumcentres, CGAL's
   /// point). < 0 = automatic (effectiveConformingSliverAngle): kConformingSliverAngle where every
-  /// material's radius-edge bound is at least kConformingSliverRadiusEdge, else off. Measured on 15
-  /// generated bone/implant cases: at radius-edge 1.3 and 2 every case ends above 8.7 degrees
-  /// before optimisation with 0.98-1.03x the tetrahedra; at 1.1, 14 of 15 do (0.45-1.28x), but the
-  /// implant face on a voxel boundary runs into the vertex budget (refinement converging onto one
-  /// point). Not covered by CGAL's termination guarantee: refinement also stops at the vertex budget.
+  /// material's radius-edge bound is at least kConformingSliverRadiusEdge (the paper's 1.1), else
+  /// off. Measured on generated bone/implant cases: at radius-edge 1.1 all 25 end above 8.7 degrees
+  /// before optimisation (71k-843k tetrahedra); at 1.3 and 2 all 15 do with 0.98-1.03x the
+  /// tetrahedra. An earlier state of the code ran one of them (an implant face on a voxel
+  /// boundary) into the vertex budget at 1.1: refinement at such bounds is not covered by a
+  /// termination guarantee, and the vertex budget still stops it (with a warning).
   double conformingSliverAngle = -1.0;
   /// Simplify and resample the feature lines before meshing (simplifyFeatureNetwork in
   /// FeatureNetworkSimplification.h), at h = the edge size (else the facet size, else 1/40 of the
@@ -118,7 +119,7 @@ struct MesherOptions
 /// The automatic conforming sliver angle (MesherOptions::conformingSliverAngle < 0): the paper's
 /// minimal angle, where every material's radius-edge bound is at least 1.3 (or none).
 constexpr double kConformingSliverAngle = 8.7;
-constexpr double kConformingSliverRadiusEdge = 1.3;
+constexpr double kConformingSliverRadiusEdge = 1.1;
 
 /// The conforming sliver angle a run with `options` gets, in degrees (0 = off).
 double effectiveConformingSliverAngle(const MesherOptions& options);
