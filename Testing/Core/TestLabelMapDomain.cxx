@@ -17,22 +17,30 @@ namespace
 {
 const std::array<double, 9> kIdentity{ 1, 0, 0, 0, 1, 0, 0, 0, 1 };
 
-/// 10 x 8 x 6 grid: label 1 in a block, label 2 in a smaller block, background 0 elsewhere.
-std::vector<int> blockLabels(const std::array<int, 3>& d)
+/// A d[0] x d[1] x d[2] label grid, x fastest: labelOf(i, j, k) for each voxel, in that order.
+template <typename LabelOf>
+std::vector<int> labelGrid(const std::array<int, 3>& d, LabelOf labelOf)
 {
-  std::vector<int> labels(static_cast<size_t>(d[0]) * d[1] * d[2], 0);
+  std::vector<int> labels;
+  labels.reserve(static_cast<size_t>(d[0]) * d[1] * d[2]);
   for (int k = 0; k < d[2]; ++k)
     for (int j = 0; j < d[1]; ++j)
       for (int i = 0; i < d[0]; ++i)
-      {
-        int l = 0;
-        if (i >= 2 && i < 8 && j >= 1 && j < 7 && k >= 1 && k < 5)
-          l = 1;
-        if (i >= 4 && i < 6 && j >= 3 && j < 5 && k >= 2 && k < 4)
-          l = 2;
-        labels[i + d[0] * (j + d[1] * k)] = l;
-      }
+        labels.push_back(labelOf(i, j, k));
   return labels;
+}
+
+/// 10 x 8 x 6 grid: label 1 in a block, label 2 in a smaller block, background 0 elsewhere.
+std::vector<int> blockLabels(const std::array<int, 3>& d)
+{
+  return labelGrid(d, [](int i, int j, int k) {
+    int l = 0;
+    if (i >= 2 && i < 8 && j >= 1 && j < 7 && k >= 1 && k < 5)
+      l = 1;
+    if (i >= 4 && i < 6 && j >= 3 && j < 5 && k >= 2 && k < 4)
+      l = 2;
+    return l;
+  });
 }
 }
 
@@ -132,11 +140,7 @@ TEST(LabelMapDomain, TrilinearBoundariesAreSmoothAndTheirCrossingsExact)
   // label 1 below the diagonal i + j < 20 of a 20 x 20 x 4 grid: a staircase for Nearest, close to
   // the plane x + y = 20 for Trilinear
   const std::array<int, 3> d{ 20, 20, 4 };
-  std::vector<int> labels(static_cast<size_t>(d[0]) * d[1] * d[2], 0);
-  for (int k = 0; k < d[2]; ++k)
-    for (int j = 0; j < d[1]; ++j)
-      for (int i = 0; i < d[0]; ++i)
-        labels[i + d[0] * (j + d[1] * k)] = i + j < 20 ? 1 : 0;
+  const std::vector<int> labels = labelGrid(d, [](int i, int j, int) { return i + j < 20 ? 1 : 0; });
   const AffineMap map = LabelMapDomain::cellCenteredWorldToVoxel({ 0, 0, 0 }, { 1, 1, 1 }, kIdentity);
   for (auto mode : { LabelInterpolation::Nearest, LabelInterpolation::Trilinear })
   {
@@ -338,18 +342,14 @@ TEST(LabelMapDomain, TrilinearAnswersAreThoseOfTheFirstImplementation)
   // random labels 0..3 in blobs, thin layers and single voxels: every kind of corner set
   const std::array<int, 3> d{ 17, 13, 11 };
   std::mt19937 rng(12);
-  std::vector<int> labels(static_cast<size_t>(d[0]) * d[1] * d[2]);
-  for (int k = 0; k < d[2]; ++k)
-    for (int j = 0; j < d[1]; ++j)
-      for (int i = 0; i < d[0]; ++i)
-      {
-        int l = (i - 8) * (i - 8) + (j - 6) * (j - 6) + 2 * (k - 5) * (k - 5) < 30 ? 1 : 0;
-        if (j == 4 || i == 10)
-          l = 2; // one-voxel layers
-        if (rng() % 13 == 0)
-          l = static_cast<int>(rng() % 4); // isolated voxels
-        labels[i + d[0] * (j + d[1] * k)] = 7 * l; // labels 0, 7, 14, 21
-      }
+  const std::vector<int> labels = labelGrid(d, [&](int i, int j, int k) {
+    int l = (i - 8) * (i - 8) + (j - 6) * (j - 6) + 2 * (k - 5) * (k - 5) < 30 ? 1 : 0;
+    if (j == 4 || i == 10)
+      l = 2; // one-voxel layers
+    if (rng() % 13 == 0)
+      l = static_cast<int>(rng() % 4); // isolated voxels
+    return 7 * l;                      // labels 0, 7, 14, 21
+  });
   const ReferenceTrilinear ref(d, labels, 0);
   const LabelMapDomain domain(d, labels, AffineMap(), 0, "random", LabelInterpolation::Trilinear);
   std::uniform_real_distribution<double> u(-1.0, 18.0);
@@ -380,16 +380,11 @@ TEST(LabelMapDomain, TrilinearCrossingsAreTheSameWhereBlocksOfOneLabelAreSkipped
   // mostly background (whole blocks of one label, which the walk skips), a ball and a one-voxel
   // layer: segments far from both, through them and along the layer give the reference's answers
   const std::array<int, 3> d{ 40, 36, 33 };
-  std::vector<int> labels(static_cast<size_t>(d[0]) * d[1] * d[2], 0);
-  for (int k = 0; k < d[2]; ++k)
-    for (int j = 0; j < d[1]; ++j)
-      for (int i = 0; i < d[0]; ++i)
-      {
-        int l = (i - 10) * (i - 10) + (j - 10) * (j - 10) + (k - 10) * (k - 10) < 36 ? 5 : 0;
-        if (i == 30)
-          l = 9;
-        labels[i + d[0] * (j + d[1] * k)] = l;
-      }
+  const std::vector<int> labels = labelGrid(d, [](int i, int j, int k) {
+    if (i == 30)
+      return 9; // a one-voxel layer
+    return (i - 10) * (i - 10) + (j - 10) * (j - 10) + (k - 10) * (k - 10) < 36 ? 5 : 0;
+  });
   const ReferenceTrilinear ref(d, labels, 0);
   const LabelMapDomain domain(d, labels, AffineMap(), 0, "sparse", LabelInterpolation::Trilinear);
   std::mt19937 rng(3);
