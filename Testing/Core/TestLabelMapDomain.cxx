@@ -337,6 +337,21 @@ struct ReferenceTrilinear
 };
 }
 
+namespace
+{
+/// The domain's crossings of a-b (into ts) are the reference's to the search's tolerance: the
+/// reference bisects, the domain interpolates.
+void expectSameCrossings(const LabelMapDomain& domain, const ReferenceTrilinear& ref, const Vec3& a, const Vec3& b,
+  std::vector<double>& ts)
+{
+  domain.crossings(a, b, ts);
+  const std::vector<double> expected = ref.crossings(a, b);
+  ASSERT_EQ(ts.size(), expected.size());
+  for (size_t i = 0; i < ts.size(); ++i)
+    ASSERT_NEAR(ts[i], expected[i], 4e-12 * (1.0 + std::abs(expected[i]))) << "crossing " << i;
+}
+}
+
 TEST(LabelMapDomain, TrilinearAnswersAreThoseOfTheFirstImplementation)
 {
   // random labels 0..3 in blobs, thin layers and single voxels: every kind of corner set
@@ -364,12 +379,7 @@ TEST(LabelMapDomain, TrilinearAnswersAreThoseOfTheFirstImplementation)
     if (n % 7 == 0)
       b.z = a.z; // in a plane of the grid
     std::vector<double> ts;
-    domain.crossings(a, b, ts);
-    // the same crossings to the search's tolerance (the reference bisects; the domain interpolates)
-    const std::vector<double> expected = ref.crossings(a, b);
-    ASSERT_EQ(ts.size(), expected.size()) << "segment " << n;
-    for (size_t i = 0; i < ts.size(); ++i)
-      ASSERT_NEAR(ts[i], expected[i], 4e-12 * (1.0 + std::abs(expected[i]))) << "segment " << n << " crossing " << i;
+    ASSERT_NO_FATAL_FAILURE(expectSameCrossings(domain, ref, a, b, ts)) << "segment " << n;
     crossings += ts.size();
   }
   EXPECT_GT(crossings, 20000u); // the segments did cross labels
@@ -395,11 +405,7 @@ TEST(LabelMapDomain, TrilinearCrossingsAreTheSameWhereBlocksOfOneLabelAreSkipped
     const Vec3 a{ u(rng), u(rng) * 36.0 / 40.0, u(rng) * 33.0 / 40.0 };
     const Vec3 b = a + Vec3{ step(rng), step(rng), n % 5 == 0 ? 0.0 : step(rng) };
     std::vector<double> ts;
-    domain.crossings(a, b, ts);
-    const std::vector<double> expected = ref.crossings(a, b);
-    ASSERT_EQ(ts.size(), expected.size()) << "segment " << n;
-    for (size_t i = 0; i < ts.size(); ++i)
-      ASSERT_NEAR(ts[i], expected[i], 4e-12 * (1.0 + std::abs(expected[i]))) << "segment " << n << " crossing " << i;
+    ASSERT_NO_FATAL_FAILURE(expectSameCrossings(domain, ref, a, b, ts)) << "segment " << n;
     crossings += ts.size() > 2 ? ts.size() - 2 : 0;
     quiet += ts.size() == 2 ? 1 : 0;
   }

@@ -66,6 +66,15 @@ MesherOptions options(FeatureStrategy s, double cellSize)
   o.seed = 7;
   return o;
 }
+
+/// The smallest dihedral angle of the mesh's tetrahedra (degrees).
+double worstTet(const TetMesh& m)
+{
+  double worst = 180.0;
+  for (const auto& t : m.tets)
+    worst = std::min(worst, minDihedralAngle(m.points[t[0]], m.points[t[1]], m.points[t[2]], m.points[t[3]]));
+  return worst;
+}
 }
 
 TEST(OracleMesher, SphereAndBoxVolumesWithinTwoPercent)
@@ -478,12 +487,6 @@ TEST(OracleMesher, SliversAreRefinedBeforeOptimisation)
   HierarchicalOracle o;
   o.add(std::make_shared<SphereDomain>(Vec3{ 0, 0, 0 }, 1.0, 1));
   o.add(std::make_shared<BoxDomain>(Vec3{ -0.5, -0.5, -2 }, Vec3{ 0.5, 0.5, -0.5 }, 2));
-  auto worstTet = [](const TetMesh& m) {
-    double worst = 180.0;
-    for (const auto& t : m.tets)
-      worst = std::min(worst, minDihedralAngle(m.points[t[0]], m.points[t[1]], m.points[t[2]], m.points[t[3]]));
-    return worst;
-  };
   MesherOptions opt = options(FeatureStrategy::Conforming, 0.2);
   opt.perturb = opt.exude = false;
   opt.sliverAngle = 0.0;
@@ -505,12 +508,6 @@ TEST(OracleMesher, PickedRefinementPointsBoundTheAnglesBeforeOptimisation)
   o.add(std::make_shared<BoxDomain>(Vec3{ -0.5, -0.5, -0.5 }, Vec3{ 0.5, 0.5, 0.5 }, 2));
   o.add(std::make_shared<SphereDomain>(Vec3{ 0.1, 0.05, 0 }, 1.2, 1));
   const FeatureSegments edges = cubeEdges(-0.5, 0.5);
-  auto worstTet = [](const TetMesh& m) {
-    double worst = 180.0;
-    for (const auto& t : m.tets)
-      worst = std::min(worst, minDihedralAngle(m.points[t[0]], m.points[t[1]], m.points[t[2]], m.points[t[3]]));
-    return worst;
-  };
   MesherOptions opt = options(FeatureStrategy::Conforming, 0.3);
   opt.criteria.global.cellRadiusEdgeRatio = 1.1;
   opt.criteria.global.edgeSize = 0.2;
