@@ -1035,16 +1035,17 @@ private:
   }
 
   /// CGAL's exuder changes weights, which can flip a sub-segment out of the (regular)
-  /// triangulation: it is undone when it would break a segment the refinement kept. The complex
-  /// from before it is kept as a compact record (ComplexSnapshot.h), not as a copy: a copy of the
-  /// triangulation was the run's peak memory.
+  /// triangulation, and stopped at its step budget it can leave a cell flatter than any before it
+  /// (a flat tetrahedron on the CAD part at 2M): it is undone when it would break a segment the
+  /// refinement kept or lower the smallest dihedral angle. The complex from before it is kept as a
+  /// compact record (ComplexSnapshot.h), not as a copy: a copy of the triangulation was the run's
+  /// peak memory.
   void exudeKeepingSegments()
   {
     report(0.8, "exudation");
-    std::optional<ComplexSnapshot<C3t3>> kept;
     const size_t missingBefore = conforming_ ? segments_->countNotEdges() : 0;
-    if (conforming_)
-      kept.emplace(*c3t3_);
+    const double worstBefore = complexMinAngle(*c3t3_);
+    std::optional<ComplexSnapshot<C3t3>> kept(std::in_place, *c3t3_);
     // The budget also ends CGAL's exuder where it cycles (seen next to protecting balls); it stops
     // between two cells, where the mesh is consistent. Without a budget, 10 pumps per cell still
     // end a cycle.
@@ -1053,18 +1054,24 @@ private:
     size_t checks = 0;
     exuded_ = exude(*c3t3_, optLimit_, max, options_.exudationSliverBound,
       [&] { report(0.8 + 0.18 * phaseProgress(256 * ++checks, max), "exudation"); }, deadline_);
-    if (!conforming_)
-      return;
-    segments_->locateVertices(); // the exuder re-creates vertices: find the segment points again
-    const size_t missing = segments_->countNotEdges();
+    if (conforming_)
+      segments_->locateVertices(); // the exuder re-creates vertices: find the segment points again
+    const size_t missing = conforming_ ? segments_->countNotEdges() : 0;
     const size_t broken = missing > missingBefore ? missing - missingBefore : 0;
-    if (broken == 0 && !options_.undoExudationForTesting)
+    const double worstAfter = complexMinAngle(*c3t3_);
+    if (broken == 0 && worstAfter >= worstBefore && !options_.undoExudationForTesting)
       return;
     const auto lost = kept->restore(*c3t3_);
     kept.reset();
-    segments_->locateVertices(); // the restored vertices are new ones
-    warnings_.push_back("exudation undone: it would have removed " + std::to_string(broken) +
-      " constrained sub-segments from the mesh");
+    if (conforming_)
+      segments_->locateVertices(); // the restored vertices are new ones
+    std::ostringstream why;
+    if (broken)
+      why << "it would have removed " << broken << " constrained sub-segments from the mesh";
+    else
+      why << "it would have lowered the smallest dihedral angle from " << worstBefore << " to " << worstAfter
+          << " degrees";
+    warnings_.push_back("exudation undone: " + why.str());
     if (lost.any()) // not seen: the rebuilt triangulation is the one recorded (ComplexSnapshot.h)
       warnings_.push_back("exudation undone, but the mesh from before it came back incomplete (" +
         std::to_string(lost.vertices) + " vertices, " + std::to_string(lost.cells) + " tetrahedra, " +
