@@ -47,13 +47,6 @@ FeatureSegments noisyNetwork(double step, unsigned seed)
   return f;
 }
 
-double distanceToSegment(const Vec3& p, const Vec3& a, const Vec3& b)
-{
-  const Vec3 ab = b - a;
-  const double t = std::clamp(dot(p - a, ab) / dot(ab, ab), 0.0, 1.0);
-  return norm(p - (a + t * ab));
-}
-
 bool isInputPoint(const FeatureSegments& input, const Vec3& p)
 {
   return std::any_of(input.points.begin(), input.points.end(), [&](const Vec3& q) { return norm(p - q) == 0.0; });

@@ -38,13 +38,6 @@ FeatureSegments noisyCircle(int n, double radius, double noise)
   }
   return f;
 }
-
-double distanceToSegment(const Vec3& p, const Vec3& a, const Vec3& b)
-{
-  const Vec3 ab = b - a;
-  const double t = std::clamp(dot(p - a, ab) / dot(ab, ab), 0.0, 1.0);
-  return norm(p - (a + t * ab));
-}
 }
 
 // The claims: kept points are input points; every input point lies within the tolerance of the

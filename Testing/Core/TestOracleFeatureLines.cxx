@@ -25,6 +25,26 @@ using namespace omesh;
 
 namespace
 {
+/// Meshes the selection and expects a valid mesh with every piece of the lines as mesh edges.
+void expectMeshedWithEveryLine(const HierarchicalOracle& oracle, const FeatureSelection& selection, const MaterialCriteria& criteria)
+{
+  MesherOptions options;
+  options.criteria = criteria;
+  options.seed = 1;
+  const TetMesh mesh = meshOracle(oracle, selection.segments, {}, options);
+  ASSERT_FALSE(mesh.tets.empty());
+  ASSERT_FALSE(mesh.segments.empty());
+  double present = 0.0, total = 0.0;
+  for (const auto& s : mesh.segments)
+  {
+    const double l = norm(s.b - s.a);
+    total += l;
+    present += s.present ? l : 0.0;
+  }
+  EXPECT_EQ(present, total) << "coverage " << 100.0 * present / total << "%";
+  EXPECT_TRUE(checkMeshValidity(mesh).valid());
+}
+
 const std::array<double, 9> kIdentity{ 1, 0, 0, 0, 1, 0, 0, 0, 1 };
 
 double lineLength(const FeatureLines& f, const FeatureLine& l)
@@ -33,14 +53,6 @@ double lineLength(const FeatureLines& f, const FeatureLine& l)
   for (size_t k = 0; k + 1 < l.points.size(); ++k)
     length += norm(f.segments.points[l.points[k + 1]] - f.segments.points[l.points[k]]);
   return length;
-}
-
-/// Distance from p to segment ab.
-double toSegment(const Vec3& p, const Vec3& a, const Vec3& b)
-{
-  const Vec3 d = b - a;
-  const double t = std::clamp(dot(p - a, d) / dot(d, d), 0.0, 1.0);
-  return norm(p - (a + t * d));
 }
 
 /// A label map of voxels of size 1 from (0, 0, 0), one label per voxel from `label(i, j, k)`.
@@ -64,7 +76,7 @@ void expectKnownSegments(const FeatureLines& f, const std::vector<std::array<Vec
   {
     double nearest = 1e300;
     for (const auto& s : known)
-      nearest = std::min(nearest, toSegment(p, s[0], s[1]));
+      nearest = std::min(nearest, distanceToSegment(p, s[0], s[1]));
     EXPECT_LT(nearest, 1e-6) << "point (" << p.x << ", " << p.y << ", " << p.z << ") is on no known line";
   }
   for (const auto& s : known)
@@ -75,7 +87,7 @@ void expectKnownSegments(const FeatureLines& f, const std::vector<std::array<Vec
     {
       const Vec3 x = lerp(s[0], s[1], (k + 0.5) / 100);
       for (const auto& seg : f.segments.segments)
-        if (toSegment(x, f.segments.points[seg[0]], f.segments.points[seg[1]]) < 1e-6)
+        if (distanceToSegment(x, f.segments.points[seg[0]], f.segments.points[seg[1]]) < 1e-6)
         {
           ++near;
           break;
@@ -399,14 +411,7 @@ TEST(OracleFeatureLines, TrayOnTheCutPlaneHasOneRimAndMeshesWithAutomaticLines)
     EXPECT_TRUE(o.materials[1] == 1 || o.materials[1] == 3);
   }
 
-  MesherOptions options;
-  options.criteria = criteria;
-  options.seed = 1;
-  const TetMesh mesh = meshOracle(oracle, selection.segments, {}, options);
-  ASSERT_FALSE(mesh.tets.empty());
-  for (const auto& s : mesh.segments)
-    EXPECT_TRUE(s.present);
-  EXPECT_TRUE(checkMeshValidity(mesh).valid());
+  expectMeshedWithEveryLine(oracle, selection, criteria);
 }
 
 TEST(OracleFeatureLines, GivenRimFoundAgainLeavesNoPointBesideItAndMeshes)
@@ -437,18 +442,11 @@ TEST(OracleFeatureLines, GivenRimFoundAgainLeavesNoPointBesideItAndMeshes)
     EXPECT_GT(uses[p], 0) << "point " << p << " is on no segment";
     for (const auto& s : f.segments)
       if (s[0] != int(p) && s[1] != int(p))
-        EXPECT_GT(toSegment(f.points[p], f.points[s[0]], f.points[s[1]]), tiny)
+        EXPECT_GT(distanceToSegment(f.points[p], f.points[s[0]], f.points[s[1]]), tiny)
           << "point (" << f.points[p].x << ", " << f.points[p].y << ", " << f.points[p].z << ") lies on a segment it does not end";
   }
 
-  MesherOptions options;
-  options.criteria = criteria;
-  options.seed = 1;
-  const TetMesh mesh = meshOracle(oracle, f, {}, options);
-  ASSERT_FALSE(mesh.tets.empty());
-  for (const auto& s : mesh.segments)
-    EXPECT_TRUE(s.present);
-  EXPECT_TRUE(checkMeshValidity(mesh).valid());
+  expectMeshedWithEveryLine(oracle, both, criteria);
 }
 
 TEST(OracleFeatureLines, CurvesCrossingAtASmallAngleMeetOnceWithoutFolds)
@@ -578,29 +576,10 @@ double nearestEdge(const Vec3& p, const std::vector<std::array<Vec3, 2>>& edges)
 {
   double nearest = 1e300;
   for (const auto& e : edges)
-    nearest = std::min(nearest, toSegment(p, e[0], e[1]));
+    nearest = std::min(nearest, distanceToSegment(p, e[0], e[1]));
   return nearest;
 }
 
-/// Meshes the selection and expects a valid mesh with every piece of the lines as mesh edges.
-void expectMeshedWithEveryLine(const HierarchicalOracle& oracle, const FeatureSelection& selection, const MaterialCriteria& criteria)
-{
-  MesherOptions options;
-  options.criteria = criteria;
-  options.seed = 1;
-  const TetMesh mesh = meshOracle(oracle, selection.segments, {}, options);
-  ASSERT_FALSE(mesh.tets.empty());
-  ASSERT_FALSE(mesh.segments.empty());
-  double present = 0.0, total = 0.0;
-  for (const auto& s : mesh.segments)
-  {
-    const double l = norm(s.b - s.a);
-    total += l;
-    present += s.present ? l : 0.0;
-  }
-  EXPECT_EQ(present, total) << "coverage " << 100.0 * present / total << "%";
-  EXPECT_TRUE(checkMeshValidity(mesh).valid());
-}
 }
 
 TEST(OracleFeatureLines, ABoxAloneGivesItsTwelveEdgesAndTheMeshKeepsThem)
@@ -788,7 +767,7 @@ TEST(OracleFeatureLines, TheCreaseAngleSelectsWhichEdgesOfASurfaceAreFound)
     for (const auto& sg : f.segments.segments)
     {
       const Vec3 m = 0.5 * (f.segments.points[sg[0]] + f.segments.points[sg[1]]);
-      if (std::min(toSegment(m, chamferA[0], chamferA[1]), toSegment(m, chamferB[0], chamferB[1])) < 1e-9)
+      if (std::min(distanceToSegment(m, chamferA[0], chamferA[1]), distanceToSegment(m, chamferB[0], chamferB[1])) < 1e-9)
         ++onChamfer;
     }
     EXPECT_EQ(onChamfer > 0, k.chamfer);

@@ -265,15 +265,6 @@ std::vector<std::string> FeatureSegments::validate(const HierarchicalOracle& ora
 
 namespace
 {
-/// Distance from p to the segment ab.
-double distanceToSegment(const Vec3& p, const Vec3& a, const Vec3& b)
-{
-  const Vec3 ab = b - a;
-  const double len2 = dot(ab, ab);
-  const double t = len2 > 0 ? std::clamp(dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
-  return norm(p - (a + t * ab));
-}
-
 /// Greedy sleeve: from each kept point, the farthest next point whose chord holds every point in
 /// between within the tolerance and is not longer than maxLength (at least the next point).
 std::vector<int> simplifyChain(const std::vector<Vec3>& pts, const std::vector<int>& chain, double maxLength,

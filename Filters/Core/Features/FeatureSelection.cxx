@@ -66,9 +66,7 @@ void shareCrossings(const HierarchicalOracle& oracle, FeatureSegments& given, Fe
       double nearest = reach;
       for (size_t s = 0; s < A.segments.size(); ++s)
       {
-        const Vec3 a = A.points[A.segments[s][0]], d = A.points[A.segments[s][1]] - a;
-        const double u = std::clamp(dot(x - a, d) / dot(d, d), 0.0, 1.0);
-        const double dist = norm(x - (a + u * d));
+        const double dist = distanceToSegment(x, A.points[A.segments[s][0]], A.points[A.segments[s][1]]);
         if (dist < nearest)
         {
           nearest = dist;
@@ -106,15 +104,6 @@ void shareCrossings(const HierarchicalOracle& oracle, FeatureSegments& given, Fe
   given.segments = std::move(split);
 }
 
-/// Distance from x to the segment ab, and the parameter of the nearest point.
-std::pair<double, double> toSegment(const Vec3& x, const Vec3& a, const Vec3& b)
-{
-  const Vec3 d = b - a;
-  const double dd = dot(d, d);
-  const double t = dd > 0 ? std::clamp(dot(x - a, d) / dd, 0.0, 1.0) : 0.0;
-  return { norm(x - (a + t * d)), t };
-}
-
 /// Automatic curves that run along given lines (the tray's bottom rim, a sharp edge of the implant,
 /// is also where implant, bone and the cut meet) would be near-duplicate segments the segment level
 /// splits without end: those within `eps` of the given lines all along are dropped, and the ends of
@@ -128,7 +117,7 @@ std::size_t dropAutomaticAlongGiven(FeatureSegments& f, std::size_t& firstAutoma
   auto nearestGiven = [&](const Vec3& x) {
     std::pair<double, int> best{ HUGE_VAL, -1 };
     for (size_t g = 0; g < given.size(); ++g)
-      best = std::min(best, { toSegment(x, f.points[given[g][0]], f.points[given[g][1]]).first, static_cast<int>(g) });
+      best = std::min(best, { distanceToSegment(x, f.points[given[g][0]], f.points[given[g][1]]), static_cast<int>(g) });
     return best;
   };
   std::size_t dropped = 0;
@@ -163,7 +152,7 @@ std::size_t dropAutomaticAlongGiven(FeatureSegments& f, std::size_t& firstAutoma
       remap[v] = norm(f.points[g0] - x) <= norm(f.points[g1] - x) ? g0 : g1;
       continue;
     }
-    const auto [unused, t] = toSegment(x, f.points[g0], f.points[g1]);
+    const double t = segmentParameter(x, f.points[g0], f.points[g1]);
     f.points[v] = lerp(f.points[g0], f.points[g1], t); // onto the given line, which stays straight
     given[g] = { g0, v };
     given.push_back({ v, g1 });
@@ -445,7 +434,7 @@ void labelOrigins(FeatureSelection& out, const FeatureSegments& given)
     const FeatureLine* line = nullptr;
     for (const FeatureLine& l : out.automatic.lines)
       for (size_t k = 0; k + 1 < l.points.size(); ++k)
-        if (const double d = toSegment(m, A[l.points[k]], A[l.points[k + 1]]).first; d < nearest)
+        if (const double d = distanceToSegment(m, A[l.points[k]], A[l.points[k + 1]]); d < nearest)
         {
           nearest = d;
           line = &l;
@@ -455,7 +444,7 @@ void labelOrigins(FeatureSelection& out, const FeatureSegments& given)
     bool closerToGiven = false;
     for (size_t g = 0; g < given.segments.size() && !closerToGiven; ++g)
       // on both to rounding (a box's edge given by hand and found as its crease): given
-      closerToGiven = toSegment(m, given.points[given.segments[g][0]], given.points[given.segments[g][1]]).first <=
+      closerToGiven = distanceToSegment(m, given.points[given.segments[g][0]], given.points[given.segments[g][1]]) <=
         nearest + 1e-9 * out.automatic.spacing;
     if (closerToGiven)
       continue;
@@ -471,7 +460,7 @@ int FeatureSelection::nearestSegment(const Vec3& x) const
   int best = -1;
   double nearest = HUGE_VAL;
   for (size_t s = 0; s < segments.segments.size(); ++s)
-    if (const double d = toSegment(x, segments.points[segments.segments[s][0]], segments.points[segments.segments[s][1]]).first;
+    if (const double d = distanceToSegment(x, segments.points[segments.segments[s][0]], segments.points[segments.segments[s][1]]);
         d < nearest)
     {
       nearest = d;

@@ -847,9 +847,7 @@ private:
     double nearest = reach;
     for (size_t s = 0; s < S.segments.size(); ++s)
     {
-      const Vec3 a = S.points[S.segments[s][0]], d = S.points[S.segments[s][1]] - a;
-      const double u = dot(d, d) > 0 ? std::clamp(dot(x - a, d) / dot(d, d), 0.0, 1.0) : 0.0;
-      if (const double dist = norm(x - (a + u * d)); dist < nearest)
+      if (const double dist = distanceToSegment(x, S.points[S.segments[s][0]], S.points[S.segments[s][1]]); dist < nearest)
       {
         nearest = dist;
         best = static_cast<int>(s);

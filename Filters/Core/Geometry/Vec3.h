@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 
 namespace omesh
@@ -40,5 +41,17 @@ inline bool isFinite(const Vec3& a)
 inline Vec3 lerp(const Vec3& a, const Vec3& b, double t)
 {
   return t <= 0.5 ? a + t * (b - a) : b + (1.0 - t) * (a - b);
+}
+/// Parameter in [0, 1] of the point of segment ab nearest to p (0 for a degenerate segment).
+inline double segmentParameter(const Vec3& p, const Vec3& a, const Vec3& b)
+{
+  const Vec3 d = b - a;
+  const double dd = dot(d, d);
+  return dd > 0 ? std::clamp(dot(p - a, d) / dd, 0.0, 1.0) : 0.0;
+}
+/// Distance from p to segment ab.
+inline double distanceToSegment(const Vec3& p, const Vec3& a, const Vec3& b)
+{
+  return norm(p - (a + segmentParameter(p, a, b) * (b - a)));
 }
 }

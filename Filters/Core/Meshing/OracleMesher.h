@@ -87,9 +87,9 @@ struct MesherOptions
   /// Seconds for each of perturb and exude: 0 = no limit (the default: a limit makes the mesh
   /// depend on the machine's speed), < 0 = stock CGAL's default (the refinement's running time).
   double optimisationTimeLimit = 0.0;
-  /// For tests only (no door sets it): undo the exudation of a Conforming run with feature lines
-  /// as if it had broken a segment, to check that the undo gives back the mesh from before it
-  /// (real inputs rarely take that path).
+  /// For tests only (no door sets it): undo the exudation as if it had broken a segment or lowered
+  /// the smallest angle, to check that the undo gives back the mesh from before it (real inputs
+  /// rarely take that path).
   bool undoExudationForTesting = false;
   /// 1: 4-node tetrahedra; 2: 10-node tetrahedra whose mid-edge nodes on interfaces lie on the
   /// oracle's surfaces (makeQuadraticTets in QuadraticTets.h). meshOracle makes the linear mesh either
@@ -117,7 +117,7 @@ struct MesherOptions
 };
 
 /// The automatic conforming sliver angle (MesherOptions::conformingSliverAngle < 0): the paper's
-/// minimal angle, where every material's radius-edge bound is at least 1.3 (or none).
+/// minimal angle, where every material's radius-edge bound is at least the paper's 1.1 (or none).
 constexpr double kConformingSliverAngle = 8.7;
 constexpr double kConformingSliverRadiusEdge = 1.1;
 

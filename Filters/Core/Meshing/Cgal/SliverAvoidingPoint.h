@@ -25,7 +25,8 @@ namespace omesh::cgal
 constexpr int kPickingCandidates = 16;
 constexpr double kPickingRadius = 0.2;
 
-/// How a cell's refinement point is chosen (MesherOptions::refinementPointCandidates and friends).
+/// How a cell's refinement point is chosen (from MesherOptions::conformingSliverAngle and the
+/// constants above: OracleMesher's pickingRegion).
 struct PickingRegion
 {
   int candidates = 0;       ///< points tried besides the circumcentre; 0 = the circumcentre (CGAL's)
