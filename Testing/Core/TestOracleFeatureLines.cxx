@@ -25,6 +25,15 @@ using namespace omesh;
 
 namespace
 {
+/// The rim of a tray from lo to hi on the plane z = 0, one segment per side.
+FeatureSegments trayRim(const Vec3& lo, const Vec3& hi)
+{
+  FeatureSegments rim;
+  rim.points = { { lo.x, lo.y, 0 }, { hi.x, lo.y, 0 }, { hi.x, hi.y, 0 }, { lo.x, hi.y, 0 } };
+  rim.segments = { { 0, 1 }, { 1, 2 }, { 2, 3 }, { 3, 0 } };
+  return rim;
+}
+
 /// Meshes the selection and expects a valid mesh with every piece of the lines as mesh edges.
 void expectMeshedWithEveryLine(const HierarchicalOracle& oracle, const FeatureSelection& selection, const MaterialCriteria& criteria)
 {
@@ -423,9 +432,7 @@ TEST(OracleFeatureLines, GivenRimFoundAgainLeavesNoPointBesideItAndMeshes)
   // on the demo's rim chord).
   const Vec3 lo{ -0.5, -0.35, 0 }, hi{ 0.5, 0.35, 0.2 };
   HierarchicalOracle oracle = trayOnCutPlane(lo, hi, 0.74);
-  FeatureSegments given;
-  given.points = { { lo.x, lo.y, 0 }, { hi.x, lo.y, 0 }, { hi.x, hi.y, 0 }, { lo.x, hi.y, 0 } };
-  given.segments = { { 0, 1 }, { 1, 2 }, { 2, 3 }, { 3, 0 } };
+  FeatureSegments given = trayRim(lo, hi);
   MaterialCriteria criteria;
   criteria.global = { 25.0, 0.15, 0.02, 0.15, 3.0, 0.1 }; // angle, facet size, distance, cell size, radius-edge, edge
   const FeatureSelection both = selectFeatures(oracle, given, FeatureSource::Both, criteria);
@@ -514,9 +521,7 @@ TEST(OracleFeatureLines, BothKeepsTheGivenLinesOwnEdgeSizesThroughTheSelection)
   // one entry per segment (FeatureSegments' invariant), and the lines validate.
   const Vec3 lo{ -0.5, -0.42, 0 }, hi{ 0.5, 0.42, 0.2 };
   HierarchicalOracle oracle = trayOnCutPlane(lo, hi, 0.6);
-  FeatureSegments given;
-  given.points = { { lo.x, lo.y, 0 }, { hi.x, lo.y, 0 }, { hi.x, hi.y, 0 }, { lo.x, hi.y, 0 } };
-  given.segments = { { 0, 1 }, { 1, 2 }, { 2, 3 }, { 3, 0 } };
+  FeatureSegments given = trayRim(lo, hi);
   const std::vector<std::optional<double>> sideSize{ 0.05, std::nullopt, 0.07, 0.0 };
   given.edgeSizes = sideSize;
   MaterialCriteria criteria;
