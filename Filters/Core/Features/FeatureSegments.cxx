@@ -57,6 +57,22 @@ std::vector<bool> FeatureSegments::starVertices() const
   return star;
 }
 
+std::vector<bool> FeatureSegments::starVerticesBelowRightAngle() const
+{
+  const auto inc = incidence(*this);
+  std::vector<bool> star = starVertices();
+  for (size_t v = 0; v < points.size(); ++v)
+    if (inc[v].size() == 2)
+    {
+      const auto& s = segments[inc[v][0]];
+      const auto& t = segments[inc[v][1]];
+      const int p = s[0] == int(v) ? s[1] : s[0];
+      const int q = t[0] == int(v) ? t[1] : t[0];
+      star[v] = angleAt(points[v], points[p], points[q]) < 90.0;
+    }
+  return star;
+}
+
 double FeatureSegments::smallestAngle() const
 {
   const auto inc = incidence(*this);

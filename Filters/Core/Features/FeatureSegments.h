@@ -42,6 +42,10 @@ struct FeatureSegments
 
   /// Points that end at least two segments (the paper's star vertices).
   std::vector<bool> starVertices() const;
+  /// The star vertices less those where exactly two segments meet at 90 degrees or more (a vertex
+  /// inside a polyline that samples a smooth curve): no point of either segment lies in the other's
+  /// diametral ball, so their splits cannot encroach each other there and T1.1's trim buys nothing.
+  std::vector<bool> starVerticesBelowRightAngle() const;
 
   /// Smallest angle (degrees) between two segments sharing a vertex; 180 if none share one.
   double smallestAngle() const;

@@ -698,7 +698,8 @@ private:
       return;
     const size_t budget = options_.maximumNumberOfVertices ? options_.maximumNumberOfVertices : 1000000;
     conformed_ =
-      conformSegments(*features_, edgeSizes_, budget, warnings_, [this] { deadline_.tick("feature-line conformation"); });
+      conformSegments(*features_, edgeSizes_, budget, warnings_, [this] { deadline_.tick("feature-line conformation"); },
+        options_.trimAtEveryStarVertex);
     domain_->avoidInitialPointsNear(conformed_.points);
   }
 

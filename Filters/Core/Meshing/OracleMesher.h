@@ -60,6 +60,14 @@ struct MesherOptions
   /// feature lines made of many tiny noisy segments (sharp edges of scanned surfaces); the scene
   /// files turn it on for sharp edges found on a surface. Statistics feature_network.*.
   bool resampleFeatureLines = false;
+  /// Conforming: rule T1.1 trims at every star vertex (true, the paper's rule), or not where
+  /// exactly two segments meet at 90 degrees or more (false: FeatureSegments::
+  /// starVerticesBelowRightAngle). A found curve is a polyline whose every vertex is a star vertex:
+  /// the trims cut each chord in three and made the extra tetrahedra of Automatic (1.2-1.6x on the
+  /// fidelity scenes, 1.0-1.05x without; README "Feature lines where inputs meet"). Not a door of
+  /// its own: the VTK filter turns it off when it searches for lines (Features Automatic or Both);
+  /// Given keeps the paper's rule and its meshes.
+  bool trimAtEveryStarVertex = true;
   /// Tetrahedra with at least three vertices on interfaces or feature lines and a minimal dihedral angle
   /// below this (degrees) are refined like bad cells: the optimisers cannot fix them. 0 = off.
   /// Below radius-edge 1.2 only those with a circumradius of at least 1/8 of their material's cell
