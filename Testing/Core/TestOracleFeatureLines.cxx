@@ -138,6 +138,37 @@ TEST(OracleFeatureLines, CutPlaneRimOnASphereIsTheCircle)
   EXPECT_TRUE(f.smallAngles.empty());
 }
 
+// The chords keep within the tolerance of the curve itself, not only of the points found on it
+// (the curve bulges between them): each chord's sagitta on the rim's circle is within the
+// tolerance, so no chord is longer than the bound sqrt(8 R tolerance).
+TEST(OracleFeatureLines, RimChordsKeepWithinTheToleranceOfTheCircle)
+{
+  const Vec3 c{ 0.1, 0.2, 0.3 };
+  const double r = 1.0, cutAt = 0.65;
+  HierarchicalOracle oracle;
+  auto cut = std::make_shared<HalfSpaceDomain>(Vec3{ 0, 0, cutAt }, Vec3{ 0, 0, -1 }, 0, "cut");
+  cut->setCut(true);
+  oracle.add(cut);
+  oracle.add(std::make_shared<SphereDomain>(c, r, 1, "ball"));
+  FeatureLineOptions options;
+  options.maxSegmentLength = 0.6;
+  options.tolerance = 0.004;
+  options.spacing = 0.1; // found points about a grid step apart: the circle bulges 1e-3 between them
+  const FeatureLines f = findFeatureLines(oracle, options);
+  ASSERT_EQ(f.lines.size(), 1u);
+  const double rimRadius = std::sqrt(r * r - (cutAt - c.z) * (cutAt - c.z));
+  const Vec3 centre{ c.x, c.y, cutAt };
+  double longest = 0.0;
+  for (size_t s = 0; s < f.segments.segments.size(); ++s)
+  {
+    const Vec3 mid = 0.5 * (f.segments.points[f.segments.segments[s][0]] + f.segments.points[f.segments.segments[s][1]]);
+    EXPECT_LE(rimRadius - norm(mid - centre), options.tolerance * (1 + 1e-9)) << "chord " << s;
+    longest = std::max(longest, f.segments.length(s));
+  }
+  EXPECT_LE(longest, std::sqrt(8 * rimRadius * options.tolerance) * (1 + 1e-9));
+  EXPECT_GT(longest, 0.5 * std::sqrt(8 * rimRadius * options.tolerance)); // not a staircase of tiny chords
+}
+
 TEST(OracleFeatureLines, MaterialAloneHidesTheRimAndTheDomainOrderShowsIt)
 {
   // The same sphere with the plane first as a material: three materials meet at the rim.

@@ -103,3 +103,55 @@ TEST(SegmentConformation, SmallAngleClustersShareTheirShells)
   }
   EXPECT_NE(distances(3, 0.4), distances(0, 0.4)); // the wide one is on its own
 }
+
+// T1.1 below a right angle only (MesherOptions::trimAtEveryStarVertex false): a polyline sampling
+// an arc keeps its chords whole (no segment point can lie in a neighbour's diametral ball across
+// an angle of 90 degrees or more), while the apex of a 60-degree corner and a vertex of three
+// segments are still trimmed; nothing is left encroached either way. The paper's rule trims every
+// vertex that ends two segments.
+TEST(SegmentConformation, ChainVerticesAtRightAnglesOrMoreAreNotTrimmed)
+{
+  FeatureSegments f;
+  const int arc = 12; // points 0..12 on a circle of radius 2, 10 degrees apart
+  for (int k = 0; k <= arc; ++k)
+    f.points.push_back(2.0 * Vec3{ std::cos(k * M_PI / 18), std::sin(k * M_PI / 18), 0.0 });
+  for (int k = 0; k < arc; ++k)
+    f.segments.push_back({ k, k + 1 });
+  const Vec3 end = f.points[arc];
+  const Vec3 back = (1.0 / norm(f.points[arc - 1] - end)) * (f.points[arc - 1] - end);
+  const double c60 = 0.5, s60 = std::sqrt(3.0) / 2; // 13: a corner of 60 degrees, back turned about z
+  f.points.push_back(end + 0.5 * Vec3{ c60 * back.x - s60 * back.y, s60 * back.x + c60 * back.y, 0.0 });
+  f.segments.push_back({ arc, arc + 1 });
+  f.points.push_back(f.points[0] + Vec3{ 0.0, -0.4, 0.0 }); // 14 and 15: three segments at point 0
+  f.points.push_back(f.points[0] + Vec3{ 0.3, 0.0, 0.3 });
+  f.segments.push_back({ 0, 14 });
+  f.segments.push_back({ 0, 15 });
+  const std::vector<bool> trimmed = f.starVerticesBelowRightAngle();
+  const double cornerAngle = angleAt(f.points[arc], f.points[arc - 1], f.points[arc + 1]);
+  ASSERT_LT(cornerAngle, 90.0);
+  EXPECT_TRUE(trimmed[0]);
+  EXPECT_TRUE(trimmed[arc]);
+  for (int k = 1; k < arc; ++k)
+    EXPECT_FALSE(trimmed[k]) << k;
+
+  std::vector<std::string> warnings;
+  const SegmentSet below = conformSegments(f, std::vector<double>(f.segments.size(), 0.0), 100000, warnings, {}, false);
+  const SegmentSet paper = conformSegments(f, std::vector<double>(f.segments.size(), 0.0), 100000, warnings, {}, true);
+  EXPECT_EQ(encroached(below), 0u);
+  EXPECT_EQ(encroached(paper), 0u);
+  auto piecesOf = [](const SegmentSet& s, int input) {
+    return std::count_if(s.subs.begin(), s.subs.end(), [&](const auto& sub) { return sub[2] == input; });
+  };
+  for (int k = 2; k < arc - 1; ++k) // chords between two chain vertices: whole, or cut at both ends
+  {
+    EXPECT_EQ(piecesOf(below, k), 1) << k;
+    EXPECT_EQ(piecesOf(paper, k), 3) << k;
+  }
+  // at the 60-degree corner and at the vertex of three segments, both trim at l_min / 3
+  for (const SegmentSet* s : { &below, &paper })
+  {
+    EXPECT_GT(piecesOf(*s, arc), 1);
+    EXPECT_GT(piecesOf(*s, arc + 1), 1);
+    EXPECT_GT(piecesOf(*s, arc + 2), 1);
+  }
+}

@@ -78,6 +78,39 @@ class FeaturesOption(unittest.TestCase):
         given = om.mesh(rim_scene(features={"use": "Given"}))
         self.assertEqual(given.grid.GetFieldData().GetArray("FeatureSegments").GetValue(0), 0)
 
+    def test_found_pieces_lie_on_interface_triangles_of_their_materials(self):
+        """A piece of a found curve that is a mesh edge lies on the interfaces it bounds: a rim on a
+        triangle of its two materials, a triple line on triangles of two of its interfaces (an edge
+        inside one material beside the curve would not do)."""
+        lid = {"domains": [{"name": "lid", "type": "sphere", "center": [0, 0, 1.2], "radius": 0.5, "material": 2},
+                           {"name": "ball", "type": "sphere", "center": [0, 0, 0], "radius": 1.0, "material": 1}],
+               "mesh": rim_scene()["mesh"]}
+        for scene in (rim_scene(features="Automatic"), dict(lid, mesh=dict(lid["mesh"], features="Automatic"))):
+            mesher = om.meshing.mesher_for(om.meshing.as_scene(scene))
+            om.update(mesher)
+            interfaces, lines = mesher.GetOutputDataObject(1), mesher.GetOutputDataObject(2)
+            pairs_of_edge = {}
+            tri_materials = interfaces.GetCellData().GetArray(fieldkeys.MATERIALS)
+            for c in range(interfaces.GetNumberOfCells()):
+                ids = [interfaces.GetCell(c).GetPointId(k) for k in range(3)]
+                pts = [tuple(interfaces.GetPoint(i)) for i in ids]
+                pair = tuple(sorted(int(v) for v in tri_materials.GetTuple(c)))
+                for k in range(3):
+                    pairs_of_edge.setdefault(frozenset((pts[k], pts[(k + 1) % 3])), set()).add(pair)
+            present = lines.GetCellData().GetArray("Present")
+            origin = lines.GetCellData().GetArray(fieldkeys.ORIGIN)
+            materials = lines.GetCellData().GetArray(fieldkeys.MATERIALS)
+            checked = 0
+            for c in range(lines.GetNumberOfCells()):
+                if origin.GetValue(c) != 1 or not present.GetValue(c):
+                    continue
+                mats = [int(v) for v in materials.GetTuple(c) if v != -2]
+                edge = frozenset(tuple(lines.GetPoint(lines.GetCell(c).GetPointId(k))) for k in (0, 1))
+                own = {p for p in pairs_of_edge.get(edge, set()) if set(p) <= set(mats)}
+                self.assertGreaterEqual(len(own), 2 if len(mats) >= 3 else 1, (mats, sorted(edge)))
+                checked += 1
+            self.assertGreater(checked, 10)
+
     def test_the_command_line_keeps_the_rim_with_features_automatic(self):
         with tempfile.TemporaryDirectory() as folder:
             scene = os.path.join(folder, "scene.json")
