@@ -108,11 +108,12 @@ inline omesh::FeatureSegments readSegments(const std::string& path)
 /// The command line both programs take:
 ///   <labels|surface|cad> <input> [features] [--cell-size x] [--facet-size x] [--facet-distance x]
 ///   [--facet-angle x] [--radius-edge x] [--edge-size x] [--opt default|none|limit:T] [--seed n]
-///   [--threads n]
+///   [--threads n] [--sliver-angle degrees]
 /// --opt: default = the tool's own default optimisation; none = refinement only; limit:T = perturb
 /// and exude each limited to T seconds and nothing else (no step budgets); previous (OracleMesh
 /// only) = its defaults before issue 12's optimisation policy. --threads (OracleMesh only): the
-/// refinement's threads (MesherOptions::threads).
+/// refinement's threads (MesherOptions::threads). --sliver-angle (OracleMesh only): the Conforming
+/// strategy's picked-point angle (MesherOptions::conformingSliverAngle).
 struct Args
 {
   std::string kind, input, features;
@@ -121,6 +122,7 @@ struct Args
   double limit = 0;
   unsigned seed = 1;
   int threads = 1;
+  double sliverAngle = -1; ///< OracleMesh only: MesherOptions::conformingSliverAngle (< 0: its default)
 };
 
 inline Args parseArgs(int argc, char* argv[])
@@ -143,6 +145,7 @@ inline Args parseArgs(int argc, char* argv[])
     else if (s == "--edge-size") a.edgeSize = std::stod(value());
     else if (s == "--seed") a.seed = static_cast<unsigned>(std::stoul(value()));
     else if (s == "--threads") a.threads = std::stoi(value());
+    else if (s == "--sliver-angle") a.sliverAngle = std::stod(value());
     else if (s == "--opt")
     {
       a.opt = value();
