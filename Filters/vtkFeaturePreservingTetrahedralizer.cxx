@@ -382,8 +382,6 @@ void vtkFeaturePreservingTetrahedralizer::SelectFeatures(MeshingRun& run)
       return !this->GetAbortExecute();
     });
   run.features = run.selection.segments;
-  // found curves are polylines through smooth curves: T1.1 where segments meet below 90 degrees only
-  run.options.trimAtEveryStarVertex = !searching;
   if (searching)
   {
     if (deadline.limited())

@@ -53,13 +53,16 @@ double effectiveConformingSliverAngle(const MesherOptions& options)
 {
   if (options.conformingSliverAngle >= 0)
     return options.conformingSliverAngle;
-  auto tight = [](const MeshCriteria::Values& v) {
-    return v.cellRadiusEdgeRatio > 0 && v.cellRadiusEdgeRatio < kConformingSliverRadiusEdge;
+  // the tightest radius-edge bound of any material (0 = none: counted as the paper's)
+  auto bound = [](const MeshCriteria::Values& v) {
+    return v.cellRadiusEdgeRatio > 0 ? v.cellRadiusEdgeRatio : kConformingSliverRadiusEdge;
   };
-  bool anyTight = tight(options.criteria.globalValues());
+  double tightest = bound(options.criteria.globalValues());
   for (const auto& entry : options.criteria.perMaterial)
-    anyTight = anyTight || tight(options.criteria.of(entry.first));
-  return anyTight ? 0.0 : kConformingSliverAngle;
+    tightest = std::min(tightest, bound(options.criteria.of(entry.first)));
+  if (tightest >= kConformingSliverRadiusEdgeLoose)
+    return kConformingSliverAngleLoose;
+  return tightest >= kConformingSliverRadiusEdge ? kConformingSliverAngle : 0.0;
 }
 
 double effectiveTimeLimit(const MesherOptions& options)
@@ -698,8 +701,7 @@ private:
       return;
     const size_t budget = options_.maximumNumberOfVertices ? options_.maximumNumberOfVertices : 1000000;
     conformed_ =
-      conformSegments(*features_, edgeSizes_, budget, warnings_, [this] { deadline_.tick("feature-line conformation"); },
-        options_.trimAtEveryStarVertex);
+      conformSegments(*features_, edgeSizes_, budget, warnings_, [this] { deadline_.tick("feature-line conformation"); });
     domain_->avoidInitialPointsNear(conformed_.points);
   }
 

@@ -44,11 +44,12 @@ struct MesherOptions
   /// restricted facet (Li and Teng's picking region, SliverAvoidingPoint.h): a sliver split at its
   /// circumcentre makes new slivers, and this bound alone, with circumcentres, ran the generated
   /// bone/implant cases at radius-edge 1.1 into the vertex budget. 0 = off (circumcentres, CGAL's
-  /// point). < 0 = automatic (effectiveConformingSliverAngle): kConformingSliverAngle where every
-  /// material's radius-edge bound is at least kConformingSliverRadiusEdge (the paper's 1.1), else
-  /// off. Measured on generated bone/implant cases: at radius-edge 1.1 all 25 end above 8.7 degrees
-  /// before optimisation (71k-843k tetrahedra); at 1.3 and 2 all 15 do with 0.98-1.03x the
-  /// tetrahedra. An earlier state of the code ran one of them (an implant face on a voxel
+  /// point). < 0 = automatic (effectiveConformingSliverAngle): 12 degrees where every material's
+  /// radius-edge bound is at least 1.3, 8.7 (the paper's angle) where every one is at least the
+  /// paper's 1.1, else off. Measured on generated bone/implant cases: at radius-edge 1.1 all 25 end
+  /// above 8.7 degrees before optimisation (71k-843k tetrahedra); at 1.3, 1.5 and 2 all 15 end
+  /// above 12 with 1.00-1.06x the tetrahedra of 8.7 (and the optimisers then have little left to
+  /// do). An earlier state of the code ran one of them (an implant face on a voxel
   /// boundary) into the vertex budget at 1.1: refinement at such bounds is not covered by a
   /// termination guarantee, and the vertex budget still stops it (with a warning).
   double conformingSliverAngle = -1.0;
@@ -60,14 +61,6 @@ struct MesherOptions
   /// feature lines made of many tiny noisy segments (sharp edges of scanned surfaces); the scene
   /// files turn it on for sharp edges found on a surface. Statistics feature_network.*.
   bool resampleFeatureLines = false;
-  /// Conforming: rule T1.1 trims at every star vertex (true, the paper's rule), or not where
-  /// exactly two segments meet at 90 degrees or more (false: FeatureSegments::
-  /// starVerticesBelowRightAngle). A found curve is a polyline whose every vertex is a star vertex:
-  /// the trims cut each chord in three and made the extra tetrahedra of Automatic (1.2-1.6x on the
-  /// fidelity scenes, 1.0-1.05x without; README "Feature lines where inputs meet"). Not a door of
-  /// its own: the VTK filter turns it off when it searches for lines (Features Automatic or Both);
-  /// Given keeps the paper's rule and its meshes.
-  bool trimAtEveryStarVertex = true;
   /// Tetrahedra with at least three vertices on interfaces or feature lines and a minimal dihedral angle
   /// below this (degrees) are refined like bad cells: the optimisers cannot fix them. 0 = off.
   /// Below radius-edge 1.2 only those with a circumradius of at least 1/8 of their material's cell
@@ -125,9 +118,15 @@ struct MesherOptions
 };
 
 /// The automatic conforming sliver angle (MesherOptions::conformingSliverAngle < 0): the paper's
-/// minimal angle, where every material's radius-edge bound is at least the paper's 1.1 (or none).
+/// minimal angle where every material's radius-edge bound is at least the paper's 1.1 (or none),
+/// 12 degrees where every one is at least 1.3. Measured on the generated bone/implant cases (15
+/// each): at 1.3, 1.5 and 2, 12 degrees ends all before optimisation with 1.00-1.06x the
+/// tetrahedra of 8.7; at 1.1, 12 (and 10) degrees ran one case into the vertex budget and tripled
+/// the others.
 constexpr double kConformingSliverAngle = 8.7;
 constexpr double kConformingSliverRadiusEdge = 1.1;
+constexpr double kConformingSliverAngleLoose = 12.0;
+constexpr double kConformingSliverRadiusEdgeLoose = 1.3;
 
 /// The conforming sliver angle a run with `options` gets, in degrees (0 = off).
 double effectiveConformingSliverAngle(const MesherOptions& options);

@@ -185,11 +185,13 @@ private:
 namespace
 {
 /// T1.1 on the input segments: every segment at a star vertex p_i gets a point at l_min,i / 3
-/// from p_i (scaled as the shells of its small-angle cluster); `everyStarVertex` false: not at
-/// a vertex where two segments meet at 90 degrees or more. Calls `check` at every segment.
-void trimAtStarVertices(SegmentSet& set, const FeatureSegments& f, const std::function<void()>& check, bool everyStarVertex)
+/// from p_i (scaled as the shells of its small-angle cluster), but not at a vertex where exactly
+/// two segments meet at 90 degrees or more: neither then has a point in the other's diametral
+/// ball, and every vertex of a polyline through a smooth curve (a found curve, a resampled rim)
+/// is such a vertex, whose trims cut each chord in three. Calls `check` at every segment.
+void trimAtStarVertices(SegmentSet& set, const FeatureSegments& f, const std::function<void()>& check)
 {
-  const std::vector<bool> star = everyStarVertex ? f.starVertices() : f.starVerticesBelowRightAngle();
+  const std::vector<bool> star = f.starVerticesBelowRightAngle();
   std::vector<double> lmin(f.points.size(), std::numeric_limits<double>::infinity());
   for (size_t s = 0; s < f.segments.size(); ++s)
     for (int end : f.segments[s])
@@ -293,10 +295,10 @@ bool splitEncroached(SegmentSet& set, const std::vector<double>& edgeSizes, size
 }
 
 SegmentSet conformSegments(const FeatureSegments& f, const std::vector<double>& edgeSizes, size_t maxPoints,
-  std::vector<std::string>& warnings, const std::function<void()>& check, bool everyStarVertex)
+  std::vector<std::string>& warnings, const std::function<void()>& check)
 {
   SegmentSet set(f);
-  trimAtStarVertices(set, f, check, everyStarVertex);
+  trimAtStarVertices(set, f, check);
   splitEncroached(set, edgeSizes, maxPoints, warnings, check);
   return set;
 }

@@ -72,9 +72,8 @@ private:
 /// `edgeSizes[input]` (T1.2; one per input segment, resolveFeatureEdgeSizes; <= 0 = no bound),
 /// mirrored in small-angle clusters. Stops with a warning at `maxPoints` points. Calls `check`
 /// (which may throw: the mesher's deadline) at every sub-segment it looks at.
-/// `everyStarVertex` false: T1.1 only at FeatureSegments::starVerticesBelowRightAngle.
 SegmentSet conformSegments(const FeatureSegments& f, const std::vector<double>& edgeSizes, size_t maxPoints,
-  std::vector<std::string>& warnings, const std::function<void()>& check = {}, bool everyStarVertex = true);
+  std::vector<std::string>& warnings, const std::function<void()>& check = {});
 /// The same with one edge size for every segment.
 SegmentSet conformSegments(const FeatureSegments& f, double edgeSize, size_t maxPoints,
   std::vector<std::string>& warnings, const std::function<void()>& check = {});
