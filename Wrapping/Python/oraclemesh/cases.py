@@ -478,7 +478,9 @@ def _scene(variant, seed, cut, radius_edge, strategy):
     implant = {"name": "implant", "type": "surface", "file": "implant.vtp", "material": IMPLANT_MATERIAL}
     domains = [implant]
     bone_criteria = {"cell_size": 3.0, "facet_size": 3.0, "facet_distance": 2.0}
-    materials = {str(IMPLANT_MATERIAL): {"cell_size": 1.0, "facet_size": 1.0, "facet_distance": 0.1}}
+    # the implant's edge_size bounds the lines that touch the implant (its sharp edges, where it
+    # enters the bone); a global one would bound the found rims of the coarse bone too
+    materials = {str(IMPLANT_MATERIAL): {"cell_size": 1.0, "facet_size": 1.0, "facet_distance": 0.1, "edge_size": 0.5}}
     if variant != "implant_only":
         domains += [
             {"name": "resection", "type": "plane", "origin": cut["origin"], "normal": cut["normal"], "cut": True},
@@ -491,10 +493,7 @@ def _scene(variant, seed, cut, radius_edge, strategy):
         "domains": domains,
         "mesh": {
             "strategy": strategy,
-            # the implant's sharp edges take the global edge_size: no material sets one of its own
-            # (a per-material edge_size would bound the lines of that material: MeshCriteria.h).
-            "criteria": {"facet_angle": 25.0, "cell_radius_edge_ratio": float(radius_edge), **bone_criteria,
-                         "edge_size": 0.5},
+            "criteria": {"facet_angle": 25.0, "cell_radius_edge_ratio": float(radius_edge), **bone_criteria},
             "materials": materials,
             "features": {"from_surface": "implant", "feature_angle": 60.0},
             "seed": int(seed),
@@ -736,8 +735,8 @@ def _check_case(folder, seed, variant, load_scene, stats):
     mesh = scene.mesh
     assert mesh["strategy"] == "Conforming" and mesh["seed"] == seed
     assert mesh["criteria"] == {"facet_angle": 25, "cell_radius_edge_ratio": 1.3, "cell_size": 3, "facet_size": 3,
-                                "facet_distance": 2, "edge_size": 0.5}, mesh["criteria"]
-    assert mesh["materials"][3] == {"cell_size": 1, "facet_size": 1, "facet_distance": 0.1}
+                                "facet_distance": 2}, mesh["criteria"]
+    assert mesh["materials"][3] == {"cell_size": 1, "facet_size": 1, "facet_distance": 0.1, "edge_size": 0.5}
     assert mesh["features"]["from_surface"] == [0] and mesh["maximum_number_of_vertices"] == 300000
     names = [d["name"] for d in scene_json["domains"]]
     assert names == (["implant"] if variant == "implant_only" else ["implant", "resection", "bone"]), names
