@@ -111,63 +111,68 @@ LabelMapDomain::LabelMapDomain(const std::array<int, 3>& dims, const std::vector
     index_[v] = it->second;
   }
   if (interpolation_ == LabelInterpolation::Trilinear)
-    buildBlocks();
+    buildClearance();
 }
 
-void LabelMapDomain::buildBlocks()
+void LabelMapDomain::buildClearance()
 {
-  // Cell c (per axis) of voxel centres has its lower corner at voxel c - 1 (c = 0 .. dims: the
-  // half cells at the grid's faces, whose corners are clamped). A block's cells read the voxels
-  // kBlock * b - 1 .. kBlock * b + kBlock - 1, clamped to the grid.
-  for (int a = 0; a < 3; ++a)
-    blocks_[a] = (dims_[a] + 1 + kBlock - 1) / kBlock;
-  blockIndex_.assign(static_cast<size_t>(blocks_[0]) * blocks_[1] * blocks_[2], kMixed);
-  auto range = [&](int a, int b, int& lo, int& hi) {
-    lo = std::max(0, kBlock * b - 1);
-    hi = std::min(dims_[a] - 1, kBlock * b + kBlock - 1);
-  };
-  for (int bz = 0; bz < blocks_[2]; ++bz)
-    for (int by = 0; by < blocks_[1]; ++by)
-      for (int bx = 0; bx < blocks_[0]; ++bx)
-      {
-        int x0, x1, y0, y1, z0, z1;
-        range(0, bx, x0, x1);
-        range(1, by, y0, y1);
-        range(2, bz, z0, z1);
-        const uint16_t first = index_[static_cast<size_t>(x0) + static_cast<size_t>(dims_[0]) * (y0 + static_cast<size_t>(dims_[1]) * z0)];
-        bool uniform = true;
-        for (int z = z0; z <= z1 && uniform; ++z)
-          for (int y = y0; y <= y1 && uniform; ++y)
-          {
-            const uint16_t* row = index_.data() + static_cast<size_t>(dims_[0]) * (y + static_cast<size_t>(dims_[1]) * z);
-            uniform = std::all_of(row + x0, row + x1 + 1, [&](uint16_t i) { return i == first; });
-          }
-        if (uniform)
-          blockIndex_[bx + static_cast<size_t>(blocks_[0]) * (by + static_cast<size_t>(blocks_[1]) * bz)] = first;
-      }
-}
-
-uint16_t LabelMapDomain::uniformAlong(const Vec3& ua, const Vec3& ub) const
-{
-  int lo[3], hi[3];
-  for (int a = 0; a < 3; ++a)
+  // cells 0 .. dims per axis at 1 .. dims + 1; the padding never is mixed and never changes
+  const std::array<size_t, 3> n{ static_cast<size_t>(dims_[0]) + 3, static_cast<size_t>(dims_[1]) + 3,
+    static_cast<size_t>(dims_[2]) + 3 };
+  clearanceStride_ = { 1, n[0], n[0] * n[1] };
+  clearance_.assign(n[0] * n[1] * n[2], 255);
+  const size_t row = static_cast<size_t>(dims_[0]), slice = row * static_cast<size_t>(dims_[1]);
+  for (int z = 0; z <= dims_[2]; ++z)
   {
-    // cells (lower corner + 1) of both clamped ends, then their blocks
-    const double x0 = std::clamp(ua[a], 0.0, dimsD_[a]) - 0.5, x1 = std::clamp(ub[a], 0.0, dimsD_[a]) - 0.5;
-    lo[a] = (floorAboveMinusOne(std::min(x0, x1)) + 1) / kBlock;
-    hi[a] = (floorAboveMinusOne(std::max(x0, x1)) + 1) / kBlock;
-  }
-  uint16_t common = kMixed;
-  for (int z = lo[2]; z <= hi[2]; ++z)
-    for (int y = lo[1]; y <= hi[1]; ++y)
-      for (int x = lo[0]; x <= hi[0]; ++x)
+    const size_t z0 = slice * std::max(z - 1, 0), z1 = slice * std::min(z, dims_[2] - 1);
+    for (int y = 0; y <= dims_[1]; ++y)
+    {
+      const size_t y0 = row * std::max(y - 1, 0), y1 = row * std::min(y, dims_[1] - 1);
+      const uint16_t* r0 = index_.data() + z0 + y0;
+      const uint16_t* r1 = index_.data() + z0 + y1;
+      const uint16_t* r2 = index_.data() + z1 + y0;
+      const uint16_t* r3 = index_.data() + z1 + y1;
+      uint8_t* out = clearance_.data() + 1 + n[0] * (static_cast<size_t>(y) + 1 + n[1] * (static_cast<size_t>(z) + 1));
+      for (int x = 0; x <= dims_[0]; ++x)
       {
-        const uint16_t b = blockIndex_[x + static_cast<size_t>(blocks_[0]) * (y + static_cast<size_t>(blocks_[1]) * z)];
-        if (b == kMixed || (common != kMixed && b != common))
-          return kMixed;
-        common = b;
+        const int x0 = std::max(x - 1, 0), x1 = std::min(x, dims_[0] - 1);
+        const uint16_t v = r0[x0];
+        const bool uniform = r0[x1] == v && r1[x0] == v && r1[x1] == v && r2[x0] == v && r2[x1] == v &&
+          r3[x0] == v && r3[x1] == v;
+        out[x] = uniform ? 255 : 0;
       }
-  return common;
+    }
+  }
+  // Chebyshev distance: a forward and a backward pass over the 26-neighbourhood with unit steps
+  // (exact for this metric). The 13 neighbours before a cell in memory order are those with a
+  // negative offset.
+  std::array<ptrdiff_t, 13> before{};
+  int m = 0;
+  for (int dz = -1; dz <= 1; ++dz)
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx)
+      {
+        const ptrdiff_t o = dx + dy * static_cast<ptrdiff_t>(n[0]) + dz * static_cast<ptrdiff_t>(n[0] * n[1]);
+        if (o < 0)
+          before[m++] = o;
+      }
+  uint8_t* c = clearance_.data();
+  auto relax = [&](size_t i, ptrdiff_t sign) {
+    if (c[i] == 0)
+      return;
+    int best = c[i];
+    for (ptrdiff_t o : before)
+      best = std::min(best, c[i + sign * o] + 1);
+    c[i] = static_cast<uint8_t>(best);
+  };
+  for (size_t z = 1; z + 1 < n[2]; ++z)
+    for (size_t y = 1; y + 1 < n[1]; ++y)
+      for (size_t x = 1; x + 1 < n[0]; ++x)
+        relax(x + n[0] * (y + n[1] * z), 1);
+  for (size_t z = n[2] - 2; z >= 1; --z)
+    for (size_t y = n[1] - 2; y >= 1; --y)
+      for (size_t x = n[0] - 2; x >= 1; --x)
+        relax(x + n[0] * (y + n[1] * z), -1);
 }
 
 void LabelMapDomain::crossings(const Vec3& a, const Vec3& b, std::vector<double>& ts) const
@@ -246,6 +251,21 @@ inline void splitCell(const Vec3& u, int lo[3], double f[3])
 
 inline bool sameCell(const int a[3], const int b[3]) { return a[0] == b[0] && a[1] == b[1] && a[2] == b[2]; }
 
+/// Voxel offset of a cell's corner 0 (its lower corner lo, clamped to the grid).
+inline size_t lowerCorner(const std::array<int, 3>& dims, const int lo[3])
+{
+  return static_cast<size_t>(std::max(lo[0], 0)) +
+    static_cast<size_t>(dims[0]) *
+    (static_cast<size_t>(std::max(lo[1], 0)) + static_cast<size_t>(dims[1]) * static_cast<size_t>(std::max(lo[2], 0)));
+}
+
+/// Offset of the cell with lower corner lo (-1 .. dims - 1) in the padded clearance array.
+inline size_t clearanceOffset(const std::array<size_t, 3>& stride, const int lo[3])
+{
+  return static_cast<size_t>(lo[0] + 2) + stride[1] * static_cast<size_t>(lo[1] + 2) +
+    stride[2] * static_cast<size_t>(lo[2] + 2);
+}
+
 inline void loadCorners(const std::array<int, 3>& dims, const uint16_t* index, const int lo[3], Corners& k)
 {
   size_t off[3][2];
@@ -278,7 +298,8 @@ inline void loadCorners(const std::array<int, 3>& dims, const uint16_t* index, c
 inline void labelWeights(const Corners& k, const double f[3], double sums[8])
 {
   const double g[3] = { 1.0 - f[0], 1.0 - f[1], 1.0 - f[2] };
-  std::fill(sums, sums + k.distinctCount, 0.0);
+  for (int s = 0; s < 8; ++s) // all 8, not distinctCount: a fixed size needs no memset call
+    sums[s] = 0.0;
   for (int c = 0; c < 8; ++c)
     sums[k.slot[c]] += (((c & 1) ? f[0] : g[0]) * ((c & 2) ? f[1] : g[1])) * ((c & 4) ? f[2] : g[2]);
 }
@@ -324,6 +345,8 @@ uint16_t LabelMapDomain::trilinearIndex(const Vec3& u) const
   int lo[3];
   double f[3];
   splitCell(u, lo, f);
+  if (clearance_[clearanceOffset(clearanceStride_, lo)] != 0)
+    return index_[lowerCorner(dims_, lo)]; // all 8 corners carry one label
   Corners k;
   loadCorners(dims_, index_.data(), lo, k);
   return pickLabel(k, f);
@@ -337,24 +360,60 @@ namespace
 class TrilinearWalk
 {
 public:
-  TrilinearWalk(const std::array<int, 3>& dims, const uint16_t* index, const Vec3& ua, const Vec3& d)
+  TrilinearWalk(const std::array<int, 3>& dims, const uint16_t* index, const uint8_t* clearance,
+    const std::array<size_t, 3>& clearanceStride, const Vec3& ua, const Vec3& d)
     : dims_(dims)
     , index_(index)
+    , clearance_(clearance)
+    , clearanceStride_(clearanceStride)
     , ua_(ua)
     , d_(d)
   {
   }
 
-  /// Loads the cell of t; f gets t's fractions in it.
-  void cornersAt(double t, double f[3])
+  /// The cell of t (its lower corner lo) and t's fractions in it.
+  void cellAt(double t, int lo[3], double f[3]) const
   {
     const Vec3 u = ua_ + t * d_;
     const Vec3 c{ std::clamp(u.x, 0.0, double(dims_[0])), std::clamp(u.y, 0.0, double(dims_[1])),
       std::clamp(u.z, 0.0, double(dims_[2])) };
-    int lo[3];
     splitCell(c, lo, f);
+  }
+
+  /// Loads the cell of t; f gets t's fractions in it.
+  void cornersAt(double t, double f[3])
+  {
+    int lo[3];
+    cellAt(t, lo, f);
     if (!sameCell(lo, cache_.lo))
       loadCorners(dims_, index_, lo, cache_);
+  }
+
+  /// The clearance of the cell of t (0: mixed) and, when it is not mixed, its one label. lo gets
+  /// the cell's lower corner.
+  int clearanceAt(double t, int lo[3], uint16_t& label) const
+  {
+    double f[3];
+    cellAt(t, lo, f);
+    const int c = clearance_[clearanceOffset(clearanceStride_, lo)];
+    if (c != 0)
+      label = index_[lowerCorner(dims_, lo)];
+    return c;
+  }
+
+  /// Where the segment leaves the cube of cells around cell lo that a clearance of D says are of
+  /// one label: the parameter of a plane through voxel centres, computed as PieceEnds computes it.
+  double exitOfCube(const int lo[3], int D) const
+  {
+    double t = std::numeric_limits<double>::infinity();
+    for (int a = 0; a < 3; ++a)
+    {
+      if (d_[a] == 0.0)
+        continue;
+      const double k = static_cast<double>(d_[a] > 0.0 ? lo[a] + D : lo[a] + 1 - D);
+      t = std::min(t, (k + 0.5 - ua_[a]) / d_[a]);
+    }
+    return t;
   }
 
   uint16_t labelAt(double t)
@@ -362,14 +421,6 @@ public:
     double f[3];
     cornersAt(t, f);
     return pickLabel(cache_, f);
-  }
-
-  /// Whether the cell at t has `label` at all its 8 corners (no change of label can be in it).
-  bool uniformAt(double t, uint16_t label)
-  {
-    double f[3];
-    cornersAt(t, f);
-    return cache_.uniform && cache_.idx[0] == label;
   }
 
   /// The last t where `label` holds between lo (it holds) and hi (it does not), to 1e-12: a
@@ -436,8 +487,97 @@ private:
 
   const std::array<int, 3>& dims_;
   const uint16_t* index_;
+  const uint8_t* clearance_;
+  const std::array<size_t, 3>& clearanceStride_;
   Vec3 ua_, d_;
   Corners cache_;
+};
+
+/// The ends of a walk's pieces in increasing order: t0, t1 and every t in between where ua + t d
+/// crosses a plane through voxel centres (u = k + 0.5), merged from the three axes' arithmetic
+/// sequences (the same values a sorted list of them holds).
+class PieceEnds
+{
+public:
+  PieceEnds(const Vec3& ua, const Vec3& d, double t0, double t1)
+    : ua_(ua)
+    , d_(d)
+    , ends_{ t0, t1 }
+  {
+    for (int i = 0; i < 3; ++i)
+    {
+      if (d[i] == 0.0)
+        continue;
+      // the planes k + 0.5 with lo < k < hi
+      const double lo = std::min(ua[i] + t0 * d[i], ua[i] + t1 * d[i]) - 0.5;
+      const double hi = std::max(ua[i] + t0 * d[i], ua[i] + t1 * d[i]) - 0.5;
+      const double first = std::floor(lo) + 1.0, last = std::ceil(hi) - 1.0;
+      if (!(first <= last))
+        continue;
+      left_[i] = static_cast<long>(last - first) + 1;
+      k_[i] = d[i] > 0.0 ? first : last;
+      step_[i] = d[i] > 0.0 ? 1.0 : -1.0;
+      next_[i] = plane(i);
+      remaining_ += left_[i];
+    }
+  }
+
+  /// The next end; false when there is none left.
+  bool next(double& t)
+  {
+    if (remaining_ == 0)
+      return false;
+    --remaining_;
+    int from = -1;
+    t = nextEnd_ < 2 ? ends_[nextEnd_] : std::numeric_limits<double>::infinity();
+    for (int i = 0; i < 3; ++i)
+      if (left_[i] != 0 && next_[i] < t)
+      {
+        t = next_[i];
+        from = i;
+      }
+    if (from < 0)
+      ++nextEnd_;
+    else
+      advance(from);
+    return true;
+  }
+
+  /// Takes every end up to tExit; returns the largest of them and `last`.
+  double skipThrough(double tExit, double last)
+  {
+    for (int i = 0; i < 3; ++i)
+      while (left_[i] != 0 && next_[i] <= tExit)
+      {
+        last = std::max(last, next_[i]);
+        --remaining_;
+        advance(i);
+      }
+    while (nextEnd_ < 2 && ends_[nextEnd_] <= tExit)
+    {
+      last = std::max(last, ends_[nextEnd_++]);
+      --remaining_;
+    }
+    return last;
+  }
+
+private:
+  double plane(int i) const { return (k_[i] + 0.5 - ua_[i]) / d_[i]; }
+  void advance(int i)
+  {
+    if (--left_[i] != 0)
+    {
+      k_[i] += step_[i];
+      next_[i] = plane(i);
+    }
+  }
+
+  Vec3 ua_, d_;
+  double ends_[2];
+  int nextEnd_ = 0;
+  long remaining_ = 2;
+  long left_[3] = { 0, 0, 0 };
+  double k_[3] = {}, step_[3] = {}, next_[3] = {};
 };
 
 /// The crossings a walk appends after the first `from` entries of ts, with the label before each.
@@ -476,47 +616,39 @@ void LabelMapDomain::trilinearCrossings(
   // segment): sample each such piece four times and search every change of label to full
   // precision. Two changes closer than a quarter of a piece may be missed (a sliver of a label
   // thinner than about a quarter voxel along the segment).
-  // Most of the mesher's segments lie inside one label, far from any boundary: the blocks say
-  // so at once, and the walk below would find nothing there.
-  if (uniformAlong(ua + t0 * d, ua + t1 * d) != kMixed)
-    return;
-  thread_local std::vector<double> planes; // reused: no allocation per query
-  thread_local std::vector<uint16_t> labelsBefore;
+  // Most pieces lie in a cell whose 8 corners all carry the label the walk is in (one load of
+  // clearance_ says so; nothing can change there), most of those deep inside a cube of such
+  // cells, which the walk jumps over to the plane where it leaves the cube.
+  thread_local std::vector<uint16_t> labelsBefore; // reused: no allocation per query
   labelsBefore.clear();
   WalkCrossings found{ ts, ts.size(), labelsBefore };
-  planes.clear();
-  planes.push_back(t0);
-  planes.push_back(t1);
-  for (int i = 0; i < 3; ++i)
-  {
-    if (d[i] == 0.0)
-      continue;
-    const double lo = std::min(ua[i] + t0 * d[i], ua[i] + t1 * d[i]) - 0.5;
-    const double hi = std::max(ua[i] + t0 * d[i], ua[i] + t1 * d[i]) - 0.5;
-    for (double k = std::floor(lo) + 1.0; k < hi; k += 1.0)
-      planes.push_back((k + 0.5 - ua[i]) / d[i]);
-  }
-  std::sort(planes.begin(), planes.end());
-  TrilinearWalk walk(dims_, index_.data(), ua, d);
+  PieceEnds ends(ua, d, t0, t1);
+  TrilinearWalk walk(dims_, index_.data(), clearance_.data(), clearanceStride_, ua, d);
   constexpr int kSamples = 4;
   double previousT = t0;
   uint16_t previous = walk.labelAt(t0);
-  for (size_t p = 0; p + 1 < planes.size(); ++p)
+  double a = 0.0, b = 0.0;
+  ends.next(a);
+  for (; ends.next(b); a = b)
   {
-    const double a = planes[p], b = planes[p + 1];
     if (!(b > a))
       continue;
-    if (walk.uniformAt(0.5 * (a + b), previous))
+    int lo[3];
+    uint16_t label = 0;
+    const int clearance = walk.clearanceAt(0.5 * (a + b), lo, label);
+    if (clearance > 0 && label == previous)
     {
-      previousT = b; // all 8 voxel centres carry the label we are in: no change in this piece
+      if (clearance > 1) // the pieces up to the cube's exit lie in cells of this label too
+        b = ends.skipThrough(walk.exitOfCube(lo, clearance), b);
+      previousT = b;
       continue;
     }
     for (int s = 1; s <= kSamples; ++s)
     {
       const double t = a + (b - a) * s / kSamples;
-      const uint16_t label = walk.labelAt(t);
+      const uint16_t at = walk.labelAt(t);
       // every change between the previous sample and t (a few at most)
-      for (int guard = 0; label != previous && guard < 8; ++guard)
+      for (int guard = 0; at != previous && guard < 8; ++guard)
       {
         const double hi = walk.lastOf(previous, previousT, t);
         const uint16_t after = walk.labelAt(hi);
@@ -524,7 +656,7 @@ void LabelMapDomain::trilinearCrossings(
         previous = after;
         previousT = hi;
       }
-      previous = label;
+      previous = at;
       previousT = t;
     }
   }
