@@ -122,57 +122,54 @@ void LabelMapDomain::buildClearance()
   clearanceStride_ = { 1, n[0], n[0] * n[1] };
   clearance_.assign(n[0] * n[1] * n[2], 255);
   const size_t row = static_cast<size_t>(dims_[0]), slice = row * static_cast<size_t>(dims_[1]);
+  auto cells = [&](size_t y, size_t z) { return clearance_.data() + n[0] * (y + n[1] * z); }; // padded row
+  // Mixed cells: their 8 corners (voxels x - 1 and x of rows y - 1, y of slices z - 1, z, clamped)
+  // differ. Rows of corners first: equal[x] says voxels x - 1 and x of the 4 rows are one label.
+  std::vector<uint16_t> first(static_cast<size_t>(dims_[0]) + 1);
+  std::vector<uint8_t> equal(static_cast<size_t>(dims_[0]) + 1);
   for (int z = 0; z <= dims_[2]; ++z)
   {
     const size_t z0 = slice * std::max(z - 1, 0), z1 = slice * std::min(z, dims_[2] - 1);
     for (int y = 0; y <= dims_[1]; ++y)
     {
       const size_t y0 = row * std::max(y - 1, 0), y1 = row * std::min(y, dims_[1] - 1);
-      const uint16_t* r0 = index_.data() + z0 + y0;
-      const uint16_t* r1 = index_.data() + z0 + y1;
-      const uint16_t* r2 = index_.data() + z1 + y0;
-      const uint16_t* r3 = index_.data() + z1 + y1;
-      uint8_t* out = clearance_.data() + 1 + n[0] * (static_cast<size_t>(y) + 1 + n[1] * (static_cast<size_t>(z) + 1));
-      for (int x = 0; x <= dims_[0]; ++x)
-      {
-        const int x0 = std::max(x - 1, 0), x1 = std::min(x, dims_[0] - 1);
-        const uint16_t v = r0[x0];
-        const bool uniform = r0[x1] == v && r1[x0] == v && r1[x1] == v && r2[x0] == v && r2[x1] == v &&
-          r3[x0] == v && r3[x1] == v;
-        out[x] = uniform ? 255 : 0;
-      }
+      const uint16_t* r[4] = { index_.data() + z0 + y0, index_.data() + z0 + y1, index_.data() + z1 + y0,
+        index_.data() + z1 + y1 };
+      // per voxel column x: whether the 4 rows agree there
+      for (int x = 0; x < dims_[0]; ++x)
+        equal[x] = r[0][x] == r[1][x] && r[0][x] == r[2][x] && r[0][x] == r[3][x];
+      uint8_t* out = cells(static_cast<size_t>(y) + 1, static_cast<size_t>(z) + 1) + 1;
+      out[0] = equal[0] ? 255 : 0;
+      for (int x = 1; x < dims_[0]; ++x)
+        out[x] = equal[x - 1] && equal[x] && r[0][x - 1] == r[0][x] ? 255 : 0;
+      out[dims_[0]] = equal[dims_[0] - 1] ? 255 : 0;
     }
   }
   // Chebyshev distance: a forward and a backward pass over the 26-neighbourhood with unit steps
-  // (exact for this metric). The 13 neighbours before a cell in memory order are those with a
-  // negative offset.
-  std::array<ptrdiff_t, 13> before{};
-  int m = 0;
-  for (int dz = -1; dz <= 1; ++dz)
-    for (int dy = -1; dy <= 1; ++dy)
-      for (int dx = -1; dx <= 1; ++dx)
-      {
-        const ptrdiff_t o = dx + dy * static_cast<ptrdiff_t>(n[0]) + dz * static_cast<ptrdiff_t>(n[0] * n[1]);
-        if (o < 0)
-          before[m++] = o;
-      }
-  uint8_t* c = clearance_.data();
-  auto relax = [&](size_t i, ptrdiff_t sign) {
-    if (c[i] == 0)
-      return;
-    int best = c[i];
-    for (ptrdiff_t o : before)
-      best = std::min(best, c[i + sign * o] + 1);
-    c[i] = static_cast<uint8_t>(best);
+  // (exact for this metric). Per row, the 12 neighbours in rows done before, then along the row.
+  std::vector<uint8_t> done(n[0]);
+  // dir 1: rows y - 1 of slice z and y - 1 .. y + 1 of slice z - 1 are done; dir -1: the mirror
+  auto pass = [&](size_t y, size_t z, ptrdiff_t dir) {
+    const size_t yb = y - dir, ya = y + dir, zb = z - dir; // before, after (modular for dir = -1)
+    const uint8_t* rows[4] = { cells(yb, zb), cells(y, zb), cells(ya, zb), cells(yb, z) };
+    for (size_t x = 1; x + 1 < n[0]; ++x)
+    {
+      uint8_t m = 255;
+      for (const uint8_t* q : rows)
+        m = std::min({ m, q[x - 1], q[x], q[x + 1] });
+      done[x] = m;
+    }
+    uint8_t* c = cells(y, z);
+    for (size_t i = 0, x = dir > 0 ? 1 : n[0] - 2; i + 2 < n[0]; ++i, x += dir)
+      if (c[x] != 0)
+        c[x] = static_cast<uint8_t>(std::min({ static_cast<int>(c[x]), done[x] + 1, c[x - dir] + 1 }));
   };
   for (size_t z = 1; z + 1 < n[2]; ++z)
     for (size_t y = 1; y + 1 < n[1]; ++y)
-      for (size_t x = 1; x + 1 < n[0]; ++x)
-        relax(x + n[0] * (y + n[1] * z), 1);
+      pass(y, z, 1);
   for (size_t z = n[2] - 2; z >= 1; --z)
     for (size_t y = n[1] - 2; y >= 1; --y)
-      for (size_t x = n[0] - 2; x >= 1; --x)
-        relax(x + n[0] * (y + n[1] * z), -1);
+      pass(y, z, -1);
 }
 
 void LabelMapDomain::crossings(const Vec3& a, const Vec3& b, std::vector<double>& ts) const
@@ -304,13 +301,9 @@ inline void labelWeights(const Corners& k, const double f[3], double sums[8])
     sums[k.slot[c]] += (((c & 1) ? f[0] : g[0]) * ((c & 2) ? f[1] : g[1])) * ((c & 4) ? f[2] : g[2]);
 }
 
-/// Compact label index with the largest summed trilinear weight; ties go to the smaller index.
-inline uint16_t pickLabel(const Corners& k, const double f[3])
+/// Compact label index with the largest of a mixed cell's summed weights; ties go to the smaller index.
+inline uint16_t pickFromSums(const Corners& k, const double sums[8])
 {
-  if (k.uniform)
-    return k.idx[0]; // inside one label: the common case
-  double sums[8];
-  labelWeights(k, f, sums);
   uint16_t best = k.distinct[0];
   double bestWeight = sums[0];
   for (int s = 1; s < k.distinctCount; ++s)
@@ -322,14 +315,20 @@ inline uint16_t pickLabel(const Corners& k, const double f[3])
   return best;
 }
 
-/// How far `label` leads the strongest other label at fractions f (summed trilinear weights):
-/// positive where it wins. The label change along a piece is a root of this piecewise cubic.
-inline double labelLead(const Corners& k, const double f[3], uint16_t label)
+/// Compact label index with the largest summed trilinear weight; ties go to the smaller index.
+inline uint16_t pickLabel(const Corners& k, const double f[3])
 {
   if (k.uniform)
-    return k.idx[0] == label ? 1.0 : -1.0;
+    return k.idx[0]; // inside one label: the common case
   double sums[8];
   labelWeights(k, f, sums);
+  return pickFromSums(k, sums);
+}
+
+/// How far `label` leads the strongest other label (a mixed cell's summed trilinear weights):
+/// positive where it wins. The label change along a piece is a root of this piecewise cubic.
+inline double leadFromSums(const Corners& k, const double sums[8], uint16_t label)
+{
   double own = 0.0, other = 0.0;
   for (int s = 0; s < k.distinctCount; ++s)
     if (k.distinct[s] == label)
@@ -401,6 +400,45 @@ public:
     return c;
   }
 
+  /// Whether `label` wins everywhere on the piece [a, b] (in the cell of its midpoint, which this
+  /// loads), so that no sample there can give another label: its indicator, trilinear in the
+  /// cell, is above 1/2 (with a margin far above rounding) at the 8 corners of the piece's
+  /// bounding box, where a trilinear function takes its smallest value on the box.
+  bool holdsOnPiece(double a, double b, uint16_t label)
+  {
+    double f[3];
+    cornersAt(0.5 * (a + b), f);
+    const Corners& k = cache_;
+    double lo[3], hi[3];
+    for (int end = 0; end < 2; ++end)
+    {
+      const Vec3 u = ua_ + (end == 0 ? a : b) * d_;
+      for (int ax = 0; ax < 3; ++ax)
+      {
+        const double x = std::clamp(std::clamp(u[ax], 0.0, double(dims_[ax])) - 0.5 - k.lo[ax], 0.0, 1.0);
+        lo[ax] = end == 0 ? x : std::min(lo[ax], x);
+        hi[ax] = end == 0 ? x : std::max(hi[ax], x);
+      }
+    }
+    double chi[8];
+    for (int c = 0; c < 8; ++c)
+      chi[c] = k.idx[c] == label ? 1.0 : 0.0;
+    // collapse x (per y, z corner pair), then y, then z, at both ends of the box on each axis
+    double ex[4][2];
+    for (int q = 0; q < 4; ++q)
+      for (int s = 0; s < 2; ++s)
+        ex[q][s] = chi[2 * q] + (chi[2 * q + 1] - chi[2 * q]) * (s ? hi[0] : lo[0]);
+    double smallest = 1.0;
+    for (int sx = 0; sx < 2; ++sx)
+      for (int sy = 0; sy < 2; ++sy)
+      {
+        const double y = sy ? hi[1] : lo[1];
+        const double z0 = ex[0][sx] + (ex[1][sx] - ex[0][sx]) * y, z1 = ex[2][sx] + (ex[3][sx] - ex[2][sx]) * y;
+        smallest = std::min({ smallest, z0 + (z1 - z0) * lo[2], z0 + (z1 - z0) * hi[2] });
+      }
+    return smallest > 0.5 + 1e-9;
+  }
+
   /// Where the segment leaves the cube of cells around cell lo that a clearance of D says are of
   /// one label: the parameter of a plane through voxel centres, computed as PieceEnds computes it.
   double exitOfCube(const int lo[3], int D) const
@@ -467,8 +505,15 @@ private:
   {
     double f[3];
     cornersAt(t, f);
-    at = pickLabel(cache_, f);
-    return labelLead(cache_, f, label);
+    if (cache_.uniform)
+    {
+      at = cache_.idx[0];
+      return at == label ? 1.0 : -1.0;
+    }
+    double sums[8]; // one set of weights for both answers
+    labelWeights(cache_, f, sums);
+    at = pickFromSums(cache_, sums);
+    return leadFromSums(cache_, sums, label);
   }
 
   /// A little past the interpolated root, away from the end that moved last: once the root is
@@ -641,6 +686,11 @@ void LabelMapDomain::trilinearCrossings(
       if (clearance > 1) // the pieces up to the cube's exit lie in cells of this label too
         b = ends.skipThrough(walk.exitOfCube(lo, clearance), b);
       previousT = b;
+      continue;
+    }
+    if (clearance == 0 && walk.holdsOnPiece(a, b, previous))
+    {
+      previousT = a + (b - a) * kSamples / kSamples; // the last sample's t, as the samples leave it
       continue;
     }
     for (int s = 1; s <= kSamples; ++s)
