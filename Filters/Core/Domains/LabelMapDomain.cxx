@@ -125,7 +125,6 @@ void LabelMapDomain::buildClearance()
   auto cells = [&](size_t y, size_t z) { return clearance_.data() + n[0] * (y + n[1] * z); }; // padded row
   // Mixed cells: their 8 corners (voxels x - 1 and x of rows y - 1, y of slices z - 1, z, clamped)
   // differ. Rows of corners first: equal[x] says voxels x - 1 and x of the 4 rows are one label.
-  std::vector<uint16_t> first(static_cast<size_t>(dims_[0]) + 1);
   std::vector<uint8_t> equal(static_cast<size_t>(dims_[0]) + 1);
   for (int z = 0; z <= dims_[2]; ++z)
   {
