@@ -385,30 +385,49 @@ TEST(LabelMapDomain, TrilinearAnswersAreThoseOfTheFirstImplementation)
   EXPECT_GT(crossings, 20000u); // the segments did cross labels
 }
 
-TEST(LabelMapDomain, TrilinearCrossingsAreTheSameWhereBlocksOfOneLabelAreSkipped)
+TEST(LabelMapDomain, TrilinearCrossingsAreTheSameWhereTheWalkJumpsOverCubesOfOneLabel)
 {
-  // mostly background (whole blocks of one label, which the walk skips), a ball and a one-voxel
-  // layer: segments far from both, through them and along the layer give the reference's answers
+  // mostly background (cubes of one label, which the walk jumps over), a ball, a one-voxel layer
+  // and one lone voxel deep in the background (a jump must stop short of it): segments far from
+  // them, through them, along the layer and across the whole grid give the reference's answers,
+  // and so do points
   const std::array<int, 3> d{ 40, 36, 33 };
   const std::vector<int> labels = labelGrid(d, [](int i, int j, int k) {
     if (i == 30)
       return 9; // a one-voxel layer
+    if (i == 20 && j == 27 && k == 24)
+      return 5; // a lone voxel
     return (i - 10) * (i - 10) + (j - 10) * (j - 10) + (k - 10) * (k - 10) < 36 ? 5 : 0;
   });
   const ReferenceTrilinear ref(d, labels, 0);
   const LabelMapDomain domain(d, labels, AffineMap(), 0, "sparse", LabelInterpolation::Trilinear);
   std::mt19937 rng(3);
-  std::uniform_real_distribution<double> u(-1.0, 41.0), step(-6.0, 6.0);
-  size_t crossings = 0, quiet = 0;
-  for (int n = 0; n < 20000; ++n)
+  std::uniform_real_distribution<double> u(-1.0, 41.0), step(-6.0, 6.0), across(-45.0, 45.0);
+  size_t crossings = 0, quiet = 0, lone = 0;
+  for (int n = 0; n < 30000; ++n)
   {
     const Vec3 a{ u(rng), u(rng) * 36.0 / 40.0, u(rng) * 33.0 / 40.0 };
-    const Vec3 b = a + Vec3{ step(rng), step(rng), n % 5 == 0 ? 0.0 : step(rng) };
+    const bool far = n % 3 == 0; // a third across the grid
+    const Vec3 b = a + Vec3{ far ? across(rng) : step(rng), far ? across(rng) : step(rng),
+      n % 5 == 0 ? 0.0 : far ? across(rng) : step(rng) };
     std::vector<double> ts;
     ASSERT_NO_FATAL_FAILURE(expectSameCrossings(domain, ref, a, b, ts)) << "segment " << n;
     crossings += ts.size() > 2 ? ts.size() - 2 : 0;
     quiet += ts.size() == 2 ? 1 : 0;
+    EXPECT_EQ(domain.material(a), ref.materialAt(a)) << "point " << n;
+  }
+  // segments straight through the lone voxel's trilinear blob from far away, along each axis
+  for (int axis = 0; axis < 3; ++axis)
+  {
+    const Vec3 centre{ 20.5, 27.5, 24.5 };
+    Vec3 a = centre, b = centre;
+    a[axis] = 0.25;
+    b[axis] = d[axis] - 0.25;
+    std::vector<double> ts;
+    ASSERT_NO_FATAL_FAILURE(expectSameCrossings(domain, ref, a, b, ts)) << "axis " << axis;
+    lone += std::count_if(ts.begin(), ts.end(), [&](double t) { return norm(lerp(a, b, t) - centre) < 1.0; }) == 2;
   }
   EXPECT_GT(crossings, 2000u); // some crossed the ball or the layer
   EXPECT_GT(quiet, 2000u);     // and some stayed in the background
+  EXPECT_EQ(lone, 3u);         // the lone voxel was found from every side
 }

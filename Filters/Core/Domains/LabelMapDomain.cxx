@@ -111,63 +111,64 @@ LabelMapDomain::LabelMapDomain(const std::array<int, 3>& dims, const std::vector
     index_[v] = it->second;
   }
   if (interpolation_ == LabelInterpolation::Trilinear)
-    buildBlocks();
+    buildClearance();
 }
 
-void LabelMapDomain::buildBlocks()
+void LabelMapDomain::buildClearance()
 {
-  // Cell c (per axis) of voxel centres has its lower corner at voxel c - 1 (c = 0 .. dims: the
-  // half cells at the grid's faces, whose corners are clamped). A block's cells read the voxels
-  // kBlock * b - 1 .. kBlock * b + kBlock - 1, clamped to the grid.
-  for (int a = 0; a < 3; ++a)
-    blocks_[a] = (dims_[a] + 1 + kBlock - 1) / kBlock;
-  blockIndex_.assign(static_cast<size_t>(blocks_[0]) * blocks_[1] * blocks_[2], kMixed);
-  auto range = [&](int a, int b, int& lo, int& hi) {
-    lo = std::max(0, kBlock * b - 1);
-    hi = std::min(dims_[a] - 1, kBlock * b + kBlock - 1);
-  };
-  for (int bz = 0; bz < blocks_[2]; ++bz)
-    for (int by = 0; by < blocks_[1]; ++by)
-      for (int bx = 0; bx < blocks_[0]; ++bx)
-      {
-        int x0, x1, y0, y1, z0, z1;
-        range(0, bx, x0, x1);
-        range(1, by, y0, y1);
-        range(2, bz, z0, z1);
-        const uint16_t first = index_[static_cast<size_t>(x0) + static_cast<size_t>(dims_[0]) * (y0 + static_cast<size_t>(dims_[1]) * z0)];
-        bool uniform = true;
-        for (int z = z0; z <= z1 && uniform; ++z)
-          for (int y = y0; y <= y1 && uniform; ++y)
-          {
-            const uint16_t* row = index_.data() + static_cast<size_t>(dims_[0]) * (y + static_cast<size_t>(dims_[1]) * z);
-            uniform = std::all_of(row + x0, row + x1 + 1, [&](uint16_t i) { return i == first; });
-          }
-        if (uniform)
-          blockIndex_[bx + static_cast<size_t>(blocks_[0]) * (by + static_cast<size_t>(blocks_[1]) * bz)] = first;
-      }
-}
-
-uint16_t LabelMapDomain::uniformAlong(const Vec3& ua, const Vec3& ub) const
-{
-  int lo[3], hi[3];
-  for (int a = 0; a < 3; ++a)
+  // cells 0 .. dims per axis at 1 .. dims + 1; the padding never is mixed and never changes
+  const std::array<size_t, 3> n{ static_cast<size_t>(dims_[0]) + 3, static_cast<size_t>(dims_[1]) + 3,
+    static_cast<size_t>(dims_[2]) + 3 };
+  clearanceStride_ = { 1, n[0], n[0] * n[1] };
+  clearance_.assign(n[0] * n[1] * n[2], 255);
+  const size_t row = static_cast<size_t>(dims_[0]), slice = row * static_cast<size_t>(dims_[1]);
+  auto cells = [&](size_t y, size_t z) { return clearance_.data() + n[0] * (y + n[1] * z); }; // padded row
+  // Mixed cells: their 8 corners (voxels x - 1 and x of rows y - 1, y of slices z - 1, z, clamped)
+  // differ. Rows of corners first: equal[x] says voxels x - 1 and x of the 4 rows are one label.
+  std::vector<uint8_t> equal(static_cast<size_t>(dims_[0]) + 1);
+  for (int z = 0; z <= dims_[2]; ++z)
   {
-    // cells (lower corner + 1) of both clamped ends, then their blocks
-    const double x0 = std::clamp(ua[a], 0.0, dimsD_[a]) - 0.5, x1 = std::clamp(ub[a], 0.0, dimsD_[a]) - 0.5;
-    lo[a] = (floorAboveMinusOne(std::min(x0, x1)) + 1) / kBlock;
-    hi[a] = (floorAboveMinusOne(std::max(x0, x1)) + 1) / kBlock;
+    const size_t z0 = slice * std::max(z - 1, 0), z1 = slice * std::min(z, dims_[2] - 1);
+    for (int y = 0; y <= dims_[1]; ++y)
+    {
+      const size_t y0 = row * std::max(y - 1, 0), y1 = row * std::min(y, dims_[1] - 1);
+      const uint16_t* r[4] = { index_.data() + z0 + y0, index_.data() + z0 + y1, index_.data() + z1 + y0,
+        index_.data() + z1 + y1 };
+      // per voxel column x: whether the 4 rows agree there
+      for (int x = 0; x < dims_[0]; ++x)
+        equal[x] = r[0][x] == r[1][x] && r[0][x] == r[2][x] && r[0][x] == r[3][x];
+      uint8_t* out = cells(static_cast<size_t>(y) + 1, static_cast<size_t>(z) + 1) + 1;
+      out[0] = equal[0] ? 255 : 0;
+      for (int x = 1; x < dims_[0]; ++x)
+        out[x] = equal[x - 1] && equal[x] && r[0][x - 1] == r[0][x] ? 255 : 0;
+      out[dims_[0]] = equal[dims_[0] - 1] ? 255 : 0;
+    }
   }
-  uint16_t common = kMixed;
-  for (int z = lo[2]; z <= hi[2]; ++z)
-    for (int y = lo[1]; y <= hi[1]; ++y)
-      for (int x = lo[0]; x <= hi[0]; ++x)
-      {
-        const uint16_t b = blockIndex_[x + static_cast<size_t>(blocks_[0]) * (y + static_cast<size_t>(blocks_[1]) * z)];
-        if (b == kMixed || (common != kMixed && b != common))
-          return kMixed;
-        common = b;
-      }
-  return common;
+  // Chebyshev distance: a forward and a backward pass over the 26-neighbourhood with unit steps
+  // (exact for this metric). Per row, the 12 neighbours in rows done before, then along the row.
+  std::vector<uint8_t> done(n[0]);
+  // dir 1: rows y - 1 of slice z and y - 1 .. y + 1 of slice z - 1 are done; dir -1: the mirror
+  auto pass = [&](size_t y, size_t z, ptrdiff_t dir) {
+    const size_t yb = y - dir, ya = y + dir, zb = z - dir; // before, after (modular for dir = -1)
+    const uint8_t* rows[4] = { cells(yb, zb), cells(y, zb), cells(ya, zb), cells(yb, z) };
+    for (size_t x = 1; x + 1 < n[0]; ++x)
+    {
+      uint8_t m = 255;
+      for (const uint8_t* q : rows)
+        m = std::min({ m, q[x - 1], q[x], q[x + 1] });
+      done[x] = m;
+    }
+    uint8_t* c = cells(y, z);
+    for (size_t i = 0, x = dir > 0 ? 1 : n[0] - 2; i + 2 < n[0]; ++i, x += dir)
+      if (c[x] != 0)
+        c[x] = static_cast<uint8_t>(std::min({ static_cast<int>(c[x]), done[x] + 1, c[x - dir] + 1 }));
+  };
+  for (size_t z = 1; z + 1 < n[2]; ++z)
+    for (size_t y = 1; y + 1 < n[1]; ++y)
+      pass(y, z, 1);
+  for (size_t z = n[2] - 2; z >= 1; --z)
+    for (size_t y = n[1] - 2; y >= 1; --y)
+      pass(y, z, -1);
 }
 
 void LabelMapDomain::crossings(const Vec3& a, const Vec3& b, std::vector<double>& ts) const
@@ -246,6 +247,21 @@ inline void splitCell(const Vec3& u, int lo[3], double f[3])
 
 inline bool sameCell(const int a[3], const int b[3]) { return a[0] == b[0] && a[1] == b[1] && a[2] == b[2]; }
 
+/// Voxel offset of a cell's corner 0 (its lower corner lo, clamped to the grid).
+inline size_t lowerCorner(const std::array<int, 3>& dims, const int lo[3])
+{
+  return static_cast<size_t>(std::max(lo[0], 0)) +
+    static_cast<size_t>(dims[0]) *
+    (static_cast<size_t>(std::max(lo[1], 0)) + static_cast<size_t>(dims[1]) * static_cast<size_t>(std::max(lo[2], 0)));
+}
+
+/// Offset of the cell with lower corner lo (-1 .. dims - 1) in the padded clearance array.
+inline size_t clearanceOffset(const std::array<size_t, 3>& stride, const int lo[3])
+{
+  return static_cast<size_t>(lo[0] + 2) + stride[1] * static_cast<size_t>(lo[1] + 2) +
+    stride[2] * static_cast<size_t>(lo[2] + 2);
+}
+
 inline void loadCorners(const std::array<int, 3>& dims, const uint16_t* index, const int lo[3], Corners& k)
 {
   size_t off[3][2];
@@ -278,18 +294,15 @@ inline void loadCorners(const std::array<int, 3>& dims, const uint16_t* index, c
 inline void labelWeights(const Corners& k, const double f[3], double sums[8])
 {
   const double g[3] = { 1.0 - f[0], 1.0 - f[1], 1.0 - f[2] };
-  std::fill(sums, sums + k.distinctCount, 0.0);
+  for (int s = 0; s < 8; ++s) // all 8, not distinctCount: a fixed size needs no memset call
+    sums[s] = 0.0;
   for (int c = 0; c < 8; ++c)
     sums[k.slot[c]] += (((c & 1) ? f[0] : g[0]) * ((c & 2) ? f[1] : g[1])) * ((c & 4) ? f[2] : g[2]);
 }
 
-/// Compact label index with the largest summed trilinear weight; ties go to the smaller index.
-inline uint16_t pickLabel(const Corners& k, const double f[3])
+/// Compact label index with the largest of a mixed cell's summed weights; ties go to the smaller index.
+inline uint16_t pickFromSums(const Corners& k, const double sums[8])
 {
-  if (k.uniform)
-    return k.idx[0]; // inside one label: the common case
-  double sums[8];
-  labelWeights(k, f, sums);
   uint16_t best = k.distinct[0];
   double bestWeight = sums[0];
   for (int s = 1; s < k.distinctCount; ++s)
@@ -301,14 +314,20 @@ inline uint16_t pickLabel(const Corners& k, const double f[3])
   return best;
 }
 
-/// How far `label` leads the strongest other label at fractions f (summed trilinear weights):
-/// positive where it wins. The label change along a piece is a root of this piecewise cubic.
-inline double labelLead(const Corners& k, const double f[3], uint16_t label)
+/// Compact label index with the largest summed trilinear weight; ties go to the smaller index.
+inline uint16_t pickLabel(const Corners& k, const double f[3])
 {
   if (k.uniform)
-    return k.idx[0] == label ? 1.0 : -1.0;
+    return k.idx[0]; // inside one label: the common case
   double sums[8];
   labelWeights(k, f, sums);
+  return pickFromSums(k, sums);
+}
+
+/// How far `label` leads the strongest other label (a mixed cell's summed trilinear weights):
+/// positive where it wins. The label change along a piece is a root of this piecewise cubic.
+inline double leadFromSums(const Corners& k, const double sums[8], uint16_t label)
+{
   double own = 0.0, other = 0.0;
   for (int s = 0; s < k.distinctCount; ++s)
     if (k.distinct[s] == label)
@@ -324,6 +343,8 @@ uint16_t LabelMapDomain::trilinearIndex(const Vec3& u) const
   int lo[3];
   double f[3];
   splitCell(u, lo, f);
+  if (clearance_[clearanceOffset(clearanceStride_, lo)] != 0)
+    return index_[lowerCorner(dims_, lo)]; // all 8 corners carry one label
   Corners k;
   loadCorners(dims_, index_.data(), lo, k);
   return pickLabel(k, f);
@@ -337,24 +358,99 @@ namespace
 class TrilinearWalk
 {
 public:
-  TrilinearWalk(const std::array<int, 3>& dims, const uint16_t* index, const Vec3& ua, const Vec3& d)
+  TrilinearWalk(const std::array<int, 3>& dims, const uint16_t* index, const uint8_t* clearance,
+    const std::array<size_t, 3>& clearanceStride, const Vec3& ua, const Vec3& d)
     : dims_(dims)
     , index_(index)
+    , clearance_(clearance)
+    , clearanceStride_(clearanceStride)
     , ua_(ua)
     , d_(d)
   {
   }
 
-  /// Loads the cell of t; f gets t's fractions in it.
-  void cornersAt(double t, double f[3])
+  /// The cell of t (its lower corner lo) and t's fractions in it.
+  void cellAt(double t, int lo[3], double f[3]) const
   {
     const Vec3 u = ua_ + t * d_;
     const Vec3 c{ std::clamp(u.x, 0.0, double(dims_[0])), std::clamp(u.y, 0.0, double(dims_[1])),
       std::clamp(u.z, 0.0, double(dims_[2])) };
-    int lo[3];
     splitCell(c, lo, f);
+  }
+
+  /// Loads the cell of t; f gets t's fractions in it.
+  void cornersAt(double t, double f[3])
+  {
+    int lo[3];
+    cellAt(t, lo, f);
     if (!sameCell(lo, cache_.lo))
       loadCorners(dims_, index_, lo, cache_);
+  }
+
+  /// The clearance of the cell of t (0: mixed) and, when it is not mixed, its one label. lo gets
+  /// the cell's lower corner.
+  int clearanceAt(double t, int lo[3], uint16_t& label) const
+  {
+    double f[3];
+    cellAt(t, lo, f);
+    const int c = clearance_[clearanceOffset(clearanceStride_, lo)];
+    if (c != 0)
+      label = index_[lowerCorner(dims_, lo)];
+    return c;
+  }
+
+  /// Whether `label` wins everywhere on the piece [a, b] (in the cell of its midpoint, which this
+  /// loads), so that no sample there can give another label: its indicator, trilinear in the
+  /// cell, is above 1/2 (with a margin far above rounding) at the 8 corners of the piece's
+  /// bounding box, where a trilinear function takes its smallest value on the box.
+  bool holdsOnPiece(double a, double b, uint16_t label)
+  {
+    double f[3];
+    cornersAt(0.5 * (a + b), f);
+    const Corners& k = cache_;
+    double lo[3], hi[3];
+    for (int end = 0; end < 2; ++end)
+    {
+      const Vec3 u = ua_ + (end == 0 ? a : b) * d_;
+      for (int ax = 0; ax < 3; ++ax)
+      {
+        const double x = std::clamp(std::clamp(u[ax], 0.0, double(dims_[ax])) - 0.5 - k.lo[ax], 0.0, 1.0);
+        lo[ax] = end == 0 ? x : std::min(lo[ax], x);
+        hi[ax] = end == 0 ? x : std::max(hi[ax], x);
+      }
+    }
+    double chi[8];
+    for (int c = 0; c < 8; ++c)
+      chi[c] = k.idx[c] == label ? 1.0 : 0.0;
+    // collapse x (per y, z corner pair), then y, then z, at both ends of the box on each axis
+    double ex[4][2];
+    for (int q = 0; q < 4; ++q)
+      for (int s = 0; s < 2; ++s)
+        ex[q][s] = chi[2 * q] + (chi[2 * q + 1] - chi[2 * q]) * (s ? hi[0] : lo[0]);
+    double smallest = 1.0;
+    for (int sx = 0; sx < 2; ++sx)
+      for (int sy = 0; sy < 2; ++sy)
+      {
+        const double y = sy ? hi[1] : lo[1];
+        const double z0 = ex[0][sx] + (ex[1][sx] - ex[0][sx]) * y, z1 = ex[2][sx] + (ex[3][sx] - ex[2][sx]) * y;
+        smallest = std::min({ smallest, z0 + (z1 - z0) * lo[2], z0 + (z1 - z0) * hi[2] });
+      }
+    return smallest > 0.5 + 1e-9;
+  }
+
+  /// Where the segment leaves the cube of cells around cell lo that a clearance of D says are of
+  /// one label: the parameter of a plane through voxel centres, computed as PieceEnds computes it.
+  double exitOfCube(const int lo[3], int D) const
+  {
+    double t = std::numeric_limits<double>::infinity();
+    for (int a = 0; a < 3; ++a)
+    {
+      if (d_[a] == 0.0)
+        continue;
+      const double k = static_cast<double>(d_[a] > 0.0 ? lo[a] + D : lo[a] + 1 - D);
+      t = std::min(t, (k + 0.5 - ua_[a]) / d_[a]);
+    }
+    return t;
   }
 
   uint16_t labelAt(double t)
@@ -362,14 +458,6 @@ public:
     double f[3];
     cornersAt(t, f);
     return pickLabel(cache_, f);
-  }
-
-  /// Whether the cell at t has `label` at all its 8 corners (no change of label can be in it).
-  bool uniformAt(double t, uint16_t label)
-  {
-    double f[3];
-    cornersAt(t, f);
-    return cache_.uniform && cache_.idx[0] == label;
   }
 
   /// The last t where `label` holds between lo (it holds) and hi (it does not), to 1e-12: a
@@ -416,8 +504,15 @@ private:
   {
     double f[3];
     cornersAt(t, f);
-    at = pickLabel(cache_, f);
-    return labelLead(cache_, f, label);
+    if (cache_.uniform)
+    {
+      at = cache_.idx[0];
+      return at == label ? 1.0 : -1.0;
+    }
+    double sums[8]; // one set of weights for both answers
+    labelWeights(cache_, f, sums);
+    at = pickFromSums(cache_, sums);
+    return leadFromSums(cache_, sums, label);
   }
 
   /// A little past the interpolated root, away from the end that moved last: once the root is
@@ -436,8 +531,97 @@ private:
 
   const std::array<int, 3>& dims_;
   const uint16_t* index_;
+  const uint8_t* clearance_;
+  const std::array<size_t, 3>& clearanceStride_;
   Vec3 ua_, d_;
   Corners cache_;
+};
+
+/// The ends of a walk's pieces in increasing order: t0, t1 and every t in between where ua + t d
+/// crosses a plane through voxel centres (u = k + 0.5), merged from the three axes' arithmetic
+/// sequences (the same values a sorted list of them holds).
+class PieceEnds
+{
+public:
+  PieceEnds(const Vec3& ua, const Vec3& d, double t0, double t1)
+    : ua_(ua)
+    , d_(d)
+    , ends_{ t0, t1 }
+  {
+    for (int i = 0; i < 3; ++i)
+    {
+      if (d[i] == 0.0)
+        continue;
+      // the planes k + 0.5 with lo < k < hi
+      const double lo = std::min(ua[i] + t0 * d[i], ua[i] + t1 * d[i]) - 0.5;
+      const double hi = std::max(ua[i] + t0 * d[i], ua[i] + t1 * d[i]) - 0.5;
+      const double first = std::floor(lo) + 1.0, last = std::ceil(hi) - 1.0;
+      if (!(first <= last))
+        continue;
+      left_[i] = static_cast<long>(last - first) + 1;
+      k_[i] = d[i] > 0.0 ? first : last;
+      step_[i] = d[i] > 0.0 ? 1.0 : -1.0;
+      next_[i] = plane(i);
+      remaining_ += left_[i];
+    }
+  }
+
+  /// The next end; false when there is none left.
+  bool next(double& t)
+  {
+    if (remaining_ == 0)
+      return false;
+    --remaining_;
+    int from = -1;
+    t = nextEnd_ < 2 ? ends_[nextEnd_] : std::numeric_limits<double>::infinity();
+    for (int i = 0; i < 3; ++i)
+      if (left_[i] != 0 && next_[i] < t)
+      {
+        t = next_[i];
+        from = i;
+      }
+    if (from < 0)
+      ++nextEnd_;
+    else
+      advance(from);
+    return true;
+  }
+
+  /// Takes every end up to tExit; returns the largest of them and `last`.
+  double skipThrough(double tExit, double last)
+  {
+    for (int i = 0; i < 3; ++i)
+      while (left_[i] != 0 && next_[i] <= tExit)
+      {
+        last = std::max(last, next_[i]);
+        --remaining_;
+        advance(i);
+      }
+    while (nextEnd_ < 2 && ends_[nextEnd_] <= tExit)
+    {
+      last = std::max(last, ends_[nextEnd_++]);
+      --remaining_;
+    }
+    return last;
+  }
+
+private:
+  double plane(int i) const { return (k_[i] + 0.5 - ua_[i]) / d_[i]; }
+  void advance(int i)
+  {
+    if (--left_[i] != 0)
+    {
+      k_[i] += step_[i];
+      next_[i] = plane(i);
+    }
+  }
+
+  Vec3 ua_, d_;
+  double ends_[2];
+  int nextEnd_ = 0;
+  long remaining_ = 2;
+  long left_[3] = { 0, 0, 0 };
+  double k_[3] = {}, step_[3] = {}, next_[3] = {};
 };
 
 /// The crossings a walk appends after the first `from` entries of ts, with the label before each.
@@ -476,47 +660,44 @@ void LabelMapDomain::trilinearCrossings(
   // segment): sample each such piece four times and search every change of label to full
   // precision. Two changes closer than a quarter of a piece may be missed (a sliver of a label
   // thinner than about a quarter voxel along the segment).
-  // Most of the mesher's segments lie inside one label, far from any boundary: the blocks say
-  // so at once, and the walk below would find nothing there.
-  if (uniformAlong(ua + t0 * d, ua + t1 * d) != kMixed)
-    return;
-  thread_local std::vector<double> planes; // reused: no allocation per query
-  thread_local std::vector<uint16_t> labelsBefore;
+  // Most pieces lie in a cell whose 8 corners all carry the label the walk is in (one load of
+  // clearance_ says so; nothing can change there), most of those deep inside a cube of such
+  // cells, which the walk jumps over to the plane where it leaves the cube.
+  thread_local std::vector<uint16_t> labelsBefore; // reused: no allocation per query
   labelsBefore.clear();
   WalkCrossings found{ ts, ts.size(), labelsBefore };
-  planes.clear();
-  planes.push_back(t0);
-  planes.push_back(t1);
-  for (int i = 0; i < 3; ++i)
-  {
-    if (d[i] == 0.0)
-      continue;
-    const double lo = std::min(ua[i] + t0 * d[i], ua[i] + t1 * d[i]) - 0.5;
-    const double hi = std::max(ua[i] + t0 * d[i], ua[i] + t1 * d[i]) - 0.5;
-    for (double k = std::floor(lo) + 1.0; k < hi; k += 1.0)
-      planes.push_back((k + 0.5 - ua[i]) / d[i]);
-  }
-  std::sort(planes.begin(), planes.end());
-  TrilinearWalk walk(dims_, index_.data(), ua, d);
+  PieceEnds ends(ua, d, t0, t1);
+  TrilinearWalk walk(dims_, index_.data(), clearance_.data(), clearanceStride_, ua, d);
   constexpr int kSamples = 4;
   double previousT = t0;
   uint16_t previous = walk.labelAt(t0);
-  for (size_t p = 0; p + 1 < planes.size(); ++p)
+  double a = 0.0, b = 0.0;
+  ends.next(a);
+  for (; ends.next(b); a = b)
   {
-    const double a = planes[p], b = planes[p + 1];
     if (!(b > a))
       continue;
-    if (walk.uniformAt(0.5 * (a + b), previous))
+    int lo[3];
+    uint16_t label = 0;
+    const int clearance = walk.clearanceAt(0.5 * (a + b), lo, label);
+    if (clearance > 0 && label == previous)
     {
-      previousT = b; // all 8 voxel centres carry the label we are in: no change in this piece
+      if (clearance > 1) // the pieces up to the cube's exit lie in cells of this label too
+        b = ends.skipThrough(walk.exitOfCube(lo, clearance), b);
+      previousT = b;
+      continue;
+    }
+    if (clearance == 0 && walk.holdsOnPiece(a, b, previous))
+    {
+      previousT = a + (b - a) * kSamples / kSamples; // the last sample's t, as the samples leave it
       continue;
     }
     for (int s = 1; s <= kSamples; ++s)
     {
       const double t = a + (b - a) * s / kSamples;
-      const uint16_t label = walk.labelAt(t);
+      const uint16_t at = walk.labelAt(t);
       // every change between the previous sample and t (a few at most)
-      for (int guard = 0; label != previous && guard < 8; ++guard)
+      for (int guard = 0; at != previous && guard < 8; ++guard)
       {
         const double hi = walk.lastOf(previous, previousT, t);
         const uint16_t after = walk.labelAt(hi);
@@ -524,7 +705,7 @@ void LabelMapDomain::trilinearCrossings(
         previous = after;
         previousT = hi;
       }
-      previous = label;
+      previous = at;
       previousT = t;
     }
   }

@@ -80,21 +80,21 @@ private:
   /// Compact label index of the largest trilinear indicator at voxel coordinates u (in the grid).
   uint16_t trilinearIndex(const Vec3& u) const;
   void trilinearCrossings(const Vec3& ua, const Vec3& d, double t0, double t1, std::vector<double>& ts) const;
-  /// Fills blockIndex_: per block of kBlock^3 cells of voxel centres, the one label index all their
-  /// corners carry, or kMixed.
-  void buildBlocks();
-  /// The label index all of a segment's cells carry when the blocks its bounding box touches are
-  /// all that one label (no trilinear crossing on it), else kMixed.
-  uint16_t uniformAlong(const Vec3& ua, const Vec3& ub) const;
-  static constexpr int kBlock = 8;
-  static constexpr uint16_t kMixed = 0xFFFF;
+  /// Fills clearance_ (Trilinear only).
+  void buildClearance();
 
   std::array<int, 3> dims_;
   std::array<double, 3> dimsD_;
   std::vector<uint16_t> index_;    ///< compact label index per voxel (2 bytes a voxel)
   std::vector<int> indexMaterial_; ///< compact index -> material id (kOutside for the background)
-  std::array<int, 3> blocks_{};     ///< blocks per axis over the cells of voxel centres
-  std::vector<uint16_t> blockIndex_; ///< per block: its one label index, or kMixed (Trilinear only)
+  /// Per cell of voxel centres (dims + 1 per axis, with one padding cell on each side; cell c's
+  /// lower corner is voxel c - 1, clamped): the Chebyshev distance in cells to the nearest cell whose
+  /// 8 corners carry more than one label, 0 for such a mixed cell, capped at 255. A cell
+  /// at distance D is the centre of a cube of 2D - 1 cells of one label (adjacent uniform cells
+  /// share corners): the crossings' walk tells a piece of one label with one load and jumps over
+  /// the cube. 1 byte a cell (Trilinear only).
+  std::vector<uint8_t> clearance_;
+  std::array<size_t, 3> clearanceStride_{};
   AffineMap worldToVoxel_;
   double voxelVolume_ = 0.0;
   LabelInterpolation interpolation_ = LabelInterpolation::Nearest;

@@ -81,6 +81,13 @@ MeshCriteria::Values MaterialCriteria::of(int material) const
   return it == perMaterial.end() ? global.values() : it->second.over(global).values();
 }
 
+MaterialCriteria::Resolved::Resolved(const MaterialCriteria& c)
+  : global_(c.global.values())
+{
+  for (const auto& entry : c.perMaterial)
+    perMaterial_.emplace(entry.first, c.of(entry.first));
+}
+
 void CriteriaLevel::add(int material, const MeshCriteria& c, const std::string& source)
 {
   MeshCriteria& mine = criteria_[material];

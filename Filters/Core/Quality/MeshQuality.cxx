@@ -34,14 +34,13 @@ double minDihedralAngle(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3&
       return 0.0;
     n[f] = (1.0 / l) * m;
   }
-  double smallest = 180.0;
+  // the smallest angle has the largest cosine: one acos instead of six (acos is monotonic, so the
+  // result is the same to the bit)
+  double largest = -1.0;
   for (int i = 0; i < 4; ++i)
     for (int j = i + 1; j < 4; ++j)
-    {
-      const double c = std::clamp(-dot(n[i], n[j]), -1.0, 1.0);
-      smallest = std::min(smallest, std::acos(c) * 180.0 / M_PI);
-    }
-  return smallest;
+      largest = std::max(largest, std::clamp(-dot(n[i], n[j]), -1.0, 1.0));
+  return std::acos(largest) * 180.0 / M_PI;
 }
 
 Vec3 circumcenter(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d)

@@ -84,7 +84,7 @@ protected:
   MaterialCellCriterion* do_clone() const override { return new MaterialCellCriterion(*this); }
   Is_bad do_is_bad(const Tr& tr, const typename Tr::Cell_handle& c) const override
   {
-    const MeshCriteria::Values m = criteria_.of(materialOf(c->subdomain_index()));
+    const MeshCriteria::Values& m = criteria_.of(materialOf(c->subdomain_index()));
     const typename Tr::Weighted_point &wp = tr.point(c, 0), &wq = tr.point(c, 1), &wr = tr.point(c, 2), &ws = tr.point(c, 3);
     const auto &p = wp.point(), &q = wq.point(), &r = wr.point(), &s = ws.point();
     // CGAL's rules next to protecting balls (Cell_criteria_visitor_with_features): no shape
@@ -141,7 +141,7 @@ protected:
   }
 
 private:
-  MaterialCriteria criteria_;
+  MaterialCriteria::Resolved criteria_;
   double anySliverAngle_;
   double interfaceSliverAngle_;
 };
@@ -169,8 +169,8 @@ protected:
   Is_bad do_is_bad(const Tr& tr, const typename Tr::Facet& f) const override
   {
     const auto patch = f.first->surface_patch_index(f.second);
-    const MeshCriteria::Values a = criteria_.of(materialOf(patch.first));
-    const MeshCriteria::Values b = criteria_.of(materialOf(patch.second));
+    const MeshCriteria::Values& a = criteria_.of(materialOf(patch.first));
+    const MeshCriteria::Values& b = criteria_.of(materialOf(patch.second));
     auto strict = [](double x, double y) { return x > 0 && y > 0 ? std::min(x, y) : std::max(x, y); };
     const double angle = std::max(a.facetAngle, b.facetAngle);
     const double size = strict(a.facetSize, b.facetSize);
@@ -214,7 +214,7 @@ protected:
   }
 
 private:
-  MaterialCriteria criteria_;
+  MaterialCriteria::Resolved criteria_;
 };
 /// The mesher's criteria: ours per material (MaterialFacetCriterion, MaterialCellCriterion) and
 /// CGAL's topology criterion (facet vertices on the surface, T2); `edges` bounds the protecting
