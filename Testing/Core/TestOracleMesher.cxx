@@ -436,6 +436,7 @@ TEST(OracleMesher, AbortDuringOptimisation)
     SCOPED_TRACE(phase);
     MesherOptions opt = options(FeatureStrategy::None, 0.08);
     opt.exudationSliverBound = 0; // every cell: an exudation long enough to be asked from inside
+    opt.conformingSliverAngle = 0.0; // circumcentres: slivers for the perturber
     int calls = 0;
     // the first call announces the phase; a second one comes from inside CGAL's optimiser
     opt.progress = [&](double, const char* p) { return !(phase == p && ++calls >= 2); };
@@ -489,6 +490,7 @@ TEST(OracleMesher, SliversAreRefinedBeforeOptimisation)
   o.add(std::make_shared<BoxDomain>(Vec3{ -0.5, -0.5, -2 }, Vec3{ 0.5, 0.5, -0.5 }, 2));
   MesherOptions opt = options(FeatureStrategy::Conforming, 0.2);
   opt.perturb = opt.exude = false;
+  opt.conformingSliverAngle = 0.0; // circumcentres: the sliver rule alone
   opt.sliverAngle = 0.0;
   const double without = worstTet(meshOracle(o, {}, {}, opt));
   opt.sliverAngle = 8.0;

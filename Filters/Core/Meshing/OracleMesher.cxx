@@ -884,17 +884,25 @@ private:
   /// on a feature line outside every domain).
   bool touchesMaterial(const Vec3& a, const Vec3& b) const { return oracle_.touchesMaterial(a, b); }
 
-  /// Where the cell level takes its refinement points (SliverAvoidingPoint), and the angle below
-  /// which any cell is refined: Conforming with feature lines picks (ConformingMesher3), the other
-  /// paths take CGAL's circumcentres.
+  /// Whether the cell level picks its refinement points (SliverAvoidingPoint, ConformingMesher3):
+  /// every sequential run but ProtectingBalls' (whose balls' weights CGAL's cells must see as
+  /// they are); parallel refinement takes CGAL's circumcentres.
+  bool picks() const
+  {
+    return options_.strategy != FeatureStrategy::ProtectingBalls && threads_ == 1 &&
+      effectiveConformingSliverAngle(options_) > 0;
+  }
+
+  /// Where the cell level takes its refinement points, and the angle below which any cell is
+  /// refined.
   PickingRegion pickingRegion() const
   {
     PickingRegion r;
     r.targetAngle = options_.sliverAngle;
     r.seed = options_.seed;
-    const double angle = effectiveConformingSliverAngle(options_);
-    if (options_.strategy == FeatureStrategy::Conforming && !features_->empty() && angle > 0)
+    if (picks())
     {
+      const double angle = effectiveConformingSliverAngle(options_);
       r.candidates = kPickingCandidates;
       r.radius = kPickingRadius;
       r.targetAngle = std::max(r.targetAngle, angle);
@@ -902,8 +910,8 @@ private:
     return r;
   }
 
-  /// One refinement round: Conforming with the segment level below the facets, else CGAL's
-  /// Mesher_3.
+  /// One refinement round: Conforming with the segment level below the facets; without one, the
+  /// same mesher with no segments where the cells pick their points; else CGAL's Mesher_3.
   void refineOnce()
   {
     if (conforming_)
@@ -913,20 +921,33 @@ private:
       ConformingMesher3<C3t3, Criteria, MeshDomain> mesher(
         *c3t3_, *domain_, *criteria_, level, CGAL::FACET_VERTICES_ON_SURFACE, pickingRegion());
       drive(mesher, [&] { return level.queueMissingFromComplex(wanted) > 0; });
-      const PickingRegion::Counters& picked = mesher.pickingCounters();
-      picking_.cells += picked.cells;
-      picking_.moved += picked.moved;
-      picking_.unreached += picked.unreached;
+      countPicks(mesher.pickingCounters());
       missing_ = level.missingCensus(wanted);
     }
     else if (threads_ > 1)
       refineInParallelOnce();
+    else if (picks())
+    {
+      SegmentState<C3t3> none(*c3t3_, SegmentSet{});
+      Segments level(*c3t3_, none, domain_->index_from_curve_index(1));
+      ConformingMesher3<C3t3, Criteria, MeshDomain> mesher(
+        *c3t3_, *domain_, *criteria_, level, CGAL::FACET_VERTICES_ON_SURFACE, pickingRegion());
+      drive(mesher, {});
+      countPicks(mesher.pickingCounters());
+    }
     else
     {
       Mesher mesher(*c3t3_, *domain_, *criteria_, CGAL::FACET_VERTICES_ON_SURFACE);
       drive(mesher, {});
     }
     ++rounds_;
+  }
+
+  void countPicks(const PickingRegion::Counters& picked)
+  {
+    picking_.cells += picked.cells;
+    picking_.moved += picked.moved;
+    picking_.unreached += picked.unreached;
   }
 
   /// CGAL's parallel refinement on threads_ threads, from and back into the sequential complex.
