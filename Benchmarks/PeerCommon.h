@@ -113,7 +113,7 @@ inline omesh::FeatureSegments readSegments(const std::string& path)
 /// and exude each limited to T seconds and nothing else (no step budgets); previous (OracleMesh
 /// only) = its defaults before issue 12's optimisation policy. --threads (OracleMesh only): the
 /// refinement's threads (MesherOptions::threads). --sliver-angle (OracleMesh only): the Conforming
-/// strategy's picked-point angle (MesherOptions::conformingSliverAngle).
+/// strategy's picked-point angle (MesherOptions::pickingSliverAngle).
 struct Args
 {
   std::string kind, input, features;
@@ -122,7 +122,7 @@ struct Args
   double limit = 0;
   unsigned seed = 1;
   int threads = 1;
-  double sliverAngle = -1; ///< OracleMesh only: MesherOptions::conformingSliverAngle (< 0: its default)
+  double sliverAngle = -1; ///< OracleMesh only: MesherOptions::pickingSliverAngle (< 0: its default)
 };
 
 inline Args parseArgs(int argc, char* argv[])

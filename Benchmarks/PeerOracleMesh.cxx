@@ -56,7 +56,7 @@ int main(int argc, char* argv[])
     c.edgeSize = a.kind == "cad" ? a.edgeSize : 0.0;
     o.seed = a.seed;
     o.threads = a.threads;
-    o.conformingSliverAngle = a.sliverAngle;
+    o.pickingSliverAngle = a.sliverAngle;
     if (a.opt == "none")
       o.perturb = o.exude = false;
     else if (a.opt == "previous") // the defaults before issue 12's optimisation policy: step budgets only

@@ -22,7 +22,7 @@ import sys
 CRITERIA = [("facet_angle", "FacetAngle"), ("facet_size", "FacetSize"), ("facet_distance", "FacetDistance"),
             ("cell_size", "CellSize"), ("cell_radius_edge_ratio", "CellRadiusEdgeRatio"), ("edge_size", "EdgeSize")]
 MESH_PROPERTIES = {"perturb": "Perturb", "exude": "Exude", "sliver_angle": "SliverAngle",
-                   "interface_sliver_angle": "InterfaceSliverAngle", "conforming_sliver_angle": "ConformingSliverAngle",
+                   "interface_sliver_angle": "InterfaceSliverAngle", "picking_sliver_angle": "PickingSliverAngle",
                    "perturbation_failures_per_bound": "PerturbationFailuresPerBound",
                    "exudation_sliver_bound": "ExudationSliverBound",
                    "perturbation_steps_per_vertex": "PerturbationStepsPerVertex",

@@ -112,7 +112,7 @@ vtkFeaturePreservingTetrahedralizer::vtkFeaturePreservingTetrahedralizer()
   this->ResampleFeatureLines = defaults.resampleFeatureLines;
   this->SliverAngle = defaults.sliverAngle;
   this->InterfaceSliverAngle = defaults.interfaceSliverAngle;
-  this->ConformingSliverAngle = defaults.conformingSliverAngle;
+  this->PickingSliverAngle = defaults.pickingSliverAngle;
   this->Perturb = defaults.perturb;
   this->Exude = defaults.exude;
   this->PerturbationFailuresPerBound = defaults.perturbationFailuresPerBound;
@@ -273,7 +273,7 @@ void vtkFeaturePreservingTetrahedralizer::CheckProperties() const
   omesh::checkCreaseAngle(this->CreaseAngle, "vtkFeaturePreservingTetrahedralizer: CreaseAngle");
   checkRange("SliverAngle", this->SliverAngle, 0.0, 30.0, " degrees; 0 = off");
   checkRange("InterfaceSliverAngle", this->InterfaceSliverAngle, 0.0, 30.0, " degrees; 0 = off");
-  checkRange("ConformingSliverAngle", this->ConformingSliverAngle, -1.0, 30.0, " degrees; 0 = off, -1 = automatic");
+  checkRange("PickingSliverAngle", this->PickingSliverAngle, -1.0, 30.0, " degrees; 0 = off, -1 = automatic");
   if (this->MaximumNumberOfVertices < 0)
     throw omesh::InputError("vtkFeaturePreservingTetrahedralizer: MaximumNumberOfVertices " +
       std::to_string(this->MaximumNumberOfVertices) + " is out of range (>= 0; 0 = unlimited)");
@@ -300,7 +300,7 @@ void vtkFeaturePreservingTetrahedralizer::SetUpOptions(MeshingRun& run)
   options.resampleFeatureLines = this->ResampleFeatureLines;
   options.sliverAngle = this->SliverAngle;
   options.interfaceSliverAngle = this->InterfaceSliverAngle;
-  options.conformingSliverAngle = this->ConformingSliverAngle;
+  options.pickingSliverAngle = this->PickingSliverAngle;
   options.perturb = this->Perturb;
   options.exude = this->Exude;
   options.perturbationFailuresPerBound = this->PerturbationFailuresPerBound;
@@ -443,7 +443,7 @@ void vtkFeaturePreservingTetrahedralizer::PrintSelf(ostream& os, vtkIndent inden
   os << indent << "ResampleFeatureLines: " << this->ResampleFeatureLines << "\n";
   os << indent << "SliverAngle: " << this->SliverAngle << "\n";
   os << indent << "InterfaceSliverAngle: " << this->InterfaceSliverAngle << "\n";
-  os << indent << "ConformingSliverAngle: " << this->ConformingSliverAngle << "\n";
+  os << indent << "PickingSliverAngle: " << this->PickingSliverAngle << "\n";
   os << indent << "Perturb: " << this->Perturb << "\n";
   os << indent << "Exude: " << this->Exude << "\n";
   os << indent << "PerturbationFailuresPerBound: " << this->PerturbationFailuresPerBound << "\n";

@@ -212,14 +212,14 @@ public:
   ///@}
 
   ///@{
-  /// Conforming strategy with feature lines: tetrahedra below this bound (degrees; the larger of it
+  /// Strategies None and Conforming, on one thread: tetrahedra below this bound (degrees; the larger of it
   /// and SliverAngle) are refined, each at a point picked near its circumcentre so that the new
   /// tetrahedra are no slivers (Li and Teng's picking region). Bounds the angles before
   /// optimisation where circumcentres would run into the vertex budget. 0 turns it off (CGAL's
   /// circumcentres); -1, the default: 12 where every material's radius-edge bound is at least
   /// 1.3, 8.7 where every one is at least 1.1 (the paper's), else off (no termination guarantee: the vertex budget applies).
-  vtkSetMacro(ConformingSliverAngle, double); // -1 to 30
-  vtkGetMacro(ConformingSliverAngle, double);
+  vtkSetMacro(PickingSliverAngle, double); // -1 to 30
+  vtkGetMacro(PickingSliverAngle, double);
   ///@}
 
   ///@{
@@ -276,7 +276,7 @@ protected:
   bool ResampleFeatureLines;
   double SliverAngle;
   double InterfaceSliverAngle;
-  double ConformingSliverAngle;
+  double PickingSliverAngle;
   double FacetAngle;
   double FacetSize;
   double FacetDistance;

@@ -436,7 +436,7 @@ TEST(OracleMesher, AbortDuringOptimisation)
     SCOPED_TRACE(phase);
     MesherOptions opt = options(FeatureStrategy::None, 0.08);
     opt.exudationSliverBound = 0; // every cell: an exudation long enough to be asked from inside
-    opt.conformingSliverAngle = 0.0; // circumcentres: slivers for the perturber
+    opt.pickingSliverAngle = 0.0; // circumcentres: slivers for the perturber
     int calls = 0;
     // the first call announces the phase; a second one comes from inside CGAL's optimiser
     opt.progress = [&](double, const char* p) { return !(phase == p && ++calls >= 2); };
@@ -490,7 +490,7 @@ TEST(OracleMesher, SliversAreRefinedBeforeOptimisation)
   o.add(std::make_shared<BoxDomain>(Vec3{ -0.5, -0.5, -2 }, Vec3{ 0.5, 0.5, -0.5 }, 2));
   MesherOptions opt = options(FeatureStrategy::Conforming, 0.2);
   opt.perturb = opt.exude = false;
-  opt.conformingSliverAngle = 0.0; // circumcentres: the sliver rule alone
+  opt.pickingSliverAngle = 0.0; // circumcentres: the sliver rule alone
   opt.sliverAngle = 0.0;
   const double without = worstTet(meshOracle(o, {}, {}, opt));
   opt.sliverAngle = 8.0;
@@ -515,9 +515,9 @@ TEST(OracleMesher, PickedRefinementPointsBoundTheAnglesBeforeOptimisation)
   opt.criteria.global.edgeSize = 0.2;
   opt.perturb = opt.exude = false;
   opt.maximumNumberOfVertices = 100000;
-  opt.conformingSliverAngle = 0.0; // circumcentres, SliverAngle 1
+  opt.pickingSliverAngle = 0.0; // circumcentres, SliverAngle 1
   const TetMesh circumcentres = meshOracle(o, edges, {}, opt);
-  opt.conformingSliverAngle = 8.7;
+  opt.pickingSliverAngle = 8.7;
   const TetMesh picked = meshOracle(o, edges, {}, opt);
   EXPECT_LT(worstTet(circumcentres), 8.7) << "the case should have slivers to refine";
   EXPECT_GE(worstTet(picked), 8.7);
@@ -529,29 +529,48 @@ TEST(OracleMesher, PickedRefinementPointsBoundTheAnglesBeforeOptimisation)
   EXPECT_NEAR(materialVolumes(picked).at(2), 1.0, 0.01);
 }
 
-// The automatic conforming sliver angle: 12 degrees where every material's radius-edge bound is
+// Without feature lines (strategy None here) the cells pick their points too: the automatic
+// 12 degrees at the default radius-edge bound 3 hold before any optimisation; circumcentres
+// leave slivers there.
+TEST(OracleMesher, PickedRefinementPointsWithoutFeatureLines)
+{
+  HierarchicalOracle o;
+  o.add(std::make_shared<SphereDomain>(Vec3{ 0, 0, 0 }, 1.0, 1));
+  o.add(std::make_shared<BoxDomain>(Vec3{ -0.5, -0.5, -2 }, Vec3{ 0.5, 0.5, -0.5 }, 2));
+  MesherOptions opt = options(FeatureStrategy::None, 0.2);
+  opt.perturb = opt.exude = false;
+  ASSERT_EQ(effectivePickingSliverAngle(opt), kPickingSliverAngleLoose);
+  const TetMesh picked = meshOracle(o, {}, {}, opt);
+  EXPECT_GE(worstTet(picked), kPickingSliverAngleLoose);
+  EXPECT_GT(picked.statistics.at("refinement_point_picks"), 0.0);
+  EXPECT_EQ(picked.statistics.at("validity.defects"), 0.0);
+  opt.pickingSliverAngle = 0.0;
+  EXPECT_LT(worstTet(meshOracle(o, {}, {}, opt)), kPickingSliverAngleLoose) << "the case should have slivers";
+}
+
+// The automatic picking sliver angle: 12 degrees where every material's radius-edge bound is
 // at least 1.3, the paper's 8.7 where every one is at least 1.1 (12 ran a generated case at 1.1
 // into the vertex budget), off where one is tighter.
-TEST(OracleMesher, AutomaticConformingSliverAngleFollowsTheRadiusEdgeBounds)
+TEST(OracleMesher, AutomaticPickingSliverAngleFollowsTheRadiusEdgeBounds)
 {
   MesherOptions o;
   o.criteria.global.cellRadiusEdgeRatio = 2.0;
-  EXPECT_EQ(effectiveConformingSliverAngle(o), kConformingSliverAngleLoose);
+  EXPECT_EQ(effectivePickingSliverAngle(o), kPickingSliverAngleLoose);
   MeshCriteria tight = MeshCriteria::inheritAll();
   tight.cellRadiusEdgeRatio = 1.3;
   o.criteria.perMaterial[3] = tight;
-  EXPECT_EQ(effectiveConformingSliverAngle(o), kConformingSliverAngleLoose);
+  EXPECT_EQ(effectivePickingSliverAngle(o), kPickingSliverAngleLoose);
   tight.cellRadiusEdgeRatio = 1.1; // the paper's bound: its angle
   o.criteria.perMaterial[3] = tight;
-  EXPECT_EQ(effectiveConformingSliverAngle(o), kConformingSliverAngle);
+  EXPECT_EQ(effectivePickingSliverAngle(o), kPickingSliverAngle);
   o.criteria.global.cellRadiusEdgeRatio = 0.0; // no bound counts as the paper's
   o.criteria.perMaterial.clear();
-  EXPECT_EQ(effectiveConformingSliverAngle(o), kConformingSliverAngle);
+  EXPECT_EQ(effectivePickingSliverAngle(o), kPickingSliverAngle);
   tight.cellRadiusEdgeRatio = 1.05; // below it: not measured, off
   o.criteria.perMaterial[3] = tight;
-  EXPECT_EQ(effectiveConformingSliverAngle(o), 0.0);
-  o.conformingSliverAngle = 5.0; // a given angle is kept
-  EXPECT_EQ(effectiveConformingSliverAngle(o), 5.0);
+  EXPECT_EQ(effectivePickingSliverAngle(o), 0.0);
+  o.pickingSliverAngle = 5.0; // a given angle is kept
+  EXPECT_EQ(effectivePickingSliverAngle(o), 5.0);
 }
 
 // Issue 9: a CAD part whose bounding-box centre lies on one of its flat faces. Half of the rays
@@ -618,7 +637,7 @@ TEST(OracleMesher, OptimisationPolicyStopsWhereItNoLongerPays)
   MesherOptions opt = options(FeatureStrategy::Conforming, 0.8);
   opt.criteria.global.facetDistance = 0.2;
   opt.criteria.global.edgeSize = 0.4;
-  opt.conformingSliverAngle = 0.0; // circumcentres: slivers left for the optimisers (picked points end above 12)
+  opt.pickingSliverAngle = 0.0; // circumcentres: slivers left for the optimisers (picked points end above 12)
   const TetMesh policy = meshOracle(o, edges, {}, opt);
   MesherOptions stock = opt; // CGAL's policy, without its time limits
   stock.perturbationFailuresPerBound = 0;

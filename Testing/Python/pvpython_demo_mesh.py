@@ -42,7 +42,7 @@ for updated in (False, True):
         oracle.UpdatePipeline()
     fresh = pv.FeaturePreservingTetrahedralizer(Input=oracle)
     for prop in ("FacetAngle", "FacetSize", "FacetDistance", "CellSize", "CellRadiusEdgeRatio", "EdgeSize",
-                 "SliverAngle", "InterfaceSliverAngle", "ConformingSliverAngle", "Seed", "MaximumNumberOfVertices", "TimeLimit"):
+                 "SliverAngle", "InterfaceSliverAngle", "PickingSliverAngle", "Seed", "MaximumNumberOfVertices", "TimeLimit"):
         check(getattr(fresh, prop) == getattr(cxx, "Get" + prop)(),
               f"{prop} defaults to the C++'s {getattr(cxx, 'Get' + prop)()} (input updated: {updated}): {getattr(fresh, prop)}")
     pv.Delete(fresh)

@@ -559,7 +559,7 @@ class PythonApi(unittest.TestCase):
         for setter, value, words in (("SetFeatureStrategy", 7, ["FeatureStrategy", "7"]),
                                      ("SetInterfaceSliverAngle", 90, ["InterfaceSliverAngle", "90"]),
                                      ("SetCreaseAngle", 0, ["CreaseAngle", "0", "180 = no creases"]),
-                                     ("SetConformingSliverAngle", 31, ["ConformingSliverAngle", "31"]),
+                                     ("SetPickingSliverAngle", 31, ["PickingSliverAngle", "31"]),
                                      ("SetMaximumNumberOfVertices", -1, ["MaximumNumberOfVertices", "-1"]),
                                      ("SetPerturbationStepsPerVertex", -2, ["PerturbationStepsPerVertex"]),
                                      ("SetOptimisationTimeLimit", -5, ["OptimisationTimeLimit"]),

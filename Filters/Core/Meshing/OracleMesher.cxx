@@ -49,20 +49,20 @@
 
 namespace omesh
 {
-double effectiveConformingSliverAngle(const MesherOptions& options)
+double effectivePickingSliverAngle(const MesherOptions& options)
 {
-  if (options.conformingSliverAngle >= 0)
-    return options.conformingSliverAngle;
+  if (options.pickingSliverAngle >= 0)
+    return options.pickingSliverAngle;
   // the tightest radius-edge bound of any material (0 = none: counted as the paper's)
   auto bound = [](const MeshCriteria::Values& v) {
-    return v.cellRadiusEdgeRatio > 0 ? v.cellRadiusEdgeRatio : kConformingSliverRadiusEdge;
+    return v.cellRadiusEdgeRatio > 0 ? v.cellRadiusEdgeRatio : kPickingSliverRadiusEdge;
   };
   double tightest = bound(options.criteria.globalValues());
   for (const auto& entry : options.criteria.perMaterial)
     tightest = std::min(tightest, bound(options.criteria.of(entry.first)));
-  if (tightest >= kConformingSliverRadiusEdgeLoose)
-    return kConformingSliverAngleLoose;
-  return tightest >= kConformingSliverRadiusEdge ? kConformingSliverAngle : 0.0;
+  if (tightest >= kPickingSliverRadiusEdgeLoose)
+    return kPickingSliverAngleLoose;
+  return tightest >= kPickingSliverRadiusEdge ? kPickingSliverAngle : 0.0;
 }
 
 double effectiveTimeLimit(const MesherOptions& options)
@@ -890,7 +890,7 @@ private:
   bool picks() const
   {
     return options_.strategy != FeatureStrategy::ProtectingBalls && threads_ == 1 &&
-      effectiveConformingSliverAngle(options_) > 0;
+      effectivePickingSliverAngle(options_) > 0;
   }
 
   /// Where the cell level takes its refinement points, and the angle below which any cell is
@@ -902,7 +902,7 @@ private:
     r.seed = options_.seed;
     if (picks())
     {
-      const double angle = effectiveConformingSliverAngle(options_);
+      const double angle = effectivePickingSliverAngle(options_);
       r.candidates = kPickingCandidates;
       r.radius = kPickingRadius;
       r.targetAngle = std::max(r.targetAngle, angle);

@@ -38,13 +38,14 @@ struct MesherOptions
   /// leaves. Raising it bounds the angles before optimisation, at a price in tetrahedra; not covered
   /// by CGAL's termination guarantee (refinement also stops at the vertex budget). 0 = off.
   double sliverAngle = 1.0;
-  /// Conforming with feature lines: tetrahedra below this angle (degrees; the larger of it and
+  /// Every sequential run but ProtectingBalls' (whose balls CGAL's cells must see as they are;
+  /// parallel runs take circumcentres): tetrahedra below this angle (degrees; the larger of it and
   /// `sliverAngle`) are refined, and a cell's refinement point is picked in a small ball around its
   /// circumcentre so that the tetrahedra its insertion makes reach this angle and it encroaches no
   /// restricted facet (Li and Teng's picking region, SliverAvoidingPoint.h): a sliver split at its
   /// circumcentre makes new slivers, and this bound alone, with circumcentres, ran the generated
   /// bone/implant cases at radius-edge 1.1 into the vertex budget. 0 = off (circumcentres, CGAL's
-  /// point). < 0 = automatic (effectiveConformingSliverAngle): 12 degrees where every material's
+  /// point). < 0 = automatic (effectivePickingSliverAngle): 12 degrees where every material's
   /// radius-edge bound is at least 1.3, 8.7 (the paper's angle) where every one is at least the
   /// paper's 1.1, else off. Measured on generated bone/implant cases: at radius-edge 1.1 all 25 end
   /// above 8.7 degrees before optimisation (71k-843k tetrahedra); at 1.3, 1.5 and 2 all 15 end
@@ -52,7 +53,7 @@ struct MesherOptions
   /// do). An earlier state of the code ran one of them (an implant face on a voxel
   /// boundary) into the vertex budget at 1.1: refinement at such bounds is not covered by a
   /// termination guarantee, and the vertex budget still stops it (with a warning).
-  double conformingSliverAngle = -1.0;
+  double pickingSliverAngle = -1.0;
   /// Simplify and resample the feature lines before meshing (simplifyFeatureNetwork in
   /// FeatureNetworkSimplification.h), at h = the edge size (else the facet size, else 1/40 of the
   /// domain's diagonal): points closer than h merged, segments at less than 30 degrees sharing a
@@ -117,19 +118,19 @@ struct MesherOptions
   std::function<bool(double, const char*)> progress;
 };
 
-/// The automatic conforming sliver angle (MesherOptions::conformingSliverAngle < 0): the paper's
+/// The automatic picking sliver angle (MesherOptions::pickingSliverAngle < 0): the paper's
 /// minimal angle where every material's radius-edge bound is at least the paper's 1.1 (or none),
 /// 12 degrees where every one is at least 1.3. Measured on the generated bone/implant cases (15
 /// each): at 1.3, 1.5 and 2, 12 degrees ends all before optimisation with 1.00-1.06x the
 /// tetrahedra of 8.7; at 1.1, 12 (and 10) degrees ran one case into the vertex budget and tripled
 /// the others.
-constexpr double kConformingSliverAngle = 8.7;
-constexpr double kConformingSliverRadiusEdge = 1.1;
-constexpr double kConformingSliverAngleLoose = 12.0;
-constexpr double kConformingSliverRadiusEdgeLoose = 1.3;
+constexpr double kPickingSliverAngle = 8.7;
+constexpr double kPickingSliverRadiusEdge = 1.1;
+constexpr double kPickingSliverAngleLoose = 12.0;
+constexpr double kPickingSliverRadiusEdgeLoose = 1.3;
 
-/// The conforming sliver angle a run with `options` gets, in degrees (0 = off).
-double effectiveConformingSliverAngle(const MesherOptions& options);
+/// The picking sliver angle a run with `options` gets, in degrees (0 = off).
+double effectivePickingSliverAngle(const MesherOptions& options);
 
 /// The automatic time limit (MesherOptions::timeLimit 0): seconds, plus seconds per vertex of the
 /// budget. A generous multiple of the slowest rate measured (see the README's "Time limit").

@@ -27,7 +27,7 @@ FEATURE_SOURCES = ("None", "Given", "Automatic", "Both")
 MESH_PROPERTIES = {
     "perturb": "Perturb", "exude": "Exude", "sliver_angle": "SliverAngle",
     "resample_feature_lines": "ResampleFeatureLines",
-    "interface_sliver_angle": "InterfaceSliverAngle", "conforming_sliver_angle": "ConformingSliverAngle",
+    "interface_sliver_angle": "InterfaceSliverAngle", "picking_sliver_angle": "PickingSliverAngle",
     "perturbation_failures_per_bound": "PerturbationFailuresPerBound",
     "exudation_sliver_bound": "ExudationSliverBound",
     "perturbation_steps_per_vertex": "PerturbationStepsPerVertex",

@@ -48,7 +48,7 @@ DOMAIN_KEYS = {
 }
 TOP_KEYS = {"description", "comment", "space", "domains", "mesh", "outputs", "reference_volumes"}
 MESH_KEYS = {"strategy", "criteria", "materials", "features", "seed", "maximum_number_of_vertices", "comment",
-             "perturb", "exude", "sliver_angle", "interface_sliver_angle", "conforming_sliver_angle",
+             "perturb", "exude", "sliver_angle", "interface_sliver_angle", "picking_sliver_angle",
              "perturbation_steps_per_vertex",
              "exudation_steps_per_cell", "optimisation_time_limit", "perturbation_failures_per_bound",
              "exudation_sliver_bound", "time_limit", "element_order", "threads"}
@@ -339,7 +339,7 @@ def _mesh_block(problems, spec, scene):
     for key, low, high in (("perturbation_steps_per_vertex", 0, 1e6), ("exudation_steps_per_cell", 0, 1e6),
                            ("optimisation_time_limit", -1, 1e6), ("perturbation_failures_per_bound", 0, 1e6),
                            ("exudation_sliver_bound", 0, 90), ("time_limit", -1, 1e9),
-                           ("conforming_sliver_angle", -1, 30)):
+                           ("picking_sliver_angle", -1, 30)):
         value = _number(problems, spec, "$.mesh", key, required=False)
         if value is not None:
             if not low <= value <= high:

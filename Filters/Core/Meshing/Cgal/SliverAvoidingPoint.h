@@ -25,7 +25,7 @@ namespace omesh::cgal
 constexpr int kPickingCandidates = 16;
 constexpr double kPickingRadius = 0.2;
 
-/// How a cell's refinement point is chosen (from MesherOptions::conformingSliverAngle and the
+/// How a cell's refinement point is chosen (from MesherOptions::pickingSliverAngle and the
 /// constants above: OracleMesher's pickingRegion).
 struct PickingRegion
 {
