@@ -36,7 +36,7 @@ struct FeatureLineOptions
   double maxSegmentLength = 0.0;
   double tolerance = 0.0; ///< 0 = 0.05 x maxSegmentLength
   /// Per material: a curve takes the smallest of its materials' lengths listed here (else
-  /// maxSegmentLength): the local edge size.
+  /// maxSegmentLength): the local edge size (also the grid step's and the junction collapse's scale).
   std::map<int, double> materialSegmentLength;
   /// Chords longer than the segment length, for a mesher that splits them to the edge size
   /// itself (rule T1.2, as it does given lines): per material (a curve takes the smallest of its
