@@ -651,6 +651,48 @@ TEST(OracleFeatureLines, ABoxAloneGivesItsTwelveEdgesAndTheMeshKeepsThem)
   expectMeshedWithEveryLine(oracle, selection, criteria);
 }
 
+TEST(OracleFeatureLines, StraightCreasesStayOneChordAndTheMesherSplitsThemToTheEdgeSize)
+{
+  // A box decided first, a cut plane through it that only cuts the ball beside it: the plane
+  // changes nothing along the box's edges, so each edge stays one chord (its crossing is no
+  // vertex), not chords of the edge size with the crossing kept, which made T1.1 trim every
+  // corner at a third of the edge size. The mesher splits the chords to the edge size itself.
+  const Vec3 lo{ -0.5, -0.3, -0.2 }, hi{ 0.5, 0.3, 0.25 };
+  HierarchicalOracle oracle;
+  oracle.add(std::make_shared<BoxDomain>(lo, hi, 2, "box"));
+  auto cut = std::make_shared<HalfSpaceDomain>(Vec3{ 0.1, 0, 0 }, Vec3{ 1, 0.2, 0.1 }, 0, "cut");
+  cut->setCut(true);
+  oracle.add(cut);
+  oracle.add(std::make_shared<SphereDomain>(Vec3{ -1.2, 0, 0 }, 0.5, 1, "ball"));
+  MaterialCriteria criteria;
+  criteria.global = { 25.0, 0.2, 0.02, 0.2, 3.0, 0.15 }; // angle, facet size, distance, cell size, radius-edge, edge
+  const FeatureSelection selection = selectFeatures(oracle, {}, FeatureSource::Automatic, criteria);
+  const FeatureLines& f = selection.automatic;
+  const auto edges = boxEdges(lo, hi);
+  int creases = 0;
+  for (const FeatureLine& l : f.lines)
+    if (l.crease)
+    {
+      ++creases;
+      EXPECT_EQ(l.points.size(), 2u) << "a straight edge of the box is one chord";
+      for (int p : l.points)
+        EXPECT_LT(nearestEdge(f.segments.points[p], edges), 1e-9);
+    }
+  EXPECT_EQ(creases, 12);
+
+  MesherOptions options;
+  options.criteria = criteria;
+  options.seed = 1;
+  const TetMesh mesh = meshOracle(oracle, selection.segments, {}, options);
+  ASSERT_FALSE(mesh.segments.empty());
+  EXPECT_TRUE(checkMeshValidity(mesh).valid());
+  for (const auto& s : mesh.segments)
+  {
+    EXPECT_TRUE(s.present);
+    EXPECT_LE(norm(s.b - s.a), 0.15 + 1e-9) << "a mesh piece longer than the edge size";
+  }
+}
+
 TEST(OracleFeatureLines, ABoxHalfInsideASphereKeepsItsVisibleEdgesEndingOnTheEntryCurve)
 {
   // The ball decides first: the box's edges inside it are buried; the four along x leave it at

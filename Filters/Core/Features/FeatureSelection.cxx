@@ -189,9 +189,13 @@ FeatureLineOptions featureLineOptions(const HierarchicalOracle& oracle, const Ma
       o.materialSegmentLength[m] = lengthOf(v);
       finest = std::min(finest, lengthOf(v));
     }
+    // chords up to the facet size: the mesher splits them to the edge size (T1.2)
+    if (v.facetSize > 0)
+      o.materialChordLength[m] = v.facetSize;
     if (v.facetDistance > 0)
       o.materialTolerance[m] = 0.1 * v.facetDistance;
   }
+  o.creaseChordLength = HUGE_VAL; // an input's own points: chords as long as the tolerance allows
   o.tolerance = g.facetDistance > 0 ? 0.1 * g.facetDistance : 0.05 * finest;
   o.spacing = 0.5 * finest;
   return o;

@@ -750,6 +750,22 @@ private:
     return length;
   }
 
+  /// The longest chord of a curve between these materials (a crease: `crease`), see
+  /// FeatureLineOptions::materialChordLength; never below lengthFor.
+  double chordLengthFor(const std::vector<int>& materials, bool crease) const
+  {
+    const double length = lengthFor(materials);
+    if (length <= 0)
+      return length;
+    if (crease && options_.creaseChordLength > 0)
+      return std::max(length, options_.creaseChordLength);
+    double chord = HUGE_VAL;
+    for (int material : materials)
+      if (auto it = options_.materialChordLength.find(material); it != options_.materialChordLength.end())
+        chord = std::min(chord, it->second);
+    return std::isfinite(chord) ? std::max(length, chord) : length;
+  }
+
   /// A crease seen with one set of materials; an end that enters another input is `entering`.
   struct CreasePiece
   {
@@ -948,7 +964,7 @@ private:
     if (closed)
       piece.segments.push_back({ static_cast<int>(m - 1), 0 });
     const Vec3 first = piece.points.front();
-    resampleCurve(piece, line.materials);
+    resampleCurve(piece, line.materials, line.crease);
     std::vector<int> order = chainOrder(piece);
     if (!closed && norm(piece.points[order.front()] - first) > 0)
       std::reverse(order.begin(), order.end());
@@ -1051,17 +1067,17 @@ private:
       [&](int end) { return pointOfNode(end == 0 ? chain.front() : chain.back()); });
   }
 
-  /// At the smallest segment length asked for the curve's materials (none: left as found), within
+  /// At the chord length of the curve's materials (chordLengthFor; no segment length: left as found), within
   /// the smallest of their chord tolerances of the curve: of the found points, less what the curve
   /// bulges between them (at most three quarters of the tolerance is given up to that).
-  void resampleCurve(FeatureSegments& piece, const std::vector<int>& materials) const
+  void resampleCurve(FeatureSegments& piece, const std::vector<int>& materials, bool crease) const
   {
     const double length = lengthFor(materials);
     if (length <= 0)
       return;
     const double tolerance = toleranceFor(materials, length);
     resampleFeatureLines(
-      piece, length, std::max(tolerance - bulgeBetweenSamples(piece, options_.smallAngle), 0.25 * tolerance), options_.smallAngle);
+      piece, chordLengthFor(materials, crease), std::max(tolerance - bulgeBetweenSamples(piece, options_.smallAngle), 0.25 * tolerance), options_.smallAngle);
   }
 
   const HierarchicalOracle& oracle_;

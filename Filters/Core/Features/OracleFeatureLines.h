@@ -36,8 +36,18 @@ struct FeatureLineOptions
   double maxSegmentLength = 0.0;
   double tolerance = 0.0; ///< 0 = 0.05 x maxSegmentLength
   /// Per material: a curve takes the smallest of its materials' lengths listed here (else
-  /// maxSegmentLength): the local edge size.
+  /// maxSegmentLength): the local edge size (also the grid step's and the junction collapse's scale).
   std::map<int, double> materialSegmentLength;
+  /// Chords longer than the segment length, for a mesher that splits them to the edge size
+  /// itself (rule T1.2, as it does given lines): per material (a curve takes the smallest of its
+  /// materials' values; none listed: the segment length), and for the creases of single inputs,
+  /// whose points are the input's own, `creaseChordLength` (infinity: as long as the tolerance
+  /// allows; 0 = as the curves found). Never below the segment length. Chords cut to the edge size
+  /// beforehand made every junction and corner a star vertex whose shortest segment is the edge size,
+  /// trimmed at a third of it (T1.1), and kept the other inputs' crossings on straight creases as
+  /// vertices: the mesh grew finer around both (README, "Feature lines where inputs meet").
+  std::map<int, double> materialChordLength;
+  double creaseChordLength = 0.0;
   /// Per material: a curve's chords keep within the smallest of its materials' tolerances (those
   /// listed here, `tolerance` for the others): a tenth of the facet distance of what it separates.
   std::map<int, double> materialTolerance;
