@@ -11,7 +11,7 @@ for each case and mesh size runs, each in its own process:
   PeerOracleMesh --opt limit:T    CGAL's optimisation policy: perturb and exude each limited to T =
                                   CGAL's refinement time of that case, nothing else
 and prints a Markdown table (raw figures in <work>/results.jsonl). With --threads 1 2: OracleMesh
-alone per refinement thread count, the best of --repeat runs, and the refinement's speed-up. Same criteria for both tools
+alone per refinement thread count (circumcentres on each: --sliver-angle 0), the best of --repeat runs, and the refinement's speed-up. Same criteria for both tools
 (facet angle 25, radius-edge 3, cell size = facet size = h, facet distance h/4, edge size h/2 for
 the CAD part), same seed. Min dihedral angle, validity and coverage are computed from each output
 by the same code (Filters/Core/Quality/MeshQuality, MeshValidity).
@@ -116,10 +116,10 @@ def criteria(case, h):
     return c
 
 
-def run(exe, case, paths, h, opt, repeat, log, threads=1, best=False):
+def run(exe, case, paths, h, opt, repeat, log, threads=1, best=False, extra=()):
     """Runs one configuration `repeat` times; the timings are the medians (the minima with `best`)."""
     args = [exe, case, paths[case]] + ([paths["cad_features"]] if case == "cad" else []) + criteria(case, h) + \
-        ["--opt", opt, "--seed", "1"] + (["--threads", str(threads)] if threads != 1 else [])
+        ["--opt", opt, "--seed", "1"] + (["--threads", str(threads)] if threads != 1 else []) + list(extra)
     runs = []
     for _ in range(repeat):
         p = subprocess.run(args, capture_output=True, text=True, timeout=3600)
@@ -221,7 +221,10 @@ def main():
             for case in a.cases:
                 for h in a.sizes or (QUICK_SIZES if a.quick else SIZES)[case]:
                     for n in a.threads:
-                        rows.append(run(a.oraclemesh, case, paths, h, a.opt, a.repeat, log, threads=n, best=True))
+                        # circumcentres on every thread count: one thread would pick its points
+                        # (PickingSliverAngle), parallel refinement does not
+                        rows.append(run(a.oraclemesh, case, paths, h, a.opt, a.repeat, log, threads=n, best=True,
+                                        extra=["--sliver-angle", "0"]))
         print(threads_table(rows))
         print("\n%.0f s; best of %d run(s) per configuration; load average %.1f at start, %.1f at end (the machine's "
               "2 cores are shared: times vary)." % (time.time() - started, a.repeat, load0, os.getloadavg()[0]))
