@@ -106,17 +106,23 @@ void expectKnownSegments(const FeatureLines& f, const std::vector<std::array<Vec
                         << ", " << s[1].y << ", " << s[1].z << ") is covered at " << near << "%";
   }
 }
+/// A ball of radius r around c, cut away above z = cutAt: the rim is a circle.
+HierarchicalOracle cutBall(const Vec3& c, double r, double cutAt)
+{
+  HierarchicalOracle oracle;
+  auto cut = std::make_shared<HalfSpaceDomain>(Vec3{ 0, 0, cutAt }, Vec3{ 0, 0, -1 }, 0, "cut");
+  cut->setCut(true);
+  oracle.add(cut);
+  oracle.add(std::make_shared<SphereDomain>(c, r, 1, "ball"));
+  return oracle;
+}
 }
 
 TEST(OracleFeatureLines, CutPlaneRimOnASphereIsTheCircle)
 {
   const Vec3 c{ 0.1, 0.2, 0.3 };
   const double r = 1.0, cutAt = 0.65;
-  HierarchicalOracle oracle;
-  auto cut = std::make_shared<HalfSpaceDomain>(Vec3{ 0, 0, cutAt }, Vec3{ 0, 0, -1 }, 0, "cut");
-  cut->setCut(true);
-  oracle.add(cut);
-  oracle.add(std::make_shared<SphereDomain>(c, r, 1, "ball"));
+  const HierarchicalOracle oracle = cutBall(c, r, cutAt);
   FeatureLineOptions options;
   options.maxSegmentLength = 0.15;
   const FeatureLines f = findFeatureLines(oracle, options);
@@ -145,11 +151,7 @@ TEST(OracleFeatureLines, RimChordsKeepWithinTheToleranceOfTheCircle)
 {
   const Vec3 c{ 0.1, 0.2, 0.3 };
   const double r = 1.0, cutAt = 0.65;
-  HierarchicalOracle oracle;
-  auto cut = std::make_shared<HalfSpaceDomain>(Vec3{ 0, 0, cutAt }, Vec3{ 0, 0, -1 }, 0, "cut");
-  cut->setCut(true);
-  oracle.add(cut);
-  oracle.add(std::make_shared<SphereDomain>(c, r, 1, "ball"));
+  const HierarchicalOracle oracle = cutBall(c, r, cutAt);
   FeatureLineOptions options;
   options.maxSegmentLength = 0.6;
   options.tolerance = 0.004;

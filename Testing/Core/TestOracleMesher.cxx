@@ -75,13 +75,20 @@ double worstTet(const TetMesh& m)
     worst = std::min(worst, minDihedralAngle(m.points[t[0]], m.points[t[1]], m.points[t[2]], m.points[t[3]]));
   return worst;
 }
-}
 
-TEST(OracleMesher, SphereAndBoxVolumesWithinTwoPercent)
+/// A unit ball (material 1) over a box (material 2) that it partly covers, the first in priority.
+HierarchicalOracle ballOnBox()
 {
   HierarchicalOracle o;
   o.add(std::make_shared<SphereDomain>(Vec3{ 0, 0, 0 }, 1.0, 1));
   o.add(std::make_shared<BoxDomain>(Vec3{ -0.5, -0.5, -2 }, Vec3{ 0.5, 0.5, -0.5 }, 2));
+  return o;
+}
+}
+
+TEST(OracleMesher, SphereAndBoxVolumesWithinTwoPercent)
+{
+  const HierarchicalOracle o = ballOnBox();
   const TetMesh m = meshOracle(o, {}, {}, options(FeatureStrategy::None, 0.15));
   const auto v = materialVolumes(m);
   const double ball = 4.0 / 3.0 * M_PI;
@@ -326,9 +333,7 @@ TEST(OracleMesher, ConformingKeepsSegmentsMeetingAtStarVertices)
 TEST(OracleMesher, SizeAndDistanceCriteriaHoldPerMaterial)
 {
   // material 1 (ball) coarse, material 2 (box below it) fine through a per-material override
-  HierarchicalOracle o;
-  o.add(std::make_shared<SphereDomain>(Vec3{ 0, 0, 0 }, 1.0, 1));
-  o.add(std::make_shared<BoxDomain>(Vec3{ -0.5, -0.5, -2 }, Vec3{ 0.5, 0.5, -0.5 }, 2));
+  const HierarchicalOracle o = ballOnBox();
   MesherOptions opt = options(FeatureStrategy::None, 0.3);
   opt.criteria.global.facetDistance = 0.01;
   opt.criteria.global.facetAngle = 25; // no needle facets, whose circumcentre lies far outside them
@@ -459,9 +464,7 @@ TEST(OracleMesher, AbortDuringFeatureProtection)
 
 TEST(OracleMesher, InterfaceSliversAreRefined)
 {
-  HierarchicalOracle o;
-  o.add(std::make_shared<SphereDomain>(Vec3{ 0, 0, 0 }, 1.0, 1));
-  o.add(std::make_shared<BoxDomain>(Vec3{ -0.5, -0.5, -2 }, Vec3{ 0.5, 0.5, -0.5 }, 2));
+  const HierarchicalOracle o = ballOnBox();
   auto worstInterfaceTet = [](const TetMesh& m) {
     double worst = 180.0;
     for (const auto& t : m.tets)
@@ -485,9 +488,7 @@ TEST(OracleMesher, InterfaceSliversAreRefined)
 // before any optimisation.
 TEST(OracleMesher, SliversAreRefinedBeforeOptimisation)
 {
-  HierarchicalOracle o;
-  o.add(std::make_shared<SphereDomain>(Vec3{ 0, 0, 0 }, 1.0, 1));
-  o.add(std::make_shared<BoxDomain>(Vec3{ -0.5, -0.5, -2 }, Vec3{ 0.5, 0.5, -0.5 }, 2));
+  const HierarchicalOracle o = ballOnBox();
   MesherOptions opt = options(FeatureStrategy::Conforming, 0.2);
   opt.perturb = opt.exude = false;
   opt.pickingSliverAngle = 0.0; // circumcentres: the sliver rule alone
@@ -501,7 +502,7 @@ TEST(OracleMesher, SliversAreRefinedBeforeOptimisation)
 }
 
 // Issue 9 item 3: at a tight radius-edge bound, refining slivers at their circumcentres makes new
-// slivers (the generated bone/implant cases ran into the vertex budget). With the conforming sliver
+// slivers (the generated bone/implant cases ran into the vertex budget). With the picking sliver
 // angle the cell level picks its points near the circumcentres so the new cells are no slivers:
 // every tetrahedron ends above the bound before optimisation, the mesh valid, the edges kept.
 TEST(OracleMesher, PickedRefinementPointsBoundTheAnglesBeforeOptimisation)
@@ -534,9 +535,7 @@ TEST(OracleMesher, PickedRefinementPointsBoundTheAnglesBeforeOptimisation)
 // leave slivers there.
 TEST(OracleMesher, PickedRefinementPointsWithoutFeatureLines)
 {
-  HierarchicalOracle o;
-  o.add(std::make_shared<SphereDomain>(Vec3{ 0, 0, 0 }, 1.0, 1));
-  o.add(std::make_shared<BoxDomain>(Vec3{ -0.5, -0.5, -2 }, Vec3{ 0.5, 0.5, -0.5 }, 2));
+  const HierarchicalOracle o = ballOnBox();
   MesherOptions opt = options(FeatureStrategy::None, 0.2);
   opt.perturb = opt.exude = false;
   ASSERT_EQ(effectivePickingSliverAngle(opt), kPickingSliverAngleLoose);
