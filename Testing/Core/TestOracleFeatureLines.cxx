@@ -106,23 +106,28 @@ void expectKnownSegments(const FeatureLines& f, const std::vector<std::array<Vec
                         << ", " << s[1].y << ", " << s[1].z << ") is covered at " << near << "%";
   }
 }
-/// A ball of radius r around c, cut away above z = cutAt: the rim is a circle.
-HierarchicalOracle cutBall(const Vec3& c, double r, double cutAt)
+/// The rim tests' ball of radius r around c, cut away above z = cutAt: the rim is a circle.
+struct CutBall
 {
-  HierarchicalOracle oracle;
-  auto cut = std::make_shared<HalfSpaceDomain>(Vec3{ 0, 0, cutAt }, Vec3{ 0, 0, -1 }, 0, "cut");
-  cut->setCut(true);
-  oracle.add(cut);
-  oracle.add(std::make_shared<SphereDomain>(c, r, 1, "ball"));
-  return oracle;
-}
+  Vec3 c{ 0.1, 0.2, 0.3 };
+  double r = 1.0, cutAt = 0.65;
+
+  HierarchicalOracle oracle() const
+  {
+    HierarchicalOracle o;
+    auto cut = std::make_shared<HalfSpaceDomain>(Vec3{ 0, 0, cutAt }, Vec3{ 0, 0, -1 }, 0, "cut");
+    cut->setCut(true);
+    o.add(cut);
+    o.add(std::make_shared<SphereDomain>(c, r, 1, "ball"));
+    return o;
+  }
+};
 }
 
 TEST(OracleFeatureLines, CutPlaneRimOnASphereIsTheCircle)
 {
-  const Vec3 c{ 0.1, 0.2, 0.3 };
-  const double r = 1.0, cutAt = 0.65;
-  const HierarchicalOracle oracle = cutBall(c, r, cutAt);
+  const CutBall ball;
+  const HierarchicalOracle oracle = ball.oracle();
   FeatureLineOptions options;
   options.maxSegmentLength = 0.15;
   const FeatureLines f = findFeatureLines(oracle, options);
@@ -131,11 +136,11 @@ TEST(OracleFeatureLines, CutPlaneRimOnASphereIsTheCircle)
   EXPECT_TRUE(rim.closed());
   EXPECT_FALSE(rim.triple);
   EXPECT_EQ(rim.materials, (std::vector<int>{ kOutside, 1 }));
-  const double rimRadius = std::sqrt(r * r - (cutAt - c.z) * (cutAt - c.z));
+  const double rimRadius = std::sqrt(ball.r * ball.r - (ball.cutAt - ball.c.z) * (ball.cutAt - ball.c.z));
   for (const Vec3& p : f.segments.points)
   {
-    EXPECT_NEAR(p.z, cutAt, 1e-6);
-    EXPECT_NEAR(norm(p - c), r, 1e-6);
+    EXPECT_NEAR(p.z, ball.cutAt, 1e-6);
+    EXPECT_NEAR(norm(p - ball.c), ball.r, 1e-6);
   }
   for (size_t s = 0; s < f.segments.segments.size(); ++s)
     EXPECT_LE(f.segments.length(s), options.maxSegmentLength + 1e-12);
@@ -149,17 +154,16 @@ TEST(OracleFeatureLines, CutPlaneRimOnASphereIsTheCircle)
 // tolerance, so no chord is longer than the bound sqrt(8 R tolerance).
 TEST(OracleFeatureLines, RimChordsKeepWithinTheToleranceOfTheCircle)
 {
-  const Vec3 c{ 0.1, 0.2, 0.3 };
-  const double r = 1.0, cutAt = 0.65;
-  const HierarchicalOracle oracle = cutBall(c, r, cutAt);
+  const CutBall ball;
+  const HierarchicalOracle oracle = ball.oracle();
   FeatureLineOptions options;
   options.maxSegmentLength = 0.6;
   options.tolerance = 0.004;
   options.spacing = 0.1; // found points about a grid step apart: the circle bulges 1e-3 between them
   const FeatureLines f = findFeatureLines(oracle, options);
   ASSERT_EQ(f.lines.size(), 1u);
-  const double rimRadius = std::sqrt(r * r - (cutAt - c.z) * (cutAt - c.z));
-  const Vec3 centre{ c.x, c.y, cutAt };
+  const double rimRadius = std::sqrt(ball.r * ball.r - (ball.cutAt - ball.c.z) * (ball.cutAt - ball.c.z));
+  const Vec3 centre{ ball.c.x, ball.c.y, ball.cutAt };
   double longest = 0.0;
   for (size_t s = 0; s < f.segments.segments.size(); ++s)
   {
