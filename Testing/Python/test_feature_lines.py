@@ -315,3 +315,47 @@ class CreaseAngleOption(unittest.TestCase):
 
 if __name__ == "__main__":
     unittest.main()
+
+
+class FoundLinesBesideGivenSharpEdges(unittest.TestCase):
+    """A generated bone/implant case (oraclemesh.cases, seed 0) whose scene gives the implant's sharp
+    edges (from_surface): in Automatic those given lines are not meshed, so every line of port 2 was
+    found (Origin 1), the implant's creases included (they were marked given, being near the unused
+    given lines); in Both the given edges win where they and the creases coincide."""
+
+    @classmethod
+    def setUpClass(cls):
+        from oraclemesh import cases
+        cls.tmp = tempfile.mkdtemp()
+        cls.folder = os.path.join(cls.tmp, "case")
+        cases.make_case(cls.folder, 0)
+        with open(os.path.join(cls.folder, "scene.json")) as f:
+            cls.description = json.load(f)
+        assert cls.description["mesh"]["features"]["from_surface"] == "implant"
+
+    @classmethod
+    def tearDownClass(cls):
+        import shutil
+        shutil.rmtree(cls.tmp, ignore_errors=True)
+
+    def meshed(self, use):
+        """The tetrahedralizer run on the case: (segments of port 2 as numpy (n, 2, 3), Origin, statistics)."""
+        from vtkmodules.util.numpy_support import vtk_to_numpy
+        from oraclemesh.meshing import mesher_for
+        from oraclemesh.report import statistics
+        description = json.loads(json.dumps(self.description))
+        description["mesh"]["features"]["use"] = use
+        mesher = mesher_for(build_scene(description, base_dir=self.folder))
+        om.update(mesher)
+        lines = mesher.GetOutputDataObject(2)
+        points = vtk_to_numpy(lines.GetPoints().GetData())
+        cells = vtk_to_numpy(lines.GetLines().GetData()).reshape(-1, 3)[:, 1:]
+        return (points[cells], vtk_to_numpy(lines.GetCellData().GetArray(fieldkeys.ORIGIN)),
+                statistics(mesher.GetOutput()))
+
+    def test_automatic_marks_every_line_found(self):
+        segments, origin, _ = self.meshed("Automatic")
+        self.assertGreater(len(segments), 0)
+        self.assertEqual(set(origin.tolist()), {1})
+        _, origin, _ = self.meshed("Both")  # the given edges win where they and the creases coincide
+        self.assertEqual(set(origin.tolist()), {0, 1})
