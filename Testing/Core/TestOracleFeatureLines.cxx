@@ -2,6 +2,7 @@
 // Feature lines found where the oracle's inputs meet, checked against curves known exactly.
 #include "BoxDomain.h"
 #include "CylinderDomain.h"
+#include "FeatureMerge.h"
 #include "FeatureSelection.h"
 #include "HalfSpaceDomain.h"
 #include "HierarchicalOracle.h"
@@ -880,5 +881,96 @@ TEST(OracleFeatureLines, ACreaseAngleOutOfRangeIsAnInputErrorNamingIt)
     }
     // also where no search runs: a bad option is an error, not ignored
     EXPECT_THROW(selectFeatures(oracle, {}, FeatureSource::Given, {}, bad), InputError);
+  }
+}
+
+namespace
+{
+/// A polygon in x-z (counter-clockwise, triangulated by `caps`) extruded along y over [0, depth]:
+/// a closed prism, outward triangles.
+TriangleSurface extrudedPolygon(
+  const std::vector<std::array<double, 2>>& xz, const std::vector<std::array<int, 3>>& caps, double depth)
+{
+  TriangleSurface m;
+  const int n = static_cast<int>(xz.size());
+  for (double y : { 0.0, depth })
+    for (const auto& p : xz)
+      m.points.push_back({ p[0], y, p[1] });
+  for (const auto& t : caps)
+  {
+    m.triangles.push_back({ t[0], t[2], t[1] });         // y = 0 cap, pointing -y
+    m.triangles.push_back({ n + t[0], n + t[1], n + t[2] }); // y = depth cap, pointing +y
+  }
+  for (int i = 0; i < n; ++i)
+  {
+    const int j = (i + 1) % n;
+    m.triangles.push_back({ i, j, n + j });
+    m.triangles.push_back({ i, n + j, n + i });
+  }
+  double volume = 0.0;
+  for (const auto& f : m.triangles)
+    volume += dot(m.points[f[0]], cross(m.points[f[1]], m.points[f[2]])) / 6.0;
+  if (volume < 0)
+    for (auto& f : m.triangles)
+      std::swap(f[1], f[2]);
+  return m;
+}
+}
+
+TEST(OracleFeatureLines, OriginsSayFoundInAutomaticEvenWhereTheSameEdgesWereGiven)
+{
+  // The sharp edges of an input given (scene from_surface) and found as its creases: in Automatic
+  // the given ones are not meshed, so every segment meshed was found (Origin 1), with the
+  // materials it separates. In Both the given edge wins (its own course and edge size; the found
+  // one is dropped along it): Origin 0 for all, since nothing else is found here.
+  const Vec3 lo{ -0.5, -0.3, -0.2 }, hi{ 0.5, 0.3, 0.25 };
+  HierarchicalOracle oracle;
+  oracle.add(std::make_shared<BoxDomain>(lo, hi, 1, "box"));
+  FeatureSegments given;
+  for (const auto& e : boxEdges(lo, hi))
+  {
+    given.points.push_back(e[0]);
+    given.points.push_back(e[1]);
+    given.segments.push_back({ static_cast<int>(given.points.size()) - 2, static_cast<int>(given.points.size()) - 1 });
+  }
+  mergeFeatureSegments(given); // the corners shared, as the lines reach the mesher
+  MaterialCriteria criteria;
+  criteria.global = { 25.0, 0.2, 0.02, 0.2, 3.0, 0.15 }; // angle, facet size, distance, cell size, radius-edge, edge
+  const FeatureSelection automatic = selectFeatures(oracle, given, FeatureSource::Automatic, criteria);
+  ASSERT_FALSE(automatic.segments.empty());
+  ASSERT_EQ(automatic.origin.size(), automatic.segments.segments.size());
+  for (size_t s = 0; s < automatic.origin.size(); ++s)
+  {
+    EXPECT_TRUE(automatic.origin[s].automatic) << automatic.segments.describe(s);
+    EXPECT_EQ(automatic.origin[s].materials, (std::array<int, 4>{ kOutside, 1, -2, -2 })) << automatic.segments.describe(s);
+  }
+  const FeatureSelection both = selectFeatures(oracle, given, FeatureSource::Both, criteria);
+  EXPECT_GT(both.droppedAlongGiven, 0u);
+  ASSERT_EQ(both.origin.size(), both.segments.segments.size());
+  for (size_t s = 0; s < both.origin.size(); ++s)
+    EXPECT_FALSE(both.origin[s].automatic) << both.segments.describe(s);
+  for (const auto& o : selectFeatures(oracle, given, FeatureSource::Given, criteria).origin)
+    EXPECT_FALSE(o.automatic);
+}
+
+TEST(OracleFeatureLines, OriginsSayFoundOnATrunkSharedByLongCreases)
+{
+  // A prism whose profile has a 20 degree corner v: at v on each cap two straight creases (one
+  // chord each, 1 and 3 long) leave at 20 degrees, so the longer is rerouted from the shorter's far
+  // end (shareTrunks), a chord that lies 0.17 off both creases, beyond half the search's grid step:
+  // still a line found, with the materials of the creases. (The profile turns back at that far end,
+  // so that the chord is not rerouted again.)
+  const double c = std::cos(20.0 * M_PI / 180.0), s = std::sin(20.0 * M_PI / 180.0);
+  HierarchicalOracle oracle;
+  oracle.add(std::make_shared<SurfaceDomain>(extrudedPolygon({ { 0, 0 }, { 1, 0 }, { 1.5, -1 }, { 3.5, 0 }, { 3 * c, 3 * s } }, { { 0, 1, 4 }, { 1, 2, 3 }, { 1, 3, 4 } }, 1.0), 1, "wedge"));
+  MaterialCriteria criteria;
+  criteria.global = { 25.0, 0.2, 0.02, 0.2, 3.0, 0.2 }; // angle, facet size, distance, cell size, radius-edge, edge
+  const FeatureSelection selection = selectFeatures(oracle, {}, FeatureSource::Automatic, criteria);
+  ASSERT_GT(selection.trunksShared, 0u);
+  ASSERT_EQ(selection.origin.size(), selection.segments.segments.size());
+  for (size_t k = 0; k < selection.origin.size(); ++k)
+  {
+    EXPECT_TRUE(selection.origin[k].automatic) << selection.segments.describe(k);
+    EXPECT_EQ(selection.origin[k].materials, (std::array<int, 4>{ kOutside, 1, -2, -2 })) << selection.segments.describe(k);
   }
 }

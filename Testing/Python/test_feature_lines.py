@@ -315,3 +315,107 @@ class CreaseAngleOption(unittest.TestCase):
 
 if __name__ == "__main__":
     unittest.main()
+
+
+class FoundLinesBesideGivenSharpEdges(unittest.TestCase):
+    """A generated bone/implant case (oraclemesh.cases, seed 0) whose scene gives the implant's sharp
+    edges (from_surface): in Automatic those given lines are not meshed, so every line of port 2 was
+    found (Origin 1), the implant's creases included (they were marked given, being near the unused
+    given lines); in Both the given edges win where they and the creases coincide."""
+
+    @classmethod
+    def setUpClass(cls):
+        from oraclemesh import cases
+        cls.tmp = tempfile.mkdtemp()
+        cls.folder = os.path.join(cls.tmp, "case")
+        cases.make_case(cls.folder, 0)
+        with open(os.path.join(cls.folder, "scene.json")) as f:
+            cls.description = json.load(f)
+        assert cls.description["mesh"]["features"]["from_surface"] == "implant"
+
+    @classmethod
+    def tearDownClass(cls):
+        import shutil
+        shutil.rmtree(cls.tmp, ignore_errors=True)
+
+    def meshed(self, use):
+        """The tetrahedralizer run on the case: (segments of port 2 as numpy (n, 2, 3), Origin, statistics)."""
+        from vtkmodules.util.numpy_support import vtk_to_numpy
+        from oraclemesh.meshing import mesher_for
+        from oraclemesh.report import statistics
+        description = json.loads(json.dumps(self.description))
+        description["mesh"]["features"]["use"] = use
+        mesher = mesher_for(build_scene(description, base_dir=self.folder))
+        om.update(mesher)
+        lines = mesher.GetOutputDataObject(2)
+        points = vtk_to_numpy(lines.GetPoints().GetData())
+        cells = vtk_to_numpy(lines.GetLines().GetData()).reshape(-1, 3)[:, 1:]
+        return (points[cells], vtk_to_numpy(lines.GetCellData().GetArray(fieldkeys.ORIGIN)),
+                statistics(mesher.GetOutput()))
+
+    def test_automatic_marks_every_line_found(self):
+        segments, origin, _ = self.meshed("Automatic")
+        self.assertGreater(len(segments), 0)
+        self.assertEqual(set(origin.tolist()), {1})
+        _, origin, _ = self.meshed("Both")  # the given edges win where they and the creases coincide
+        self.assertEqual(set(origin.tolist()), {0, 1})
+
+
+class TwoSharpEdgeSearchesAgree(unittest.TestCase):
+    """Two implementations find a surface's sharp edges: the scene's from_surface (vtkFeatureEdges,
+    given lines, Python side) and Automatic's creases (SurfaceDomain::creases, CGAL's
+    detect_sharp_edges, in the core). At one angle they must give the same edges: the demo's implant
+    and a generated one, at the default angle and below it."""
+
+    @staticmethod
+    def segments(poly):
+        import numpy as np
+        from vtkmodules.util.numpy_support import vtk_to_numpy
+        points = vtk_to_numpy(poly.GetPoints().GetData())
+        offsets = vtk_to_numpy(poly.GetLines().GetOffsetsArray())
+        ids = vtk_to_numpy(poly.GetLines().GetConnectivityArray())
+        pairs = [(ids[k], ids[k + 1]) for start, end in zip(offsets, offsets[1:]) for k in range(start, end - 1)]
+        return np.array([(points[a], points[b]) for a, b in pairs])
+
+    @staticmethod
+    def farthest(from_segments, to_segments):
+        """Largest distance from points along `from_segments` (ends, quarters) to the segments `to_segments`."""
+        import numpy as np
+        a, b = to_segments[:, 0], to_segments[:, 1]
+        ab = b - a
+        worst = 0.0
+        for s in from_segments:
+            for t in (0.0, 0.25, 0.5, 0.75, 1.0):
+                p = s[0] + t * (s[1] - s[0])
+                u = np.clip(((p - a) * ab).sum(1) / np.maximum((ab * ab).sum(1), 1e-300), 0, 1)
+                worst = max(worst, np.linalg.norm(a + u[:, None] * ab - p, axis=1).min())
+        return worst
+
+    def test_the_same_edges_at_the_same_angle(self):
+        import numpy as np
+        from vtkmodules.vtkFiltersCore import vtkFeatureEdges
+        from oraclemesh import cases
+        with tempfile.TemporaryDirectory() as tmp:
+            cases.make_case(tmp, 0)
+            surfaces = {"demo": os.path.join(os.path.dirname(__file__), "..", "..", "Data", "demo", "implant.vtp"),
+                        "generated": os.path.join(tmp, "implant.vtp")}
+            for (name, path), angle in ((s, a) for s in surfaces.items() for a in (60, 30)):
+                with self.subTest(name, angle=angle):
+                    scene = build_scene({"domains": [{"name": name, "type": "surface", "file": path, "material": 1}]})
+                    edges = vtkFeatureEdges()  # as meshing.py's from_surface
+                    edges.SetInputConnection(scene.domains[0].GetInputConnection(0, 0))
+                    edges.BoundaryEdgesOff()
+                    edges.NonManifoldEdgesOff()
+                    edges.ManifoldEdgesOff()
+                    edges.SetFeatureAngle(angle)
+                    given = self.segments(om.update(edges))
+                    search = om.vtkOracleFeatureLines()  # a surface alone: its creases are all it finds
+                    search.SetInputConnection(scene.oracle.GetOutputPort())
+                    search.SetCreaseAngle(angle)
+                    found = self.segments(om.update(search))
+                    self.assertGreater(len(given), 0)
+                    scale = 1e-7 * float(np.ptp(given.reshape(-1, 3), axis=0).max())  # float coordinates of the file
+                    self.assertLess(self.farthest(given, found), scale)
+                    self.assertLess(self.farthest(found, given), scale)
+                    length = lambda s: float(np.linalg.norm(s[:, 1] - s[:, 0], axis=1).sum())
+                    self.assertAlmostEqual(length(given), length(found), delta=1e3 * scale)

@@ -369,6 +369,13 @@ void dropAutomaticAtGiven(FeatureSelection& out, std::size_t firstAutomatic)
     " segment(s) of the lines found where inputs meet cross given lines and were dropped (the given ones are kept)");
 }
 
+/// A point this close to a given line lies on it (the pieces of given segments after splits and
+/// merges, to rounding).
+double onGivenLine(const HierarchicalOracle& oracle)
+{
+  return 1e-9 * norm(oracle.bounds().size());
+}
+
 /// selectFeatures without the given lines' own edge sizes: `given.edgeSizes` is empty unless
 /// `source` is Given or None (nothing below runs then), so the steps that drop, split and move
 /// segments keep no edge-size vector; selectFeatures carries the sizes onto the result.
@@ -424,16 +431,32 @@ void dropUnusedPoints(FeatureSegments& f)
   f.points = std::move(points);
 }
 
-/// Origins by geometry (the steps above drop, split and renumber): a segment is automatic when its
-/// midpoint lies nearer to one of the curves found than to the given lines.
-void labelOrigins(FeatureSelection& out, const FeatureSegments& given)
+/// Origins. The steps above drop, split, reroute and renumber segments, so a segment's origin is
+/// told by geometry, but not by its distance to the curves found: a trunk shared at a small angle
+/// (shareTrunks) is a chord between two curves that lies off both (0.42 mm off on a study case,
+/// its crease chords being long), and lines given but not selected (Automatic with from_surface)
+/// must not count. So: Automatic, every segment was found; Given, none; Both, a segment on a given
+/// line (its midpoint within onGivenLine of one: pieces of given segments, split or merged, stay on
+/// them) is given, any other was found. Where a given line and a curve found coincide, given wins:
+/// dropAutomaticAlongGiven kept the given segment (the user's course and own edge size) and dropped
+/// the found one. A found segment's materials are those of the curve nearest its midpoint.
+void labelOrigins(FeatureSelection& out, const FeatureSegments& given, FeatureSource source, const HierarchicalOracle& oracle)
 {
   const auto& P = out.segments.points;
   out.origin.assign(out.segments.segments.size(), {});
+  if (source != FeatureSource::Automatic && source != FeatureSource::Both)
+    return;
   const auto& A = out.automatic.segments.points;
+  const double onLine = source == FeatureSource::Both ? onGivenLine(oracle) : 0.0;
   for (size_t s = 0; s < out.segments.segments.size(); ++s)
   {
     const Vec3 m = lerp(P[out.segments.segments[s][0]], P[out.segments.segments[s][1]], 0.5);
+    bool onGiven = false;
+    for (size_t g = 0; source == FeatureSource::Both && g < given.segments.size() && !onGiven; ++g)
+      onGiven = distanceToSegment(m, given.points[given.segments[g][0]], given.points[given.segments[g][1]]) <= onLine;
+    if (onGiven)
+      continue;
+    out.origin[s].automatic = true;
     double nearest = HUGE_VAL;
     const FeatureLine* line = nullptr;
     for (const FeatureLine& l : out.automatic.lines)
@@ -443,17 +466,7 @@ void labelOrigins(FeatureSelection& out, const FeatureSegments& given)
           nearest = d;
           line = &l;
         }
-    if (!line || !(nearest < 0.5 * out.automatic.spacing))
-      continue;
-    bool closerToGiven = false;
-    for (size_t g = 0; g < given.segments.size() && !closerToGiven; ++g)
-      // on both to rounding (a box's edge given by hand and found as its crease): given
-      closerToGiven = distanceToSegment(m, given.points[given.segments[g][0]], given.points[given.segments[g][1]]) <=
-        nearest + 1e-9 * out.automatic.spacing;
-    if (closerToGiven)
-      continue;
-    out.origin[s].automatic = true;
-    for (size_t k = 0; k < line->materials.size() && k < 4; ++k)
+    for (size_t k = 0; line && k < line->materials.size() && k < 4; ++k)
       out.origin[s].materials[k] = line->materials[k];
   }
 }
@@ -486,7 +499,7 @@ FeatureSelection selectFeatures(const HierarchicalOracle& oracle, const FeatureS
     if (source == FeatureSource::None)
       out.segments.edgeSizes.clear();
     dropUnusedPoints(out.segments);
-    labelOrigins(out, given);
+    labelOrigins(out, given, source, oracle);
     return out;
   }
   // Given lines split where automatic ones meet them (shared crossings, automatic ends moved onto
@@ -497,8 +510,8 @@ FeatureSelection selectFeatures(const HierarchicalOracle& oracle, const FeatureS
   bare.edgeSizes.clear();
   FeatureSelection out = selectWithoutEdgeSizes(oracle, bare, source, criteria, creaseAngle, progress);
   dropUnusedPoints(out.segments);
-  transferEdgeSizes(given, out.segments, 1e-9 * norm(oracle.bounds().size()));
-  labelOrigins(out, given);
+  transferEdgeSizes(given, out.segments, onGivenLine(oracle));
+  labelOrigins(out, given, source, oracle);
   return out;
 }
 }

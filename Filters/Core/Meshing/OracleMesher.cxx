@@ -546,11 +546,19 @@ std::optional<FeatureSegments> resampledFeatures(const FeatureSegments& given, c
   transferEdgeSizes(given, resampled, std::numeric_limits<double>::infinity());
   if (resampled.segments.size() != given.segments.size() || resampled.points.size() != given.points.size())
   {
+    // How far the lines kept lie from the given ones; apart from that, how far the given ones lie
+    // from those kept, which also counts pieces dropped on purpose (outside the domain, spurs): not
+    // movement.
     std::ostringstream o;
     o << "feature lines simplified: " << given.segments.size() << " segments became " << resampled.segments.size()
       << " (chords up to " << tolerances.edgeLength << "; points closer than " << tolerances.mergeDistance()
-      << " merged, spurs shorter than " << tolerances.spurLength() << " dropped; the lines moved by at most "
-      << std::max(report.givenToSimplified, report.simplifiedToGiven) << ")";
+      << " merged, spurs shorter than " << tolerances.spurLength() << " dropped; the lines kept lie within "
+      << report.simplifiedToGiven << " of the given ones";
+    if (report.givenToSimplified > report.simplifiedToGiven)
+      o << ", the given ones within " << report.givenToSimplified << " of those kept (" << report.segmentsOutside
+        << " segment(s) outside the domain, " << report.spursDropped << " spur(s), " << report.piecesDropped
+        << " short piece(s) dropped)";
+    o << ")";
     warnings.push_back(o.str());
   }
   return resampled;
