@@ -6,6 +6,7 @@
 #include "MeshCriteria.h"
 
 #include <algorithm>
+#include <functional>
 #include <map>
 #include <set>
 
@@ -292,12 +293,55 @@ void dropNearDuplicateCurves(FeatureSelection& out, double smallAngle)
       " segment(s) of the lines found run within half a grid step of other curves found and were dropped (they share their trunk)");
 }
 
+/// Whether a tetrahedron can hold the chord a-b as an edge: material touches every piece of it, the
+/// halves and quarters the segment level would split it into and pieces down to a quarter of
+/// the search's grid step (a rim bending inwards can leave the chord outside along a stretch
+/// shorter than its quarters: the segment level then splits towards it without end).
+bool holdableChord(const HierarchicalOracle& oracle, const Vec3& a, const Vec3& b, double step)
+{
+  const double length = norm(b - a);
+  for (int parts = 1; parts <= 4 || (parts <= 256 && length / parts > 0.25 * step); parts *= 2)
+    for (int k = 0; k < parts; ++k)
+      if (!oracle.touchesMaterial(lerp(a, b, double(k) / parts), lerp(a, b, double(k + 1) / parts)))
+        return false;
+  return true;
+}
+
+/// Of the segments kept, the connected pieces that touch a dropped segment and are shorter, all
+/// together, than the search's grid step: remnants of a curve whose rest had no material next to
+/// it (a voxel corner's sliver where the rim bends inwards). The search cannot tell such a stretch,
+/// and the segment level splits towards its loose ends without end. Returns their indices in `kept`.
+std::set<std::size_t> shortRemnants(const FeatureSegments& A, const std::vector<std::array<int, 2>>& kept,
+  const std::set<int>& droppedEnds, double step)
+{
+  std::vector<int> root(A.points.size());
+  for (size_t i = 0; i < root.size(); ++i)
+    root[i] = static_cast<int>(i);
+  std::function<int(int)> find = [&](int v) { return root[v] == v ? v : root[v] = find(root[v]); };
+  for (const auto& s : kept)
+    root[find(s[0])] = find(s[1]);
+  std::map<int, double> length;
+  std::set<int> touching;
+  for (const auto& s : kept)
+  {
+    length[find(s[0])] += norm(A.points[s[1]] - A.points[s[0]]);
+    for (int v : s)
+      if (droppedEnds.count(v))
+        touching.insert(find(v));
+  }
+  std::set<std::size_t> remnants;
+  for (size_t k = 0; k < kept.size(); ++k)
+    if (const int r = find(kept[k][0]); touching.count(r) && length[r] < step)
+      remnants.insert(k);
+  return remnants;
+}
+
 /// The automatic segments appended to out.segments (a point with the coordinates of a given one, a
 /// shared crossing, is that point). A segment on the domain's outer boundary where the rim bends
 /// inwards (a label map's rim on a cut plane is a staircase at voxel scale) has no material next
-/// to it, nor have the halves and quarters the segment level would split it into: no tetrahedron
-/// can hold it as an edge. Dropped, as simplifyFeatureNetwork drops given segments that leave the
-/// domain.
+/// to it along some stretch (holdableChord): no tetrahedron can hold it as an edge. Dropped, as
+/// simplifyFeatureNetwork drops given segments that leave the domain, and with them the remnants
+/// of their curves shorter than a grid step (shortRemnants).
 void appendAutomatic(const HierarchicalOracle& oracle, FeatureSelection& out)
 {
   std::map<std::array<double, 3>, int> givenPoint;
@@ -316,25 +360,31 @@ void appendAutomatic(const HierarchicalOracle& oracle, FeatureSelection& out)
       out.segments.points.push_back(p);
     }
   }
-  std::size_t unmeshable = 0;
-  for (auto s : out.automatic.segments.segments)
-  {
-    const Vec3 a = out.automatic.segments.points[s[0]], b = out.automatic.segments.points[s[1]];
-    bool meshable = true;
-    for (int parts = 1; parts <= 4 && meshable; parts *= 2)
-      for (int k = 0; k < parts && meshable; ++k)
-        meshable = oracle.touchesMaterial(lerp(a, b, double(k) / parts), lerp(a, b, double(k + 1) / parts));
-    if (meshable)
-      out.segments.segments.push_back({ index[s[0]], index[s[1]] });
+  const FeatureSegments& A = out.automatic.segments;
+  const double step = out.automatic.spacing;
+  std::vector<std::array<int, 2>> kept;
+  std::set<int> droppedEnds;
+  for (const auto& s : A.segments)
+    if (holdableChord(oracle, A.points[s[0]], A.points[s[1]], step))
+      kept.push_back(s);
     else
-      ++unmeshable;
-  }
+      droppedEnds.insert({ s[0], s[1] });
+  std::size_t unmeshable = A.segments.size() - kept.size();
+  const std::set<std::size_t> remnants = unmeshable > 0 ? shortRemnants(A, kept, droppedEnds, step) : std::set<std::size_t>{};
+  for (size_t k = 0; k < kept.size(); ++k)
+    if (!remnants.count(k))
+      out.segments.segments.push_back({ index[kept[k][0]], index[kept[k][1]] });
+  unmeshable += remnants.size();
   if (unmeshable > 0)
   {
     out.droppedUnmeshable = unmeshable;
-    out.warnings.push_back("feature lines: " + std::to_string(unmeshable) +
+    std::string w = "feature lines: " + std::to_string(unmeshable - remnants.size()) +
       " segment(s) of the lines found where inputs meet have no material next to them (a rim of the domain's outer "
-      "boundary bending inwards) and were dropped: no tetrahedron could hold them as an edge");
+      "boundary bending inwards) and were dropped: no tetrahedron could hold them as an edge";
+    if (!remnants.empty())
+      w += "; so were " + std::to_string(remnants.size()) +
+        " segment(s) left between them, pieces shorter than the search's grid step";
+    out.warnings.push_back(w);
   }
 }
 
