@@ -974,3 +974,30 @@ TEST(OracleFeatureLines, OriginsSayFoundOnATrunkSharedByLongCreases)
     EXPECT_EQ(selection.origin[k].materials, (std::array<int, 4>{ kOutside, 1, -2, -2 })) << selection.segments.describe(k);
   }
 }
+
+TEST(OracleFeatureLines, FoundChordsOnAStaircaseRimHaveMaterialAlongTheirWholeLength)
+{
+  // A voxel ball cut by a tilted plane: its rim on the plane is a staircase whose chords can run
+  // just outside the material along a stretch that the halves and quarters of the chord do not see
+  // (this case failed with that test alone). No tetrahedron holds such a chord as an edge (the
+  // segment level splits towards the stretch without end): every chord kept has material beside
+  // every piece of it, here 96 of them (not the selection's own powers of two).
+  HierarchicalOracle oracle;
+  auto cut = std::make_shared<HalfSpaceDomain>(Vec3{ 0, 0, 12.1 }, Vec3{ 0.1015625, 0.140625, -1 }, 0, "cut");
+  cut->setCut(true);
+  oracle.add(cut);
+  oracle.add(labelMap({ 20, 20, 20 }, [](int i, int j, int k) { return std::hypot(i - 9.5, j - 9.5, k - 9.5) < 8.3 ? 1 : 0; }));
+  MaterialCriteria criteria;
+  criteria.global = { 25.0, 1.0, 2.0, 3.0, 3.0, 0.0 }; // angle, facet size, distance, cell size, radius-edge, edge
+  const FeatureSelection selection = selectFeatures(oracle, {}, FeatureSource::Automatic, criteria);
+  const FeatureSegments& f = selection.segments;
+  ASSERT_FALSE(f.segments.empty());
+  for (const auto& s : f.segments)
+  {
+    const Vec3 a = f.points[s[0]], b = f.points[s[1]];
+    for (int k = 0; k < 96; ++k)
+      EXPECT_TRUE(oracle.touchesMaterial(lerp(a, b, k / 96.0), lerp(a, b, (k + 1) / 96.0)))
+        << "chord (" << a.x << ", " << a.y << ", " << a.z << ") - (" << b.x << ", " << b.y << ", " << b.z
+        << ") has no material beside piece " << k << " of 96";
+  }
+}

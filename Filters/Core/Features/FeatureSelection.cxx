@@ -294,13 +294,14 @@ void dropNearDuplicateCurves(FeatureSelection& out, double smallAngle)
 }
 
 /// Whether a tetrahedron can hold the chord a-b as an edge: material touches every piece of it, the
-/// halves and quarters the segment level would split it into and pieces down to a quarter of
-/// the search's grid step (a rim bending inwards can leave the chord outside along a stretch
-/// shorter than its quarters: the segment level then splits towards it without end).
+/// halves and quarters the segment level would split it into down to a 64th of the chord and to a
+/// quarter of the search's grid step (a rim bending inwards can leave the chord just outside along
+/// a stretch its quarters do not see, touchesMaterial's offsets growing with the piece: the
+/// segment level then splits towards it without end).
 bool holdableChord(const HierarchicalOracle& oracle, const Vec3& a, const Vec3& b, double step)
 {
   const double length = norm(b - a);
-  for (int parts = 1; parts <= 4 || (parts <= 256 && length / parts > 0.25 * step); parts *= 2)
+  for (int parts = 1; parts <= 64 || (parts <= 256 && length / parts > 0.25 * step); parts *= 2)
     for (int k = 0; k < parts; ++k)
       if (!oracle.touchesMaterial(lerp(a, b, double(k) / parts), lerp(a, b, double(k + 1) / parts)))
         return false;
