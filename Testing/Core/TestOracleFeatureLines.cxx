@@ -907,12 +907,7 @@ TriangleSurface extrudedPolygon(
     m.triangles.push_back({ i, j, n + j });
     m.triangles.push_back({ i, n + j, n + i });
   }
-  double volume = 0.0;
-  for (const auto& f : m.triangles)
-    volume += dot(m.points[f[0]], cross(m.points[f[1]], m.points[f[2]])) / 6.0;
-  if (volume < 0)
-    for (auto& f : m.triangles)
-      std::swap(f[1], f[2]);
+  test::orientOutward(m);
   return m;
 }
 }

@@ -25,6 +25,17 @@ inline TriangleSurface cube(double lo, double hi)
   return s;
 }
 
+/// Flips every triangle when the signed volume is negative: the triangles then face outwards.
+inline void orientOutward(TriangleSurface& m)
+{
+  double volume = 0.0;
+  for (const auto& f : m.triangles)
+    volume += dot(m.points[f[0]], cross(m.points[f[1]], m.points[f[2]])) / 6.0;
+  if (volume < 0)
+    for (auto& f : m.triangles)
+      std::swap(f[1], f[2]);
+}
+
 /// An L-shaped prism (profile (0,0) (3,0) (3,1) (1,1) (1,2) (0,2) in x-z, extruded along y over
 /// [0, 1]), scaled by `s` and moved by `t`: its bounding-box centre lies on its flat face z = 1,
 /// inside it (a CAD part that once seeded micro-tetrahedron clusters). Outward triangles. The
@@ -55,12 +66,7 @@ inline TriangleSurface lPrism(double s, const Vec3& t)
   // the y = 0 cap points -y ((x, z) counter-clockwise), the y = 1 cap must point +y
   for (size_t f = 4; f < 8; ++f)
     std::swap(m.triangles[f][1], m.triangles[f][2]); // y = 1 cap points +y
-  double volume = 0.0;
-  for (const auto& f : m.triangles)
-    volume += dot(m.points[f[0]], cross(m.points[f[1]], m.points[f[2]])) / 6.0;
-  if (volume < 0)
-    for (auto& f : m.triangles)
-      std::swap(f[1], f[2]);
+  orientOutward(m);
   return m;
 }
 
