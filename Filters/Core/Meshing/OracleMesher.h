@@ -47,13 +47,12 @@ struct MesherOptions
   /// bone/implant cases at radius-edge 1.1 into the vertex budget. 0 = off (circumcentres, CGAL's
   /// point). < 0 = automatic (effectivePickingSliverAngle): 12 degrees where every material's
   /// radius-edge bound is at least 1.3, 8.7 (the paper's angle) where every one is at least the
-  /// paper's 1.1, else off (and off below 1.3 where feature lines meet below 60 degrees: the
-  /// mesher's checkPickingNearSmallAngles). Measured on generated bone/implant cases: at
-  /// radius-edge 1.1 all 25 end above 8.7 degrees before optimisation (71k-843k tetrahedra); at
-  /// 1.3, 1.5 and 2 all 15 end above 12 with 1.00-1.06x the tetrahedra of 8.7 (and the optimisers
-  /// then have little left to do). An earlier state of the code ran one of them (an implant face
-  /// on a voxel boundary) into the vertex budget at 1.1: refinement at such bounds is not covered
-  /// by a termination guarantee, and the vertex budget still stops it (with a warning).
+  /// paper's 1.1, else off. Measured on generated bone/implant cases: at radius-edge 1.1 all 25 end
+  /// above 8.7 degrees before optimisation (71k-843k tetrahedra); at 1.3, 1.5 and 2 all 15 end
+  /// above 12 with 1.00-1.06x the tetrahedra of 8.7 (and the optimisers then have little left to
+  /// do). An earlier state of the code ran one of them (an implant face on a voxel
+  /// boundary) into the vertex budget at 1.1: refinement at such bounds is not covered by a
+  /// termination guarantee, and the vertex budget still stops it (with a warning).
   double pickingSliverAngle = -1.0;
   /// Simplify and resample the feature lines before meshing (simplifyFeatureNetwork in
   /// FeatureNetworkSimplification.h), at h = the edge size (else the facet size, else 1/40 of the
