@@ -547,30 +547,6 @@ TEST(OracleMesher, PickedRefinementPointsWithoutFeatureLines)
   EXPECT_LT(worstTet(meshOracle(o, {}, {}, opt)), kPickingSliverAngleLoose) << "the case should have slivers";
 }
 
-// Feature lines meeting below 60 degrees at a radius-edge bound below 1.3: the automatic picking
-// stays off (circumcentres, with a warning); at 1.3 it picks. A given angle is kept either way.
-TEST(OracleMesher, AutomaticPickingStaysOffNearSmallAnglesAtTightBounds)
-{
-  HierarchicalOracle o;
-  o.add(std::make_shared<SphereDomain>(Vec3{ 0, 0, 0 }, 1.0, 1));
-  const FeatureSegments lines = star({ 0.05, -0.02, 0.03 }, { { 1, 0, 0 }, { 1, 0.9, 0.1 } }, 0.6); // ~42 degrees
-  ASSERT_LT(lines.smallestAngle(), 60.0);
-  MesherOptions opt = options(FeatureStrategy::Conforming, 0.3);
-  opt.perturb = opt.exude = false;
-  opt.criteria.global.cellRadiusEdgeRatio = 1.1;
-  const TetMesh tight = meshOracle(o, lines, {}, opt);
-  EXPECT_TRUE(hasWarning(tight, "picked refinement points off"));
-  EXPECT_EQ(tight.statistics.count("refinement_point_picks"), 0u);
-  EXPECT_EQ(tight.statistics.at("validity.defects"), 0.0);
-  opt.criteria.global.cellRadiusEdgeRatio = 1.3;
-  const TetMesh loose = meshOracle(o, lines, {}, opt);
-  EXPECT_FALSE(hasWarning(loose, "picked refinement points off"));
-  EXPECT_GT(loose.statistics.at("refinement_point_picks"), 0.0);
-  opt.criteria.global.cellRadiusEdgeRatio = 1.1;
-  opt.pickingSliverAngle = kPickingSliverAngle;
-  EXPECT_GT(meshOracle(o, lines, {}, opt).statistics.at("refinement_point_picks"), 0.0);
-}
-
 // The automatic picking sliver angle: 12 degrees where every material's radius-edge bound is
 // at least 1.3, the paper's 8.7 where every one is at least 1.1 (12 ran a generated case at 1.1
 // into the vertex budget), off where one is tighter.

@@ -707,7 +707,6 @@ private:
         "lines refines on one thread (None and ProtectingBalls refine in parallel)");
     if (!conforming_)
       return;
-    checkPickingNearSmallAngles();
     const size_t budget = options_.maximumNumberOfVertices ? options_.maximumNumberOfVertices : 1000000;
     conformed_ =
       conformSegments(*features_, edgeSizes_, budget, warnings_, [this] { deadline_.tick("feature-line conformation"); });
@@ -899,25 +898,7 @@ private:
   bool picks() const
   {
     return options_.strategy != FeatureStrategy::ProtectingBalls && threads_ == 1 &&
-      effectivePickingSliverAngle(options_) > 0 && !tightPickingNearSmallAngles_;
-  }
-
-  /// The automatic picking at the paper's tight radius-edge bounds (below 1.3) stays off where
-  /// feature lines meet below 60 degrees: a found junction at 49 degrees on a generated case at
-  /// radius-edge 1.1 ran picked points into the vertex budget (318k micro tetrahedra), while
-  /// circumcentres ended (the paper's rules; at 1.3 and above picking ended there too).
-  void checkPickingNearSmallAngles()
-  {
-    const double angle = effectivePickingSliverAngle(options_);
-    if (!conforming_ || options_.pickingSliverAngle >= 0 || angle <= 0 || angle >= kPickingSliverAngleLoose)
-      return;
-    const double smallest = features_->smallestAngle();
-    if (smallest >= 60.0)
-      return;
-    tightPickingNearSmallAngles_ = true;
-    warnings_.push_back("picked refinement points off: feature lines meet at " + std::to_string(smallest) +
-      " degrees (below 60) and a radius-edge bound is below " + std::to_string(kPickingSliverRadiusEdgeLoose) +
-      "; cells refine at their circumcentres (set PickingSliverAngle to force it)");
+      effectivePickingSliverAngle(options_) > 0;
   }
 
   /// Where the cell level takes its refinement points, and the angle below which any cell is
@@ -1305,7 +1286,6 @@ private:
   std::unique_ptr<MeshDomain> domain_;
   std::unique_ptr<Criteria> criteria_;
   bool protect_ = false, conforming_ = false;
-  bool tightPickingNearSmallAngles_ = false; ///< checkPickingNearSmallAngles
   PickingRegion::Counters picking_;
   double edgeSize_ = 0.0; ///< of the protecting balls (0 = none asked; the finest when lines differ)
   std::vector<double> edgeSizes_; ///< each feature segment's edge size (the per-feature level, FeatureEdgeSizes.h)
