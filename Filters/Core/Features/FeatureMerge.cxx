@@ -2,6 +2,7 @@
 #include "FeatureMerge.h"
 
 #include "InputError.h"
+#include "UnionFind.h"
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/box_intersection_d.h>
@@ -9,7 +10,6 @@
 #include <algorithm>
 #include <map>
 #include <cmath>
-#include <numeric>
 #include <optional>
 #include <set>
 #include <sstream>
@@ -21,23 +21,6 @@ namespace
 {
 using K = CGAL::Exact_predicates_inexact_constructions_kernel;
 using Box = CGAL::Box_intersection_d::Box_with_info_d<double, 3, std::size_t>;
-
-struct UnionFind
-{
-  std::vector<std::size_t> parent;
-  explicit UnionFind(std::size_t n)
-    : parent(n)
-  {
-    std::iota(parent.begin(), parent.end(), 0);
-  }
-  std::size_t find(std::size_t x)
-  {
-    while (parent[x] != x)
-      x = parent[x] = parent[parent[x]];
-    return x;
-  }
-  void join(std::size_t a, std::size_t b) { parent[find(a)] = find(b); }
-};
 }
 
 namespace

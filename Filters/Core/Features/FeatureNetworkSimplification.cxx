@@ -2,6 +2,7 @@
 #include "FeatureNetworkSimplification.h"
 
 #include "FeatureMerge.h"
+#include "UnionFind.h"
 
 #include <CGAL/AABB_segment_primitive.h>
 #include <CGAL/AABB_traits.h>
@@ -413,23 +414,17 @@ void dropSpurs(FeatureSegments& f, double s, FeatureNetworkReport& report)
 /// The lines without their separate pieces (connected parts) shorter than `s`, and the length of those.
 std::pair<FeatureSegments, double> withoutShortPieces(const FeatureSegments& f, double s)
 {
-  std::vector<int> root(f.points.size());
-  std::iota(root.begin(), root.end(), 0);
-  auto find = [&](int x) {
-    while (root[x] != x)
-      x = root[x] = root[root[x]];
-    return x;
-  };
+  UnionFind pieces(f.points.size());
   for (const auto& seg : f.segments)
-    root[find(seg[0])] = find(seg[1]);
+    pieces.join(seg[0], seg[1]);
   std::vector<double> length(f.points.size(), 0.0);
   for (std::size_t i = 0; i < f.segments.size(); ++i)
-    length[find(f.segments[i][0])] += f.length(i);
+    length[pieces.find(f.segments[i][0])] += f.length(i);
   FeatureSegments kept;
   kept.points = f.points;
   double dropped = 0.0;
   for (std::size_t i = 0; i < f.segments.size(); ++i)
-    if (length[find(f.segments[i][0])] >= s)
+    if (length[pieces.find(f.segments[i][0])] >= s)
       kept.segments.push_back(f.segments[i]);
     else
       dropped += f.length(i);

@@ -4,9 +4,9 @@
 #include "FeatureMerge.h"
 #include "HierarchicalOracle.h"
 #include "MeshCriteria.h"
+#include "UnionFind.h"
 
 #include <algorithm>
-#include <functional>
 #include <map>
 #include <set>
 
@@ -315,24 +315,21 @@ bool holdableChord(const HierarchicalOracle& oracle, const Vec3& a, const Vec3& 
 std::set<std::size_t> shortRemnants(const FeatureSegments& A, const std::vector<std::array<int, 2>>& kept,
   const std::set<int>& droppedEnds, double step)
 {
-  std::vector<int> root(A.points.size());
-  for (size_t i = 0; i < root.size(); ++i)
-    root[i] = static_cast<int>(i);
-  std::function<int(int)> find = [&](int v) { return root[v] == v ? v : root[v] = find(root[v]); };
+  UnionFind pieces(A.points.size());
   for (const auto& s : kept)
-    root[find(s[0])] = find(s[1]);
-  std::map<int, double> length;
-  std::set<int> touching;
+    pieces.join(s[0], s[1]);
+  std::vector<double> length(A.points.size(), 0.0);
+  std::vector<bool> touching(A.points.size(), false);
   for (const auto& s : kept)
   {
-    length[find(s[0])] += norm(A.points[s[1]] - A.points[s[0]]);
+    length[pieces.find(s[0])] += norm(A.points[s[1]] - A.points[s[0]]);
     for (int v : s)
       if (droppedEnds.count(v))
-        touching.insert(find(v));
+        touching[pieces.find(v)] = true;
   }
   std::set<std::size_t> remnants;
   for (size_t k = 0; k < kept.size(); ++k)
-    if (const int r = find(kept[k][0]); touching.count(r) && length[r] < step)
+    if (const std::size_t r = pieces.find(kept[k][0]); touching[r] && length[r] < step)
       remnants.insert(k);
   return remnants;
 }

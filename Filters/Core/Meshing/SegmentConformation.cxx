@@ -3,12 +3,12 @@
 
 #include "BoundingBox.h"
 #include "SegmentRules.h"
+#include "UnionFind.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <limits>
-#include <numeric>
 #include <optional>
 #include <unordered_map>
 
@@ -37,24 +37,18 @@ SegmentSet::SegmentSet(const FeatureSegments& f)
     const std::vector<int>& at = incident[v];
     if (at.size() < 2)
       continue;
-    std::vector<size_t> root(at.size());
-    std::iota(root.begin(), root.end(), size_t{ 0 });
-    auto find = [&root](size_t i) {
-      while (root[i] != i)
-        i = root[i] = root[root[i]];
-      return i;
-    };
+    UnionFind clusters(at.size());
     auto far = [&](int seg) { return points[inputEnds_[seg][0] == static_cast<int>(v) ? inputEnds_[seg][1] : inputEnds_[seg][0]]; };
     for (size_t i = 0; i < at.size(); ++i)
       for (size_t j = i + 1; j < at.size(); ++j)
         if (angleAt(points[v], far(at[i]), far(at[j])) < kClusterAngle)
-          root[find(i)] = find(j);
+          clusters.join(i, j);
     for (size_t i = 0; i < at.size(); ++i)
     {
       const int end = inputEnds_[at[i]][0] == static_cast<int>(v) ? 0 : 1;
       int rank = 0;
       for (size_t j = 0; j < at.size(); ++j)
-        if (i != j && find(i) == find(j))
+        if (i != j && clusters.find(i) == clusters.find(j))
         {
           cluster_[at[i]][end].push_back(at[j]);
           rank += j < i;
