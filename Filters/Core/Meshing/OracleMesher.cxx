@@ -557,7 +557,8 @@ std::optional<FeatureSegments> resampledFeatures(const FeatureSegments& given, c
     if (report.givenToSimplified > report.simplifiedToGiven)
       o << ", the given ones within " << report.givenToSimplified << " of those kept (" << report.segmentsOutside
         << " segment(s) outside the domain, " << report.spursDropped << " spur(s), " << report.piecesDropped
-        << " short piece(s) dropped)";
+        << " short piece(s) dropped, " << report.unmeshableEnds << " unmeshable end(s) bypassed or dropped, "
+        << report.pointsSnapped << " snap(s) and shared trunk(s))";
     o << ")";
     warnings.push_back(o.str());
   }
@@ -1193,6 +1194,7 @@ private:
       st["feature_network.spurs_dropped"] = static_cast<double>(network_.spursDropped);
       st["feature_network.pieces_dropped"] = static_cast<double>(network_.piecesDropped);
       st["feature_network.segments_outside_dropped"] = static_cast<double>(network_.segmentsOutside);
+      st["feature_network.unmeshable_ends"] = static_cast<double>(network_.unmeshableEnds);
       st["feature_network.short_pieces_length"] = network_.shortPiecesLength;
       st["feature_network.given_to_simplified"] = network_.givenToSimplified;
       st["feature_network.simplified_to_given"] = network_.simplifiedToGiven;
