@@ -898,8 +898,7 @@ private:
   /// they are); parallel refinement takes CGAL's circumcentres.
   bool picks() const
   {
-    return options_.strategy != FeatureStrategy::ProtectingBalls && threads_ == 1 &&
-      effectivePickingSliverAngle(options_) > 0;
+    return options_.strategy != FeatureStrategy::ProtectingBalls && effectivePickingSliverAngle(options_) > 0;
   }
 
   /// Where the cell level takes its refinement points, and the angle below which any cell is
@@ -934,22 +933,32 @@ private:
       missing_ = level.missingCensus(wanted);
     }
     else if (threads_ > 1)
-      refineInParallelOnce();
-    else if (picks())
     {
-      SegmentState<C3t3> none(*c3t3_, SegmentSet{});
-      Segments level(*c3t3_, none, domain_->index_from_curve_index(1));
-      ConformingMesher3<C3t3, Criteria, MeshDomain> mesher(
-        *c3t3_, *domain_, *criteria_, level, CGAL::FACET_VERTICES_ON_SURFACE, pickingRegion());
-      drive(mesher, {});
-      countPicks(mesher.pickingCounters());
+      refineInParallelOnce();
+      // the parallel levels refine at circumcentres; the slivers they leave are refined here, on
+      // one thread, at picked points (a few percent of the vertices)
+      if (picks() && !budgetHit_ && !stalled_)
+        refineAtPickedPoints();
     }
+    else if (picks())
+      refineAtPickedPoints();
     else
     {
       Mesher mesher(*c3t3_, *domain_, *criteria_, CGAL::FACET_VERTICES_ON_SURFACE);
       drive(mesher, {});
     }
     ++rounds_;
+  }
+
+  /// The mesher without segments, its cells refined at picked points.
+  void refineAtPickedPoints()
+  {
+    SegmentState<C3t3> none(*c3t3_, SegmentSet{});
+    Segments level(*c3t3_, none, domain_->index_from_curve_index(1));
+    ConformingMesher3<C3t3, Criteria, MeshDomain> mesher(
+      *c3t3_, *domain_, *criteria_, level, CGAL::FACET_VERTICES_ON_SURFACE, pickingRegion());
+    drive(mesher, {});
+    countPicks(mesher.pickingCounters());
   }
 
   void countPicks(const PickingRegion::Counters& picked)

@@ -207,7 +207,9 @@ public:
 
   const PickingRegion::Counters& pickingCounters() const { return picker_.counters(); }
 
-  bool is_algorithm_done() { return cells_.is_algorithm_done(); }
+  /// Not before the cells were scanned: on a complex whose facets are all good already (a second
+  /// round, the tail after a parallel refinement) the cells' queue is empty until then.
+  bool is_algorithm_done() { return stage_ == Stage::All && cells_.is_algorithm_done(); }
 
   /// After an interruption: the cells of the complex, if cell refinement had not started.
   void fix_c3t3()
