@@ -70,6 +70,39 @@ TEST(SurfaceDomain, GridShortcutAgreesWithExactTestAndVolumeMatches)
   EXPECT_NEAR(v.at(3), s.volume(), 0.01 * s.volume());
 }
 
+TEST(SurfaceDomain, LocalParityNearTheSurfaceAgreesWithExactTest)
+{
+  // Queries in cells that triangles touch count crossings to the cell's reference point: points
+  // next to the triangles, on their planes, edges and corners (the axis-aligned cube's faces lie
+  // on whole numbers, as a CAD part's do) must get the exact test's answers.
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> noise(-1e-3, 1e-3), u(0.0, 1.0);
+  const TriangleSurface sphere = test::icosphere({ 0.1, 0.2, -0.3 }, 1.5, 4);
+  SurfaceDomain ball(sphere, 2);
+  for (int n = 0; n < 30000; ++n)
+  {
+    const auto& t = sphere.triangles[rng() % sphere.triangles.size()];
+    double a = u(rng), b = u(rng);
+    if (a + b > 1)
+      a = 1 - a, b = 1 - b;
+    const Vec3 on = sphere.points[t[0]] + a * (sphere.points[t[1]] - sphere.points[t[0]]) + b * (sphere.points[t[2]] - sphere.points[t[0]]);
+    const Vec3 p = n % 4 == 0 ? sphere.points[t[n % 3]] : on + Vec3{ noise(rng), noise(rng), noise(rng) };
+    ASSERT_EQ(ball.material(p) == 2, ball.containsExact(p)) << p.x << " " << p.y << " " << p.z;
+  }
+  SurfaceDomain cube(test::cube(-2, 3), 1);
+  std::uniform_int_distribution<int> grid(-3, 4);
+  for (int n = 0; n < 30000; ++n)
+  {
+    // a point on the lattice of the faces, edges and corners, moved by nothing or a little per axis
+    Vec3 p{ double(grid(rng)), double(grid(rng)), double(grid(rng)) };
+    for (int a = 0; a < 3; ++a)
+      if (rng() % 2)
+        p[a] += n % 3 == 0 ? 0.5 : noise(rng);
+    const bool inside = p.x >= -2 && p.x <= 3 && p.y >= -2 && p.y <= 3 && p.z >= -2 && p.z <= 3;
+    ASSERT_EQ(cube.material(p) == 1, inside) << p.x << " " << p.y << " " << p.z;
+  }
+}
+
 TEST(SurfaceDomain, CrossingsAreExactTriangleHits)
 {
   SurfaceDomain cube(test::cube(0, 1), 1);

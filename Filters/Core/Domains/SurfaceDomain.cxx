@@ -19,10 +19,13 @@
 #include <CGAL/Surface_mesh.h>
 #include <boost/property_map/function_property_map.hpp>
 
+#include <array>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <deque>
 #include <numeric>
+#include <optional>
 
 namespace omesh
 {
@@ -44,6 +47,19 @@ enum CellState : uint8_t
   kCellBoundary = 2,
   kCellUnknown = 3
 };
+
+/// The side of a boundary cell's reference point, found at the cell's first query.
+enum ReferenceSide : uint8_t
+{
+  kReferenceUnknown = 0,
+  kReferenceOutside = 1,
+  kReferenceInside = 2,
+  kReferenceUnusable = 3 // on the surface or on a triangle's plane: the cell's queries go to the exact test
+};
+
+/// Where in its cell the reference point lies (fractions of the cell): off the centre, so that the
+/// faces of an axis-aligned part seldom hold it.
+constexpr double kReferenceOffset[3] = { 0.4637, 0.5183, 0.4821 };
 }
 
 struct SurfaceDomain::Impl
@@ -58,6 +74,17 @@ struct SurfaceDomain::Impl
   int n[3] = { 1, 1, 1 };
   Vec3 origin, invCell, cell;
   std::vector<uint8_t> state;
+  // Per boundary cell, the triangles that touch it (compressed rows over all cells; zero-area ones
+  // left out as in the tree) and the side of its reference point: a query in the cell counts the
+  // crossings of the segment to that point with these triangles only, since the segment stays in
+  // the cell. Exact predicates; any degenerate crossing goes to the exact test.
+  std::vector<uint32_t> cellFirst, cellTriangles;
+  std::vector<std::array<Point, 3>> triangles;
+  std::unique_ptr<std::atomic<uint8_t>[]> referenceSide;
+  // per entry of cellTriangles: the side of the triangle's plane the cell's reference point lies on
+  // (written before referenceSide, which is stored with release)
+  std::unique_ptr<std::atomic<int8_t>[]> referenceOrientation;
+  double cellEps = 0.0; // the cells' enlargement when their triangles were listed
 
   bool exact(const Vec3& p) const
   {
@@ -71,11 +98,103 @@ struct SurfaceDomain::Impl
   {
     return static_cast<size_t>(i) + static_cast<size_t>(n[0]) * (static_cast<size_t>(j) + static_cast<size_t>(n[1]) * k);
   }
+  Vec3 referencePoint(int i, int j, int k) const
+  {
+    return { origin.x + (i + kReferenceOffset[0]) * cell.x, origin.y + (j + kReferenceOffset[1]) * cell.y,
+      origin.z + (k + kReferenceOffset[2]) * cell.z };
+  }
+  /// The inside test in boundary cell (i, j, k) by local parity; nothing where it cannot decide.
+  std::optional<bool> localSide(const Vec3& p, int i, int j, int k) const;
+  /// Whether segment from-to crosses cell c's triangles an odd number of times; nothing where an
+  /// end lies on a triangle's plane or the segment passes through an edge or a vertex.
+  /// (toIsReference: `to` is the cell's reference point, whose orientations are known.)
+  std::optional<bool> crossesOddly(const Point& from, const Point& to, size_t c, bool toIsReference = false) const;
+  /// The side of the cell's reference point (kReferenceUnusable where no query could use it).
+  uint8_t findReferenceSide(int i, int j, int k) const;
   void buildGrid(size_t numTriangles);
   void sizeGrid(size_t numTriangles);
   void markBoundaryCells();
   void classifyFreeCells();
 };
+
+std::optional<bool> SurfaceDomain::Impl::crossesOddly(const Point& from, const Point& to, size_t c, bool toIsReference) const
+{
+  bool odd = false;
+  for (uint32_t t = cellFirst[c]; t < cellFirst[c + 1]; ++t)
+  {
+    const auto& [a, b, d] = triangles[cellTriangles[t]];
+    const CGAL::Orientation of = CGAL::orientation(a, b, d, from);
+    const CGAL::Orientation ot = toIsReference
+      ? static_cast<CGAL::Orientation>(referenceOrientation[t].load(std::memory_order_relaxed))
+      : CGAL::orientation(a, b, d, to);
+    if (of == CGAL::COPLANAR || ot == CGAL::COPLANAR)
+      return std::nullopt; // an end on the triangle's plane: on it, on its edge, or beside it
+    if (of == ot)
+      continue;
+    const CGAL::Orientation e0 = CGAL::orientation(from, to, a, b);
+    const CGAL::Orientation e1 = CGAL::orientation(from, to, b, d);
+    const CGAL::Orientation e2 = CGAL::orientation(from, to, d, a);
+    if (e0 == CGAL::COPLANAR || e1 == CGAL::COPLANAR || e2 == CGAL::COPLANAR)
+      return std::nullopt; // through an edge or a vertex
+    if (e0 == e1 && e1 == e2)
+      odd = !odd;
+  }
+  return odd;
+}
+
+uint8_t SurfaceDomain::Impl::findReferenceSide(int i, int j, int k) const
+{
+  const size_t c = cellIndex(i, j, k);
+  const Point r = toCgal(referencePoint(i, j, k));
+  for (uint32_t t = cellFirst[c]; t < cellFirst[c + 1]; ++t)
+  {
+    const auto& [a, b, d] = triangles[cellTriangles[t]];
+    const CGAL::Orientation o = CGAL::orientation(a, b, d, r);
+    if (o == CGAL::COPLANAR)
+      return kReferenceUnusable; // every query's segment would end on that plane
+    referenceOrientation[t].store(static_cast<int8_t>(o), std::memory_order_relaxed);
+  }
+  // From a face neighbour that no triangle touches, whose side is known: the segment between the
+  // two reference points stays in the two cells, so only this cell's triangles can cross it.
+  const int nb[6][3] = { { i - 1, j, k }, { i + 1, j, k }, { i, j - 1, k }, { i, j + 1, k }, { i, j, k - 1 }, { i, j, k + 1 } };
+  for (const auto& q : nb)
+  {
+    if (q[0] < 0 || q[1] < 0 || q[2] < 0 || q[0] >= n[0] || q[1] >= n[1] || q[2] >= n[2])
+      continue;
+    const uint8_t s = state[cellIndex(q[0], q[1], q[2])];
+    if (s != kCellInside && s != kCellOutside)
+      continue;
+    if (const std::optional<bool> odd = crossesOddly(toCgal(referencePoint(q[0], q[1], q[2])), r, c, true))
+      return (s == kCellInside) != *odd ? kReferenceInside : kReferenceOutside;
+  }
+  const CGAL::Bounded_side onSide = (*side)(r);
+  if (onSide == CGAL::ON_BOUNDARY)
+    return kReferenceUnusable;
+  return onSide == CGAL::ON_BOUNDED_SIDE ? kReferenceInside : kReferenceOutside;
+}
+
+std::optional<bool> SurfaceDomain::Impl::localSide(const Vec3& p, int i, int j, int k) const
+{
+  // the segment to the reference point must stay in the (enlarged) cell whose triangles are listed
+  const Vec3 lo{ origin.x + i * cell.x, origin.y + j * cell.y, origin.z + k * cell.z };
+  for (int a = 0; a < 3; ++a)
+    if (!(p[a] >= lo[a] - 0.5 * cellEps && p[a] <= lo[a] + cell[a] + 0.5 * cellEps))
+      return std::nullopt;
+  const size_t c = cellIndex(i, j, k);
+  std::atomic<uint8_t>& known = referenceSide[c];
+  uint8_t reference = known.load(std::memory_order_acquire);
+  if (reference == kReferenceUnknown)
+  {
+    reference = findReferenceSide(i, j, k);
+    known.store(reference, std::memory_order_release); // threads that race store the same answers
+  }
+  if (reference == kReferenceUnusable)
+    return std::nullopt;
+  const std::optional<bool> odd = crossesOddly(toCgal(p), toCgal(referencePoint(i, j, k)), c, true);
+  if (!odd)
+    return std::nullopt;
+  return (reference == kReferenceInside) != *odd;
+}
 
 void SurfaceDomain::Impl::buildGrid(size_t numTriangles)
 {
@@ -104,10 +223,13 @@ void SurfaceDomain::Impl::sizeGrid(size_t numTriangles)
   state.assign(static_cast<size_t>(n[0]) * n[1] * n[2], kCellUnknown);
 }
 
-/// Cells that a triangle touches are boundary cells (answered by the exact test).
+/// Cells that a triangle touches are boundary cells (answered by localSide, else the exact test);
+/// each lists the triangles that touch it.
 void SurfaceDomain::Impl::markBoundaryCells()
 {
   const double eps = 1e-9 * norm(box.size()); // cells are tested slightly enlarged: rounding cannot hide a touch
+  cellEps = eps;
+  std::vector<std::pair<uint32_t, uint32_t>> touches; // (cell, triangle)
   for (auto f : mesh.faces())
   {
     auto h0 = mesh.halfedge(f);
@@ -115,6 +237,9 @@ void SurfaceDomain::Impl::markBoundaryCells()
     const Point& p1 = mesh.point(mesh.target(mesh.next(h0)));
     const Point& p2 = mesh.point(mesh.source(h0));
     const K::Triangle_3 tri(p0, p1, p2);
+    const bool solid = !CGAL::collinear(p0, p1, p2);
+    if (solid)
+      triangles.push_back({ p0, p1, p2 });
     const CGAL::Bbox_3 tb = tri.bbox();
     int lo[3], hi[3];
     for (int a = 0; a < 3; ++a)
@@ -127,15 +252,31 @@ void SurfaceDomain::Impl::markBoundaryCells()
         for (int i = lo[0]; i <= hi[0]; ++i)
         {
           uint8_t& s = state[cellIndex(i, j, k)];
-          if (s == kCellBoundary)
+          if (s == kCellBoundary && !solid)
             continue;
           const CGAL::Bbox_3 cb(origin.x + i * cell.x - eps, origin.y + j * cell.y - eps,
             origin.z + k * cell.z - eps, origin.x + (i + 1) * cell.x + eps,
             origin.y + (j + 1) * cell.y + eps, origin.z + (k + 1) * cell.z + eps);
           if (CGAL::do_intersect(tri, cb))
+          {
             s = kCellBoundary;
+            if (solid)
+              touches.emplace_back(static_cast<uint32_t>(cellIndex(i, j, k)), static_cast<uint32_t>(triangles.size() - 1));
+          }
         }
   }
+  cellFirst.assign(state.size() + 1, 0);
+  for (const auto& [c, t] : touches)
+    ++cellFirst[c + 1];
+  std::partial_sum(cellFirst.begin(), cellFirst.end(), cellFirst.begin());
+  cellTriangles.resize(touches.size());
+  std::vector<uint32_t> next(cellFirst.begin(), cellFirst.end() - 1);
+  for (const auto& [c, t] : touches)
+    cellTriangles[next[c]++] = t;
+  referenceSide = std::make_unique<std::atomic<uint8_t>[]>(state.size());
+  for (size_t c = 0; c < state.size(); ++c)
+    referenceSide[c].store(kReferenceUnknown, std::memory_order_relaxed);
+  referenceOrientation = std::make_unique<std::atomic<int8_t>[]>(cellTriangles.size());
 }
 
 /// Face-adjacent cells that no triangle touches lie on the same side: flood-fill each component
@@ -383,7 +524,10 @@ int SurfaceDomain::material(const Vec3& p) const
   const int k = std::min(static_cast<int>((p.z - m.origin.z) * m.invCell.z), m.n[2] - 1);
   const uint8_t s = m.state[m.cellIndex(i, j, k)];
   if (s == kCellBoundary)
-    return m.exact(p) ? materialId_ : kOutside;
+  {
+    const std::optional<bool> local = m.localSide(p, i, j, k);
+    return (local ? *local : m.exact(p)) ? materialId_ : kOutside;
+  }
   return s == kCellInside ? materialId_ : kOutside;
 }
 
