@@ -171,7 +171,7 @@ void LabelMapDomain::buildClearance()
       pass(y, z, -1);
 }
 
-void LabelMapDomain::crossings(const Vec3& a, const Vec3& b, std::vector<double>& ts) const
+void LabelMapDomain::firstCrossings(const Vec3& a, const Vec3& b, std::vector<double>& ts, int changes) const
 {
   const Vec3 ua = worldToVoxel_.apply(a), ub = worldToVoxel_.apply(b), d = ub - ua;
   if (!isFinite(ua) || !isFinite(d)) // a NaN end is outside every domain: nothing to cross
@@ -187,7 +187,7 @@ void LabelMapDomain::crossings(const Vec3& a, const Vec3& b, std::vector<double>
   ts.push_back(t1);
   if (interpolation_ == LabelInterpolation::Trilinear)
   {
-    trilinearCrossings(ua, d, t0, t1, ts);
+    trilinearCrossings(ua, d, t0, t1, changes, ts);
     return;
   }
   // Voxel faces crossed inside the grid; keep those where the label actually changes.
@@ -776,7 +776,7 @@ struct WalkCrossings
 }
 
 void LabelMapDomain::trilinearCrossings(
-  const Vec3& ua, const Vec3& d, double t0, double t1, std::vector<double>& ts) const
+  const Vec3& ua, const Vec3& d, double t0, double t1, int changes, std::vector<double>& ts) const
 {
   // Between the planes through voxel centres the indicators are trilinear (cubic along the
   // segment): sample each such piece four times and search every change of label to full
@@ -836,6 +836,14 @@ void LabelMapDomain::trilinearCrossings(
       }
       previous = at;
       previousT = t;
+    }
+    // enough changes: the rest of the walk cannot come before them. The piece's end is a
+    // candidate too: the material after the last change holds up to it (or the samples would
+    // have found another change), so the caller can tell it from the material before.
+    if (ts.size() - found.from >= static_cast<size_t>(changes))
+    {
+      ts.push_back(b);
+      return;
     }
   }
 }
