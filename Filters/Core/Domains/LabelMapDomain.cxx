@@ -445,8 +445,9 @@ uint16_t LabelMapDomain::trilinearIndex(const Vec3& u) const
 namespace
 {
 /// One segment's walk through the cells of voxel centres (continuous voxel coordinates ua + t d).
-/// The 8 labels around the last point looked at stay loaded: the samples and the search inside
-/// one cell only recompute the weights (the answers are those of trilinearIndex at every point).
+/// The 8 labels around the last point looked at stay loaded; the samples and the search inside a
+/// piece evaluate its cubics (PieceCubics), the weights only within 1e-12 of a tie (so the labels
+/// are trilinearIndex's at every point).
 class TrilinearWalk
 {
 public:
