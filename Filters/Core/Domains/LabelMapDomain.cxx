@@ -559,6 +559,17 @@ public:
     return pickLabel(cache_, f);
   }
 
+  /// The label at t where the walk starts, and whether the segment up to t1 stays in the cube of
+  /// cells of that one label around t's cell (then nothing can change along it).
+  uint16_t labelAtStart(double t, double t1, bool& noChange)
+  {
+    int lo[3];
+    uint16_t label = 0;
+    const int c = clearanceAt(t, lo, label);
+    noChange = c > 0 && exitOfCube(lo, c) >= t1;
+    return c > 0 ? label : labelAt(t);
+  }
+
   /// The label at t and how far `label` leads there (the trilinear evaluation).
   double leadAt(double t, uint16_t label, uint16_t& at)
   {
@@ -786,15 +797,18 @@ void LabelMapDomain::trilinearCrossings(
   // Most pieces lie in a cell whose 8 corners all carry the label the walk is in (one load of
   // clearance_ says so; nothing can change there), most of those deep inside a cube of such
   // cells, which the walk jumps over to the plane where it leaves the cube.
+  TrilinearWalk walk(dims_, index_.data(), clearance_.data(), clearanceStride_, ua, d);
+  bool noChange = false;
+  uint16_t previous = walk.labelAtStart(t0, t1, noChange);
+  if (noChange) // the whole segment in one cube of one label: the walk would jump to its end
+    return;
   thread_local std::vector<uint16_t> labelsBefore; // reused: no allocation per query
   labelsBefore.clear();
   WalkCrossings found{ ts, ts.size(), labelsBefore };
   PieceEnds ends(ua, d, t0, t1);
-  TrilinearWalk walk(dims_, index_.data(), clearance_.data(), clearanceStride_, ua, d);
   constexpr int kSamples = 4;
   PieceCubics cubics;
   double previousT = t0;
-  uint16_t previous = walk.labelAt(t0);
   double a = 0.0, b = 0.0;
   ends.next(a);
   for (; ends.next(b); a = b)
