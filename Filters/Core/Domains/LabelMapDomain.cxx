@@ -336,98 +336,6 @@ inline double leadFromSums(const Corners& k, const double sums[8], uint16_t labe
       other = std::max(other, sums[s]);
   return own - other;
 }
-
-/// The summed trilinear weight of each distinct label of a cell along a straight piece inside it,
-/// as cubics in the piece's parameter x in [0, 1]: the search for a label change inside a piece
-/// evaluates these (a few multiplications) instead of gathering weights at every point.
-class PieceCubics
-{
-public:
-  /// fa, fb: the piece's ends as fractions in the cell of k.
-  void build(const Corners& k, const double fa[3], const double fb[3])
-  {
-    if (k.uniform)
-    {
-      count_ = 1;
-      label_[0] = k.idx[0];
-      c_[0][0] = 1.0;
-      c_[0][1] = c_[0][2] = c_[0][3] = 0.0;
-      return;
-    }
-    count_ = k.distinctCount;
-    for (int s = 0; s < count_; ++s)
-    {
-      label_[s] = k.distinct[s];
-      double v[8];
-      for (int c = 0; c < 8; ++c)
-        v[c] = k.slot[c] == s ? 1.0 : 0.0;
-      // Bernstein coefficients by blossoming: the function at the corners of the piece's box
-      // (b1: mean of the 3 with one coordinate from fb, b2: of the 3 with two), then the power basis
-      double vx[4][2];
-      for (int q = 0; q < 4; ++q)
-      {
-        vx[q][0] = v[2 * q] + (v[2 * q + 1] - v[2 * q]) * fa[0];
-        vx[q][1] = v[2 * q] + (v[2 * q + 1] - v[2 * q]) * fb[0];
-      }
-      double box[2][2][2]; // [end of x][end of y][end of z]
-      for (int ex = 0; ex < 2; ++ex)
-        for (int ey = 0; ey < 2; ++ey)
-        {
-          const double y = ey ? fb[1] : fa[1];
-          const double z0 = vx[0][ex] + (vx[1][ex] - vx[0][ex]) * y, z1 = vx[2][ex] + (vx[3][ex] - vx[2][ex]) * y;
-          box[ex][ey][0] = z0 + (z1 - z0) * fa[2];
-          box[ex][ey][1] = z0 + (z1 - z0) * fb[2];
-        }
-      const double b0 = box[0][0][0], b3 = box[1][1][1];
-      const double b1 = (box[1][0][0] + box[0][1][0] + box[0][0][1]) * (1.0 / 3.0);
-      const double b2 = (box[0][1][1] + box[1][0][1] + box[1][1][0]) * (1.0 / 3.0);
-      c_[s][0] = b0;
-      c_[s][1] = 3.0 * (b1 - b0);
-      c_[s][2] = 3.0 * (b0 - 2.0 * b1 + b2);
-      c_[s][3] = b3 - b0 + 3.0 * (b1 - b2);
-    }
-  }
-
-  /// The label at x (the largest weight; ties go to the smaller index, as pickFromSums) and how
-  /// far `label` leads the strongest other label there (as leadFromSums). False where the two
-  /// largest weights are within 1e-12: the cubics' rounding differs from the trilinear
-  /// evaluation's, and a tie (exact on the planes x = 1/2 of saddle cells, where samples fall)
-  /// must be decided as material() decides it, so the caller asks the trilinear evaluation.
-  bool decided(double x, uint16_t label, uint16_t& at, double& lead) const
-  {
-    if (count_ == 1)
-    {
-      at = label_[0];
-      lead = at == label ? 1.0 : -1.0;
-      return true;
-    }
-    double w[8];
-    for (int s = 0; s < count_; ++s)
-      w[s] = ((c_[s][3] * x + c_[s][2]) * x + c_[s][1]) * x + c_[s][0];
-    int best = 0;
-    for (int s = 1; s < count_; ++s)
-      if (w[s] > w[best])
-        best = s;
-    double own = 0.0, other = 0.0, second = -1.0;
-    for (int s = 0; s < count_; ++s)
-    {
-      if (s != best)
-        second = std::max(second, w[s]);
-      if (label_[s] == label)
-        own = w[s];
-      else
-        other = std::max(other, w[s]);
-    }
-    at = label_[best];
-    lead = own - other;
-    return w[best] - second > 1e-12;
-  }
-
-private:
-  int count_ = 0;
-  uint16_t label_[8] = {};
-  double c_[8][4] = {};
-};
 }
 
 uint16_t LabelMapDomain::trilinearIndex(const Vec3& u) const
@@ -445,9 +353,8 @@ uint16_t LabelMapDomain::trilinearIndex(const Vec3& u) const
 namespace
 {
 /// One segment's walk through the cells of voxel centres (continuous voxel coordinates ua + t d).
-/// The 8 labels around the last point looked at stay loaded; the samples and the search inside a
-/// piece evaluate its cubics (PieceCubics), the weights only within 1e-12 of a tie (so the labels
-/// are trilinearIndex's at every point).
+/// The 8 labels around the last point looked at stay loaded: the samples and the search inside
+/// one cell only recompute the weights (the answers are those of trilinearIndex at every point).
 class TrilinearWalk
 {
 public:
@@ -501,12 +408,16 @@ public:
     double f[3];
     cornersAt(0.5 * (a + b), f);
     const Corners& k = cache_;
-    double fa[3], fb[3], lo[3], hi[3];
-    pieceFractions(a, b, fa, fb);
-    for (int ax = 0; ax < 3; ++ax)
+    double lo[3], hi[3];
+    for (int end = 0; end < 2; ++end)
     {
-      lo[ax] = std::min(fa[ax], fb[ax]);
-      hi[ax] = std::max(fa[ax], fb[ax]);
+      const Vec3 u = ua_ + (end == 0 ? a : b) * d_;
+      for (int ax = 0; ax < 3; ++ax)
+      {
+        const double x = std::clamp(std::clamp(u[ax], 0.0, double(dims_[ax])) - 0.5 - k.lo[ax], 0.0, 1.0);
+        lo[ax] = end == 0 ? x : std::min(lo[ax], x);
+        hi[ax] = end == 0 ? x : std::max(hi[ax], x);
+      }
     }
     double chi[8];
     for (int c = 0; c < 8; ++c)
@@ -525,16 +436,6 @@ public:
         smallest = std::min({ smallest, z0 + (z1 - z0) * lo[2], z0 + (z1 - z0) * hi[2] });
       }
     return smallest > 0.5 + 1e-9;
-  }
-
-  /// The label weights along the piece [a, b] as cubics (in the cell of its midpoint, which this
-  /// loads): the search inside the piece needs no other load or weight.
-  void cubicsOnPiece(double a, double b, PieceCubics& cubics)
-  {
-    double f[3], fa[3], fb[3];
-    cornersAt(0.5 * (a + b), f);
-    pieceFractions(a, b, fa, fb);
-    cubics.build(cache_, fa, fb);
   }
 
   /// Where the segment leaves the cube of cells around cell lo that a clearance of D says are of
@@ -570,42 +471,14 @@ public:
     return c > 0 ? label : labelAt(t);
   }
 
-  /// The label at t and how far `label` leads there (the trilinear evaluation).
-  double leadAt(double t, uint16_t label, uint16_t& at)
-  {
-    double f[3];
-    cornersAt(t, f);
-    if (cache_.uniform)
-    {
-      at = cache_.idx[0];
-      return at == label ? 1.0 : -1.0;
-    }
-    double sums[8]; // one set of weights for both answers
-    labelWeights(cache_, f, sums);
-    at = pickFromSums(cache_, sums);
-    return leadFromSums(cache_, sums, label);
-  }
-
-  /// The label at t on the piece [start, ...] whose cubics take x = (t - start) * scale, and how
-  /// far `label` leads there: the cubics' answer, the trilinear one near a tie.
-  double leadOnPiece(const PieceCubics& cubics, double start, double scale, double t, uint16_t label, uint16_t& at)
-  {
-    double lead = 0.0;
-    if (cubics.decided((t - start) * scale, label, at, lead))
-      return lead;
-    return leadAt(t, label, at);
-  }
-
-  /// The last t where `label` holds between lo (it holds) and hi (it does not), to 1e-12, both in
-  /// the piece that starts at `start` and whose cubics take x = (t - start) * scale: a bracketing
-  /// search (Illinois regula falsi on the label's lead, a bisection whenever three steps do not
-  /// halve the bracket) that keeps the bisection's answer to its tolerance with about a fifth of
-  /// its label evaluations.
-  double lastOf(const PieceCubics& cubics, double start, double scale, uint16_t label, double lo, double hi)
+  /// The last t where `label` holds between lo (it holds) and hi (it does not), to 1e-12: a
+  /// bracketing search (Illinois regula falsi on the label's lead, a bisection whenever three
+  /// steps do not halve the bracket) that keeps the bisection's answer to its tolerance with about
+  /// a fifth of its label evaluations.
+  double lastOf(uint16_t label, double lo, double hi)
   {
     uint16_t at = 0;
-    auto lead = [&](double t) { return leadOnPiece(cubics, start, scale, t, label, at); };
-    double gLo = lead(lo), gHi = lead(hi);
+    double gLo = leadAt(lo, label, at), gHi = leadAt(hi, label, at);
     int side = 0;               // which end the last step moved: -1 lo, +1 hi
     double reference = hi - lo; // a bisection once 3 steps have not halved the bracket from here
     int steps = 0;
@@ -625,7 +498,7 @@ public:
         reference = w;
         steps = 0;
       }
-      const double g = lead(mid);
+      const double g = leadAt(mid, label, at);
       const bool holds = at == label;
       (holds ? lo : hi) = mid;
       (holds ? gLo : gHi) = g;
@@ -637,16 +510,20 @@ public:
   }
 
 private:
-  /// The ends of the piece [a, b] as fractions in the loaded cell (on the grid, within the cell).
-  void pieceFractions(double a, double b, double fa[3], double fb[3]) const
+  /// The label at t and how far `label` leads there.
+  double leadAt(double t, uint16_t label, uint16_t& at)
   {
-    for (int end = 0; end < 2; ++end)
+    double f[3];
+    cornersAt(t, f);
+    if (cache_.uniform)
     {
-      const Vec3 u = ua_ + (end == 0 ? a : b) * d_;
-      double* f = end == 0 ? fa : fb;
-      for (int ax = 0; ax < 3; ++ax)
-        f[ax] = std::clamp(std::clamp(u[ax], 0.0, double(dims_[ax])) - 0.5 - cache_.lo[ax], 0.0, 1.0);
+      at = cache_.idx[0];
+      return at == label ? 1.0 : -1.0;
     }
+    double sums[8]; // one set of weights for both answers
+    labelWeights(cache_, f, sums);
+    at = pickFromSums(cache_, sums);
+    return leadFromSums(cache_, sums, label);
   }
 
   /// A little past the interpolated root, away from the end that moved last: once the root is
@@ -807,7 +684,6 @@ void LabelMapDomain::trilinearCrossings(
   WalkCrossings found{ ts, ts.size(), labelsBefore };
   PieceEnds ends(ua, d, t0, t1);
   constexpr int kSamples = 4;
-  PieceCubics cubics;
   double previousT = t0;
   double a = 0.0, b = 0.0;
   ends.next(a);
@@ -830,21 +706,15 @@ void LabelMapDomain::trilinearCrossings(
       previousT = a + (b - a) * kSamples / kSamples; // the last sample's t, as the samples leave it
       continue;
     }
-    // the samples and the search on the piece's cubics, all at x = (t - a) * scale: one t, one
-    // answer (a sample on a tie must give the label the search gives there)
-    walk.cubicsOnPiece(a, b, cubics);
-    const double scale = 1.0 / (b - a);
     for (int s = 1; s <= kSamples; ++s)
     {
       const double t = a + (b - a) * s / kSamples;
-      uint16_t at = 0;
-      walk.leadOnPiece(cubics, a, scale, t, previous, at);
+      const uint16_t at = walk.labelAt(t);
       // every change between the previous sample and t (a few at most)
       for (int guard = 0; at != previous && guard < 8; ++guard)
       {
-        const double hi = walk.lastOf(cubics, a, scale, previous, previousT, t);
-        uint16_t after = 0;
-        walk.leadOnPiece(cubics, a, scale, hi, previous, after);
+        const double hi = walk.lastOf(previous, previousT, t);
+        const uint16_t after = walk.labelAt(hi);
         found.add(hi, previous, after);
         previous = after;
         previousT = hi;
