@@ -2,6 +2,7 @@
 #include "HierarchicalOracle.h"
 #include "InputError.h"
 #include "LabelMapDomain.h"
+#include "SphereDomain.h"
 #include "TestShapes.h"
 
 #include <gtest/gtest.h>
@@ -430,4 +431,49 @@ TEST(LabelMapDomain, TrilinearCrossingsAreTheSameWhereTheWalkJumpsOverCubesOfOne
   EXPECT_GT(crossings, 2000u); // some crossed the ball or the layer
   EXPECT_GT(quiet, 2000u);     // and some stayed in the background
   EXPECT_EQ(lone, 3u);         // the lone voxel was found from every side
+}
+
+TEST(LabelMapDomain, OneDomainOracleStopsAtTheFirstChangeWithTheSameAnswers)
+{
+  // an oracle of the label map alone lets the walk stop after its first change; with a second
+  // domain (a cut far away, which changes nothing) it walks every segment to its end: the same
+  // intersections, to the bit, on segments through thin layers, blobs and lone voxels
+  const std::array<int, 3> d{ 17, 13, 11 };
+  std::mt19937 rng(5);
+  const std::vector<int> labels = labelGrid(d, [&](int i, int j, int k) {
+    int l = (i - 8) * (i - 8) + (j - 6) * (j - 6) + 2 * (k - 5) * (k - 5) < 30 ? 1 : 0;
+    if (j == 4 || i == 10)
+      l = 2;
+    if (rng() % 13 == 0)
+      l = static_cast<int>(rng() % 4);
+    return l;
+  });
+  auto map = std::make_shared<LabelMapDomain>(d, labels, AffineMap(), 0, "random", LabelInterpolation::Trilinear);
+  HierarchicalOracle alone, walked;
+  alone.add(map);
+  auto far = std::make_shared<SphereDomain>(Vec3{ 500, 500, 500 }, 1.0, 9, "far");
+  far->setCut(true);
+  walked.add(far);
+  walked.add(map);
+  std::uniform_real_distribution<double> u(-1.0, 18.0);
+  size_t found = 0, stopped = 0;
+  for (int n = 0; n < 5000; ++n)
+  {
+    const Vec3 a{ u(rng), u(rng) * 13.0 / 17.0, u(rng) * 11.0 / 17.0 };
+    const Vec3 b{ u(rng), u(rng) * 13.0 / 17.0, u(rng) * 11.0 / 17.0 };
+    const Intersection x = alone.intersect(a, b), y = walked.intersect(a, b);
+    ASSERT_EQ(x.found, y.found) << "segment " << n;
+    found += x.found ? 1 : 0;
+    if (!x.found)
+      continue;
+    EXPECT_EQ(x.t, y.t) << "segment " << n;
+    EXPECT_EQ(x.materialBefore, y.materialBefore) << "segment " << n;
+    EXPECT_EQ(x.materialAfter, y.materialAfter) << "segment " << n;
+    std::vector<double> all, first;
+    map->crossings(a, b, all);
+    map->firstCrossings(a, b, first, 1);
+    stopped += first.size() < all.size() ? 1 : 0;
+  }
+  EXPECT_GT(found, 2500u);
+  EXPECT_GT(stopped, 500u); // the walk did stop early on many segments
 }

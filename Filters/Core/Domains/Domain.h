@@ -46,6 +46,14 @@ public:
   /// may change. Every true change must be listed (a superset is allowed): the oracle evaluates the
   /// combined labelling between consecutive candidates, which makes intersection exact.
   virtual void crossings(const Vec3& a, const Vec3& b, std::vector<double>& ts) const = 0;
+  /// As crossings(), for a caller that needs only the first `changes` true changes: a domain may
+  /// stop its search after them, listing a candidate after the last one up to which the material
+  /// after it holds (the oracle of one domain asks for its first change).
+  virtual void firstCrossings(const Vec3& a, const Vec3& b, std::vector<double>& ts, int changes) const
+  {
+    (void)changes;
+    crossings(a, b, ts);
+  }
 
   /// World bounds of the contained region; unbounded domains (half-spaces, infinite cylinders)
   /// return false from bounded().

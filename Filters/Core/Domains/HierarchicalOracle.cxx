@@ -21,8 +21,11 @@ Intersection HierarchicalOracle::intersect(const Vec3& a, const Vec3& b) const
   result.materialBefore = material(a);
   thread_local std::vector<double> ts; // reused: the mesher asks millions of times
   ts.clear();
-  for (const auto& d : domains_)
-    d->crossings(a, b, ts);
+  if (domains_.size() == 1) // its first change is the oracle's
+    domains_[0]->firstCrossings(a, b, ts, 1);
+  else
+    for (const auto& d : domains_)
+      d->crossings(a, b, ts);
   std::sort(ts.begin(), ts.end());
   ts.push_back(1.0);
   double previous = 0.0;

@@ -171,7 +171,7 @@ void LabelMapDomain::buildClearance()
       pass(y, z, -1);
 }
 
-void LabelMapDomain::crossings(const Vec3& a, const Vec3& b, std::vector<double>& ts) const
+void LabelMapDomain::firstCrossings(const Vec3& a, const Vec3& b, std::vector<double>& ts, int changes) const
 {
   const Vec3 ua = worldToVoxel_.apply(a), ub = worldToVoxel_.apply(b), d = ub - ua;
   if (!isFinite(ua) || !isFinite(d)) // a NaN end is outside every domain: nothing to cross
@@ -187,7 +187,7 @@ void LabelMapDomain::crossings(const Vec3& a, const Vec3& b, std::vector<double>
   ts.push_back(t1);
   if (interpolation_ == LabelInterpolation::Trilinear)
   {
-    trilinearCrossings(ua, d, t0, t1, ts);
+    trilinearCrossings(ua, d, t0, t1, changes, ts);
     return;
   }
   // Voxel faces crossed inside the grid; keep those where the label actually changes.
@@ -460,6 +460,17 @@ public:
     return pickLabel(cache_, f);
   }
 
+  /// The label at t where the walk starts, and whether the segment up to t1 stays in the cube of
+  /// cells of that one label around t's cell (then nothing can change along it).
+  uint16_t labelAtStart(double t, double t1, bool& noChange)
+  {
+    int lo[3];
+    uint16_t label = 0;
+    const int c = clearanceAt(t, lo, label);
+    noChange = c > 0 && exitOfCube(lo, c) >= t1;
+    return c > 0 ? label : labelAt(t);
+  }
+
   /// The last t where `label` holds between lo (it holds) and hi (it does not), to 1e-12: a
   /// bracketing search (Illinois regula falsi on the label's lead, a bisection whenever three
   /// steps do not halve the bracket) that keeps the bisection's answer to its tolerance with about
@@ -654,7 +665,7 @@ struct WalkCrossings
 }
 
 void LabelMapDomain::trilinearCrossings(
-  const Vec3& ua, const Vec3& d, double t0, double t1, std::vector<double>& ts) const
+  const Vec3& ua, const Vec3& d, double t0, double t1, int changes, std::vector<double>& ts) const
 {
   // Between the planes through voxel centres the indicators are trilinear (cubic along the
   // segment): sample each such piece four times and search every change of label to full
@@ -663,14 +674,17 @@ void LabelMapDomain::trilinearCrossings(
   // Most pieces lie in a cell whose 8 corners all carry the label the walk is in (one load of
   // clearance_ says so; nothing can change there), most of those deep inside a cube of such
   // cells, which the walk jumps over to the plane where it leaves the cube.
+  TrilinearWalk walk(dims_, index_.data(), clearance_.data(), clearanceStride_, ua, d);
+  bool noChange = false;
+  uint16_t previous = walk.labelAtStart(t0, t1, noChange);
+  if (noChange) // the whole segment in one cube of one label: the walk would jump to its end
+    return;
   thread_local std::vector<uint16_t> labelsBefore; // reused: no allocation per query
   labelsBefore.clear();
   WalkCrossings found{ ts, ts.size(), labelsBefore };
   PieceEnds ends(ua, d, t0, t1);
-  TrilinearWalk walk(dims_, index_.data(), clearance_.data(), clearanceStride_, ua, d);
   constexpr int kSamples = 4;
   double previousT = t0;
-  uint16_t previous = walk.labelAt(t0);
   double a = 0.0, b = 0.0;
   ends.next(a);
   for (; ends.next(b); a = b)
@@ -707,6 +721,14 @@ void LabelMapDomain::trilinearCrossings(
       }
       previous = at;
       previousT = t;
+    }
+    // enough changes: the rest of the walk cannot come before them. The piece's end is a
+    // candidate too: the material after the last change holds up to it (or the samples would
+    // have found another change), so the caller can tell it from the material before.
+    if (ts.size() - found.from >= static_cast<size_t>(changes))
+    {
+      ts.push_back(b);
+      return;
     }
   }
 }

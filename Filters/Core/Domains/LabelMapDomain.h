@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <map>
 
 namespace omesh
@@ -50,7 +51,12 @@ public:
       return kOutside;
     return indexMaterial_[interpolation_ == LabelInterpolation::Nearest ? index_[voxelOf(u)] : trilinearIndex(u)];
   }
-  void crossings(const Vec3& a, const Vec3& b, std::vector<double>& ts) const override;
+  void crossings(const Vec3& a, const Vec3& b, std::vector<double>& ts) const override
+  {
+    firstCrossings(a, b, ts, std::numeric_limits<int>::max());
+  }
+  /// Trilinear: the walk stops after the piece where it found the first `changes` changes.
+  void firstCrossings(const Vec3& a, const Vec3& b, std::vector<double>& ts, int changes) const override;
   BoundingBox bounds() const override;
   const char* kind() const override { return "LabelMap"; }
   std::vector<int> materials() const override;
@@ -79,7 +85,7 @@ private:
   }
   /// Compact label index of the largest trilinear indicator at voxel coordinates u (in the grid).
   uint16_t trilinearIndex(const Vec3& u) const;
-  void trilinearCrossings(const Vec3& ua, const Vec3& d, double t0, double t1, std::vector<double>& ts) const;
+  void trilinearCrossings(const Vec3& ua, const Vec3& d, double t0, double t1, int changes, std::vector<double>& ts) const;
   /// Fills clearance_ (Trilinear only).
   void buildClearance();
 
