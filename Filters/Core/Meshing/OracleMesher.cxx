@@ -699,12 +699,7 @@ private:
   void conformSegmentsT1()
   {
     conforming_ = options_.strategy == FeatureStrategy::Conforming && !features_->empty();
-    // CGAL's parallel refinement (ParallelRefinement.h) serves every strategy but Conforming with
-    // feature lines, whose segment level is ours and sequential.
-    threads_ = conforming_ ? 1 : requestedThreads(options_);
-    if (conforming_ && requestedThreads(options_) > 1)
-      warnings_.push_back("Threads = " + std::to_string(options_.threads) + ": the Conforming strategy with feature "
-        "lines refines on one thread (None and ProtectingBalls refine in parallel)");
+    threads_ = requestedThreads(options_); // Conforming too: refineConformingInParallel
     if (!conforming_)
       return;
     const size_t budget = options_.maximumNumberOfVertices ? options_.maximumNumberOfVertices : 1000000;
@@ -961,14 +956,15 @@ private:
   /// CGAL's parallel refinement on threads_ threads, from and back into the sequential complex.
   /// Progress, abort and the deadline are asked from this thread every 50 ms (a throw stops the
   /// refinement); the vertex budget and a stall stop it as they stop drive().
-  void refineInParallelOnce()
+  void refineInParallelOnce(const SegmentSet* protectedSegments = nullptr)
   {
     const ParallelRefinementRun run =
       refineInParallel(*c3t3_, *domain_, options_, edgeSize_, threads_, [this](size_t n) {
         parallelVertices_ = n;
         deadline_.check(refinePhase_);
         report(0.05 + 0.4 * std::min(1.0, static_cast<double>(n) / expected_), "refinement");
-      });
+      }, protectedSegments);
+    parallelPhases_.guardDrops += run.guardDrops;
     parallelVertices_ = 0; // the complex holds them again
     budgetHit_ = run.budgetHit;
     stalled_ = run.stalled;
@@ -976,6 +972,49 @@ private:
     parallelBusiestCpu_ += run.busiestThreadCpu;
     if (budgetHit_ || stalled_) // the cells a stop left out of the complex, as drive() does
       Mesher(*c3t3_, *domain_, *criteria_, CGAL::FACET_VERTICES_ON_SURFACE).fix_c3t3();
+  }
+
+  /// Conforming on threads_ threads, before the sequential round (refineOnce) that finishes it:
+  /// 1. the segment level alone (T1.2 against the initial points), sequential: every sub-segment
+  ///    gets an empty diametral ball;
+  /// 2. CGAL's parallel facet and cell levels above a read-only guard of those balls
+  ///    (refineInParallel with the sub-segments): a point inside a ball is not inserted and its
+  ///    element stays bad, so the sub-segments do not change while the threads refine;
+  /// 3. (the caller) the sequential Conforming round on the copied-back complex rescans every
+  ///    facet and cell, splits the sub-segments the refused points encroached (T2.1/T3.1) and
+  ///    ends as a sequential run ends, with its guarantees.
+  void refineConformingInParallel()
+  {
+    const auto start = Clock::now();
+    {
+      Segments level(*c3t3_, *segments_, domain_->index_from_curve_index(1));
+      Segments::Visitor none{ [](const Tr::Weighted_point&, Segments::Zone&) {}, [](const Tr::Vertex_handle&) {} };
+      level.queueAll();
+      for (size_t k = 0; !level.is_algorithm_done(); ++k)
+      {
+        level.one_step(none);
+        if (k % 16 == 0)
+          deadline_.check(refinePhase_);
+      }
+    }
+    parallelPhases_.segmentVertices = c3t3_->triangulation().number_of_vertices();
+    parallelPhases_.segmentSeconds = seconds(start);
+    const auto parallelStart = Clock::now();
+    refineInParallelOnce(&segments_->segments());
+    segments_->locateVertices(); // the copy back made new vertices
+    segments_->reindex();
+    parallelPhases_.parallelVertices = c3t3_->triangulation().number_of_vertices();
+    parallelPhases_.parallelSeconds = seconds(parallelStart);
+  }
+
+  /// After the parallel phase: whether the sequential round has anything to do. It has not when
+  /// the guard left no element bad (CGAL's levels ended with empty queues: the criteria hold),
+  /// no vertex lies in a sub-segment's diametral ball (T1.2) and every wanted sub-segment is an
+  /// edge of the complex (section 5).
+  bool parallelLeftWork() const
+  {
+    return parallelPhases_.guardDrops > 0 || segments_->countEncroached() > 0 ||
+      segments_->countMissingFromComplex([this](const Vec3& a, const Vec3& b) { return touchesMaterial(a, b); }) > 0;
   }
 
   /// A refinement round that ended at the vertex budget or stalled says so (`when`: which round).
@@ -995,9 +1034,26 @@ private:
     const auto refineStart = Clock::now();
     const double refineCpuStart = threadCpu();
     expected_ = expectedVertices();
-    refineOnce();
+    if (conforming_ && threads_ > 1)
+      refineConformingInParallel();
+    const auto tailStart = Clock::now();
+    if (conforming_ && threads_ > 1 && (budgetHit_ || stalled_ || !parallelLeftWork()))
+    {
+      // stopped in the parallel phase, or nothing left for the sequential round (whose scan of
+      // every facet and cell costs a third of a sequential refinement): why sub-segments are missing
+      Segments level(*c3t3_, *segments_, domain_->index_from_curve_index(1));
+      missing_ = level.missingCensus([this](const Vec3& a, const Vec3& b) { return touchesMaterial(a, b); });
+    }
+    else
+    {
+      parallelPhases_.tailRan = conforming_ && threads_ > 1;
+      refineOnce();
+    }
+    if (conforming_ && threads_ > 1)
+      parallelPhases_.tailSeconds = seconds(tailStart);
     warnIfUnfinished("");
     c3t3_->clear_manifold_info();
+    refinedVertices_ = c3t3_->triangulation().number_of_vertices();
     refineTime_ = seconds(refineStart);
     callingThreadRefineCpu_ = threadCpu() - refineCpuStart;
     refineCpu_ = callingThreadRefineCpu_ + parallelCpu_;
@@ -1202,6 +1258,19 @@ private:
     st["refinement_steps"] = static_cast<double>(steps_);
     st["refinement_threads"] = threads_;
     st["refinement_rounds"] = rounds_;
+    if (conforming_ && threads_ > 1)
+    {
+      // the three phases of refineConformingInParallel: vertices after each, wall seconds of each
+      const ParallelPhases& ph = parallelPhases_;
+      st["parallel_conforming.vertices_after_segments"] = static_cast<double>(ph.segmentVertices);
+      st["parallel_conforming.vertices_after_parallel"] = static_cast<double>(ph.parallelVertices);
+      st["parallel_conforming.vertices_after_sequential_tail"] = static_cast<double>(refinedVertices_);
+      st["parallel_conforming.time_segments"] = ph.segmentSeconds;
+      st["parallel_conforming.time_parallel"] = ph.parallelSeconds;
+      st["parallel_conforming.time_sequential_tail"] = ph.tailSeconds;
+      st["parallel_conforming.elements_left_to_sequential_tail"] = static_cast<double>(ph.guardDrops);
+      st["parallel_conforming.sequential_tail_ran"] = ph.tailRan;
+    }
     addSegmentStatistics(st);
     addOptimisationStatistics(st);
     for (const auto& [m, v] : materialVolumes(mesh))
@@ -1289,7 +1358,15 @@ private:
   PickingRegion::Counters picking_;
   double edgeSize_ = 0.0; ///< of the protecting balls (0 = none asked; the finest when lines differ)
   std::vector<double> edgeSizes_; ///< each feature segment's edge size (the per-feature level, FeatureEdgeSizes.h)
-  int threads_ = 1;       ///< of the refinement (MesherOptions::threads; 1 for Conforming with feature lines)
+  int threads_ = 1;       ///< of the refinement (MesherOptions::threads)
+  /// Conforming on several threads (refineConformingInParallel): vertices after, seconds of each phase.
+  struct ParallelPhases
+  {
+    size_t segmentVertices = 0, parallelVertices = 0, guardDrops = 0;
+    double segmentSeconds = 0.0, parallelSeconds = 0.0, tailSeconds = 0.0;
+    bool tailRan = false;
+  } parallelPhases_;
+  size_t refinedVertices_ = 0; ///< at the end of the first refinement (all rounds)
   /// Vertices of a running parallel refinement, as last seen (0 otherwise).
   size_t parallelVertices_ = 0;
   SegmentSet conformed_;                       ///< rule T1's result, until the state owns it
