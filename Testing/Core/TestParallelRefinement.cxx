@@ -171,22 +171,46 @@ TEST(ParallelRefinement, ProtectingBallsKeepTheCubeEdges)
   EXPECT_GT(stat(m, "min_dihedral_angle"), 5.0);
 }
 
-TEST(ParallelRefinement, ConformingWithFeatureLinesRefinesOnOneThreadAndSaysSo)
+// Conforming with feature lines on 2 threads (OracleMesher's refineConformingInParallel): the
+// segment level alone, CGAL's parallel levels above a read-only guard of the sub-segments'
+// diametral balls, then the sequential round where the guard left elements bad. An L-shaped CAD
+// part (a reentrant edge) with its sharp edges, an inner box of a second material; edges coarser
+// than the facets, so refinement points fall into the balls and the guard and the sequential
+// round have work.
+TEST(ParallelRefinement, ConformingKeepsTheFeatureLinesAndTheSequentialGuarantees)
 {
+  const TriangleSurface part = test::lPrism(1.0, { 0, 0, 0 });
+  const FeatureSegments edges = test::sharpEdges(part, 60.0);
+  ASSERT_EQ(edges.segments.size(), 18u); // 90-degree edges and the reentrant 270-degree one
   HierarchicalOracle o;
-  o.add(std::make_shared<SurfaceDomain>(test::cube(0, 1), 1));
-  const FeatureSegments edges = cubeEdges(0, 1);
+  o.add(std::make_shared<BoxDomain>(Vec3{ 0.3, 0.3, 0.3 }, Vec3{ 0.7, 0.7, 0.7 }, 2));
+  o.add(std::make_shared<SurfaceDomain>(part, 1));
   MesherOptions opt;
   opt.strategy = FeatureStrategy::Conforming;
-  opt.criteria.global = { 25.0, 0.3, 0.02, 0.3, 3.0, 0.0 };
+  opt.criteria.global = { 25.0, 0.25, 0.02, 0.25, 3.0, 1.0 }; // angle, facet size, distance, cell size, radius-edge, edge
   opt.seed = 7;
   const TetMesh seq = meshOracle(o, edges, {}, opt);
   opt.threads = 2;
-  const TetMesh asked = meshOracle(o, edges, {}, opt);
-  ASSERT_GT(seq.tets.size(), 100u);
-  EXPECT_TRUE(hasWarning(asked, "refines on one thread"));
-  EXPECT_EQ(stat(asked, "refinement_threads"), 1.0);
-  EXPECT_EQ(asked.tets, seq.tets); // the sequential run, seed for seed
+  const TetMesh par = meshOracle(o, edges, {}, opt);
+  EXPECT_EQ(stat(par, "refinement_threads"), 2.0);
+  EXPECT_TRUE(par.warnings.empty()) << warnings(par);
+  // the guard refused points (hundreds in every run seen) and the sequential round took them
+  EXPECT_GT(stat(par, "parallel_conforming.elements_left_to_sequential_tail"), 0.0);
+  EXPECT_EQ(stat(par, "parallel_conforming.sequential_tail_ran"), 1.0);
+  EXPECT_GT(stat(par, "parallel_conforming.vertices_after_parallel"), stat(par, "parallel_conforming.vertices_after_segments"));
+  // every constrained segment is present as mesh edges, no defect, the refinement's sliver rule
+  // holds and the optimisers never lower the smallest angle, as in the sequential run
+  EXPECT_NEAR(featureCoverage(par.segments, edges), 1.0, 1e-12);
+  EXPECT_EQ(stat(par, "segment_pieces_missing_unfinished"), 0.0);
+  EXPECT_EQ(stat(par, "validity.defects"), 0.0) << warnings(par);
+  EXPECT_GE(stat(par, "optimisation.min_dihedral_before"), opt.sliverAngle);
+  EXPECT_GE(stat(par, "min_dihedral_angle"), stat(par, "optimisation.min_dihedral_before"));
+  EXPECT_GE(stat(par, "min_dihedral_angle"), 5.0);
+  const auto vs = materialVolumes(seq), vp = materialVolumes(par);
+  ASSERT_EQ(vp.size(), 2u);
+  EXPECT_NEAR(vs.at(1) + vs.at(2), 4.0, 0.01); // the L prism: 3 x 1 x 1 + 1 x 1 x 1
+  for (const auto& [mat, v] : vs)
+    EXPECT_NEAR(vp.at(mat), v, 0.005 * v) << "material " << mat;
 }
 
 TEST(ParallelRefinement, AbortVertexBudgetAndBadThreads)

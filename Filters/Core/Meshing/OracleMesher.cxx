@@ -44,6 +44,7 @@
 #include <limits>
 #include <map>
 #include <memory>
+#include <set>
 #include <sstream>
 #include <unordered_map>
 
@@ -652,6 +653,9 @@ private:
       sizing = protectedFeatures();
     else
       sizing.size = edgeSize_ > 0 ? edgeSize_ : 1.0;
+    // before the criteria: a parallel refinement takes circumcentres (picks()), and so do the
+    // sequential rounds after it (Conforming), with the same sliver bound
+    threads_ = requestedThreads(options_);
     criteria_ = std::make_unique<Criteria>(materialMeshCriteria<Tr>(options_, Criteria::Edge_criteria(sizing), pickingRegion().targetAngle));
   }
 
@@ -699,7 +703,6 @@ private:
   void conformSegmentsT1()
   {
     conforming_ = options_.strategy == FeatureStrategy::Conforming && !features_->empty();
-    threads_ = requestedThreads(options_); // Conforming too: refineConformingInParallel
     if (!conforming_)
       return;
     const size_t budget = options_.maximumNumberOfVertices ? options_.maximumNumberOfVertices : 1000000;
@@ -923,6 +926,8 @@ private:
       Segments level(*c3t3_, *segments_, domain_->index_from_curve_index(1));
       ConformingMesher3<C3t3, Criteria, MeshDomain> mesher(
         *c3t3_, *domain_, *criteria_, level, CGAL::FACET_VERTICES_ON_SURFACE, pickingRegion());
+      mesher.restrictFirstScanTo(std::move(tailRegion_)); // empty but after the parallel phase
+      tailRegion_.clear();
       drive(mesher, [&] { return level.queueMissingFromComplex(wanted) > 0; });
       countPicks(mesher.pickingCounters());
       missing_ = level.missingCensus(wanted);
@@ -964,7 +969,7 @@ private:
         deadline_.check(refinePhase_);
         report(0.05 + 0.4 * std::min(1.0, static_cast<double>(n) / expected_), "refinement");
       }, protectedSegments);
-    parallelPhases_.guardDrops += run.guardDrops;
+    parallelPhases_.leftBad.insert(parallelPhases_.leftBad.end(), run.leftBad.begin(), run.leftBad.end());
     parallelVertices_ = 0; // the complex holds them again
     budgetHit_ = run.budgetHit;
     stalled_ = run.stalled;
@@ -980,9 +985,11 @@ private:
   /// 2. CGAL's parallel facet and cell levels above a read-only guard of those balls
   ///    (refineInParallel with the sub-segments): a point inside a ball is not inserted and its
   ///    element stays bad, so the sub-segments do not change while the threads refine;
-  /// 3. (the caller) the sequential Conforming round on the copied-back complex rescans every
-  ///    facet and cell, splits the sub-segments the refused points encroached (T2.1/T3.1) and
-  ///    ends as a sequential run ends, with its guarantees.
+  /// 3. (the caller) the sequential Conforming round on the copied-back complex, where work was
+  ///    left (verticesAroundLeftWork; a full scan of every facet and cell would cost a third of a
+  ///    sequential refinement): it splits the sub-segments the refused points encroached
+  ///    (T2.1/T3.1) and ends as a sequential run ends, with its guarantees. Skipped when nothing
+  ///    was left.
   void refineConformingInParallel()
   {
     const auto start = Clock::now();
@@ -1007,14 +1014,47 @@ private:
     parallelPhases_.parallelSeconds = seconds(parallelStart);
   }
 
-  /// After the parallel phase: whether the sequential round has anything to do. It has not when
-  /// the guard left no element bad (CGAL's levels ended with empty queues: the criteria hold),
-  /// no vertex lies in a sub-segment's diametral ball (T1.2) and every wanted sub-segment is an
-  /// edge of the complex (section 5).
-  bool parallelLeftWork() const
+  /// After the parallel phase: whether the sequential round has anything to do (and where: sets
+  /// tailRegion_). It has not when the guard left no element bad (CGAL's levels ended with empty
+  /// queues: the criteria hold), no vertex lies in a sub-segment's diametral ball (T1.2) and every
+  /// wanted sub-segment is an edge of the complex (section 5).
+  bool parallelLeftWork()
   {
-    return parallelPhases_.guardDrops > 0 || segments_->countEncroached() > 0 ||
-      segments_->countMissingFromComplex([this](const Vec3& a, const Vec3& b) { return touchesMaterial(a, b); }) > 0;
+    tailRegion_ = verticesAroundLeftWork();
+    return !tailRegion_.empty();
+  }
+
+  /// Where the sequential round after the parallel phase looks (ConformingMesher3::
+  /// restrictFirstScanTo): the vertices of the conflict zone of each point the guard refused
+  /// (the elements left bad are among their cells), and the ends of every sub-segment that is
+  /// encroached or missing from the complex.
+  std::vector<Tr::Vertex_handle> verticesAroundLeftWork() const
+  {
+    Tr& tr = c3t3_->triangulation();
+    std::set<Tr::Vertex_handle> region;
+    std::vector<Tr::Cell_handle> zone;
+    Tr::Cell_handle hint;
+    for (const Vec3& p : parallelPhases_.leftBad)
+    {
+      const Tr::Weighted_point wp(toPoint(p));
+      Tr::Locate_type lt;
+      int li, lj;
+      hint = tr.locate(wp, lt, li, lj, hint);
+      if (lt == Tr::VERTEX)
+        continue;
+      zone.clear();
+      tr.find_conflicts(wp, hint, CGAL::Emptyset_iterator(), std::back_inserter(zone), CGAL::Emptyset_iterator());
+      for (const auto& c : zone)
+        for (int k = 0; k < 4; ++k)
+          if (!tr.is_infinite(c->vertex(k)))
+            region.insert(c->vertex(k));
+    }
+    const auto wanted = [this](const Vec3& a, const Vec3& b) { return touchesMaterial(a, b); };
+    for (size_t s = 0; s < segments_->size(); ++s)
+      if (segments_->encroached(static_cast<int>(s)) || segments_->missingFromComplex(static_cast<int>(s), wanted))
+        for (int k : { 0, 1 })
+          region.insert(segments_->vertexOf(segments_->end(static_cast<int>(s), k)));
+    return { region.begin(), region.end() };
   }
 
   /// A refinement round that ended at the vertex budget or stalled says so (`when`: which round).
@@ -1039,8 +1079,8 @@ private:
     const auto tailStart = Clock::now();
     if (conforming_ && threads_ > 1 && (budgetHit_ || stalled_ || !parallelLeftWork()))
     {
-      // stopped in the parallel phase, or nothing left for the sequential round (whose scan of
-      // every facet and cell costs a third of a sequential refinement): why sub-segments are missing
+      // stopped in the parallel phase, or nothing left for the sequential round: only why
+      // sub-segments are missing
       Segments level(*c3t3_, *segments_, domain_->index_from_curve_index(1));
       missing_ = level.missingCensus([this](const Vec3& a, const Vec3& b) { return touchesMaterial(a, b); });
     }
@@ -1268,7 +1308,7 @@ private:
       st["parallel_conforming.time_segments"] = ph.segmentSeconds;
       st["parallel_conforming.time_parallel"] = ph.parallelSeconds;
       st["parallel_conforming.time_sequential_tail"] = ph.tailSeconds;
-      st["parallel_conforming.elements_left_to_sequential_tail"] = static_cast<double>(ph.guardDrops);
+      st["parallel_conforming.elements_left_to_sequential_tail"] = static_cast<double>(ph.leftBad.size());
       st["parallel_conforming.sequential_tail_ran"] = ph.tailRan;
     }
     addSegmentStatistics(st);
@@ -1362,11 +1402,13 @@ private:
   /// Conforming on several threads (refineConformingInParallel): vertices after, seconds of each phase.
   struct ParallelPhases
   {
-    size_t segmentVertices = 0, parallelVertices = 0, guardDrops = 0;
+    size_t segmentVertices = 0, parallelVertices = 0;
+    std::vector<Vec3> leftBad; ///< refinement points the guard refused (SegmentGuardLevel)
     double segmentSeconds = 0.0, parallelSeconds = 0.0, tailSeconds = 0.0;
     bool tailRan = false;
   } parallelPhases_;
   size_t refinedVertices_ = 0; ///< at the end of the first refinement (all rounds)
+  std::vector<Tr::Vertex_handle> tailRegion_; ///< verticesAroundLeftWork, for the next refineOnce
   /// Vertices of a running parallel refinement, as last seen (0 otherwise).
   size_t parallelVertices_ = 0;
   SegmentSet conformed_;                       ///< rule T1's result, until the state owns it

@@ -48,22 +48,22 @@ public:
       return r;
     for (auto& f : zone.internal_facets) // restricted facets inside the zone are encroached
       if (this->is_facet_on_surface(f))
-        return refineEncroached(f, visitor);
+        return refineEncroached(f, p, visitor);
     for (auto& f : zone.boundary_facets)
       if (this->is_facet_encroached(f, p))
-        return refineEncroached(f, visitor);
+        return refineEncroached(f, p, visitor);
     return CGAL::NO_CONFLICT;
   }
 
 private:
-  template <class F, class V>
-  CGAL::Mesher_level_conflict_status refineEncroached(F& facet, V& visitor)
+  template <class F, class P, class V>
+  CGAL::Mesher_level_conflict_status refineEncroached(F& facet, const P& p, V& visitor)
   {
     if (!this->is_encroached_facet_refinable(facet))
       return CGAL::CONFLICT_AND_ELEMENT_SHOULD_BE_DROPPED;
     if (this->try_to_refine_element(facet, visitor) == CGAL::CONFLICT_AND_ELEMENT_SHOULD_BE_DROPPED)
     {
-      guard_.countDrop();
+      guard_.countDrop(toVec(p.point()));
       return CGAL::CONFLICT_AND_ELEMENT_SHOULD_BE_DROPPED;
     }
     return CGAL::CONFLICT_BUT_ELEMENT_CAN_BE_RECONSIDERED;

@@ -299,7 +299,8 @@ ParallelRefinementRun refineInParallel(SequentialC3t3& c3t3, const MeshDomain& d
     refinement.get(); // rethrows what the refinement threw
     run.busiestThreadCpu = threadCpu.busiest();
     run.budgetHit = run.budgetHit || (options.maximumNumberOfVertices && vertices() >= options.maximumNumberOfVertices);
-    run.guardDrops = guard ? guard->dropped() : 0;
+    if (guard)
+      run.leftBad = guard->dropped();
   }
   copyComplex(par, c3t3);
   run.cpuSeconds = otherThreadsCpu() - cpuStart;

@@ -11,6 +11,7 @@
 
 #include <cstddef>
 #include <functional>
+#include <vector>
 
 namespace omesh::cgal
 {
@@ -25,7 +26,8 @@ struct ParallelRefinementRun
   /// CPU seconds of the busiest refinement thread: with the calling thread's (the copies), what
   /// the refinement takes on idle cores (a shared machine's load hides it from the wall time)
   double busiestThreadCpu = 0.0;
-  size_t guardDrops = 0; ///< refinement points refused inside protected sub-segments' balls
+  /// With protected segments: the refinement points of the elements left bad (SegmentGuardLevel)
+  std::vector<Vec3> leftBad;
 };
 
 /// The number of threads MesherOptions::threads asks for (0 = every core of the machine).

@@ -14,7 +14,7 @@
 #include <CGAL/Mesh_3/Mesher_level.h>
 
 #include <array>
-#include <atomic>
+#include <mutex>
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
@@ -60,7 +60,7 @@ public:
         for (int s : subsAt_[it->second])
           if (rules::encroaches(segs_.points[segs_.subs[s][0]], segs_.points[segs_.subs[s][1]], p))
           {
-            countDrop();
+            countDrop(p);
             return CGAL::CONFLICT_AND_ELEMENT_SHOULD_BE_DROPPED;
           }
       }
@@ -72,10 +72,17 @@ public:
     return test_point_conflict_from_superior(wp, zone);
   }
 
-  /// Elements left bad so far: their points refused here, or (FacetsLevelWithGuard) cells whose
-  /// encroached facet was.
-  size_t dropped() const { return dropped_.load(); }
-  void countDrop() { dropped_.fetch_add(1, std::memory_order_relaxed); }
+  /// The refinement points of the elements left bad: refused here, or (FacetsLevelWithGuard) of
+  /// cells whose encroached facet's point was. Each element's vertices are nearest vertices of
+  /// its point (an empty ball centred there), so the sequential round finds the element among
+  /// the cells of the point's conflict zone.
+  void countDrop(const Vec3& p)
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    dropped_.push_back(p);
+  }
+  /// Call once the threads are done.
+  const std::vector<Vec3>& dropped() const { return dropped_; }
 
 private:
   using Key = std::array<double, 3>;
@@ -98,7 +105,8 @@ private:
   const SegmentSet& segs_;
   std::unordered_map<Key, int, KeyHash> pointAt_; ///< segment point by its exact coordinates
   std::vector<std::vector<int>> subsAt_;
-  std::atomic<size_t> dropped_{ 0 };
+  std::mutex mutex_; ///< drops are rare: a lock is cheap enough
+  std::vector<Vec3> dropped_;
 };
 }
 }
