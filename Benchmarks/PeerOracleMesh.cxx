@@ -88,6 +88,11 @@ int main(int argc, char* argv[])
           << ", \"refine_cpu\": " << stat("cpu.refinement") << ", \"optimise_cpu\": " << stat("cpu.optimisation")
           << ", \"refine_critical_cpu\": " << stat("cpu.refinement_critical_path")
           << ", \"min_refined\": " << stat("optimisation.min_dihedral_before");
+    // Conforming on several threads: vertices after and seconds of each phase (sequential segments,
+    // parallel, sequential tail)
+    for (const auto& [key, value] : st)
+      if (key.rfind("parallel_conforming.", 0) == 0)
+        extra << ", \"" << key.substr(20) << "\": " << value;
     peer::report("OracleMesh", a, mesh, setup, stat("time.initialisation") + stat("time.refinement"),
       stat("time.perturbation"), stat("time.exudation"), stat("time.optimisation"), call, rss, cpu, features, extra.str());
     return 0;

@@ -247,8 +247,9 @@ public:
   ///@{
   /// Threads of the refinement. 1 (the default): sequential, the same seed gives the same mesh.
   /// N > 1 (0 = every core): CGAL's parallel refinement on N threads; the mesh meets the same
-  /// criteria and passes the same checks but differs from run to run. Conforming with feature
-  /// lines refines on one thread (with a warning); the optimisers run on one thread.
+  /// criteria and passes the same checks but differs from run to run (every strategy; the threads
+  /// refine at circumcentres, then one thread refines the slivers they left at picked points); the
+  /// optimisers run on one thread.
   vtkSetMacro(Threads, int); // >= 0
   vtkGetMacro(Threads, int);
   ///@}

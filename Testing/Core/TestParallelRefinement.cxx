@@ -17,6 +17,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 
 using namespace omesh;
 
@@ -93,6 +94,8 @@ TEST(ParallelRefinement, SameCriteriaVolumesAndValidityAsSequential)
   const HierarchicalOracle o = ballOverBox();
   MesherOptions seqOptions = ballOverBoxOptions(1), parOptions = ballOverBoxOptions(2);
   seqOptions.perturb = seqOptions.exude = parOptions.perturb = parOptions.exude = false;
+  // circumcentres in both, for the same work (picked points: SliversLeftByTheThreads...)
+  seqOptions.pickingSliverAngle = parOptions.pickingSliverAngle = 0;
   const TetMesh seq = meshOracle(o, {}, {}, seqOptions);
   const TetMesh par = meshOracle(o, {}, {}, parOptions);
   EXPECT_EQ(stat(seq, "refinement_threads"), 1.0);
@@ -123,6 +126,11 @@ TEST(ParallelRefinement, SliversLeftByTheThreadsAreRefinedAtPickedPoints)
   EXPECT_GT(stat(par, "refinement_point_picks"), 0.0);
   EXPECT_EQ(stat(par, "validity.defects"), 0.0) << warnings(par);
   EXPECT_GE(stat(par, "min_dihedral_angle"), angle - 1e-6);
+  // every sliver the threads left costs a vertex: more tetrahedra than the sequential run, not many
+  MesherOptions sequential = options;
+  sequential.threads = 1;
+  const TetMesh seq = meshOracle(o, {}, {}, sequential);
+  EXPECT_LT(static_cast<double>(par.tets.size()), 1.25 * static_cast<double>(seq.tets.size()));
   // without picking, the threads alone: the bound is the sliver angle only
   options.pickingSliverAngle = 0;
   const TetMesh plain = meshOracle(o, {}, {}, options);
@@ -193,22 +201,55 @@ TEST(ParallelRefinement, ProtectingBallsKeepTheCubeEdges)
   EXPECT_GT(stat(m, "min_dihedral_angle"), 5.0);
 }
 
-TEST(ParallelRefinement, ConformingWithFeatureLinesRefinesOnOneThreadAndSaysSo)
+// Conforming with feature lines on 2 threads (OracleMesher's refineConformingInParallel): the
+// segment level alone, CGAL's parallel levels above a read-only guard of the sub-segments'
+// diametral balls, then the sequential round where the guard left elements bad. An L-shaped CAD
+// part (a reentrant edge) with its sharp edges, an inner ball of a second material; edges coarser
+// than the facets, so refinement points fall into the balls and the guard and the sequential
+// round have work.
+TEST(ParallelRefinement, ConformingKeepsTheFeatureLinesAndTheSequentialGuarantees)
 {
+  const TriangleSurface part = test::lPrism(1.0, { 0, 0, 0 });
+  const FeatureSegments edges = test::sharpEdges(part, 60.0);
+  ASSERT_EQ(edges.segments.size(), 18u); // 90-degree edges and the reentrant 270-degree one
   HierarchicalOracle o;
-  o.add(std::make_shared<SurfaceDomain>(test::cube(0, 1), 1));
-  const FeatureSegments edges = cubeEdges(0, 1);
+  o.add(std::make_shared<SphereDomain>(Vec3{ 0.5, 0.5, 0.5 }, 0.35, 2));
+  o.add(std::make_shared<SurfaceDomain>(part, 1));
   MesherOptions opt;
   opt.strategy = FeatureStrategy::Conforming;
-  opt.criteria.global = { 25.0, 0.3, 0.02, 0.3, 3.0, 0.0 };
+  opt.criteria.global = { 25.0, 0.25, 0.02, 0.25, 3.0, 1.0 }; // angle, facet size, distance, cell size, radius-edge, edge
   opt.seed = 7;
   const TetMesh seq = meshOracle(o, edges, {}, opt);
   opt.threads = 2;
-  const TetMesh asked = meshOracle(o, edges, {}, opt);
-  ASSERT_GT(seq.tets.size(), 100u);
-  EXPECT_TRUE(hasWarning(asked, "refines on one thread"));
-  EXPECT_EQ(stat(asked, "refinement_threads"), 1.0);
-  EXPECT_EQ(asked.tets, seq.tets); // the sequential run, seed for seed
+  const TetMesh par = meshOracle(o, edges, {}, opt);
+  EXPECT_EQ(stat(par, "refinement_threads"), 2.0);
+  EXPECT_TRUE(par.warnings.empty()) << warnings(par);
+  // the guard refused points (hundreds in every run seen) and the sequential round took them
+  EXPECT_GT(stat(par, "parallel_conforming.elements_left_to_sequential_tail"), 0.0);
+  EXPECT_EQ(stat(par, "parallel_conforming.sequential_tail_ran"), 1.0);
+  EXPECT_GT(stat(par, "parallel_conforming.vertices_after_parallel"), stat(par, "parallel_conforming.vertices_after_segments"));
+  // every constrained segment is present as mesh edges, no defect, the refinement reaches the
+  // picking angle (the sequential round refines the slivers the threads left) and the optimisers
+  // never lower the smallest angle, as in the sequential run
+  EXPECT_NEAR(featureCoverage(par.segments, edges), 1.0, 1e-12);
+  EXPECT_EQ(stat(par, "segment_pieces_missing_unfinished"), 0.0);
+  EXPECT_EQ(stat(par, "validity.defects"), 0.0) << warnings(par);
+  EXPECT_GE(stat(par, "optimisation.min_dihedral_before"), effectivePickingSliverAngle(opt) - 1e-6);
+  EXPECT_GE(stat(seq, "optimisation.min_dihedral_before"), effectivePickingSliverAngle(opt) - 1e-6);
+  EXPECT_GE(stat(par, "min_dihedral_angle"), stat(par, "optimisation.min_dihedral_before"));
+  EXPECT_GE(stat(par, "min_dihedral_angle"), 5.0);
+  // the volumes of both runs, within the accuracy of meshes this coarse (the ball's facets are
+  // chords within the facet distance d of it: at most 3 d / r of its volume), and of each other
+  const auto vs = materialVolumes(seq), vp = materialVolumes(par);
+  ASSERT_EQ(vp.size(), 2u);
+  const double ball = 4.0 / 3.0 * M_PI * std::pow(0.35, 3);
+  for (const auto& v : { vs, vp })
+  {
+    EXPECT_NEAR(v.at(1) + v.at(2), 4.0, 0.002 * 4.0); // the L prism: 3 x 1 x 1 + 1 x 1 x 1
+    EXPECT_NEAR(v.at(2), ball, 3 * 0.02 / 0.35 * ball);
+  }
+  for (const auto& [mat, v] : vs)
+    EXPECT_NEAR(vp.at(mat), v, 0.02 * v) << "material " << mat << ": " << vp.at(mat) << " / " << v;
 }
 
 TEST(ParallelRefinement, AbortVertexBudgetAndBadThreads)

@@ -44,6 +44,7 @@
 #include <limits>
 #include <map>
 #include <memory>
+#include <set>
 #include <sstream>
 #include <unordered_map>
 
@@ -355,6 +356,19 @@ private:
   const char* phase_;
 };
 
+/// The vertices of the cells of the complex whose smallest dihedral angle is below `angle`
+/// (degrees), each once.
+std::vector<Tr::Vertex_handle> verticesOfCellsBelow(const C3t3& c3t3, double angle)
+{
+  std::set<Tr::Vertex_handle> found;
+  for (auto c = c3t3.cells_in_complex_begin(); c != c3t3.cells_in_complex_end(); ++c)
+    if (minDihedralAngle(toVec(c->vertex(0)->point().point()), toVec(c->vertex(1)->point().point()),
+          toVec(c->vertex(2)->point().point()), toVec(c->vertex(3)->point().point())) < angle)
+      for (int k = 0; k < 4; ++k)
+        found.insert(c->vertex(k));
+  return { found.begin(), found.end() };
+}
+
 /// Smallest dihedral angle (degrees) of the cells of the complex.
 double complexMinAngle(const C3t3& c3t3)
 {
@@ -653,6 +667,9 @@ private:
       sizing = protectedFeatures();
     else
       sizing.size = edgeSize_ > 0 ? edgeSize_ : 1.0;
+    // before the criteria (the parallel levels take circumcentres at SliverAngle; the sequential
+    // round after them picks its points around the slivers they left)
+    threads_ = requestedThreads(options_);
     criteria_ = std::make_unique<Criteria>(materialMeshCriteria<Tr>(options_, Criteria::Edge_criteria(sizing), pickingRegion().targetAngle));
   }
 
@@ -700,12 +717,6 @@ private:
   void conformSegmentsT1()
   {
     conforming_ = options_.strategy == FeatureStrategy::Conforming && !features_->empty();
-    // CGAL's parallel refinement (ParallelRefinement.h) serves every strategy but Conforming with
-    // feature lines, whose segment level is ours and sequential.
-    threads_ = conforming_ ? 1 : requestedThreads(options_);
-    if (conforming_ && requestedThreads(options_) > 1)
-      warnings_.push_back("Threads = " + std::to_string(options_.threads) + ": the Conforming strategy with feature "
-        "lines refines on one thread (None and ProtectingBalls refine in parallel)");
     if (!conforming_)
       return;
     const size_t budget = options_.maximumNumberOfVertices ? options_.maximumNumberOfVertices : 1000000;
@@ -894,8 +905,9 @@ private:
   bool touchesMaterial(const Vec3& a, const Vec3& b) const { return oracle_.touchesMaterial(a, b); }
 
   /// Whether the cell level picks its refinement points (SliverAvoidingPoint, ConformingMesher3):
-  /// every sequential run but ProtectingBalls' (whose balls' weights CGAL's cells must see as
-  /// they are); parallel refinement takes CGAL's circumcentres.
+  /// every run but ProtectingBalls' (whose balls' weights CGAL's cells must see as they are); a
+  /// parallel refinement takes CGAL's circumcentres, then one thread refines the slivers it left
+  /// at picked points.
   bool picks() const
   {
     return options_.strategy != FeatureStrategy::ProtectingBalls && effectivePickingSliverAngle(options_) > 0;
@@ -928,6 +940,9 @@ private:
       Segments level(*c3t3_, *segments_, domain_->index_from_curve_index(1));
       ConformingMesher3<C3t3, Criteria, MeshDomain> mesher(
         *c3t3_, *domain_, *criteria_, level, CGAL::FACET_VERTICES_ON_SURFACE, pickingRegion());
+      mesher.restrictFirstScanTo(std::move(tailRegion_), std::move(sliverRegion_)); // empty but after the parallel phase
+      tailRegion_.clear();
+      sliverRegion_.clear();
       drive(mesher, [&] { return level.queueMissingFromComplex(wanted) > 0; });
       countPicks(mesher.pickingCounters());
       missing_ = level.missingCensus(wanted);
@@ -936,12 +951,13 @@ private:
     {
       refineInParallelOnce();
       // the parallel levels refine at circumcentres; the slivers they leave are refined here, on
-      // one thread, at picked points (a few percent of the vertices)
+      // one thread, at picked points
       if (picks() && !budgetHit_ && !stalled_)
-        refineAtPickedPoints();
+        if (auto region = verticesOfCellsBelow(*c3t3_, pickingRegion().targetAngle); !region.empty())
+          refineAtPickedPoints(std::move(region));
     }
     else if (picks())
-      refineAtPickedPoints();
+      refineAtPickedPoints({});
     else
     {
       Mesher mesher(*c3t3_, *domain_, *criteria_, CGAL::FACET_VERTICES_ON_SURFACE);
@@ -950,13 +966,17 @@ private:
     ++rounds_;
   }
 
-  /// The mesher without segments, its cells refined at picked points.
-  void refineAtPickedPoints()
+  /// The mesher without segments, its cells refined at picked points; its first scan only around
+  /// `region` unless that is empty (after a parallel refinement: the slivers' vertices, the rest
+  /// met the criteria when CGAL's queues ran empty; a scan of every facet would cost an
+  /// intersection each).
+  void refineAtPickedPoints(std::vector<Tr::Vertex_handle> region)
   {
     SegmentState<C3t3> none(*c3t3_, SegmentSet{});
     Segments level(*c3t3_, none, domain_->index_from_curve_index(1));
     ConformingMesher3<C3t3, Criteria, MeshDomain> mesher(
       *c3t3_, *domain_, *criteria_, level, CGAL::FACET_VERTICES_ON_SURFACE, pickingRegion());
+    mesher.restrictFirstScanTo({}, std::move(region));
     drive(mesher, {});
     countPicks(mesher.pickingCounters());
   }
@@ -971,14 +991,15 @@ private:
   /// CGAL's parallel refinement on threads_ threads, from and back into the sequential complex.
   /// Progress, abort and the deadline are asked from this thread every 50 ms (a throw stops the
   /// refinement); the vertex budget and a stall stop it as they stop drive().
-  void refineInParallelOnce()
+  void refineInParallelOnce(const SegmentSet* protectedSegments = nullptr)
   {
     const ParallelRefinementRun run =
       refineInParallel(*c3t3_, *domain_, options_, edgeSize_, threads_, [this](size_t n) {
         parallelVertices_ = n;
         deadline_.check(refinePhase_);
         report(0.05 + 0.4 * std::min(1.0, static_cast<double>(n) / expected_), "refinement");
-      });
+      }, protectedSegments);
+    parallelPhases_.leftBad.insert(parallelPhases_.leftBad.end(), run.leftBad.begin(), run.leftBad.end());
     parallelVertices_ = 0; // the complex holds them again
     budgetHit_ = run.budgetHit;
     stalled_ = run.stalled;
@@ -986,6 +1007,88 @@ private:
     parallelBusiestCpu_ += run.busiestThreadCpu;
     if (budgetHit_ || stalled_) // the cells a stop left out of the complex, as drive() does
       Mesher(*c3t3_, *domain_, *criteria_, CGAL::FACET_VERTICES_ON_SURFACE).fix_c3t3();
+  }
+
+  /// Conforming on threads_ threads, before the sequential round (refineOnce) that finishes it:
+  /// 1. the segment level alone (T1.2 against the initial points), sequential: every sub-segment
+  ///    gets an empty diametral ball;
+  /// 2. CGAL's parallel facet and cell levels above a read-only guard of those balls
+  ///    (refineInParallel with the sub-segments): a point inside a ball is not inserted and its
+  ///    element stays bad, so the sub-segments do not change while the threads refine;
+  /// 3. (the caller) the sequential Conforming round on the copied-back complex, where work was
+  ///    left (verticesAroundLeftWork; a full scan of every facet and cell would cost a third of a
+  ///    sequential refinement): it splits the sub-segments the refused points encroached
+  ///    (T2.1/T3.1) and ends as a sequential run ends, with its guarantees. Skipped when nothing
+  ///    was left.
+  void refineConformingInParallel()
+  {
+    const auto start = Clock::now();
+    {
+      Segments level(*c3t3_, *segments_, domain_->index_from_curve_index(1));
+      Segments::Visitor none{ [](const Tr::Weighted_point&, Segments::Zone&) {}, [](const Tr::Vertex_handle&) {} };
+      level.queueAll();
+      for (size_t k = 0; !level.is_algorithm_done(); ++k)
+      {
+        level.one_step(none);
+        if (k % 16 == 0)
+          deadline_.check(refinePhase_);
+      }
+    }
+    parallelPhases_.segmentVertices = c3t3_->triangulation().number_of_vertices();
+    parallelPhases_.segmentSeconds = seconds(start);
+    const auto parallelStart = Clock::now();
+    refineInParallelOnce(&segments_->segments());
+    segments_->locateVertices(); // the copy back made new vertices
+    segments_->reindex();
+    parallelPhases_.parallelVertices = c3t3_->triangulation().number_of_vertices();
+    parallelPhases_.parallelSeconds = seconds(parallelStart);
+  }
+
+  /// After the parallel phase: whether the sequential round has anything to do (and where: sets
+  /// tailRegion_). It has not when the guard left no element bad (CGAL's levels ended with empty
+  /// queues: the criteria hold), no vertex lies in a sub-segment's diametral ball (T1.2) and every
+  /// wanted sub-segment is an edge of the complex (section 5).
+  bool parallelLeftWork()
+  {
+    tailRegion_ = verticesAroundLeftWork();
+    // the slivers the threads left below the picking angle (they refine at circumcentres)
+    if (picks())
+      sliverRegion_ = verticesOfCellsBelow(*c3t3_, pickingRegion().targetAngle);
+    return !tailRegion_.empty() || !sliverRegion_.empty();
+  }
+
+  /// Where the sequential round after the parallel phase looks (ConformingMesher3::
+  /// restrictFirstScanTo): the vertices of the conflict zone of each point the guard refused
+  /// (the elements left bad are among their cells), and the ends of every sub-segment that is
+  /// encroached or missing from the complex.
+  std::vector<Tr::Vertex_handle> verticesAroundLeftWork() const
+  {
+    Tr& tr = c3t3_->triangulation();
+    std::set<Tr::Vertex_handle> region;
+
+    std::vector<Tr::Cell_handle> zone;
+    Tr::Cell_handle hint;
+    for (const Vec3& p : parallelPhases_.leftBad)
+    {
+      const Tr::Weighted_point wp(toPoint(p));
+      Tr::Locate_type lt;
+      int li, lj;
+      hint = tr.locate(wp, lt, li, lj, hint);
+      if (lt == Tr::VERTEX)
+        continue;
+      zone.clear();
+      tr.find_conflicts(wp, hint, CGAL::Emptyset_iterator(), std::back_inserter(zone), CGAL::Emptyset_iterator());
+      for (const auto& c : zone)
+        for (int k = 0; k < 4; ++k)
+          if (!tr.is_infinite(c->vertex(k)))
+            region.insert(c->vertex(k));
+    }
+    const auto wanted = [this](const Vec3& a, const Vec3& b) { return touchesMaterial(a, b); };
+    for (size_t s = 0; s < segments_->size(); ++s)
+      if (segments_->encroached(static_cast<int>(s)) || segments_->missingFromComplex(static_cast<int>(s), wanted))
+        for (int k : { 0, 1 })
+          region.insert(segments_->vertexOf(segments_->end(static_cast<int>(s), k)));
+    return { region.begin(), region.end() };
   }
 
   /// A refinement round that ended at the vertex budget or stalled says so (`when`: which round).
@@ -1005,9 +1108,26 @@ private:
     const auto refineStart = Clock::now();
     const double refineCpuStart = threadCpu();
     expected_ = expectedVertices();
-    refineOnce();
+    if (conforming_ && threads_ > 1)
+      refineConformingInParallel();
+    const auto tailStart = Clock::now();
+    if (conforming_ && threads_ > 1 && (budgetHit_ || stalled_ || !parallelLeftWork()))
+    {
+      // stopped in the parallel phase, or nothing left for the sequential round: only why
+      // sub-segments are missing
+      Segments level(*c3t3_, *segments_, domain_->index_from_curve_index(1));
+      missing_ = level.missingCensus([this](const Vec3& a, const Vec3& b) { return touchesMaterial(a, b); });
+    }
+    else
+    {
+      parallelPhases_.tailRan = conforming_ && threads_ > 1;
+      refineOnce();
+    }
+    if (conforming_ && threads_ > 1)
+      parallelPhases_.tailSeconds = seconds(tailStart);
     warnIfUnfinished("");
     c3t3_->clear_manifold_info();
+    refinedVertices_ = c3t3_->triangulation().number_of_vertices();
     refineTime_ = seconds(refineStart);
     callingThreadRefineCpu_ = threadCpu() - refineCpuStart;
     refineCpu_ = callingThreadRefineCpu_ + parallelCpu_;
@@ -1213,6 +1333,19 @@ private:
     st["refinement_steps"] = static_cast<double>(steps_);
     st["refinement_threads"] = threads_;
     st["refinement_rounds"] = rounds_;
+    if (conforming_ && threads_ > 1)
+    {
+      // the three phases of refineConformingInParallel: vertices after each, wall seconds of each
+      const ParallelPhases& ph = parallelPhases_;
+      st["parallel_conforming.vertices_after_segments"] = static_cast<double>(ph.segmentVertices);
+      st["parallel_conforming.vertices_after_parallel"] = static_cast<double>(ph.parallelVertices);
+      st["parallel_conforming.vertices_after_sequential_tail"] = static_cast<double>(refinedVertices_);
+      st["parallel_conforming.time_segments"] = ph.segmentSeconds;
+      st["parallel_conforming.time_parallel"] = ph.parallelSeconds;
+      st["parallel_conforming.time_sequential_tail"] = ph.tailSeconds;
+      st["parallel_conforming.elements_left_to_sequential_tail"] = static_cast<double>(ph.leftBad.size());
+      st["parallel_conforming.sequential_tail_ran"] = ph.tailRan;
+    }
     addSegmentStatistics(st);
     addOptimisationStatistics(st);
     for (const auto& [m, v] : materialVolumes(mesh))
@@ -1300,7 +1433,18 @@ private:
   PickingRegion::Counters picking_;
   double edgeSize_ = 0.0; ///< of the protecting balls (0 = none asked; the finest when lines differ)
   std::vector<double> edgeSizes_; ///< each feature segment's edge size (the per-feature level, FeatureEdgeSizes.h)
-  int threads_ = 1;       ///< of the refinement (MesherOptions::threads; 1 for Conforming with feature lines)
+  int threads_ = 1;       ///< of the refinement (MesherOptions::threads)
+  /// Conforming on several threads (refineConformingInParallel): vertices after, seconds of each phase.
+  struct ParallelPhases
+  {
+    size_t segmentVertices = 0, parallelVertices = 0;
+    std::vector<Vec3> leftBad; ///< refinement points the guard refused (SegmentGuardLevel)
+    double segmentSeconds = 0.0, parallelSeconds = 0.0, tailSeconds = 0.0;
+    bool tailRan = false;
+  } parallelPhases_;
+  size_t refinedVertices_ = 0; ///< at the end of the first refinement (all rounds)
+  std::vector<Tr::Vertex_handle> tailRegion_; ///< verticesAroundLeftWork, for the next refineOnce
+  std::vector<Tr::Vertex_handle> sliverRegion_; ///< the slivers' vertices (cells only), for the next refineOnce
   /// Vertices of a running parallel refinement, as last seen (0 otherwise).
   size_t parallelVertices_ = 0;
   SegmentSet conformed_;                       ///< rule T1's result, until the state owns it

@@ -99,11 +99,13 @@ struct MesherOptions
   int elementOrder = 1;
   unsigned seed = 0;                  ///< same input + same seed = identical mesh (with threads = 1)
   /// Threads of the refinement. 1: sequential, the same seed gives the same mesh bit for bit.
-  /// N > 1 (0 = every core): CGAL's parallel Mesh_3 refinement (Parallel_tag, TBB) for None,
-  /// ProtectingBalls and Conforming without feature lines; the mesh meets the same criteria and
-  /// passes the same checks (validity, feature lines, quality bounds) but differs from run to run.
-  /// Conforming with feature lines refines on one thread (a warning says so); the optimisers run
-  /// on one thread.
+  /// N > 1 (0 = every core): CGAL's parallel Mesh_3 refinement (Parallel_tag, TBB), for
+  /// Conforming with feature lines above a read-only level that keeps points out of the
+  /// sub-segments' diametral balls, then a sequential round where it refused some; the mesh meets
+  /// the same criteria and passes the same checks (validity, feature lines, quality bounds) but
+  /// differs from run to run. The threads refine cells at their circumcentres, then one thread
+  /// refines the slivers they left at picked points (pickingSliverAngle); the optimisers run on one
+  /// thread.
   int threads = 1;
   std::size_t maximumNumberOfVertices = 2000000; ///< 0 = unlimited; reaching it ends refinement with a warning
   /// Wall-clock seconds for the whole run, every phase (feature conformation and protection,

@@ -329,7 +329,8 @@ def main(argv=None):
                    help="threads of the refinement (default: the scene's \"threads\", else "
                         f"{mesh_defaults()['threads']}): 1 = sequential, the same seed gives the same mesh; "
                         "N > 1 = parallel (0 = every core): same criteria and checks, but the mesh differs "
-                        "from run to run (Conforming with feature lines refines on one thread)")
+                        "from run to run (the threads refine at circumcentres, then one thread refines the slivers "
+                        "they left at picked points)")
     p.add_argument("--order", type=int, choices=(1, 2),
                    help="element order: 1 = 4-node, 2 = 10-node tetrahedra with the mid-edge nodes of interface "
                         f"edges on the true surfaces (default: the scene's \"element_order\", else "

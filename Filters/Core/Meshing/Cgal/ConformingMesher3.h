@@ -7,7 +7,12 @@
 #include "SegmentRefinementLevel.h"
 #include "SliverAvoidingPoint.h"
 
+#include <algorithm>
 #include <functional>
+#include <iterator>
+#include <set>
+#include <utility>
+#include <vector>
 
 #include <CGAL/Mesh_3/Mesher_3.h>
 #include <CGAL/Mesh_3/Refine_cells_3.h>
@@ -57,6 +62,30 @@ public:
     lastPoint_ = p;
     lastVertices_ = vertices;
     return f;
+  }
+
+  /// The restricted facets among the facets of the cells incident to `vertices`, treated as the
+  /// full scan treats every facet (set in the complex, queued when bad).
+  template <class Vertices>
+  void scanFacetsAround(const Vertices& vertices)
+  {
+    auto& tr = this->triangulation_ref_impl();
+    std::set<std::pair<typename SegmentLevel::Tr::Cell_handle, int>> seen;
+    std::vector<typename SegmentLevel::Tr::Cell_handle> cells;
+    for (const auto& v : vertices)
+    {
+      cells.clear();
+      tr.incident_cells(v, std::back_inserter(cells));
+      for (const auto& c : cells)
+        for (int i = 0; i < 4; ++i)
+        {
+          typename SegmentLevel::Tr::Facet f(c, i);
+          const auto m = tr.mirror_facet(f);
+          if (tr.is_infinite(f) || !seen.insert(std::min(std::make_pair(c, i), std::make_pair(m.first, m.second))).second)
+            continue;
+          this->treat_new_facet(f);
+        }
+    }
   }
 
 private:
@@ -165,9 +194,33 @@ public:
   ConformingMesher3(const ConformingMesher3&) = delete;
   ConformingMesher3& operator=(const ConformingMesher3&) = delete;
 
+  /// The first scan looks only at the facets and cells around `vertices` (the rest of the complex
+  /// is known to meet the criteria: after the parallel phase of Conforming); empty: everything.
+  /// `cellsOnly`: around these only the cells (their facets are known to be good: the slivers a
+  /// parallel refinement left below the picking angle).
+  void restrictFirstScanTo(
+    std::vector<typename Tr::Vertex_handle> vertices, std::vector<typename Tr::Vertex_handle> cellsOnly = {})
+  {
+    region_ = std::move(vertices);
+    cellRegion_ = std::move(cellsOnly);
+  }
+
   void initialize()
   {
     segments_.queueAll();
+    if (!region_.empty() || !cellRegion_.empty())
+    {
+      // the surface's edges and vertices were scanned before; the cells are looked at from the
+      // start (insertions update them through the visitor as in CGAL's cell stage)
+      facetsVisitor_.activate();
+      if (!region_.empty())
+        facets_.scanFacetsAround(region_);
+      for (const auto* list : { &region_, &cellRegion_ })
+        for (const auto& v : *list)
+          cells_.update_star(v);
+      stage_ = Stage::All;
+      return;
+    }
     facets_.scan_triangulation();
     stage_ = Stage::Facets;
   }
@@ -234,6 +287,7 @@ private:
   CellsVisitor cellsVisitor_;
   typename Cells::Picker picker_;
   Stage stage_ = Stage::Facets;
+  std::vector<typename Tr::Vertex_handle> region_, cellRegion_;
 };
 }
 }

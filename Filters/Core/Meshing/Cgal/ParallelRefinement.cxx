@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// CGAL's parallel Mesh_3 refinement for the None and ProtectingBalls strategies (see
-// ParallelRefinement.h). The second Mesh_3 translation unit: it instantiates Mesher_3 on the
-// Parallel_tag triangulation only.
+// CGAL's parallel Mesh_3 refinement: Mesher_3 for the None and ProtectingBalls strategies, the
+// same levels above a read-only segment level for Conforming (see ParallelRefinement.h). The
+// second Mesh_3 translation unit: it instantiates the meshers on the Parallel_tag triangulation only.
 
 // The vertex budget with Parallel_tag needs the containers' approximate size (CGAL: about 3%
 // slower). Only this translation unit instantiates the concurrent containers.
@@ -9,6 +9,7 @@
 
 #include "ParallelRefinement.h"
 
+#include "GuardedParallelMesher3.h"
 #include "InputError.h"
 #include "MaterialCriteria3.h"
 
@@ -25,6 +26,7 @@
 #include <iterator>
 #include <map>
 #include <mutex>
+#include <optional>
 #include <thread>
 #include <unordered_map>
 #include <vector>
@@ -228,7 +230,7 @@ int requestedThreads(const MesherOptions& options)
 }
 
 ParallelRefinementRun refineInParallel(SequentialC3t3& c3t3, const MeshDomain& domain, const MesherOptions& options,
-  double edgeSize, int threads, const std::function<void(std::size_t)>& progress)
+  double edgeSize, int threads, const std::function<void(std::size_t)>& progress, const SegmentSet* protectedSegments)
 {
   const double cpuStart = otherThreadsCpu();
   ParallelRefinementRun run;
@@ -238,13 +240,29 @@ ParallelRefinementRun refineInParallel(SequentialC3t3& c3t3, const MeshDomain& d
     materialMeshCriteria<Parallel::Tr>(options, Parallel::Criteria::Edge_criteria(edgeSize > 0 ? edgeSize : 1.0), options.sliverAngle);
   std::atomic<bool> stop{ false };
   {
-    CGAL::Mesh_3::Mesher_3<Parallel::C3t3, Parallel::Criteria, MeshDomain> mesher(
-      par, domain, criteria, CGAL::FACET_VERTICES_ON_SURFACE, options.maximumNumberOfVertices, nullptr, &stop);
+    std::optional<SegmentGuardLevel> guard;
+    std::optional<CGAL::Mesh_3::Mesher_3<Parallel::C3t3, Parallel::Criteria, MeshDomain>> mesher;
+    std::optional<GuardedParallelMesher3<Parallel::C3t3, Parallel::Criteria, MeshDomain>> guarded;
+    if (protectedSegments)
+    {
+      guard.emplace(*protectedSegments);
+      guarded.emplace(par, domain, criteria, *guard, CGAL::FACET_VERTICES_ON_SURFACE, options.maximumNumberOfVertices, &stop);
+    }
+    else
+      mesher.emplace(
+        par, domain, criteria, CGAL::FACET_VERTICES_ON_SURFACE, options.maximumNumberOfVertices, nullptr, &stop);
     // TBB's tasks of this refinement run in an arena of `threads` slots, whatever the machine has.
     tbb::task_arena arena(threads);
     arena.initialize();
     ArenaThreadCpu threadCpu(arena);
-    auto refinement = std::async(std::launch::async, [&] { arena.execute([&] { mesher.refine_mesh(); }); });
+    auto refinement = std::async(std::launch::async, [&] {
+      arena.execute([&] {
+        if (guarded)
+          guarded->refine();
+        else
+          mesher->refine_mesh();
+      });
+    });
     const auto vertices = [&] { return par.triangulation().tds().vertices().approximate_size(); };
     std::size_t last = 0;
     auto lastChange = Clock::now();
@@ -281,6 +299,8 @@ ParallelRefinementRun refineInParallel(SequentialC3t3& c3t3, const MeshDomain& d
     refinement.get(); // rethrows what the refinement threw
     run.busiestThreadCpu = threadCpu.busiest();
     run.budgetHit = run.budgetHit || (options.maximumNumberOfVertices && vertices() >= options.maximumNumberOfVertices);
+    if (guard)
+      run.leftBad = guard->dropped();
   }
   copyComplex(par, c3t3);
   run.cpuSeconds = otherThreadsCpu() - cpuStart;

@@ -7,9 +7,11 @@
 
 #include "MeshTriangulation3.h"
 #include "OracleMesher.h"
+#include "SegmentConformation.h"
 
 #include <cstddef>
 #include <functional>
+#include <vector>
 
 namespace omesh::cgal
 {
@@ -24,6 +26,8 @@ struct ParallelRefinementRun
   /// CPU seconds of the busiest refinement thread: with the calling thread's (the copies), what
   /// the refinement takes on idle cores (a shared machine's load hides it from the wall time)
   double busiestThreadCpu = 0.0;
+  /// With protected segments: the refinement points of the elements left bad (SegmentGuardLevel)
+  std::vector<Vec3> leftBad;
 };
 
 /// The number of threads MesherOptions::threads asks for (0 = every core of the machine).
@@ -39,6 +43,11 @@ int requestedThreads(const MesherOptions& options);
 /// count stays the same for 5 minutes (a refinement point that repeats a vertex) is stopped
 /// (`stalled`). After a stop (budget, stall) the cells may not all be in the complex yet: the
 /// caller scans them (Mesher_3::fix_c3t3), as after a sequential stop.
+/// `protectedSegments` (Conforming; null for the other strategies): sub-segments, each a vertex
+/// pair of `c3t3` with an empty diametral ball, into whose balls nothing is inserted
+/// (SegmentGuardLevel: the facets and cells whose points fall there are left as they are, for the
+/// sequential refinement that follows); the chain is then GuardedParallelMesher3's.
 ParallelRefinementRun refineInParallel(SequentialC3t3& c3t3, const MeshDomain& domain, const MesherOptions& options,
-  double edgeSize, int threads, const std::function<void(std::size_t)>& progress);
+  double edgeSize, int threads, const std::function<void(std::size_t)>& progress,
+  const SegmentSet* protectedSegments = nullptr);
 }
