@@ -356,14 +356,20 @@ private:
   const char* phase_;
 };
 
+/// Smallest dihedral angle (degrees) of one cell.
+double cellMinAngle(const Tr::Cell_handle& c)
+{
+  return minDihedralAngle(toVec(c->vertex(0)->point().point()), toVec(c->vertex(1)->point().point()),
+    toVec(c->vertex(2)->point().point()), toVec(c->vertex(3)->point().point()));
+}
+
 /// The vertices of the cells of the complex whose smallest dihedral angle is below `angle`
 /// (degrees), each once.
 std::vector<Tr::Vertex_handle> verticesOfCellsBelow(const C3t3& c3t3, double angle)
 {
   std::set<Tr::Vertex_handle> found;
   for (auto c = c3t3.cells_in_complex_begin(); c != c3t3.cells_in_complex_end(); ++c)
-    if (minDihedralAngle(toVec(c->vertex(0)->point().point()), toVec(c->vertex(1)->point().point()),
-          toVec(c->vertex(2)->point().point()), toVec(c->vertex(3)->point().point())) < angle)
+    if (cellMinAngle(c) < angle)
       for (int k = 0; k < 4; ++k)
         found.insert(c->vertex(k));
   return { found.begin(), found.end() };
@@ -374,8 +380,7 @@ double complexMinAngle(const C3t3& c3t3)
 {
   double m = 180.0;
   for (auto c = c3t3.cells_in_complex_begin(); c != c3t3.cells_in_complex_end(); ++c)
-    m = std::min(m, minDihedralAngle(toVec(c->vertex(0)->point().point()), toVec(c->vertex(1)->point().point()),
-      toVec(c->vertex(2)->point().point()), toVec(c->vertex(3)->point().point())));
+    m = std::min(m, cellMinAngle(c));
   return m;
 }
 

@@ -11,6 +11,8 @@
 // counts what it could not put back, which is nothing unless that reasoning fails.
 #pragma once
 
+#include "ExactCoordinates.h"
+
 #include <algorithm>
 #include <array>
 #include <cstddef>
@@ -129,7 +131,7 @@ private:
     std::vector<Weighted_point>().swap(points);
 
     // the new handles in record order, found by their coordinates (no two vertices share them)
-    std::unordered_map<Coordinates, std::uint32_t, CoordinatesHash> number;
+    std::unordered_map<ExactCoordinates, std::uint32_t, ExactCoordinatesHash> number;
     number.reserve(vertices_.size());
     for (std::size_t i = 0; i < vertices_.size(); ++i)
       number.emplace(coordinates(vertices_[i].point), static_cast<std::uint32_t>(i));
@@ -229,22 +231,7 @@ private:
     int dimension;
     typename C3t3::Index index;
   };
-  using Coordinates = std::array<std::uint64_t, 3>;
-  struct CoordinatesHash
-  {
-    std::size_t operator()(const Coordinates& c) const
-    {
-      return std::hash<std::uint64_t>()(c[0] ^ (c[1] * 0x9e3779b97f4a7c15ull) ^ (c[2] * 0xc2b2ae3d27d4eb4full));
-    }
-  };
-  static Coordinates coordinates(const Weighted_point& p)
-  {
-    Coordinates c{};
-    const double xyz[3] = { p.x(), p.y(), p.z() };
-    for (int a = 0; a < 3; ++a)
-      std::memcpy(&c[a], &xyz[a], sizeof(double)); // bit for bit: the same points come back
-    return c;
-  }
+  static ExactCoordinates coordinates(const Weighted_point& p) { return exactCoordinates(p.x(), p.y(), p.z()); }
   template <std::size_t N>
   static std::array<std::uint32_t, N> sorted(std::array<std::uint32_t, N> k)
   {

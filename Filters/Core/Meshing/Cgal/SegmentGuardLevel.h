@@ -7,17 +7,15 @@
 // and do not change while the threads refine: the level only reads, from any thread.
 #pragma once
 
+#include "ExactCoordinates.h"
 #include "OracleMeshDomain.h"
 #include "SegmentConformation.h"
 #include "SegmentRules.h"
 
 #include <CGAL/Mesh_3/Mesher_level.h>
 
-#include <array>
-#include <mutex>
 #include <cstddef>
-#include <cstdint>
-#include <cstring>
+#include <mutex>
 #include <unordered_map>
 #include <vector>
 
@@ -85,25 +83,10 @@ public:
   const std::vector<Vec3>& dropped() const { return dropped_; }
 
 private:
-  using Key = std::array<double, 3>;
-  struct KeyHash
-  {
-    size_t operator()(const Key& k) const
-    {
-      size_t h = 0;
-      for (double x : k)
-      {
-        std::uint64_t bits;
-        std::memcpy(&bits, &x, sizeof bits);
-        h = h * 1000003u ^ std::hash<std::uint64_t>()(bits);
-      }
-      return h;
-    }
-  };
-  static Key key(const Vec3& p) { return { p.x, p.y, p.z }; }
+  static ExactCoordinates key(const Vec3& p) { return exactCoordinates(p.x, p.y, p.z); }
 
   const SegmentSet& segs_;
-  std::unordered_map<Key, int, KeyHash> pointAt_; ///< segment point by its exact coordinates
+  std::unordered_map<ExactCoordinates, int, ExactCoordinatesHash> pointAt_; ///< segment point by its exact coordinates
   std::vector<std::vector<int>> subsAt_;
   std::mutex mutex_; ///< drops are rare: a lock is cheap enough
   std::vector<Vec3> dropped_;
