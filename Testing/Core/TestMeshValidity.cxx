@@ -1,9 +1,11 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // Each defect of MeshValidity built by hand on a small valid mesh, and seen.
+#include "MeshQuality.h"
 #include "MeshValidity.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <map>
 
 using namespace omesh;
@@ -85,6 +87,61 @@ TEST(MeshValidity, FaceSharedByThreeTetrahedraIsSeen)
   EXPECT_EQ(v.nonManifoldFaces, 1u);
   for (unsigned char f : flags)
     EXPECT_TRUE(f & kNonManifoldFace);
+}
+
+/// A cube of n^3 Kuhn-split cells (6 positively oriented tetrahedra each), its vertices numbered in
+/// a shuffled order so that a face's smallest vertex may be any of its corners.
+TetMesh kuhnCube(int n)
+{
+  TetMesh m;
+  const int side = n + 1, count = side * side * side;
+  std::vector<int> number(count);
+  for (int i = 0; i < count; ++i)
+    number[i] = (i * 37) % count; // 37 is prime to 5^3: a permutation
+  m.points.resize(count);
+  auto id = [&](int i, int j, int k) { return number[(k * side + j) * side + i]; };
+  for (int k = 0; k < side; ++k)
+    for (int j = 0; j < side; ++j)
+      for (int i = 0; i < side; ++i)
+        m.points[id(i, j, k)] = { double(i), double(j), double(k) };
+  const int path[6][3] = { { 0, 1, 2 }, { 0, 2, 1 }, { 1, 0, 2 }, { 1, 2, 0 }, { 2, 0, 1 }, { 2, 1, 0 } };
+  for (int k = 0; k < n; ++k)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i)
+        for (const auto& axes : path)
+        {
+          int c[3] = { i, j, k };
+          std::array<int, 4> t;
+          t[0] = id(c[0], c[1], c[2]);
+          for (int s = 0; s < 3; ++s)
+          {
+            ++c[axes[s]];
+            t[s + 1] = id(c[0], c[1], c[2]);
+          }
+          if (signedVolume(m.points[t[0]], m.points[t[1]], m.points[t[2]], m.points[t[3]]) < 0)
+            std::swap(t[2], t[3]);
+          m.tets.push_back(t);
+        }
+  m.tetMaterial.assign(m.tets.size(), 1);
+  return m;
+}
+
+TEST(MeshValidity, ThirdTetrahedronOnAnInteriorFaceIsSeenInALargerMesh)
+{
+  TetMesh m = kuhnCube(4);
+  ASSERT_EQ(m.points.size(), 125u);
+  const MeshValidity clean = checkMeshValidity(m);
+  EXPECT_TRUE(clean.valid()) << clean.describe();
+  // an interior face: three corners of a tetrahedron of cell (2, 2, 2), in the middle of the cube,
+  // whose two tetrahedra get a third on the same face
+  const std::array<int, 4> middle = m.tets[6 * ((2 * 4 + 2) * 4 + 2)];
+  m.points.push_back({ 2.1, 2.2, 2.3 });
+  m.tets.push_back({ middle[0], middle[1], middle[2], static_cast<int>(m.points.size()) - 1 });
+  m.tetMaterial.push_back(1);
+  std::vector<unsigned char> flags;
+  const MeshValidity v = checkMeshValidity(m, {}, {}, &flags);
+  EXPECT_EQ(v.nonManifoldFaces, 1u);
+  EXPECT_EQ(std::count_if(flags.begin(), flags.end(), [](unsigned char f) { return (f & kNonManifoldFace) != 0; }), 3);
 }
 
 TEST(MeshValidity, BadIndicesAreSeen)

@@ -66,35 +66,60 @@ std::vector<char> findDuplicates(const std::vector<Vec3>& points, const std::vec
   return duplicate;
 }
 
-/// Faces shared by more than two tetrahedra; the tetrahedra holding one are flagged.
-std::size_t countNonManifoldFaces(const std::vector<std::array<int, 4>>& tets, std::vector<unsigned char>& flags)
+/// Faces shared by more than two tetrahedra; the tetrahedra holding one are flagged. Faces are
+/// bucketed by their smallest vertex (a counting sort), then each small bucket is sorted by the
+/// other two: linear in the mesh, where one sort of all faces cost more than the rest of the check.
+/// Indices are valid (tetsWithValidIndices); `good` lists the tetrahedra to look at.
+std::size_t countNonManifoldFaces(const std::vector<std::array<int, 4>>& tets, const std::vector<std::size_t>& good,
+  std::size_t pointCount, std::vector<unsigned char>& flags)
 {
-  std::vector<std::pair<std::array<int, 3>, std::size_t>> faces; // sorted face, tetrahedron
-  faces.reserve(4 * tets.size());
-  for (std::size_t t = 0; t < tets.size(); ++t)
+  auto faceOf = [&tets](std::size_t t, int skip) {
+    std::array<int, 3> f;
+    for (int i = 0, n = 0; i < 4; ++i)
+      if (i != skip)
+        f[n++] = tets[t][i];
+    std::sort(f.begin(), f.end());
+    return f;
+  };
+  std::vector<std::size_t> first(pointCount + 1, 0);
+  for (std::size_t t : good)
+    for (int skip = 0; skip < 4; ++skip)
+      ++first[faceOf(t, skip)[0] + 1];
+  for (std::size_t v = 0; v < pointCount; ++v)
+    first[v + 1] += first[v];
+  struct Entry
+  {
+    std::uint64_t rest; // the two larger vertices
+    std::size_t tet;
+    bool operator<(const Entry& o) const { return rest < o.rest; }
+  };
+  std::vector<Entry> entries(first[pointCount]);
+  std::vector<std::size_t> next(first.begin(), first.end() - 1);
+  for (std::size_t t : good)
     for (int skip = 0; skip < 4; ++skip)
     {
-      std::array<int, 3> f;
-      for (int i = 0, n = 0; i < 4; ++i)
-        if (i != skip)
-          f[n++] = tets[t][i];
-      std::sort(f.begin(), f.end());
-      faces.emplace_back(f, t);
+      const std::array<int, 3> f = faceOf(t, skip);
+      entries[next[f[0]]++] = { (static_cast<std::uint64_t>(f[1]) << 32) | static_cast<std::uint32_t>(f[2]), t };
     }
-  std::sort(faces.begin(), faces.end());
   std::size_t count = 0;
-  for (std::size_t i = 0; i < faces.size();)
+  for (std::size_t v = 0; v < pointCount; ++v)
   {
-    std::size_t j = i;
-    while (j < faces.size() && faces[j].first == faces[i].first)
-      ++j;
-    if (j - i > 2)
+    const auto begin = entries.begin() + static_cast<std::ptrdiff_t>(first[v]);
+    const auto end = entries.begin() + static_cast<std::ptrdiff_t>(first[v + 1]);
+    std::sort(begin, end);
+    for (auto i = begin; i != end;)
     {
-      ++count;
-      for (std::size_t k = i; k < j; ++k)
-        flags[faces[k].second] |= kNonManifoldFace;
+      auto j = i;
+      while (j != end && j->rest == i->rest)
+        ++j;
+      if (j - i > 2)
+      {
+        ++count;
+        for (auto k = i; k != j; ++k)
+          flags[k->tet] |= kNonManifoldFace;
+      }
+      i = j;
     }
-    i = j;
   }
   return count;
 }
@@ -225,7 +250,7 @@ MeshValidity checkMeshValidity(const TetMesh& mesh, const std::function<int(cons
         if (duplicate[mesh.tets[t][i]])
           flags[t] |= kDuplicateVertex;
   }
-  r.nonManifoldFaces = countNonManifoldFaces(mesh.tets, flags);
+  r.nonManifoldFaces = countNonManifoldFaces(mesh.tets, good, mesh.points.size(), flags);
   for (unsigned char f : flags)
   {
     r.microTetrahedra += (f & kMicro) != 0;
