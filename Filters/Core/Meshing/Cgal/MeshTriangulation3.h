@@ -2,7 +2,7 @@
 // Private to the mesher's translation units (includes CGAL): the triangulation and complex types of
 // the mesher, sequential (OracleMesher.cxx) or parallel (ParallelRefinement.cxx, CGAL's
 // Parallel_tag: concurrent containers and a lock grid). Both share the geometric traits, the vertex
-// and cell bases, so a complex can be copied from one to the other (ComplexCopy.h).
+// and cell bases, so a complex can be copied from one to the other (ParallelRefinement.cxx, PackedComplex.h).
 #pragma once
 
 #include "OracleMeshDomain.h"

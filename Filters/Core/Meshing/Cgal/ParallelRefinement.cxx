@@ -12,10 +12,12 @@
 #include "GuardedParallelMesher3.h"
 #include "InputError.h"
 #include "MaterialCriteria3.h"
+#include "PackedComplex.h"
 
 #include <CGAL/Mesh_3/Dump_c3t3.h>
 #include <CGAL/Mesh_3/Mesher_3.h>
 
+#include <tbb/scalable_allocator.h>
 #include <tbb/task_arena.h>
 #include <tbb/task_scheduler_observer.h>
 
@@ -234,7 +236,8 @@ ParallelRefinementRun refineInParallel(SequentialC3t3& c3t3, const MeshDomain& d
 {
   const double cpuStart = otherThreadsCpu();
   ParallelRefinementRun run;
-  Parallel::C3t3 par;
+  std::optional<Parallel::C3t3> parallel(std::in_place);
+  Parallel::C3t3& par = *parallel;
   copyComplex(c3t3, par);
   const Parallel::Criteria criteria =
     materialMeshCriteria<Parallel::Tr>(options, Parallel::Criteria::Edge_criteria(edgeSize > 0 ? edgeSize : 1.0), options.sliverAngle);
@@ -302,7 +305,18 @@ ParallelRefinementRun refineInParallel(SequentialC3t3& c3t3, const MeshDomain& d
     if (guard)
       run.leftBad = guard->dropped();
   }
-  copyComplex(par, c3t3);
+  if (par.triangulation().dimension() == 3)
+  {
+    // packed first and freed before the sequential complex is built: never both at once
+    const PackedComplex<Parallel::C3t3, SequentialC3t3> packed(par);
+    parallel.reset();
+    // TBB's allocator keeps what the concurrent containers freed for its next use, which does
+    // not come in the sequential phases that follow: it goes back to the system here
+    scalable_allocation_command(TBBMALLOC_CLEAN_ALL_BUFFERS, nullptr);
+    packed.unpackInto(c3t3);
+  }
+  else
+    copyComplex(par, c3t3);
   run.cpuSeconds = otherThreadsCpu() - cpuStart;
   return run;
 }
