@@ -992,10 +992,10 @@ private:
     ++rounds_;
   }
 
-  /// The mesher without segments, its cells refined at picked points; its first scan only around
-  /// `region` unless that is empty (after a parallel refinement: the slivers' vertices, the rest
-  /// met the criteria when CGAL's queues ran empty; a scan of every facet would cost an
-  /// intersection each).
+  /// The mesher without segments, its cells refined at picked points (circumcentres where picking
+  /// is off); its first scan only around `region` unless that is empty (after a parallel
+  /// refinement: the vertices of the cells left bad, the rest met the criteria when CGAL's queues
+  /// ran empty; a scan of every facet would cost an intersection each).
   void refineAtPickedPoints(std::vector<Tr::Vertex_handle> region)
   {
     SegmentState<C3t3> none(*c3t3_, SegmentSet{});
