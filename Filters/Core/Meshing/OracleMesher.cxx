@@ -363,16 +363,36 @@ double cellMinAngle(const Tr::Cell_handle& c)
     toVec(c->vertex(2)->point().point()), toVec(c->vertex(3)->point().point()));
 }
 
-/// The vertices of the cells of the complex whose smallest dihedral angle is below `angle`
-/// (degrees), each once.
-std::vector<Tr::Vertex_handle> verticesOfCellsBelow(const C3t3& c3t3, double angle)
+/// The vertices of the cells of the complex that `criteria`'s cell criteria call bad (above a
+/// size or radius-edge bound, below the sliver angle), each once.
+std::vector<Tr::Vertex_handle> verticesOfBadCells(const C3t3& c3t3, const Criteria& criteria)
 {
+  const auto& cells = criteria.cell_criteria_object();
   std::set<Tr::Vertex_handle> found;
   for (auto c = c3t3.cells_in_complex_begin(); c != c3t3.cells_in_complex_end(); ++c)
-    if (cellMinAngle(c) < angle)
+    if (cells(c3t3.triangulation(), c))
       for (int k = 0; k < 4; ++k)
         found.insert(c->vertex(k));
   return { found.begin(), found.end() };
+}
+
+/// CGAL's parallel levels refine cells in batches, not worst first; below this radius-edge bound
+/// that order cascades (generated bone/implant cases at 1.1: 3-9x the sequential run's vertices,
+/// one into the 300k-vertex budget; at 1.2 and 1.3 within 1.3x). The parallel levels refine to
+/// this bound at most, the sequential round after them to the material's own.
+constexpr double kParallelRadiusEdgeFloor = 1.2;
+
+/// `options` with every radius-edge bound below `floor` raised to it (bounds <= 0, none, kept).
+MesherOptions withRadiusEdgeAtLeast(MesherOptions options, double floor)
+{
+  auto raise = [floor](std::optional<double>& bound) {
+    if (bound && *bound > 0 && *bound < floor)
+      bound = floor;
+  };
+  raise(options.criteria.global.cellRadiusEdgeRatio);
+  for (auto& entry : options.criteria.perMaterial)
+    raise(entry.second.cellRadiusEdgeRatio);
+  return options;
 }
 
 /// Smallest dihedral angle (degrees) of the cells of the complex.
@@ -955,10 +975,11 @@ private:
     else if (threads_ > 1)
     {
       refineInParallelOnce();
-      // the parallel levels refine at circumcentres; the slivers they leave are refined here, on
-      // one thread, at picked points
-      if (picks() && !budgetHit_ && !stalled_)
-        if (auto region = verticesOfCellsBelow(*c3t3_, pickingRegion().targetAngle); !region.empty())
+      // the parallel levels refine at circumcentres, to kParallelRadiusEdgeFloor at most; the
+      // cells they leave bad (slivers, tighter radius-edge bounds) are refined here, on one
+      // thread, at picked points where picking is on. Not ProtectingBalls: its balls' weights.
+      if (options_.strategy != FeatureStrategy::ProtectingBalls && !budgetHit_ && !stalled_)
+        if (auto region = verticesOfBadCells(*c3t3_, *criteria_); !region.empty())
           refineAtPickedPoints(std::move(region));
     }
     else if (picks())
@@ -971,10 +992,10 @@ private:
     ++rounds_;
   }
 
-  /// The mesher without segments, its cells refined at picked points; its first scan only around
-  /// `region` unless that is empty (after a parallel refinement: the slivers' vertices, the rest
-  /// met the criteria when CGAL's queues ran empty; a scan of every facet would cost an
-  /// intersection each).
+  /// The mesher without segments, its cells refined at picked points (circumcentres where picking
+  /// is off); its first scan only around `region` unless that is empty (after a parallel
+  /// refinement: the vertices of the cells left bad, the rest met the criteria when CGAL's queues
+  /// ran empty; a scan of every facet would cost an intersection each).
   void refineAtPickedPoints(std::vector<Tr::Vertex_handle> region)
   {
     SegmentState<C3t3> none(*c3t3_, SegmentSet{});
@@ -998,8 +1019,13 @@ private:
   /// refinement); the vertex budget and a stall stop it as they stop drive().
   void refineInParallelOnce(const SegmentSet* protectedSegments = nullptr)
   {
+    // the sequential round after the parallel levels finishes what they leave above this bound
+    // (not with ProtectingBalls: nothing follows them there)
+    const MesherOptions parallelOptions = options_.strategy == FeatureStrategy::ProtectingBalls
+      ? options_
+      : withRadiusEdgeAtLeast(options_, kParallelRadiusEdgeFloor);
     const ParallelRefinementRun run =
-      refineInParallel(*c3t3_, *domain_, options_, edgeSize_, threads_, [this](size_t n) {
+      refineInParallel(*c3t3_, *domain_, parallelOptions, edgeSize_, threads_, [this](size_t n) {
         parallelVertices_ = n;
         deadline_.check(refinePhase_);
         report(0.05 + 0.4 * std::min(1.0, static_cast<double>(n) / expected_), "refinement");
@@ -1056,9 +1082,9 @@ private:
   bool parallelLeftWork()
   {
     tailRegion_ = verticesAroundLeftWork();
-    // the slivers the threads left below the picking angle (they refine at circumcentres)
-    if (picks())
-      sliverRegion_ = verticesOfCellsBelow(*c3t3_, pickingRegion().targetAngle);
+    // the cells the threads left bad: slivers below the picking angle (they refine at
+    // circumcentres), radius-edge bounds tighter than kParallelRadiusEdgeFloor
+    sliverRegion_ = verticesOfBadCells(*c3t3_, *criteria_);
     return !tailRegion_.empty() || !sliverRegion_.empty();
   }
 
@@ -1449,7 +1475,7 @@ private:
   } parallelPhases_;
   size_t refinedVertices_ = 0; ///< at the end of the first refinement (all rounds)
   std::vector<Tr::Vertex_handle> tailRegion_; ///< verticesAroundLeftWork, for the next refineOnce
-  std::vector<Tr::Vertex_handle> sliverRegion_; ///< the slivers' vertices (cells only), for the next refineOnce
+  std::vector<Tr::Vertex_handle> sliverRegion_; ///< vertices of the cells the threads left bad (cells only), for the next refineOnce
   /// Vertices of a running parallel refinement, as last seen (0 otherwise).
   size_t parallelVertices_ = 0;
   SegmentSet conformed_;                       ///< rule T1's result, until the state owns it
