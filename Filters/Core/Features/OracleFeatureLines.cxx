@@ -1035,9 +1035,10 @@ private:
   /// The chain `along` (its points on the curve) with the points where the curve crosses the
   /// domains' bend planes (Domain::bendPlanes: a label map's cell planes, where its interfaces and
   /// so the curve turn) located on the curve to the search's precision: an inner point within a
-  /// quarter chord of one is moved onto it, else it is inserted. A corner of the curve missed by
-  /// even a thousandth of a millimetre left chords beside the interfaces there, and the mesher
-  /// refined that spot without end (random_05 at radius-edge 1.1).
+  /// quarter chord of one is moved onto it, else it is inserted. The search kept corners to a
+  /// 256th of a grid step, which leaves chords beside the interfaces next to them; with these
+  /// vertices and the midpoint splits the 1.1 study ended random_04 and random_05 (the splits
+  /// alone ran random_04 into the vertex budget).
   std::vector<Vec3> withBends(const std::vector<Vec3>& along, const Signature& regions) const
   {
     std::vector<Vec3> out{ along.front() };
@@ -1063,7 +1064,7 @@ private:
       for (const auto& [unused, x] : bends)
       {
         const double toA = norm(x - out.back()), toB = norm(x - b);
-        if (toA < 0.25 * L && aMoves && out.size() > 1)
+        if (toA < 0.25 * L && aMoves)
           out.back() = x;
         else if (toB < 0.25 * L && bMoves)
           b = x;
