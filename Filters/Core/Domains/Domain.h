@@ -33,6 +33,13 @@ struct Crease
 
 /// One input of the hierarchical oracle: a region of space that assigns materials to the points it
 /// contains. Implementations must be safe to query from several threads at once (const queries).
+/// A plane across which a domain's boundary may bend: a point on it and its normal (not unit).
+struct BendPlane
+{
+  Vec3 point;
+  Vec3 normal;
+};
+
 class Domain
 {
 public:
@@ -73,6 +80,15 @@ public:
   {
     (void)featureAngle, (void)sagitta;
     return {};
+  }
+
+  /// Appends the planes segment ab crosses (point: the crossing) along which this domain's
+  /// boundaries are continuous but not smooth, so that curves on them turn there: a label map's
+  /// trilinear cells meet at the planes through its voxel centres, its staircase turns at voxel
+  /// faces. Smooth shapes have none; the creases of surfaces and boxes are creases().
+  virtual void bendPlanes(const Vec3& a, const Vec3& b, std::vector<BendPlane>& planes) const
+  {
+    (void)a, (void)b, (void)planes;
   }
 
   const std::string& name() const { return name_; }

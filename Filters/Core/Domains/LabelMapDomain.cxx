@@ -733,6 +733,25 @@ void LabelMapDomain::trilinearCrossings(
   }
 }
 
+void LabelMapDomain::bendPlanes(const Vec3& a, const Vec3& b, std::vector<BendPlane>& planes) const
+{
+  const Vec3 ua = worldToVoxel_.apply(a), ub = worldToVoxel_.apply(b);
+  // trilinear: the interpolation cells between voxel centres (at i + 0.5) meet there
+  const double offset = interpolation_ == LabelInterpolation::Trilinear ? 0.5 : 0.0;
+  const auto& m = worldToVoxel_.rows();
+  for (int axis = 0; axis < 3; ++axis)
+  {
+    const double lo = std::min(ua[axis], ub[axis]), hi = std::max(ua[axis], ub[axis]);
+    const double first = std::floor(lo - offset) + 1.0 + offset; // the first plane above lo
+    for (double c = first; c < hi && c <= dimsD_[axis]; c += 1.0)
+    {
+      const double t = (c - ua[axis]) / (ub[axis] - ua[axis]);
+      // the gradient of voxel coordinate `axis` in world space: row `axis` of the linear part
+      planes.push_back({ lerp(a, b, t), Vec3{ m[4 * axis], m[4 * axis + 1], m[4 * axis + 2] } });
+    }
+  }
+}
+
 BoundingBox LabelMapDomain::bounds() const
 {
   BoundingBox grid;

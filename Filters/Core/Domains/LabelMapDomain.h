@@ -57,6 +57,8 @@ public:
   }
   /// Trilinear: the walk stops after the piece where it found the first `changes` changes.
   void firstCrossings(const Vec3& a, const Vec3& b, std::vector<double>& ts, int changes) const override;
+  /// The planes through voxel centres (Trilinear) or voxel faces (Nearest) that ab crosses.
+  void bendPlanes(const Vec3& a, const Vec3& b, std::vector<BendPlane>& planes) const override;
   BoundingBox bounds() const override;
   const char* kind() const override { return "LabelMap"; }
   std::vector<int> materials() const override;

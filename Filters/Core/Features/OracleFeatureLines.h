@@ -123,6 +123,10 @@ std::vector<SmallFeatureAngle> findSmallFeatureAngles(const FeatureSegments& f, 
 /// by bisection with the same test (to 1e-10 of the bounding-box diagonal), so every point found
 /// lies on the true curve. Crossings of one grid cube with the same regions are joined; curves that
 /// end in one cube meet at one shared vertex there (least-squares meeting point of their tangents).
+/// Each curve's chords are then put back on the curve: a vertex where a chord crosses a domain's
+/// bend plane (Domain::bendPlanes: a label map's cell planes, where the curve turns), located in
+/// that plane by the same bisection, and chords whose midpoint lies farther than the tolerance from
+/// the curve split at the curve's point halfway.
 /// Then the creases of single inputs (Domain::creases: a box's edges, a finite cylinder's rims, a
 /// surface's sharp edges above options.creaseAngle), the pieces where the input decides the material
 /// on its side of the crease and another material lies across: their ends where they pass into
