@@ -15,7 +15,8 @@ radius-edge 1.1) and whether Conforming was valid on every case.
 
 Needs PYTHONPATH=<build>/lib/python3.11/site-packages and the `oraclemesh` command (ORACLEMESH_COMMAND,
 else `python3 -m oraclemesh`). --check (the ctest version) exits 1 unless every Conforming mesh is
-valid, keeps 100% of its feature lines, and has implant volume within 1% and bone within 5%
+valid, keeps 100% of its feature lines, and has implant volume within 1% and bone between what its
+facets' chords may cut off a convex shaft (bone_deficit_bound) and +1%
 (--check-min-before DEG: and reaches DEG before optimisation).
 """
 import argparse
@@ -35,6 +36,12 @@ from oraclemesh.report import statistics, validity
 
 SPECIAL = ("bbox_centre_on_face", "face_on_cut_plane", "face_on_voxel_boundary", "inside", "outside")
 BONE = (1, 2)
+# A lower bound of the generated bone's outer curvature radius (oraclemesh.cases: semi-axes a, b of
+# 12.25-13.75 and 10.25-11.75 mm, a 3% ripple: b^2 / a >= 6.9 mm at the ends of the major axis; the
+# flare widens b relatively more than a, and along the shaft the radius is far larger). Bounds how far a facet's chords cut inside it (see bone_deficit_bound).
+BONE_MIN_CURVATURE_RADIUS = 6.5
+# Gross errors (a region lost or doubled) that add bone volume; chords only take it away.
+BONE_EXCESS_LIMIT = 0.01
 IMPLANT = 3
 
 
@@ -111,6 +118,23 @@ OPTIMISER_VARIANTS = {
 }
 
 
+def bone_deficit_bound(points, tets, material):
+    """What the chords of the bone's boundary facets may cut off a surface whose curvature radius is
+    at least R = BONE_MIN_CURVATURE_RADIUS: a triangle inscribed in it with circumradius r lies at
+    most r^2 / (2 R) inside (the sagitta), so the volume lost is at most the sum of area * that over
+    the facets. Counts every facet of a bone cell not shared with another bone cell (flat cuts and
+    the implant's faces too, so the bound is generous there)."""
+    bone = tets[np.isin(material, BONE)]
+    faces = np.sort(np.concatenate([bone[:, [1, 2, 3]], bone[:, [0, 2, 3]], bone[:, [0, 1, 3]],
+                                    bone[:, [0, 1, 2]]]), axis=1)
+    faces, counts = np.unique(faces, axis=0, return_counts=True)
+    a, b, c = (points[faces[counts == 1][:, k]] for k in range(3))
+    ab, ac, bc = (np.linalg.norm(v, axis=1) for v in (b - a, c - a, c - b))
+    area = 0.5 * np.linalg.norm(np.cross(b - a, c - a), axis=1)
+    circumradius = ab * ac * bc / np.maximum(4 * area, 1e-300)
+    return float(np.sum(area * circumradius ** 2 / (2 * BONE_MIN_CURVATURE_RADIUS)))
+
+
 def mesh_case(case, strategy, timeout, features=None, settings=()):
     """Meshes one case with one strategy (with a suffix of OPTIMISER_VARIANTS: its optimiser
     settings), when given, a Features option (None, Given, Automatic, Both) and `oraclemesh mesh
@@ -157,6 +181,8 @@ def mesh_case(case, strategy, timeout, features=None, settings=()):
                coverage=s.get("feature_coverage"), peak_mib=s.get("peak_rss_mib", 0.0),
                implant_error=implant / case["implant_volume"] - 1 if case["implant_volume"] else None,
                bone_error=bone / case["bone_volume"] - 1 if case["bone_volume"] else None,
+               bone_deficit_bound=(bone_deficit_bound(points, tets, material) / case["bone_volume"]
+                                   if case["bone_volume"] else None),
                cut_short=int(stats.get("optimisation.perturbation_cut_short", 0)),
                budget_hit=any("refinement stopped at MaximumNumberOfVertices" in w for w in warnings),
                stalled=any("refinement stalled" in w for w in warnings),
@@ -264,9 +290,12 @@ def check(rows, min_before=None):
             failures.append(f"{name}: feature coverage {100 * r['coverage']:.2f}% < 100%")
         if r["implant_error"] is None or abs(r["implant_error"]) > 0.01:
             failures.append(f"{name}: implant volume error {r['implant_error']}")
-        # the bone's facet distance of 2 mm on a 10-13 mm shaft cuts chords: about -3.5% seen
-        if r["bone_error"] is None or abs(r["bone_error"]) > 0.05:
-            failures.append(f"{name}: bone volume error {r['bone_error']}")
+        # The bone's facets (size 3, distance 2 mm) are chords of a convex shaft: it may lose what
+        # they cut off (1.4-6.2% seen at radius-edge 1.3), never gain.
+        if r["bone_error"] is None or not (-r["bone_deficit_bound"] <= r["bone_error"] <= BONE_EXCESS_LIMIT):
+            failures.append(f"{name}: bone volume error {100 * r['bone_error']:+.2f}% outside "
+                            f"[-{100 * r['bone_deficit_bound']:.2f}% (its facets' chords), "
+                            f"+{100 * BONE_EXCESS_LIMIT:.0f}%]")
         if r["min_dihedral"] < 5.0:
             failures.append(f"{name}: min dihedral {r['min_dihedral']:.2f}° < 5°")
         if min_before is not None and (r.get("min_before") is None or r["min_before"] < min_before - 1e-6):
