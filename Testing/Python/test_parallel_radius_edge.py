@@ -5,8 +5,11 @@ bone/implant case (seed 2) 3-4x the sequential run's vertices with circumcentres
 default picked points the Conforming run ended at the 300k-vertex budget (0.2 degrees before
 optimisation) where the sequential one ends at 35k. The parallel levels now refine to radius-edge
 1.2 at most and the sequential round after them to the bound. Asserted: both runs valid, not
-stopped at the budget, and the parallel run within 1.5x the sequential run's vertices (runs at
-radius-edge 1.2 to 3 differ by 1.0-1.5x). Circumcentres and no optimisation, for speed."""
+stopped at the budget, and the parallel run within 2.5x the sequential run's vertices. Parallel runs
+are not deterministic and below 2 nothing bounds their size: Conforming, 13 runs on 2 threads
+(2026-12-01, the machine loaded) 0.93-1.43x the sequential 49,392, once 1.98x; before the floor
+1.94x, 2.82x, 3.09x and the budget (6.1x) in 4 runs; None 0.77-1.20x. Circumcentres and no
+optimisation, for speed."""
 import json
 import os
 import tempfile
@@ -42,7 +45,7 @@ class ParallelRadiusEdge(unittest.TestCase):
             self.assertEqual(s["validity.defects"], 0, f"{strategy}, {threads} thread(s)")
             self.assertEqual(s["refinement_threads"], threads)
             runs[threads] = s
-        self.assertLess(runs[2]["vertices"], 1.5 * runs[1]["vertices"],
+        self.assertLess(runs[2]["vertices"], 2.5 * runs[1]["vertices"],
                         f"{strategy}: {runs[2]['vertices']:.0f} vertices on 2 threads, {runs[1]['vertices']:.0f} on one")
         return runs
 
