@@ -179,6 +179,47 @@ TEST(MeshValidity, MissingSegmentPiecesAreCounted)
   EXPECT_NE(v.describe().find("2 constrained segment pieces missing"), std::string::npos);
 }
 
+namespace
+{
+/// The polyline through `points`, one segment per pair of consecutive points.
+FeatureSegments polyline(const std::vector<Vec3>& points)
+{
+  FeatureSegments f;
+  f.points = points;
+  for (int i = 0; i + 1 < static_cast<int>(points.size()); ++i)
+    f.segments.push_back({ i, i + 1 });
+  return f;
+}
+}
+
+// CGAL's protecting balls join consecutive ball centres; where the line runs straight through an
+// input point between them, that edge is the line (the measure once called both pieces missing).
+// Through a bend, or past a junction, it is not.
+TEST(MeshValidity, AnEdgeStraightThroughInputPointsCoversTheLine)
+{
+  const TetMesh m = twoTets(); // edge (1, 2) from (1, 0, 0) to (0, 1, 0)
+  const FeatureSegments straight = polyline({ { 1, 0, 0 }, { 0.5, 0.5, 0 }, { 0, 1, 0 } });
+  auto pieces = locateFeatureSegments(m, straight);
+  ASSERT_EQ(pieces.size(), 2u);
+  EXPECT_TRUE(pieces[0].present && pieces[1].present);
+  EXPECT_DOUBLE_EQ(featureCoverage(pieces, straight), 1.0);
+
+  // two input points between the edge's ends, the middle segment without a mesh vertex
+  const FeatureSegments twoPoints = polyline({ { 0, 1, 0 }, { 0.25, 0.75, 0 }, { 0.75, 0.25, 0 }, { 1, 0, 0 } });
+  EXPECT_DOUBLE_EQ(featureCoverage(locateFeatureSegments(m, twoPoints), twoPoints), 1.0);
+
+  const FeatureSegments bent = polyline({ { 1, 0, 0 }, { 0.5, 0.5, 0.01 }, { 0, 1, 0 } });
+  pieces = locateFeatureSegments(m, bent);
+  EXPECT_FALSE(pieces[0].present || pieces[1].present);
+  EXPECT_DOUBLE_EQ(featureCoverage(pieces, bent), 0.0);
+
+  FeatureSegments junction = straight; // a third line leaves the middle point: it must be a vertex
+  junction.points.push_back({ 0.5, 0.5, 0.5 });
+  junction.segments.push_back({ 1, 3 });
+  pieces = locateFeatureSegments(m, junction);
+  EXPECT_EQ(std::count_if(pieces.begin(), pieces.end(), [](const TetMesh::Segment& p) { return p.present; }), 0);
+}
+
 TEST(MeshValidity, StatisticsNameEveryCount)
 {
   TetMesh m = twoTets();

@@ -24,7 +24,8 @@ struct TetMesh
   std::vector<std::array<int, 2>> interfaceMaterials; ///< material on each side (-1 outside)
 
   /// Constrained segments after meshing: each input segment cut at the mesh vertices lying on it;
-  /// a piece is `present` when its two ends are mesh vertices joined by a tetrahedron edge.
+  /// a piece is `present` when its two ends are mesh vertices joined by a tetrahedron edge, or
+  /// lies on an edge that runs straight through the input points ending it (locateFeatureSegments).
   struct Segment
   {
     Vec3 a, b;

@@ -139,6 +139,69 @@ private:
   const double h_;
   std::unordered_map<uint64_t, std::vector<int>> grid_;
 };
+
+/// Marks present the pieces a mesh edge covers by passing straight through input points that are
+/// no mesh vertices: CGAL's protecting balls join consecutive ball centres, and where the line runs
+/// straight through a point of degree 2 (a found curve's crossing of a label map's cell plane) that
+/// edge is the line itself. From each piece with one end a vertex u and the other an input point q,
+/// the walk crosses q into the next segment (whole segments without a vertex included, up to
+/// kMaxSkipped points) to the first vertex w; the pieces walked are present when u and w are joined
+/// by an edge and every point crossed lies within `tolerance` x |uw| of it.
+void coverStraightThroughPoints(const TetMesh& mesh, const FeatureSegments& features, double tolerance,
+  const std::unordered_set<uint64_t>& edges, const std::vector<std::pair<size_t, size_t>>& piecesOf,
+  std::vector<TetMesh::Segment>& pieces)
+{
+  constexpr int kMaxSkipped = 64;
+  std::vector<std::vector<size_t>> inc(features.points.size());
+  for (size_t s = 0; s < features.segments.size(); ++s)
+    for (int e : features.segments[s])
+      inc[e].push_back(s);
+  // The piece of segment s at its end point q (its first piece when q is the segment's start).
+  auto pieceAt = [&](size_t s, int q) {
+    return features.segments[s][0] == q ? piecesOf[s].first : piecesOf[s].first + piecesOf[s].second - 1;
+  };
+  for (size_t s = 0; s < features.segments.size(); ++s)
+    for (int end = 0; end < 2; ++end)
+    {
+      const int startQ = features.segments[s][end];
+      const size_t first = pieceAt(s, startQ);
+      if (pieces[first].present)
+        continue;
+      const int u = end == 0 ? pieces[first].bId : pieces[first].aId; // the far end of the piece
+      if (u < 0 || (end == 0 ? pieces[first].aId : pieces[first].bId) >= 0)
+        continue;
+      std::vector<size_t> walked{ first };
+      std::vector<int> crossed;
+      int q = startQ;
+      size_t seg = s;
+      int w = -1;
+      while (w < 0 && static_cast<int>(crossed.size()) < kMaxSkipped && inc[q].size() == 2)
+      {
+        crossed.push_back(q);
+        seg = inc[q][0] == seg ? inc[q][1] : inc[q][0];
+        const size_t next = pieceAt(seg, q);
+        walked.push_back(next);
+        const bool forward = features.segments[seg][0] == q;
+        w = forward ? pieces[next].bId : pieces[next].aId;
+        if (w < 0) // a whole segment without a vertex: on to its far end
+          q = features.segments[seg][forward ? 1 : 0];
+        if (seg == s)
+          break; // a closed loop without a vertex
+      }
+      if (w < 0 || w == u || !edges.count(edgeKey(u, w)))
+        continue;
+      const Vec3 a = mesh.points[u], b = mesh.points[w];
+      const double len = norm(b - a);
+      const bool onEdge = std::all_of(crossed.begin(), crossed.end(), [&](int c) {
+        const Vec3 x = features.points[c] - a;
+        const double t = dot(x, b - a) / (len * len);
+        return t > 0 && t < 1 && norm(x - t * (b - a)) <= tolerance * len;
+      });
+      if (onEdge)
+        for (size_t k : walked)
+          pieces[k].present = true;
+    }
+}
 }
 
 std::vector<TetMesh::Segment> locateFeatureSegments(
@@ -163,8 +226,10 @@ std::vector<TetMesh::Segment> locateFeatureSegments(
     total += features.length(s);
   const UsedVertexGrid grid(mesh, used, std::max(total / features.segments.size(), 1e-12));
 
+  std::vector<std::pair<size_t, size_t>> piecesOf(features.segments.size()); // first piece, count
   for (size_t s = 0; s < features.segments.size(); ++s)
   {
+    piecesOf[s].first = pieces.size();
     const Vec3 a = features.points[features.segments[s][0]], b = features.points[features.segments[s][1]];
     const double len = features.length(s), tol = tolerance * len;
     const std::vector<std::pair<double, int>> on = grid.onSegment(a, b, len, tol);
@@ -188,7 +253,9 @@ std::vector<TetMesh::Segment> locateFeatureSegments(
         piece.present = edges.count(edgeKey(piece.aId, piece.bId)) > 0;
       pieces.push_back(piece);
     }
+    piecesOf[s].second = pieces.size() - piecesOf[s].first;
   }
+  coverStraightThroughPoints(mesh, features, tolerance, edges, piecesOf, pieces);
   return pieces;
 }
 

@@ -26,7 +26,9 @@ double signedVolume(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
 std::map<int, double> materialVolumes(const TetMesh& mesh);
 
 /// The input segments cut at the mesh vertices lying on them (within `tolerance` x segment length),
-/// each piece flagged present when its ends are joined by a tetrahedron edge.
+/// each piece flagged present when its ends are joined by a tetrahedron edge, or when a tetrahedron
+/// edge runs straight through the input points of degree 2 between it and the next vertices
+/// (within `tolerance` x the edge's length: the chords between CGAL's protecting balls).
 std::vector<TetMesh::Segment> locateFeatureSegments(
   const TetMesh& mesh, const FeatureSegments& features, double tolerance = 1e-6);
 
