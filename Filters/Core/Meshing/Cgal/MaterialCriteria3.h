@@ -57,16 +57,15 @@ inline BallContact ballContact(const Tr& tr, const std::array<const typename Tr:
   return b;
 }
 
-/// Below this radius-edge bound the interface sliver rule has a size floor, and the shape rules
-/// one more (MaterialCellCriterion).
+/// Below this radius-edge bound the interface sliver rule has a size floor, and the radius-edge
+/// rule one more (MaterialCellCriterion).
 constexpr double kSliverFloorRadiusEdge = 1.2;
 
 /// Below kSliverFloorRadiusEdge, cells with a circumradius under the finest size bound of any
-/// material (cell, facet or edge size) divided by this are not refined for their shape
-/// (radius-edge, slivers): see MaterialCellCriterion. Runs of the generated bone/implant case
-/// that end at radius-edge 1.1 without it keep every cell above it (circumradius 0.024 mm and
-/// more against a floor of 0.016: the same meshes with it); with 64 the runs it stops made twice
-/// the vertices (126k) and 1.3 instead of 4.7 degrees before optimisation.
+/// material (cell, facet or edge size) divided by this are not refined for their radius-edge
+/// ratio: see MaterialCellCriterion. Runs of the generated bone/implant case that end at
+/// radius-edge 1.1 without it keep every cell above it (circumradius 0.024 mm and more against a
+/// floor of 0.016: the same meshes with it); with 64 a run it stops made twice the vertices.
 constexpr double kShapeFloorDivisor = 32.0;
 
 /// The circumradius below which kShapeFloorDivisor's rule applies: 0 (none) when no material has
@@ -117,11 +116,12 @@ protected:
     // criterion on a cell with one ball or with balls that meet, no size bound on a small one.
     const BallContact near = ballContact<4, Tr>(tr, { &wp, &wq, &wr, &ws });
     const double sqRadius = CGAL::squared_radius(p, q, r, s);
-    // Below radius-edge 1.2, no shape rule on cells far below every size bound: where two
+    // Below radius-edge 1.2, no radius-edge rule on cells far below every size bound: where two
     // interfaces meet at a small angle along a curve that is no feature line (a cut plane
     // grazing an implant face on a voxel boundary, 14 degrees), radius-edge 1.1 refined the
     // cells around one point of that curve down to 1e-11 mm, sequential and parallel alike, into
-    // the vertex budget with micro tetrahedra. Left to the optimisers.
+    // the vertex budget with micro tetrahedra. The sliver rules still apply (with them off there
+    // too, 1-4 degrees were left for the optimisers, which did not always lift them to 8.7).
     const bool belowShapeFloor = m.cellRadiusEdgeRatio > 0 && m.cellRadiusEdgeRatio < kSliverFloorRadiusEdge &&
       sqRadius < squared(shapeFloor_);
     const bool shapeExempt = belowShapeFloor || near.exempt(std::numeric_limits<double>::infinity());
@@ -164,7 +164,7 @@ protected:
       m.cellSize > 0 && sqRadius < squared(m.cellSize / 8.0);
     const double sliverBound =
       std::max(anySliverAngle_, interfaceVertices >= 3 && !belowFloor ? interfaceSliverAngle_ : 0.0);
-    if (sliverBound > 0 && worst >= 1.0 && !belowShapeFloor && !(weighted(0) || weighted(1) || weighted(2) || weighted(3)))
+    if (sliverBound > 0 && worst >= 1.0 && !(weighted(0) || weighted(1) || weighted(2) || weighted(3)))
     {
       const double a = minDihedralAngle(toVec(p), toVec(q), toVec(r), toVec(s));
       if (a < sliverBound)
