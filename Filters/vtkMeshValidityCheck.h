@@ -4,8 +4,9 @@
  * @brief What a finite-element code would reject in a tetrahedral mesh, on any vtkUnstructuredGrid.
  *
  * The same check the tetrahedralizer runs on every mesh it makes (core: omesh::checkMeshValidity),
- * on demand: duplicate vertices (closer than DuplicateTolerance x the median edge), micro
- * tetrahedra (longest edge below MicroTolerance x the median edge), flat tetrahedra (|volume| below
+ * on demand: duplicate vertices (closer than DuplicateTolerance x L), micro tetrahedra (longest
+ * edge below MicroTolerance x L; L is the median edge, or the edge of a regular tetrahedron of
+ * the mesh's mean volume where that is longer), flat tetrahedra (|volume| below
  * FlatTolerance x longest edge cubed), inverted tetrahedra (negative VTK orientation), faces shared
  * by more than two tetrahedra, cells with repeated or bad point ids. Quadratic tetrahedra are checked
  * on their corners (the curved shape is the tetrahedralizer's Jacobian check). Cells other than tetrahedra
@@ -31,7 +32,7 @@ public:
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   ///@{
-  /// Thresholds relative to the median edge length (defaults 1e-9, 1e-4, 1e-8); each in [0, 1],
+  /// Thresholds relative to L (duplicates, micro) and the longest edge (flat) (defaults 1e-9, 1e-4, 1e-8); each in [0, 1],
   /// else the next update fails with an error naming it.
   vtkSetMacro(DuplicateTolerance, double);
   vtkGetMacro(DuplicateTolerance, double);

@@ -76,6 +76,27 @@ TEST(MeshValidity, MicroFlatAndInvertedTetrahedraAreSeen)
   EXPECT_FALSE(v.valid());
 }
 
+TEST(MeshValidity, MicroTetrahedraThatAreMostOfTheMeshAreSeen)
+{
+  // ten unit tetrahedra and a hundred of edge 1e-6 around one point (as a refinement that
+  // converged there until the vertex budget): the median edge is the tiny ones', not a reference
+  TetMesh m;
+  auto add = [&m](const Vec3& at, double e) {
+    const int base = static_cast<int>(m.points.size());
+    for (const Vec3& p : { at, at + Vec3{ e, 0, 0 }, at + Vec3{ 0, e, 0 }, at + Vec3{ 0, 0, e } })
+      m.points.push_back(p);
+    m.tets.push_back({ base, base + 1, base + 2, base + 3 });
+  };
+  for (int i = 0; i < 10; ++i)
+    add({ 2.0 * i, 0, 0 }, 1.0);
+  for (int i = 0; i < 100; ++i)
+    add({ 50 + 1e-5 * i, 0, 0 }, 1e-6);
+  m.tetMaterial.assign(m.tets.size(), 1);
+  const MeshValidity v = checkMeshValidity(m, {}, {});
+  EXPECT_LT(v.medianEdge, 1e-5);
+  EXPECT_EQ(v.microTetrahedra, 100u);
+}
+
 TEST(MeshValidity, FaceSharedByThreeTetrahedraIsSeen)
 {
   TetMesh m = twoTets();

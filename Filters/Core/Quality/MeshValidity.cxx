@@ -8,6 +8,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <sstream>
 #include <unordered_map>
 
@@ -28,14 +29,27 @@ struct CellKeyHash
   }
 };
 
-/// Used vertices with another used vertex closer than `tol`: a hash grid of cell size `cell`
-/// (>= tol), each vertex compared with the 27 cells around it.
-std::vector<char> findDuplicates(const std::vector<Vec3>& points, const std::vector<char>& used, double tol, double cell)
+/// Used vertices with another used vertex closer than `tol`: a hash grid of cells of about `tol`,
+/// each vertex compared with the 27 cells around it. Such cells hold few vertices that are not
+/// duplicates (a vertex stops at its first duplicate), wherever the vertices crowd: with cells of
+/// the median edge, a cluster of tiny tetrahedra was a quadratic search (2 minutes at 300k
+/// vertices). Keys count from the smallest coordinates in cells of at least 1e-12 of the extent,
+/// so that they fit.
+std::vector<char> findDuplicates(const std::vector<Vec3>& points, const std::vector<char>& used, double tol)
 {
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  Vec3 low{ inf, inf, inf }, high{ -inf, -inf, -inf };
+  for (std::size_t v = 0; v < points.size(); ++v)
+    if (used[v] && isFinite(points[v]))
+    {
+      low = { std::min(low.x, points[v].x), std::min(low.y, points[v].y), std::min(low.z, points[v].z) };
+      high = { std::max(high.x, points[v].x), std::max(high.y, points[v].y), std::max(high.z, points[v].z) };
+    }
+  const double cell = std::max(tol, 1e-12 * std::max({ high.x - low.x, high.y - low.y, high.z - low.z, 0.0 }));
   std::unordered_map<CellKey, std::vector<int>, CellKeyHash> grid;
-  auto keyOf = [cell](const Vec3& p) {
-    return CellKey{ static_cast<std::int64_t>(std::floor(p.x / cell)), static_cast<std::int64_t>(std::floor(p.y / cell)),
-      static_cast<std::int64_t>(std::floor(p.z / cell)) };
+  auto keyOf = [cell, low](const Vec3& p) {
+    return CellKey{ static_cast<std::int64_t>(std::floor((p.x - low.x) / cell)),
+      static_cast<std::int64_t>(std::floor((p.y - low.y) / cell)), static_cast<std::int64_t>(std::floor((p.z - low.z) / cell)) };
   };
   for (std::size_t v = 0; v < points.size(); ++v)
     if (used[v] && isFinite(points[v]))
@@ -194,7 +208,7 @@ std::vector<std::size_t> tetsWithValidIndices(const TetMesh& mesh, MeshValidity&
   return good;
 }
 
-/// Micro, flat, inverted (relative to the median edge L), and a material mismatch when all four
+/// Micro, flat, inverted (relative to L, see checkMeshValidity), and a material mismatch when all four
 /// corners are inside a material.
 unsigned char shapeAndMaterialDefects(const TetMesh& mesh, std::size_t t,
   const std::function<int(const Vec3&)>& materialAt, const ValidityThresholds& th, double L)
@@ -236,14 +250,25 @@ MeshValidity checkMeshValidity(const TetMesh& mesh, const std::function<int(cons
   r.shortestEdge = *std::min_element(edges.begin(), edges.end());
   std::nth_element(edges.begin(), edges.begin() + edges.size() / 2, edges.end());
   r.medianEdge = edges[edges.size() / 2];
-  const double L = r.medianEdge;
+  // A cluster of tiny tetrahedra that is most of the mesh pulls the median down with it (a run
+  // stopped at the vertex budget with 300k vertices around one point, edges of 1e-8 against a
+  // median of 1e-4, read "no defects"): L is at least the edge of a regular tetrahedron of the
+  // mesh's mean volume.
+  double volume = 0.0;
+  for (std::size_t t : good)
+  {
+    const auto& k = mesh.tets[t];
+    volume += std::abs(signedVolume(mesh.points[k[0]], mesh.points[k[1]], mesh.points[k[2]], mesh.points[k[3]]));
+  }
+  const double meanVolumeEdge = std::cbrt(6.0 * std::sqrt(2.0) * volume / static_cast<double>(good.size()));
+  const double L = std::max(r.medianEdge, meanVolumeEdge);
 
   for (std::size_t t : good)
     flags[t] |= shapeAndMaterialDefects(mesh, t, materialAt, th, L);
   const double tol = th.duplicate * L;
   if (tol > 0)
   {
-    const std::vector<char> duplicate = findDuplicates(mesh.points, used, tol, std::max(L, tol));
+    const std::vector<char> duplicate = findDuplicates(mesh.points, used, tol);
     r.duplicateVertices = static_cast<std::size_t>(std::count(duplicate.begin(), duplicate.end(), 1));
     for (std::size_t t : good)
       for (int i = 0; i < 4; ++i)

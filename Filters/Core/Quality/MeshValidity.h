@@ -12,7 +12,8 @@
 
 namespace omesh
 {
-/// Thresholds relative to the median edge length L of the mesh.
+/// Thresholds relative to a length L of the mesh: its median edge, or the edge of a regular
+/// tetrahedron of its mean volume where that is longer.
 struct ValidityThresholds
 {
   double duplicate = 1e-9; ///< two used vertices closer than this x L are duplicates
@@ -41,7 +42,7 @@ struct MeshValidity
   /// (a singular system) or are refused by finite-element codes.
   std::size_t unusedVertices = 0;
 
-  double medianEdge = 0.0;     ///< L (not a defect)
+  double medianEdge = 0.0;     ///< not a defect (L is at least this)
   double shortestEdge = 0.0;   ///< not a defect
 
   std::size_t defects() const

@@ -57,8 +57,32 @@ inline BallContact ballContact(const Tr& tr, const std::array<const typename Tr:
   return b;
 }
 
-/// Below this radius-edge bound the interface sliver rule has a size floor (MaterialCellCriterion).
+/// Below this radius-edge bound the interface sliver rule has a size floor, and the radius-edge
+/// rule one more (MaterialCellCriterion).
 constexpr double kSliverFloorRadiusEdge = 1.2;
+
+/// Below kSliverFloorRadiusEdge, cells with a circumradius under the finest size bound of any
+/// material (cell, facet or edge size) divided by this are not refined for their radius-edge
+/// ratio: see MaterialCellCriterion. Runs of the generated bone/implant case that end at
+/// radius-edge 1.1 without it keep every cell above it (circumradius 0.024 mm and more against a
+/// floor of 0.016: the same meshes with it); with 64 a run it stops made twice the vertices.
+constexpr double kShapeFloorDivisor = 32.0;
+
+/// The circumradius below which kShapeFloorDivisor's rule applies: 0 (none) when no material has
+/// a size bound.
+inline double shapeFloorRadius(const MaterialCriteria& c)
+{
+  double finest = std::numeric_limits<double>::infinity();
+  auto take = [&finest](const MeshCriteria::Values& v) {
+    for (double size : { v.cellSize, v.facetSize, v.edgeSize })
+      if (size > 0)
+        finest = std::min(finest, size);
+  };
+  take(c.globalValues());
+  for (const auto& entry : c.perMaterial)
+    take(c.of(entry.first));
+  return std::isfinite(finest) ? finest / kShapeFloorDivisor : 0.0;
+}
 
 /// Per-material cell criteria: radius-edge ratio and circumradius bound of the cell's material
 /// (the material of its circumcentre, set by Mesh_3 before the criteria are asked).
@@ -76,6 +100,7 @@ public:
     : criteria_(c)
     , anySliverAngle_(sliverAngle)
     , interfaceSliverAngle_(interfaceSliverAngle)
+    , shapeFloor_(shapeFloorRadius(c))
   {
   }
 
@@ -90,8 +115,16 @@ protected:
     // CGAL's rules next to protecting balls (Cell_criteria_visitor_with_features): no shape
     // criterion on a cell with one ball or with balls that meet, no size bound on a small one.
     const BallContact near = ballContact<4, Tr>(tr, { &wp, &wq, &wr, &ws });
-    const bool shapeExempt = near.exempt(std::numeric_limits<double>::infinity());
     const double sqRadius = CGAL::squared_radius(p, q, r, s);
+    // Below radius-edge 1.2, no radius-edge rule on cells far below every size bound: where two
+    // interfaces meet at a small angle along a curve that is no feature line (a cut plane
+    // grazing an implant face on a voxel boundary, 14 degrees), radius-edge 1.1 refined the
+    // cells around one point of that curve down to 1e-11 mm, sequential and parallel alike, into
+    // the vertex budget with micro tetrahedra. The sliver rules still apply (with them off there
+    // too, 1-4 degrees were left for the optimisers, which did not always lift them to 8.7).
+    const bool belowShapeFloor = m.cellRadiusEdgeRatio > 0 && m.cellRadiusEdgeRatio < kSliverFloorRadiusEdge &&
+      sqRadius < squared(shapeFloor_);
+    const bool shapeExempt = belowShapeFloor || near.exempt(std::numeric_limits<double>::infinity());
     double worst = 1.0; // quality: bound / value, below 1 is bad
     if (m.cellSize > 0 && sqRadius > squared(m.cellSize) && !near.exempt(1.0))
       worst = std::min(worst, squared(m.cellSize) / sqRadius);
@@ -144,6 +177,7 @@ private:
   MaterialCriteria::Resolved criteria_;
   double anySliverAngle_;
   double interfaceSliverAngle_;
+  double shapeFloor_; ///< shapeFloorRadius
 };
 
 /// Per-material facet criteria (angle, surface Delaunay ball radius, centre-to-surface distance).
