@@ -6,10 +6,11 @@ default picked points the Conforming run ended at the 300k-vertex budget (0.2 de
 optimisation) where the sequential one ends at 35k. The parallel levels now refine to radius-edge
 1.2 at most and the sequential round after them to the bound. Asserted: both runs valid, not
 stopped at the budget, and the parallel run within 2.5x the sequential run's vertices. Parallel runs
-are not deterministic and below 2 nothing bounds their size: Conforming, 13 runs on 2 threads
-(2026-12-01, the machine loaded) 0.93-1.43x the sequential 49,392, once 1.98x; before the floor
-1.94x, 2.82x, 3.09x and the budget (6.1x) in 4 runs; None 0.77-1.20x. Circumcentres and no
-optimisation, for speed."""
+are not deterministic and below 2 nothing bounds their size (2026-12-01): Conforming on 2 threads
+0.93-1.43x the sequential 49,392 vertices in 12 runs, once 1.98x (the machine loaded); with the
+radius-edge rule's size floor since (MaterialCriteria3.h) 0.79-1.54x the sequential 52,744 in 8
+runs; before the parallel levels' floor 1.56-3.09x and once the budget (6.1x) in 8 runs; None
+0.77-1.20x. Circumcentres and no optimisation, for speed."""
 import json
 import os
 import tempfile
