@@ -998,6 +998,21 @@ TEST(OracleFeatureLines, FoundChordsOnAStaircaseRimHaveMaterialAlongTheirWholeLe
   }
 }
 
+namespace
+{
+/// Labels 1 below a ramp of steps (heights 1, 1, 2, 2, 3, 3 along x) and 2 above; dims[0] = 6.
+std::vector<int> rampLabels(const std::array<int, 3>& dims)
+{
+  const int step[6] = { 1, 1, 2, 2, 3, 3 };
+  std::vector<int> labels;
+  for (int k = 0; k < dims[2]; ++k)
+    for (int j = 0; j < dims[1]; ++j)
+      for (int i = 0; i < dims[0]; ++i)
+        labels.push_back(k < step[i] ? 1 : 2);
+  return labels;
+}
+} // namespace
+
 TEST(OracleFeatureLines, ATripleLineOnATrilinearLabelMapTurnsOnItsCellPlanesAndLiesOnBothInterfaces)
 {
   // Labels 1 below a ramp of steps and 2 above, read trilinearly: the 1 | 2 interface is smooth
@@ -1008,12 +1023,7 @@ TEST(OracleFeatureLines, ATripleLineOnATrilinearLabelMapTurnsOnItsCellPlanesAndL
   // and the chords between found points left the interfaces by up to 0.1 mm on a generated case,
   // where the mesher then refined one spot without end (random_05 at radius-edge 1.1).
   const std::array<int, 3> dims{ 6, 3, 5 };
-  const int step[6] = { 1, 1, 2, 2, 3, 3 };
-  std::vector<int> labels;
-  for (int k = 0; k < dims[2]; ++k)
-    for (int j = 0; j < dims[1]; ++j)
-      for (int i = 0; i < dims[0]; ++i)
-        labels.push_back(k < step[i] ? 1 : 2);
+  const std::vector<int> labels = rampLabels(dims);
   HierarchicalOracle oracle;
   oracle.add(std::make_shared<BoxDomain>(Vec3{ 0.3, 1.4, -1 }, Vec3{ 5.7, 4, 6 }, 3, "box"));
   oracle.add(std::make_shared<LabelMapDomain>(dims, labels,
@@ -1065,12 +1075,7 @@ TEST(OracleFeatureLines, ChordsOfARimAtAGrazingAngleToATrilinearInterfaceKeepWit
   // midpoint must lie within the tolerance of it. Resampling had kept the chords within the
   // tolerance of the points found only, and missed the curve by more between them.
   const std::array<int, 3> dims{ 6, 8, 5 };
-  const int step[6] = { 1, 1, 2, 2, 3, 3 };
-  std::vector<int> labels;
-  for (int k = 0; k < dims[2]; ++k)
-    for (int j = 0; j < dims[1]; ++j)
-      for (int i = 0; i < dims[0]; ++i)
-        labels.push_back(k < step[i] ? 1 : 2);
+  const std::vector<int> labels = rampLabels(dims);
   HierarchicalOracle oracle;
   auto cut = std::make_shared<HalfSpaceDomain>(Vec3{ 0, 0, 0.5 }, Vec3{ 0, -0.5, 1 }, 0, "cut");
   cut->setCut(true);

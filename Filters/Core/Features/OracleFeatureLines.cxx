@@ -679,18 +679,26 @@ private:
   /// square of side |pb - pa| centred on their midpoint; false when it does not pass there.
   bool curveBetween(const Vec3& pa, const Vec3& pb, const Signature& regions, Crossing& m) const
   {
-    const Vec3 d = pb - pa;
-    const double L = norm(d);
+    const double L = norm(pb - pa);
     if (!(L > 4 * precision_))
       return false;
-    const Vec3 t = (1.0 / L) * d;
-    const int axis = std::abs(t.x) <= std::abs(t.y) && std::abs(t.x) <= std::abs(t.z) ? 0 : std::abs(t.y) <= std::abs(t.z) ? 1 : 2;
+    return curveInSquare(0.5 * (pa + pb), pb - pa, L, regions, m);
+  }
+
+  /// The curve with signature `regions` where it crosses the plane through `centre` normal to
+  /// `normal`, in the square of side L centred there; false when it does not pass there.
+  bool curveInSquare(const Vec3& centre, const Vec3& normal, double L, const Signature& regions, Crossing& m) const
+  {
+    if (!(norm(normal) > 0))
+      return false;
+    const Vec3 n = (1.0 / norm(normal)) * normal;
+    const int axis = std::abs(n.x) <= std::abs(n.y) && std::abs(n.x) <= std::abs(n.z) ? 0 : std::abs(n.y) <= std::abs(n.z) ? 1 : 2;
     Vec3 e;
     e[axis] = 1.0;
-    Vec3 e1 = cross(t, e);
+    Vec3 e1 = cross(n, e);
     e1 = (1.0 / norm(e1)) * e1;
-    const Vec3 e2 = cross(t, e1);
-    const Vec3 o = 0.5 * (pa + pb) - (0.5 * L) * (e1 + e2);
+    const Vec3 e2 = cross(n, e1);
+    const Vec3 o = centre - (0.5 * L) * (e1 + e2);
     Rect q{ o, L * e1, L * e2, regionsAlong(oracle_, o, o + L * e1), regionsAlong(oracle_, o + L * e2, o + L * (e1 + e2)),
       regionsAlong(oracle_, o, o + L * e2), regionsAlong(oracle_, o + L * e1, o + L * (e1 + e2)) };
     if (!holdsCurve(loopOf(q)))
@@ -1080,22 +1088,7 @@ private:
   /// on plane.point; false when it does not pass there.
   bool curveInPlane(const BendPlane& plane, double L, const Signature& regions, Crossing& m) const
   {
-    if (!(norm(plane.normal) > 0))
-      return false;
-    const Vec3 n = (1.0 / norm(plane.normal)) * plane.normal;
-    const int axis = std::abs(n.x) <= std::abs(n.y) && std::abs(n.x) <= std::abs(n.z) ? 0 : std::abs(n.y) <= std::abs(n.z) ? 1 : 2;
-    Vec3 e;
-    e[axis] = 1.0;
-    Vec3 e1 = cross(n, e);
-    e1 = (1.0 / norm(e1)) * e1;
-    const Vec3 e2 = cross(n, e1);
-    const Vec3 o = plane.point - (0.5 * L) * (e1 + e2);
-    Rect q{ o, L * e1, L * e2, regionsAlong(oracle_, o, o + L * e1), regionsAlong(oracle_, o + L * e2, o + L * (e1 + e2)),
-      regionsAlong(oracle_, o, o + L * e2), regionsAlong(oracle_, o + L * e1, o + L * (e1 + e2)) };
-    if (!holdsCurve(loopOf(q)))
-      return false;
-    m = locate(oracle_, std::move(q), precision_);
-    return m.regions == regions;
+    return curveInSquare(plane.point, plane.normal, L, regions, m);
   }
 
   /// The chord tolerance of a curve between these materials: the smallest of their own
