@@ -34,23 +34,22 @@ std::string describeSegment(const FeatureSegments& f, size_t s)
 {
   return f.describe(s);
 }
+}
 
-/// For each point, the segments incident to it.
-std::vector<std::vector<size_t>> incidence(const FeatureSegments& f)
+std::vector<std::vector<size_t>> FeatureSegments::incidence() const
 {
-  std::vector<std::vector<size_t>> inc(f.points.size());
-  for (size_t s = 0; s < f.segments.size(); ++s)
+  std::vector<std::vector<size_t>> inc(points.size());
+  for (size_t s = 0; s < segments.size(); ++s)
   {
-    inc[f.segments[s][0]].push_back(s);
-    inc[f.segments[s][1]].push_back(s);
+    inc[segments[s][0]].push_back(s);
+    inc[segments[s][1]].push_back(s);
   }
   return inc;
-}
 }
 
 std::vector<bool> FeatureSegments::starVertices() const
 {
-  const auto inc = incidence(*this);
+  const auto inc = incidence();
   std::vector<bool> star(points.size(), false);
   for (size_t p = 0; p < points.size(); ++p)
     star[p] = inc[p].size() >= 2;
@@ -59,7 +58,7 @@ std::vector<bool> FeatureSegments::starVertices() const
 
 std::vector<bool> FeatureSegments::starVerticesBelowRightAngle() const
 {
-  const auto inc = incidence(*this);
+  const auto inc = incidence();
   std::vector<bool> star = starVertices();
   for (size_t v = 0; v < points.size(); ++v)
     if (inc[v].size() == 2)
@@ -75,7 +74,7 @@ std::vector<bool> FeatureSegments::starVerticesBelowRightAngle() const
 
 double FeatureSegments::smallestAngle() const
 {
-  const auto inc = incidence(*this);
+  const auto inc = incidence();
   double smallest = 180.0;
   for (size_t v = 0; v < points.size(); ++v)
   {
@@ -185,7 +184,7 @@ void checkNoCrossings(const FeatureSegments& f)
 /// meets itself at 172 degrees, which the formula alone would read as a contradiction of B < 3.7).
 void warnSmallAngles(const FeatureSegments& f, double radiusEdgeBound, std::vector<std::string>& warnings)
 {
-  const auto inc = incidence(f);
+  const auto inc = f.incidence();
   size_t sharp = 0;
   std::string firstSharp;
   double alpha0 = 180.0;
@@ -353,7 +352,7 @@ size_t resampleFeatureLines(FeatureSegments& f, double maxLength, double toleran
 {
   if (f.segments.empty() || !(maxLength > 0) || !(tolerance >= 0))
     return 0;
-  const auto inc = incidence(f);
+  const auto inc = f.incidence();
   auto other = [&](size_t seg, int v) { return f.segments[seg][0] == v ? f.segments[seg][1] : f.segments[seg][0]; };
   std::vector<char> corner = chainCorners(f, inc, cornerAngle);
   std::vector<char> used(f.segments.size(), 0);

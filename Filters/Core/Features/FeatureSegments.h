@@ -40,6 +40,9 @@ struct FeatureSegments
   /// overlap (exact predicates), sorted. Expects finite points and valid indices.
   std::vector<std::pair<size_t, size_t>> crossingPairs() const;
 
+  /// For each point, the segments that end there.
+  std::vector<std::vector<size_t>> incidence() const;
+
   /// Points that end at least two segments (the paper's star vertices).
   std::vector<bool> starVertices() const;
   /// The star vertices less those where exactly two segments meet at 90 degrees or more (a vertex

@@ -152,10 +152,7 @@ void coverStraightThroughPoints(const TetMesh& mesh, const FeatureSegments& feat
   std::vector<TetMesh::Segment>& pieces)
 {
   constexpr int kMaxSkipped = 64;
-  std::vector<std::vector<size_t>> inc(features.points.size());
-  for (size_t s = 0; s < features.segments.size(); ++s)
-    for (int e : features.segments[s])
-      inc[e].push_back(s);
+  const std::vector<std::vector<size_t>> inc = features.incidence();
   // The piece of segment s at its end point q (its first piece when q is the segment's start).
   auto pieceAt = [&](size_t s, int q) {
     return features.segments[s][0] == q ? piecesOf[s].first : piecesOf[s].first + piecesOf[s].second - 1;

@@ -2,13 +2,13 @@
 #include "MeshValidity.h"
 
 #include "FieldDataKeys.h"
+#include "BoundingBox.h"
 #include "MeshQuality.h"
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
-#include <limits>
 #include <sstream>
 #include <unordered_map>
 
@@ -37,15 +37,12 @@ struct CellKeyHash
 /// so that they fit.
 std::vector<char> findDuplicates(const std::vector<Vec3>& points, const std::vector<char>& used, double tol)
 {
-  constexpr double inf = std::numeric_limits<double>::infinity();
-  Vec3 low{ inf, inf, inf }, high{ -inf, -inf, -inf };
+  BoundingBox box;
   for (std::size_t v = 0; v < points.size(); ++v)
     if (used[v] && isFinite(points[v]))
-    {
-      low = { std::min(low.x, points[v].x), std::min(low.y, points[v].y), std::min(low.z, points[v].z) };
-      high = { std::max(high.x, points[v].x), std::max(high.y, points[v].y), std::max(high.z, points[v].z) };
-    }
-  const double cell = std::max(tol, 1e-12 * std::max({ high.x - low.x, high.y - low.y, high.z - low.z, 0.0 }));
+      box.add(points[v]);
+  const Vec3 extent = box.size(), low = box.min;
+  const double cell = std::max(tol, 1e-12 * std::max({ extent.x, extent.y, extent.z, 0.0 }));
   std::unordered_map<CellKey, std::vector<int>, CellKeyHash> grid;
   auto keyOf = [cell, low](const Vec3& p) {
     return CellKey{ static_cast<std::int64_t>(std::floor((p.x - low.x) / cell)),

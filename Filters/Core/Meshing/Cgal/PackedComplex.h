@@ -12,6 +12,8 @@
 // not kept: Mesh_3 reads them only for facets of the complex.
 #pragma once
 
+#include "FeatureEdgesOfComplex.h"
+
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -79,18 +81,7 @@ public:
 
     for (auto v = src.vertices_in_complex_begin(); v != src.vertices_in_complex_end(); ++v)
       corners_.emplace_back(id(v), src.corner_index(v));
-    // feature edges join vertices on curves (dimension <= 1): their neighbours only, as copyComplex
-    std::vector<typename SrcTr::Vertex_handle> around;
-    for (auto v = tr.finite_vertices_begin(); src.number_of_edges_in_complex() > 0 && v != tr.finite_vertices_end(); ++v)
-    {
-      if (v->in_dimension() < 0 || v->in_dimension() > 1)
-        continue;
-      around.clear();
-      tr.finite_adjacent_vertices(v, std::back_inserter(around));
-      for (const auto& w : around)
-        if (&*v < &*w && src.is_in_complex(v, w))
-          edges_.push_back({ id(v), id(w), src.curve_index(v, w) });
-    }
+    forEachFeatureEdge(src, [this](auto v, auto w, auto curve) { edges_.push_back({ id(v), id(w), curve }); });
   }
 
   /// Builds the packed complex in `dst` (cleared first). Time stamps are `dst`'s own.

@@ -9,6 +9,7 @@
 
 #include "ParallelRefinement.h"
 
+#include "FeatureEdgesOfComplex.h"
 #include "GuardedParallelMesher3.h"
 #include "InputError.h"
 #include "MaterialCriteria3.h"
@@ -202,19 +203,7 @@ void copyComplex(const Src& src, Dst& dst)
     dst.remove_from_complex(handle(corner));
     dst.add_to_complex(handle(corner), src.corner_index(corner));
   }
-  // Feature edges join vertices on curves (dimension <= 1): their neighbours only, not every edge
-  // of the triangulation (CGAL's edges_in_complex filters them all: half the copy's time).
-  std::vector<typename SrcTr::Vertex_handle> around;
-  for (auto v = from.finite_vertices_begin(); src.number_of_edges_in_complex() > 0 && v != from.finite_vertices_end(); ++v)
-  {
-    if (v->in_dimension() < 0 || v->in_dimension() > 1)
-      continue;
-    around.clear();
-    from.finite_adjacent_vertices(v, std::back_inserter(around));
-    for (const auto& w : around)
-      if (&*v < &*w && src.is_in_complex(v, w))
-        dst.add_to_complex(handle(v), handle(w), src.curve_index(v, w));
-  }
+  forEachFeatureEdge(src, [&](auto v, auto w, auto curve) { dst.add_to_complex(handle(v), handle(w), curve); });
   for (auto v = from.finite_vertices_begin(); v != from.finite_vertices_end(); ++v)
     if (v->in_dimension() == -1)
       dst.add_far_point(handle(v));
