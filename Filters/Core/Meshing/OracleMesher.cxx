@@ -609,6 +609,17 @@ std::optional<FeatureSegments> resampledFeatures(const FeatureSegments& given, c
   return resampled;
 }
 
+/// Thrown by a run whose parallel refinement reached the vertex budget: CGAL's parallel levels
+/// refine depth-first (each task refines the bad elements its insertion made, at once), so a
+/// parallel run stopped early holds its vertices in deep clusters where the sequential run, worst
+/// element first, spreads them: with criteria far beyond the budget (facet size 1e-5 in a 10 mm
+/// box) the clusters were thousands of flat tets. meshOracle then meshes again on one thread.
+struct ParallelBudgetReached
+{
+  double seconds = 0.0; ///< of the run until then
+  std::size_t vertices = 0;
+};
+
 /// One call of meshOracle, as the paper's chain of phases: the inputs, rule T1 on the segments
 /// alone, the initial points, refinement (the segment, facet and cell levels together, rules
 /// T1.2, T2, T3), optimisation, then the output mesh with its validity check and statistics.
@@ -979,13 +990,19 @@ private:
     }
     else if (threads_ > 1)
     {
+      parallelPhases_.leftBad.clear(); // this round's refused points only
       refineInParallelOnce();
       // the parallel levels refine at circumcentres, to kParallelRadiusEdgeFloor at most; the
-      // cells they leave bad (slivers, tighter radius-edge bounds) are refined here, on one
-      // thread, at picked points where picking is on. Not ProtectingBalls: its balls' weights.
+      // cells they leave bad (slivers, tighter radius-edge bounds) and the elements whose points
+      // the guard refused are refined here, on one thread, at picked points where picking is on.
+      // Not ProtectingBalls: its balls' weights.
       if (options_.strategy != FeatureStrategy::ProtectingBalls && !budgetHit_ && !stalled_)
-        if (auto region = verticesOfBadCells(*c3t3_, *criteria_); !region.empty())
-          refineAtPickedPoints(std::move(region));
+      {
+        auto around = verticesAroundPoints(parallelPhases_.leftBad);
+        auto bad = verticesOfBadCells(*c3t3_, *criteria_);
+        if (!around.empty() || !bad.empty())
+          refineAtPickedPoints(std::move(around), std::move(bad));
+      }
     }
     else if (picks())
       refineAtPickedPoints({});
@@ -1001,13 +1018,13 @@ private:
   /// is off); its first scan only around `region` unless that is empty (after a parallel
   /// refinement: the vertices of the cells left bad, the rest met the criteria when CGAL's queues
   /// ran empty; a scan of every facet would cost an intersection each).
-  void refineAtPickedPoints(std::vector<Tr::Vertex_handle> region)
+  void refineAtPickedPoints(std::vector<Tr::Vertex_handle> region, std::vector<Tr::Vertex_handle> cellRegion = {})
   {
     SegmentState<C3t3> none(*c3t3_, SegmentSet{});
     Segments level(*c3t3_, none, domain_->index_from_curve_index(1));
     ConformingMesher3<C3t3, Criteria, MeshDomain> mesher(
       *c3t3_, *domain_, *criteria_, level, CGAL::FACET_VERTICES_ON_SURFACE, pickingRegion());
-    mesher.restrictFirstScanTo({}, std::move(region));
+    mesher.restrictFirstScanTo(std::move(region), std::move(cellRegion));
     drive(mesher, {});
     countPicks(mesher.pickingCounters());
   }
@@ -1036,7 +1053,10 @@ private:
         report(0.05 + 0.4 * std::min(1.0, static_cast<double>(n) / expected_), "refinement");
       }, protectedSegments);
     parallelPhases_.leftBad.insert(parallelPhases_.leftBad.end(), run.leftBad.begin(), run.leftBad.end());
+    parallelPhases_.repeatsRefused += run.repeatsRefused;
     parallelVertices_ = 0; // the complex holds them again
+    if (run.budgetHit)
+      throw ParallelBudgetReached{ deadline_.elapsed(), c3t3_->triangulation().number_of_vertices() };
     budgetHit_ = run.budgetHit;
     stalled_ = run.stalled;
     parallelCpu_ += run.cpuSeconds;
@@ -1099,12 +1119,30 @@ private:
   /// encroached or missing from the complex.
   std::vector<Tr::Vertex_handle> verticesAroundLeftWork() const
   {
-    Tr& tr = c3t3_->triangulation();
     std::set<Tr::Vertex_handle> region;
+    addVerticesAround(parallelPhases_.leftBad, region);
+    const auto wanted = [this](const Vec3& a, const Vec3& b) { return touchesMaterial(a, b); };
+    for (size_t s = 0; s < segments_->size(); ++s)
+      if (segments_->encroached(static_cast<int>(s)) || segments_->missingFromComplex(static_cast<int>(s), wanted))
+        for (int k : { 0, 1 })
+          region.insert(segments_->vertexOf(segments_->end(static_cast<int>(s), k)));
+    return { region.begin(), region.end() };
+  }
 
+  /// The vertices of the conflict zones of `points` (a point on a vertex has none), each once.
+  std::vector<Tr::Vertex_handle> verticesAroundPoints(const std::vector<Vec3>& points) const
+  {
+    std::set<Tr::Vertex_handle> region;
+    addVerticesAround(points, region);
+    return { region.begin(), region.end() };
+  }
+
+  void addVerticesAround(const std::vector<Vec3>& points, std::set<Tr::Vertex_handle>& region) const
+  {
+    Tr& tr = c3t3_->triangulation();
     std::vector<Tr::Cell_handle> zone;
     Tr::Cell_handle hint;
-    for (const Vec3& p : parallelPhases_.leftBad)
+    for (const Vec3& p : points)
     {
       const Tr::Weighted_point wp(toPoint(p));
       Tr::Locate_type lt;
@@ -1119,12 +1157,6 @@ private:
           if (!tr.is_infinite(c->vertex(k)))
             region.insert(c->vertex(k));
     }
-    const auto wanted = [this](const Vec3& a, const Vec3& b) { return touchesMaterial(a, b); };
-    for (size_t s = 0; s < segments_->size(); ++s)
-      if (segments_->encroached(static_cast<int>(s)) || segments_->missingFromComplex(static_cast<int>(s), wanted))
-        for (int k : { 0, 1 })
-          region.insert(segments_->vertexOf(segments_->end(static_cast<int>(s), k)));
-    return { region.begin(), region.end() };
   }
 
   /// A refinement round that ended at the vertex budget or stalled says so (`when`: which round).
@@ -1373,6 +1405,8 @@ private:
     st["refinement_steps"] = static_cast<double>(steps_);
     st["refinement_threads"] = threads_;
     st["refinement_rounds"] = rounds_;
+    if (threads_ > 1)
+      st["parallel.repeated_vertices_refused"] = static_cast<double>(parallelPhases_.repeatsRefused);
     if (conforming_ && threads_ > 1)
     {
       // the three phases of refineConformingInParallel: vertices after each, wall seconds of each
@@ -1478,7 +1512,8 @@ private:
   struct ParallelPhases
   {
     size_t segmentVertices = 0, parallelVertices = 0;
-    std::vector<Vec3> leftBad; ///< refinement points the guard refused (SegmentGuardLevel)
+    std::vector<Vec3> leftBad; ///< refinement points the guard refused (ParallelGuardLevel)
+    size_t repeatsRefused = 0; ///< of them, points that repeated a vertex
     double segmentSeconds = 0.0, parallelSeconds = 0.0, tailSeconds = 0.0;
     bool tailRan = false;
   } parallelPhases_;
@@ -1506,7 +1541,27 @@ private:
 TetMesh meshOracleUnguarded(const HierarchicalOracle& oracle, const FeatureSegments& givenFeatures,
   const std::vector<Vec3>& seedPoints, const MesherOptions& options)
 {
-  return MeshingRun(oracle, givenFeatures, options).run(seedPoints);
+  try
+  {
+    return MeshingRun(oracle, givenFeatures, options).run(seedPoints);
+  }
+  catch (const ParallelBudgetReached& stop)
+  {
+    // the sequential run's mesh, as a one-thread run gives it, in what is left of the time limit
+    MesherOptions one = options;
+    one.threads = 1;
+    const double limit = effectiveTimeLimit(options);
+    if (limit > 0)
+      one.timeLimit = std::max(1e-3, limit - stop.seconds);
+    TetMesh mesh = MeshingRun(oracle, givenFeatures, one).run(seedPoints);
+    mesh.warnings.push_back("Threads = " + std::to_string(requestedThreads(options)) +
+      ": the parallel refinement reached MaximumNumberOfVertices = " +
+      std::to_string(options.maximumNumberOfVertices) + " (" + std::to_string(stop.vertices) +
+      " vertices) and was refined again on one thread: a parallel run stopped early leaves its vertices in deep "
+      "clusters (flat tetrahedra), the sequential run spreads them; raise the budget or loosen the criteria");
+    mesh.statistics["parallel.budget_retry_seconds"] = stop.seconds;
+    return mesh;
+  }
 }
 }
 

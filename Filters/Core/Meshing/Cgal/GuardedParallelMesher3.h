@@ -1,11 +1,11 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// Private to the mesher (includes CGAL). CGAL's parallel Mesher_3 (Parallel_tag) with the
-// constrained segments as a read-only level below the facets (SegmentGuardLevel): the parallel
-// phase of the Conforming strategy. Mirrors Mesh_3::Mesher_3::refine_mesh of CGAL 5.5 (parallel
-// branch), whose chain is fixed to Null_mesher_level below the facets.
+// Private to the mesher (includes CGAL). CGAL's parallel Mesher_3 (Parallel_tag) with a read-only
+// level below the facets (ParallelGuardLevel: repeated vertices, the constrained segments' balls):
+// every parallel refinement. Mirrors Mesh_3::Mesher_3::refine_mesh of CGAL 5.5 (parallel branch),
+// whose chain is fixed to Null_mesher_level below the facets.
 #pragma once
 
-#include "SegmentGuardLevel.h"
+#include "ParallelGuardLevel.h"
 
 #include <CGAL/Mesh_3/Mesher_3.h>
 #include <CGAL/Mesh_3/Refine_cells_3.h>
@@ -21,8 +21,8 @@ namespace omesh
 {
 namespace cgal
 {
-/// The facet level as seen by the cell level: a cell refinement point is first tested against
-/// the segments (T3.1), then against the restricted facets as CGAL does (T3.2; its facet level does
+/// The facet level as seen by the cell level: a cell refinement point is first tested by the
+/// guard (a repeated vertex, T3.1), then against the restricted facets as CGAL does (T3.2; its facet level does
 /// not ask its previous level for the cells' points). CGAL's facet level refines an encroached
 /// facet at once and has the cell try again; when the guard drops that facet's point, the cell
 /// would try again forever (the parallel form of the cycle FacetsLevelWithSegments breaks): the
@@ -32,7 +32,7 @@ class FacetsLevelWithGuard : public FacetsLevel
 {
 public:
   template <class Tr, class... Args>
-  explicit FacetsLevelWithGuard(SegmentGuardLevel& guard, Tr& tr, Args&&... args)
+  explicit FacetsLevelWithGuard(ParallelGuardLevel& guard, Tr& tr, Args&&... args)
     : FacetsLevel(tr, std::forward<Args>(args)...)
     , guard_(guard)
   {
@@ -70,7 +70,7 @@ private:
   }
 
 private:
-  SegmentGuardLevel& guard_;
+  ParallelGuardLevel& guard_;
 };
 
 template <class C3t3, class Criteria, class MeshDomain>
@@ -80,14 +80,14 @@ public:
   using Tr = typename C3t3::Triangulation;
   using Base = CGAL::Mesh_3::Mesher_3_base<Tr, CGAL::Parallel_tag>;
   using FacetsBase = CGAL::Mesh_3::Refine_facets_3<Tr, typename Criteria::Facet_criteria, MeshDomain, C3t3,
-    SegmentGuardLevel, CGAL::Parallel_tag, CGAL::Mesh_3::Refine_facets_manifold_base>;
+    ParallelGuardLevel, CGAL::Parallel_tag, CGAL::Mesh_3::Refine_facets_manifold_base>;
   using Facets = FacetsLevelWithGuard<FacetsBase>;
   using Cells =
     CGAL::Mesh_3::Refine_cells_3<Tr, typename Criteria::Cell_criteria, MeshDomain, C3t3, Facets, CGAL::Parallel_tag>;
   using FacetsVisitor = CGAL::Mesh_3::tets::Refine_facets_visitor<Tr, Cells, CGAL::Null_mesh_visitor>;
   using CellsVisitor = CGAL::Null_mesh_visitor_level<FacetsVisitor>;
 
-  GuardedParallelMesher3(C3t3& c3t3, const MeshDomain& domain, const Criteria& criteria, SegmentGuardLevel& guard,
+  GuardedParallelMesher3(C3t3& c3t3, const MeshDomain& domain, const Criteria& criteria, ParallelGuardLevel& guard,
     int topology, std::size_t maximumVertices, std::atomic<bool>* stop)
     : Base(c3t3.bbox(), ::Concurrent_mesher_config::get().locking_grid_num_cells_per_axis)
     , c3t3_(c3t3)
@@ -99,6 +99,7 @@ public:
     , cellsVisitor_(facetsVisitor_)
     , stop_(stop)
   {
+    guard.setInfiniteVertex(&*c3t3.triangulation().infinite_vertex());
     facets_.set_lock_ds(this->get_lock_data_structure());
     facets_.set_worksharing_ds(this->get_worksharing_data_structure());
     cells_.set_lock_ds(this->get_lock_data_structure());

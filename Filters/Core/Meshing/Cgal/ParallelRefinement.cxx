@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// CGAL's parallel Mesh_3 refinement: Mesher_3 for the None and ProtectingBalls strategies, the
-// same levels above a read-only segment level for Conforming (see ParallelRefinement.h). The
+// CGAL's parallel Mesh_3 refinement: Mesher_3's levels above a read-only guard level (repeated
+// vertices; the constrained segments' balls for Conforming; see ParallelRefinement.h). The
 // second Mesh_3 translation unit: it instantiates the meshers on the Parallel_tag triangulation only.
 
 // The vertex budget with Parallel_tag needs the containers' approximate size (CGAL: about 3%
@@ -16,7 +16,6 @@
 #include "PackedComplex.h"
 
 #include <CGAL/Mesh_3/Dump_c3t3.h>
-#include <CGAL/Mesh_3/Mesher_3.h>
 
 #include <tbb/scalable_allocator.h>
 #include <tbb/task_arena.h>
@@ -232,28 +231,16 @@ ParallelRefinementRun refineInParallel(SequentialC3t3& c3t3, const MeshDomain& d
     materialMeshCriteria<Parallel::Tr>(options, Parallel::Criteria::Edge_criteria(edgeSize > 0 ? edgeSize : 1.0), options.sliverAngle);
   std::atomic<bool> stop{ false };
   {
-    std::optional<SegmentGuardLevel> guard;
-    std::optional<CGAL::Mesh_3::Mesher_3<Parallel::C3t3, Parallel::Criteria, MeshDomain>> mesher;
-    std::optional<GuardedParallelMesher3<Parallel::C3t3, Parallel::Criteria, MeshDomain>> guarded;
-    if (protectedSegments)
-    {
-      guard.emplace(*protectedSegments);
-      guarded.emplace(par, domain, criteria, *guard, CGAL::FACET_VERTICES_ON_SURFACE, options.maximumNumberOfVertices, &stop);
-    }
-    else
-      mesher.emplace(
-        par, domain, criteria, CGAL::FACET_VERTICES_ON_SURFACE, options.maximumNumberOfVertices, nullptr, &stop);
+    const SegmentSet noSegments;
+    ParallelGuardLevel guard(protectedSegments ? *protectedSegments : noSegments);
+    GuardedParallelMesher3<Parallel::C3t3, Parallel::Criteria, MeshDomain> mesher(
+      par, domain, criteria, guard, CGAL::FACET_VERTICES_ON_SURFACE, options.maximumNumberOfVertices, &stop);
     // TBB's tasks of this refinement run in an arena of `threads` slots, whatever the machine has.
     tbb::task_arena arena(threads);
     arena.initialize();
     ArenaThreadCpu threadCpu(arena);
     auto refinement = std::async(std::launch::async, [&] {
-      arena.execute([&] {
-        if (guarded)
-          guarded->refine();
-        else
-          mesher->refine_mesh();
-      });
+      arena.execute([&] { mesher.refine(); });
     });
     const auto vertices = [&] { return par.triangulation().tds().vertices().approximate_size(); };
     std::size_t last = 0;
@@ -291,8 +278,8 @@ ParallelRefinementRun refineInParallel(SequentialC3t3& c3t3, const MeshDomain& d
     refinement.get(); // rethrows what the refinement threw
     run.busiestThreadCpu = threadCpu.busiest();
     run.budgetHit = run.budgetHit || (options.maximumNumberOfVertices && vertices() >= options.maximumNumberOfVertices);
-    if (guard)
-      run.leftBad = guard->dropped();
+    run.leftBad = guard.dropped();
+    run.repeatsRefused = guard.repeats();
   }
   if (par.triangulation().dimension() == 3)
   {

@@ -26,8 +26,10 @@ struct ParallelRefinementRun
   /// CPU seconds of the busiest refinement thread: with the calling thread's (the copies), what
   /// the refinement takes on idle cores (a shared machine's load hides it from the wall time)
   double busiestThreadCpu = 0.0;
-  /// With protected segments: the refinement points of the elements left bad (SegmentGuardLevel)
+  /// The refinement points of the elements the guard left bad (ParallelGuardLevel)
   std::vector<Vec3> leftBad;
+  /// How many of them repeated a vertex (a stale element's point)
+  std::size_t repeatsRefused = 0;
 };
 
 /// The number of threads MesherOptions::threads asks for (0 = every core of the machine).
@@ -39,14 +41,14 @@ int requestedThreads(const MesherOptions& options);
 /// (vertices, cells, their Mesh_3 data, corners, feature edges, far points).
 /// `progress` is called from the calling thread about every 50 ms with the (approximate) number of
 /// vertices; when it throws, the refinement is stopped and the exception passed on.
-/// Not deterministic: the order of insertions depends on the threads' timing. A run whose vertex
-/// count stays the same for 5 minutes (a refinement point that repeats a vertex) is stopped
-/// (`stalled`). After a stop (budget, stall) the cells may not all be in the complex yet: the
+/// Not deterministic: the order of insertions depends on the threads' timing. A point that repeats
+/// a vertex is not inserted (ParallelGuardLevel); its element is left bad. A run whose vertex
+/// count stays the same for 5 minutes is stopped (`stalled`). After a stop (budget, stall) the cells may not all be in the complex yet: the
 /// caller scans them (Mesher_3::fix_c3t3), as after a sequential stop.
 /// `protectedSegments` (Conforming; null for the other strategies): sub-segments, each a vertex
 /// pair of `c3t3` with an empty diametral ball, into whose balls nothing is inserted
-/// (SegmentGuardLevel: the facets and cells whose points fall there are left as they are, for the
-/// sequential refinement that follows); the chain is then GuardedParallelMesher3's.
+/// (ParallelGuardLevel: the facets and cells whose points fall there are left as they are, for the
+/// sequential refinement that follows).
 ParallelRefinementRun refineInParallel(SequentialC3t3& c3t3, const MeshDomain& domain, const MesherOptions& options,
   double edgeSize, int threads, const std::function<void(std::size_t)>& progress,
   const SegmentSet* protectedSegments = nullptr);
