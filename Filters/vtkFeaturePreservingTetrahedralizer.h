@@ -249,7 +249,8 @@ public:
   /// N > 1 (0 = every core): CGAL's parallel refinement on N threads; the mesh meets the same
   /// criteria and passes the same checks but differs from run to run (every strategy; the threads
   /// refine at circumcentres, then one thread refines the slivers they left at picked points); the
-  /// optimisers run on one thread.
+  /// optimisers run on one thread. A parallel refinement that reaches MaximumNumberOfVertices is
+  /// done again on one thread (a warning says so): the mesh is then the sequential run's.
   vtkSetMacro(Threads, int); // >= 0
   vtkGetMacro(Threads, int);
   ///@}
