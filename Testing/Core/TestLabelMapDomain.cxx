@@ -477,3 +477,59 @@ TEST(LabelMapDomain, OneDomainOracleStopsAtTheFirstChangeWithTheSameAnswers)
   EXPECT_GT(found, 2500u);
   EXPECT_GT(stopped, 500u); // the walk did stop early on many segments
 }
+
+TEST(LabelMapDomain, WalkShowsOneLabelOnlyWhereTheMaterialHoldsAlongTheSegment)
+{
+  // firstCrossings' true (no sampled piece, both ends in the grid) lets the oracle of one domain
+  // skip its checks: the material must then be the start's all along the segment, and the answer
+  // the same as an oracle that checks (a second domain that changes nothing turns the skip off)
+  const std::array<int, 3> d{ 17, 13, 11 };
+  std::mt19937 rng(7);
+  const std::vector<int> labels = labelGrid(d, [&](int i, int j, int k) {
+    int l = (i - 8) * (i - 8) + (j - 6) * (j - 6) + 2 * (k - 5) * (k - 5) < 30 ? 1 : 0;
+    if (j == 4 || i == 10)
+      l = 2;
+    if (rng() % 29 == 0)
+      l = static_cast<int>(rng() % 4);
+    return l;
+  });
+  auto map = std::make_shared<LabelMapDomain>(d, labels, AffineMap(), 0, "random", LabelInterpolation::Trilinear);
+  HierarchicalOracle alone, checked;
+  alone.add(map);
+  auto far = std::make_shared<SphereDomain>(Vec3{ 500, 500, 500 }, 1.0, 9, "far");
+  far->setCut(true);
+  checked.add(far);
+  checked.add(map);
+  std::uniform_real_distribution<double> where(-0.5, 17.5), step(-2.5, 2.5);
+  size_t shown = 0, throughMixed = 0;
+  for (int n = 0; n < 20000; ++n)
+  {
+    const Vec3 a{ where(rng), where(rng) * 13.0 / 17.0, where(rng) * 11.0 / 17.0 };
+    const Vec3 b = a + Vec3{ step(rng), step(rng), step(rng) };
+    std::vector<double> ts;
+    const bool one = map->firstCrossings(a, b, ts, 1);
+    const Intersection x = alone.intersect(a, b), y = checked.intersect(a, b);
+    ASSERT_EQ(x.found, y.found) << "segment " << n;
+    if (x.found)
+    {
+      EXPECT_EQ(x.t, y.t) << "segment " << n;
+      EXPECT_EQ(x.materialAfter, y.materialAfter) << "segment " << n;
+    }
+    EXPECT_EQ(x.materialBefore, y.materialBefore) << "segment " << n;
+    if (!one)
+      continue;
+    ++shown;
+    const int m = map->material(a);
+    bool mixed = false;
+    for (int k = 0; k <= 256; ++k)
+    {
+      const Vec3 p = lerp(a, b, k / 256.0);
+      ASSERT_EQ(map->material(p), m) << "segment " << n << " at " << k;
+      mixed = mixed || map->material(p + Vec3{ 0.5, 0.5, 0.5 }) != m || map->material(p - Vec3{ 0.5, 0.5, 0.5 }) != m;
+    }
+    EXPECT_FALSE(x.found) << "segment " << n;
+    throughMixed += mixed ? 1 : 0;
+  }
+  EXPECT_GT(shown, 2000u);
+  EXPECT_GT(throughMixed, 100u); // not only segments deep inside one label
+}

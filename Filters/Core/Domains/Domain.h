@@ -55,11 +55,15 @@ public:
   virtual void crossings(const Vec3& a, const Vec3& b, std::vector<double>& ts) const = 0;
   /// As crossings(), for a caller that needs only the first `changes` true changes: a domain may
   /// stop its search after them, listing a candidate after the last one up to which the material
-  /// after it holds (the oracle of one domain asks for its first change).
-  virtual void firstCrossings(const Vec3& a, const Vec3& b, std::vector<double>& ts, int changes) const
+  /// after it holds (the oracle of one domain asks for its first change). Returns true only when
+  /// it has shown, without sampling, that its material is the same everywhere on [a, b] (the oracle
+  /// of one domain then skips its own checks at the candidates' midpoints and at b); false when it
+  /// cannot tell.
+  virtual bool firstCrossings(const Vec3& a, const Vec3& b, std::vector<double>& ts, int changes) const
   {
     (void)changes;
     crossings(a, b, ts);
+    return false;
   }
 
   /// World bounds of the contained region; unbounded domains (half-spaces, infinite cylinders)

@@ -22,7 +22,11 @@ Intersection HierarchicalOracle::intersect(const Vec3& a, const Vec3& b) const
   thread_local std::vector<double> ts; // reused: the mesher asks millions of times
   ts.clear();
   if (domains_.size() == 1) // its first change is the oracle's
-    domains_[0]->firstCrossings(a, b, ts, 1);
+  {
+    // shown to keep one material along ab: the checks below would find no change
+    if (domains_[0]->firstCrossings(a, b, ts, 1))
+      return result;
+  }
   else
     for (const auto& d : domains_)
       d->crossings(a, b, ts);

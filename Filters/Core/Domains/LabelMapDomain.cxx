@@ -171,25 +171,22 @@ void LabelMapDomain::buildClearance()
       pass(y, z, -1);
 }
 
-void LabelMapDomain::firstCrossings(const Vec3& a, const Vec3& b, std::vector<double>& ts, int changes) const
+bool LabelMapDomain::firstCrossings(const Vec3& a, const Vec3& b, std::vector<double>& ts, int changes) const
 {
   const Vec3 ua = worldToVoxel_.apply(a), ub = worldToVoxel_.apply(b), d = ub - ua;
   if (!isFinite(ua) || !isFinite(d)) // a NaN end is outside every domain: nothing to cross
-    return;
+    return false;
   // Clip to the grid [0, dims] (slab method); entering and leaving the grid are candidates.
   double t0 = 0.0, t1 = 1.0;
   BoundingBox grid;
   grid.add(Vec3{ 0.0, 0.0, 0.0 });
   grid.add(Vec3{ dimsD_[0], dimsD_[1], dimsD_[2] });
   if (!grid.clip(ua, d, t0, t1))
-    return;
+    return false;
   ts.push_back(t0);
   ts.push_back(t1);
   if (interpolation_ == LabelInterpolation::Trilinear)
-  {
-    trilinearCrossings(ua, d, t0, t1, changes, ts);
-    return;
-  }
+    return trilinearCrossings(ua, d, t0, t1, changes, ts) && t0 == 0.0 && t1 == 1.0; // both ends in the grid
   // Voxel faces crossed inside the grid; keep those where the label actually changes.
   std::vector<double> faces{ t0 };
   for (int i = 0; i < 3; ++i)
@@ -216,6 +213,7 @@ void LabelMapDomain::firstCrossings(const Vec3& a, const Vec3& b, std::vector<do
       ts.push_back(faces[f]);
     previous = label;
   }
+  return false;
 }
 
 namespace
@@ -664,7 +662,7 @@ struct WalkCrossings
 };
 }
 
-void LabelMapDomain::trilinearCrossings(
+bool LabelMapDomain::trilinearCrossings(
   const Vec3& ua, const Vec3& d, double t0, double t1, int changes, std::vector<double>& ts) const
 {
   // Between the planes through voxel centres the indicators are trilinear (cubic along the
@@ -678,13 +676,14 @@ void LabelMapDomain::trilinearCrossings(
   bool noChange = false;
   uint16_t previous = walk.labelAtStart(t0, t1, noChange);
   if (noChange) // the whole segment in one cube of one label: the walk would jump to its end
-    return;
+    return true;
   thread_local std::vector<uint16_t> labelsBefore; // reused: no allocation per query
   labelsBefore.clear();
   WalkCrossings found{ ts, ts.size(), labelsBefore };
   PieceEnds ends(ua, d, t0, t1);
   constexpr int kSamples = 4;
   double previousT = t0;
+  bool sampled = false; // a piece's label was sampled, not shown (returns false)
   double a = 0.0, b = 0.0;
   ends.next(a);
   for (; ends.next(b); a = b)
@@ -706,6 +705,7 @@ void LabelMapDomain::trilinearCrossings(
       previousT = a + (b - a) * kSamples / kSamples; // the last sample's t, as the samples leave it
       continue;
     }
+    sampled = true;
     for (int s = 1; s <= kSamples; ++s)
     {
       const double t = a + (b - a) * s / kSamples;
@@ -728,9 +728,10 @@ void LabelMapDomain::trilinearCrossings(
     if (ts.size() - found.from >= static_cast<size_t>(changes))
     {
       ts.push_back(b);
-      return;
+      return false;
     }
   }
+  return !sampled && ts.size() == found.from;
 }
 
 void LabelMapDomain::bendPlanes(const Vec3& a, const Vec3& b, std::vector<BendPlane>& planes) const

@@ -55,8 +55,10 @@ public:
   {
     firstCrossings(a, b, ts, std::numeric_limits<int>::max());
   }
-  /// Trilinear: the walk stops after the piece where it found the first `changes` changes.
-  void firstCrossings(const Vec3& a, const Vec3& b, std::vector<double>& ts, int changes) const override;
+  /// Trilinear: the walk stops after the piece where it found the first `changes` changes; true
+  /// when ab lies in the grid and every piece of it was shown to keep the start's label (cells of
+  /// one label, holdsOnPiece), none sampled.
+  bool firstCrossings(const Vec3& a, const Vec3& b, std::vector<double>& ts, int changes) const override;
   /// The planes through voxel centres (Trilinear) or voxel faces (Nearest) that ab crosses.
   void bendPlanes(const Vec3& a, const Vec3& b, std::vector<BendPlane>& planes) const override;
   BoundingBox bounds() const override;
@@ -87,7 +89,7 @@ private:
   }
   /// Compact label index of the largest trilinear indicator at voxel coordinates u (in the grid).
   uint16_t trilinearIndex(const Vec3& u) const;
-  void trilinearCrossings(const Vec3& ua, const Vec3& d, double t0, double t1, int changes, std::vector<double>& ts) const;
+  bool trilinearCrossings(const Vec3& ua, const Vec3& d, double t0, double t1, int changes, std::vector<double>& ts) const;
   /// Fills clearance_ (Trilinear only).
   void buildClearance();
 
