@@ -87,31 +87,9 @@ void remapSegments(FeatureSegments& f, const std::vector<int>& to)
   mergeFeatureSegments(f);
 }
 
-/// For each point, its neighbours along the segments, sorted.
-std::vector<std::vector<int>> neighbours(const FeatureSegments& f);
-
-/// Whether w may merge into v without moving an exact point's lines off its interfaces by more
-/// than its tolerance: w is no exact point or lies within its tolerance of v; else v must lie on
-/// w's interfaces and the chords from v to w's other neighbours pass within that tolerance of w
-/// (merging across a turn of the curve at w would cut it).
-bool mayMerge(const FeatureSegments& f, const std::vector<std::vector<int>>& adjacent, const ExactFeaturePoints& exact,
-  std::size_t w, std::size_t v)
-{
-  const ExactPoint* e = exact.find(f.points[w]);
-  if (!e || norm(f.points[w] - f.points[v]) <= e->tolerance)
-    return true;
-  if (!exact.onInterfacesOf(f.points[w], f.points[v]))
-    return false;
-  for (int n : adjacent[w])
-    if (static_cast<std::size_t>(n) != v && distanceToSegment(f.points[w], f.points[v], f.points[n]) > e->tolerance)
-      return false;
-  return true;
-}
-
 /// Step 1: greedy clustering, highest degree first: each point not yet taken keeps its place and
-/// takes every untaken point within `d` (a kd-tree range query) that may merge into it (mayMerge).
-/// Returns the points merged.
-std::size_t mergeNearbyPoints(FeatureSegments& f, double d, const ExactFeaturePoints& exact)
+/// takes every untaken point within `d` (a kd-tree range query). Returns the points merged.
+std::size_t mergeNearbyPoints(FeatureSegments& f, double d)
 {
   const std::size_t n = f.points.size();
   std::vector<Point> pts(n);
@@ -126,7 +104,6 @@ std::size_t mergeNearbyPoints(FeatureSegments& f, double d, const ExactFeaturePo
   std::vector<int> to(n, -1);
   std::size_t merged = 0;
   std::vector<std::size_t> near;
-  const auto adjacent = exact.empty() ? std::vector<std::vector<int>>{} : neighbours(f);
   for (std::size_t v : order)
   {
     if (to[v] >= 0)
@@ -135,8 +112,7 @@ std::size_t mergeNearbyPoints(FeatureSegments& f, double d, const ExactFeaturePo
     near.clear();
     tree.search(std::back_inserter(near), Sphere(pts[v], d, 0.0, KdTraits(PointMap(pts.data()))));
     for (std::size_t w : near)
-      if (to[w] < 0 && CGAL::squared_distance(pts[v], pts[w]) < d * d &&
-        (exact.empty() || mayMerge(f, adjacent, exact, w, v)))
+      if (to[w] < 0 && CGAL::squared_distance(pts[v], pts[w]) < d * d)
       {
         to[w] = static_cast<int>(v);
         ++merged;
@@ -201,10 +177,8 @@ struct SnapCandidate
   }
 };
 
-/// Points closer than d to a segment they do not end, where worthSnapping and the segment, if
-/// exact, stays within its tolerance.
-void nearSegmentCandidates(
-  const FeatureSegments& f, double d, const ExactFeaturePoints& exact, std::vector<SnapCandidate>& candidates)
+/// Points closer than d to a segment they do not end, where worthSnapping.
+void nearSegmentCandidates(const FeatureSegments& f, double d, std::vector<SnapCandidate>& candidates)
 {
   const std::vector<Segment> segs = cgalSegments(f);
   Tree tree(segs.begin(), segs.end());
@@ -227,17 +201,14 @@ void nearSegmentCandidates(
       if (e[0] == pi || e[1] == pi)
         continue;
       const double dist2 = CGAL::squared_distance(q, *it);
-      if (dist2 < d * d && worthSnapping(f, adjacent, pi, e[0], e[1]) &&
-        (exact.empty() || std::sqrt(dist2) <= exact.segmentTolerance(f.points[e[0]], f.points[e[1]])))
+      if (dist2 < d * d && worthSnapping(f, adjacent, pi, e[0], e[1]))
         candidates.push_back({ std::sqrt(dist2), s, pi });
     }
   }
 }
 
-/// Small angles at shared points, at any distance: the shorter segment's far end goes into the
-/// longer (if exact, only within its tolerance).
-void smallAngleCandidates(
-  const FeatureSegments& f, double minAngle, const ExactFeaturePoints& exact, std::vector<SnapCandidate>& candidates)
+/// Small angles at shared points, at any distance: the shorter segment's far end goes into the longer.
+void smallAngleCandidates(const FeatureSegments& f, double minAngle, std::vector<SnapCandidate>& candidates)
 {
   const auto inc = incidentSegments(f);
   for (std::size_t v = 0; v < f.points.size(); ++v)
@@ -251,24 +222,22 @@ void smallAngleCandidates(
         const int p = f.segments[shorter][0] == vi ? f.segments[shorter][1] : f.segments[shorter][0];
         const int q = f.segments[longer][0] == vi ? f.segments[longer][1] : f.segments[longer][0];
         const double angle = angleAt(f.points[v], f.points[p], f.points[q]);
-        const double moved = f.length(shorter) * std::sin(angle * M_PI / 180.0);
-        if (angle < minAngle &&
-          (exact.empty() || moved <= exact.segmentTolerance(f.points[vi], f.points[q])))
-          candidates.push_back({ moved, longer, p });
+        if (angle < minAngle)
+          candidates.push_back({ f.length(shorter) * std::sin(angle * M_PI / 180.0), longer, p });
       }
 }
 
 /// Step 2, one round: the closest (point, segment) pairs first, each split only where none of its
 /// three points took part in a split of this round (so the splits are independent, as if made one
 /// after the other, and two segments cannot split each other back and forth). Returns the splits.
-std::size_t snapPointsToSegments(FeatureSegments& f, double d, double minAngle, const ExactFeaturePoints& exact)
+std::size_t snapPointsToSegments(FeatureSegments& f, double d, double minAngle)
 {
   if (f.segments.empty())
     return 0;
   std::vector<SnapCandidate> candidates;
-  nearSegmentCandidates(f, d, exact, candidates);
+  nearSegmentCandidates(f, d, candidates);
   if (minAngle > 0)
-    smallAngleCandidates(f, minAngle, exact, candidates);
+    smallAngleCandidates(f, minAngle, candidates);
   std::sort(candidates.begin(), candidates.end());
   std::vector<char> taken(f.points.size(), 0);
   std::vector<int> splitAt(f.segments.size(), -1);
@@ -302,12 +271,12 @@ std::size_t snapPointsToSegments(FeatureSegments& f, double d, double minAngle, 
 }
 
 /// Step 2 until nothing moves (at most `rounds`, a backstop): a split can bring a new segment near a point.
-std::size_t snapUntilStable(FeatureSegments& f, double d, double minAngle, const ExactFeaturePoints& exact, int rounds = 64)
+std::size_t snapUntilStable(FeatureSegments& f, double d, double minAngle, int rounds = 64)
 {
   std::size_t total = 0;
   for (int r = 0; r < rounds; ++r)
   {
-    const std::size_t n = snapPointsToSegments(f, d, minAngle, exact);
+    const std::size_t n = snapPointsToSegments(f, d, minAngle);
     total += n;
     if (!n)
       break;
@@ -668,14 +637,14 @@ FeatureNetworkReport simplifyFeatureNetwork(FeatureSegments& f, const FeatureNet
   const double d = tol.mergeDistance();
   if (d > 0)
   {
-    report.pointsMerged = mergeNearbyPoints(f, d, tol.exact);
-    report.pointsSnapped = snapUntilStable(f, d, tol.minAngle, tol.exact);
+    report.pointsMerged = mergeNearbyPoints(f, d);
+    report.pointsSnapped = snapUntilStable(f, d, tol.minAngle);
   }
   if (tol.spurLength() > 0)
     dropSpurs(f, tol.spurLength(), report);
   report.pointsResampled = resampleFeatureLines(f, h, std::max(0.0, tol.chordTolerance));
   if (d > 0)
-    report.pointsSnapped += snapUntilStable(f, d, tol.minAngle, tol.exact);
+    report.pointsSnapped += snapUntilStable(f, d, tol.minAngle);
   if (tol.inDomain)
   {
     report.segmentsOutside = dropSegmentsLeavingDomain(f, tol);

@@ -1,7 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 
-#include "ExactFeaturePoints.h"
 #include "FeatureSegments.h"
 
 #include <cstddef>
@@ -32,12 +31,6 @@ struct FeatureNetworkTolerances
   /// length, as the mesher's own test): simplified segments that leave it are dropped, they could not
   /// become mesh edges. Empty: everywhere.
   std::function<bool(const Vec3&)> inDomain;
-  /// Points of lines found where the inputs meet (empty: none, given lines only). Steps 1 and 2
-  /// keep them on their interfaces: an exact point merges into a point farther than its
-  /// tolerance only when that point lies on its interfaces (ExactFeaturePoints::onInterfacesOf)
-  /// and the chords to its neighbours then pass within its tolerance of it; a segment between
-  /// exact points takes a point in (a snap, a shared trunk) only within its tolerance.
-  ExactFeaturePoints exact;
   double mergeDistance() const { return mergeFraction * edgeLength; }
   double spurLength() const { return spurFraction * edgeLength; }
 };
