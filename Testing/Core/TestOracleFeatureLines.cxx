@@ -1122,3 +1122,66 @@ TEST(OracleFeatureLines, ChordsOfARimAtAGrazingAngleToATrilinearInterfaceKeepWit
       }
   EXPECT_GT(chords, 5);
 }
+
+// Issue 13: where a found line ends 0.17 from a crease corner, closer than the edge size, the
+// network simplification (resampleFeatureLines) made one point of the two: the entry curve then
+// ran through the box's corner (0.17 off the ball) or the corner's edges cut across the box's
+// faces. With the found lines' materials (MesherOptions::featureMaterials) both points stay, and
+// every piece the mesher keeps lies on a true curve within a tenth of the facet distance.
+TEST(OracleFeatureLines, AFoundLinesEndNearACreaseCornerStaysOnItsCurveThroughTheSimplification)
+{
+  const double entryX = std::sqrt(0.75); // where the box's edges along x leave the ball
+  const Vec3 lo{ 0.3, -0.4, -0.3 }, hi{ entryX + 0.17, 0.4, 0.3 };
+  HierarchicalOracle oracle;
+  oracle.add(std::make_shared<SphereDomain>(Vec3{ 0, 0, 0 }, 1.0, 1, "ball"));
+  oracle.add(std::make_shared<BoxDomain>(lo, hi, 2, "box"));
+  MaterialCriteria criteria;
+  criteria.global = { 25.0, 0.25, 0.1, 0.25, 3.0, 0.25 }; // angle, facet size, distance, cell size, radius-edge, edge
+  const FeatureSelection selection = selectFeatures(oracle, {}, FeatureSource::Automatic, criteria);
+  MesherOptions options;
+  options.criteria = criteria;
+  options.seed = 1;
+  options.resampleFeatureLines = true;
+  for (const auto& o : selection.origin)
+    options.featureMaterials.push_back(o.materials);
+  const TetMesh mesh = meshOracle(oracle, selection.segments, {}, options);
+  ASSERT_FALSE(mesh.segments.empty());
+  EXPECT_TRUE(checkMeshValidity(mesh).valid());
+
+  const double tolerance = 0.1 * 0.1;
+  const auto edges = boxEdges(lo, hi);
+  const auto toBoxSurface = [&](const Vec3& x) {
+    double inside = 1e300, outside = 0.0;
+    for (int a = 0; a < 3; ++a)
+    {
+      inside = std::min({ inside, x[a] - lo[a], hi[a] - x[a] });
+      outside += std::pow(std::max({ 0.0, lo[a] - x[a], x[a] - hi[a] }), 2);
+    }
+    return outside > 0 ? std::sqrt(outside) : inside;
+  };
+  // off every true curve: the box's edges outside the ball, the entry curve (ball and box surface)
+  const auto offCurves = [&](const Vec3& x) {
+    const double crease = norm(x) >= 1.0 - tolerance ? nearestEdge(x, edges) : 1e300;
+    return std::min(crease, std::max(std::abs(norm(x) - 1.0), toBoxSurface(x)));
+  };
+  double worst = 0.0, covered = 0.0, total = 0.0;
+  for (const auto& s : mesh.segments)
+  {
+    for (int k = 0; k <= 20; ++k)
+      worst = std::max(worst, offCurves(lerp(s.a, s.b, k / 20.0)));
+    total += norm(s.b - s.a);
+    covered += s.present ? norm(s.b - s.a) : 0.0;
+  }
+  EXPECT_LE(worst, tolerance);
+  EXPECT_EQ(covered, total);
+  // the four corners outside the ball and the four ends of the entry curve on the edges stay
+  for (double y : { lo.y, hi.y })
+    for (double z : { lo.z, hi.z })
+      for (const Vec3 p : { Vec3{ hi.x, y, z }, Vec3{ entryX, y, z } })
+      {
+        double nearest = 1e300;
+        for (const auto& s : mesh.segments)
+          nearest = std::min({ nearest, norm(s.a - p), norm(s.b - p) });
+        EXPECT_LT(nearest, 1e-9) << "(" << p.x << ", " << p.y << ", " << p.z << ") is no end of a piece";
+      }
+}
