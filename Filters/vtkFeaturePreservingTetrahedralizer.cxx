@@ -382,11 +382,8 @@ void vtkFeaturePreservingTetrahedralizer::SelectFeatures(MeshingRun& run)
       return !this->GetAbortExecute();
     });
   run.features = run.selection.segments;
-  run.options.featureMaterials.clear();
   if (searching)
   {
-    for (const auto& o : run.selection.origin)
-      run.options.featureMaterials.push_back(o.automatic ? o.materials : std::array<int, 4>{ -2, -2, -2, -2 });
     if (deadline.limited())
       run.options.timeLimit = std::max(1e-3, deadline.limit() - deadline.elapsed());
     run.options.progress = [this](double fraction, const char*) {

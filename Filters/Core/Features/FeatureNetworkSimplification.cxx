@@ -87,46 +87,9 @@ void remapSegments(FeatureSegments& f, const std::vector<int>& to)
   mergeFeatureSegments(f);
 }
 
-/// For each point, its neighbours along the segments, sorted.
-std::vector<std::vector<int>> neighbours(const FeatureSegments& f)
-{
-  std::vector<std::vector<int>> n(f.points.size());
-  for (const auto& s : f.segments)
-  {
-    n[s[0]].push_back(s[1]);
-    n[s[1]].push_back(s[0]);
-  }
-  for (auto& v : n)
-    std::sort(v.begin(), v.end());
-  return n;
-}
-
-/// Whether w may merge into v. An exact point goes only within its tolerance or onto a point on
-/// its interfaces; an exact corner (an end or junction of found lines: not two segments) only
-/// where the chords from v to its other neighbours also pass within that tolerance of it (a merge
-/// across a turn would cut it). Holding points inside a curve to that too, and snaps and shared
-/// trunks, kept near-touches and folds of 1 degree for the mesher (1.6-2.4x the tetrahedra at
-/// radius-edge 1.1).
-bool mayMerge(const FeatureSegments& f, const std::vector<std::vector<int>>& adjacent, const ExactFeaturePoints& exact,
-  std::size_t w, std::size_t v)
-{
-  const ExactPoint* e = exact.find(f.points[w]);
-  if (!e || norm(f.points[w] - f.points[v]) <= e->tolerance)
-    return true;
-  if (!exact.onInterfacesOf(f.points[w], f.points[v]))
-    return false;
-  if (adjacent[w].size() == 2)
-    return true;
-  for (int n : adjacent[w])
-    if (static_cast<std::size_t>(n) != v && distanceToSegment(f.points[w], f.points[v], f.points[n]) > e->tolerance)
-      return false;
-  return true;
-}
-
 /// Step 1: greedy clustering, highest degree first: each point not yet taken keeps its place and
-/// takes every untaken point within `d` (a kd-tree range query) that may merge into it (mayMerge).
-/// Returns the points merged.
-std::size_t mergeNearbyPoints(FeatureSegments& f, double d, const ExactFeaturePoints& exact)
+/// takes every untaken point within `d` (a kd-tree range query). Returns the points merged.
+std::size_t mergeNearbyPoints(FeatureSegments& f, double d)
 {
   const std::size_t n = f.points.size();
   std::vector<Point> pts(n);
@@ -141,7 +104,6 @@ std::size_t mergeNearbyPoints(FeatureSegments& f, double d, const ExactFeaturePo
   std::vector<int> to(n, -1);
   std::size_t merged = 0;
   std::vector<std::size_t> near;
-  const auto adjacent = exact.empty() ? std::vector<std::vector<int>>{} : neighbours(f);
   for (std::size_t v : order)
   {
     if (to[v] >= 0)
@@ -150,8 +112,7 @@ std::size_t mergeNearbyPoints(FeatureSegments& f, double d, const ExactFeaturePo
     near.clear();
     tree.search(std::back_inserter(near), Sphere(pts[v], d, 0.0, KdTraits(PointMap(pts.data()))));
     for (std::size_t w : near)
-      if (to[w] < 0 && CGAL::squared_distance(pts[v], pts[w]) < d * d &&
-        (exact.empty() || mayMerge(f, adjacent, exact, w, v)))
+      if (to[w] < 0 && CGAL::squared_distance(pts[v], pts[w]) < d * d)
       {
         to[w] = static_cast<int>(v);
         ++merged;
@@ -160,6 +121,20 @@ std::size_t mergeNearbyPoints(FeatureSegments& f, double d, const ExactFeaturePo
   if (merged)
     remapSegments(f, to);
   return merged;
+}
+
+/// For each point, its neighbours along the segments, sorted.
+std::vector<std::vector<int>> neighbours(const FeatureSegments& f)
+{
+  std::vector<std::vector<int>> n(f.points.size());
+  for (const auto& s : f.segments)
+  {
+    n[s[0]].push_back(s[1]);
+    n[s[1]].push_back(s[0]);
+  }
+  for (auto& v : n)
+    std::sort(v.begin(), v.end());
+  return n;
 }
 
 /// Snapping p (closer than d to segment ab) into ab helps where p is no neighbour of a or b (a
@@ -176,23 +151,6 @@ bool worthSnapping(const FeatureSegments& f, const std::vector<std::vector<int>>
   constexpr double trunkAngle = 45.0;
   return (nextToA && angleAt(f.points[a], f.points[p], f.points[b]) < trunkAngle) ||
     (nextToB && angleAt(f.points[b], f.points[p], f.points[a]) < trunkAngle);
-}
-
-/// Whether segment ab may pass through p, `moved` from it: ab is no segment between exact points,
-/// or p lies within their tolerance, or ab is a triple line (three materials or more: where they
-/// all meet is the curve) and p lies on the interfaces of both ends. A crease or rim (two
-/// materials) only within the tolerance: a point of its interface beside it is not on it.
-bool keepsInterfaces(const FeatureSegments& f, const ExactFeaturePoints& exact, int a, int b, int p, double moved)
-{
-  const ExactPoint* ea = exact.find(f.points[a]);
-  const ExactPoint* eb = exact.find(f.points[b]);
-  if (!ea || !eb || moved <= std::min(ea->tolerance, eb->tolerance))
-    return true;
-  std::vector<int> common;
-  std::set_intersection(ea->materials.begin(), ea->materials.end(), eb->materials.begin(), eb->materials.end(),
-    std::back_inserter(common));
-  return common.size() >= 3 && exact.onInterfacesOf(f.points[a], f.points[p]) &&
-    exact.onInterfacesOf(f.points[b], f.points[p]);
 }
 
 /// The segments at each point.
@@ -219,11 +177,8 @@ struct SnapCandidate
   }
 };
 
-/// Points closer than d to a segment they do not end, where worthSnapping and, for a segment
-/// between exact points, the point lies on the interfaces of both or within their tolerance (a
-/// crease corner beside a triple line does not become its vertex).
-void nearSegmentCandidates(
-  const FeatureSegments& f, double d, const ExactFeaturePoints& exact, std::vector<SnapCandidate>& candidates)
+/// Points closer than d to a segment they do not end, where worthSnapping.
+void nearSegmentCandidates(const FeatureSegments& f, double d, std::vector<SnapCandidate>& candidates)
 {
   const std::vector<Segment> segs = cgalSegments(f);
   Tree tree(segs.begin(), segs.end());
@@ -246,8 +201,7 @@ void nearSegmentCandidates(
       if (e[0] == pi || e[1] == pi)
         continue;
       const double dist2 = CGAL::squared_distance(q, *it);
-      if (dist2 < d * d && worthSnapping(f, adjacent, pi, e[0], e[1]) &&
-        keepsInterfaces(f, exact, e[0], e[1], pi, std::sqrt(dist2)))
+      if (dist2 < d * d && worthSnapping(f, adjacent, pi, e[0], e[1]))
         candidates.push_back({ std::sqrt(dist2), s, pi });
     }
   }
@@ -276,12 +230,12 @@ void smallAngleCandidates(const FeatureSegments& f, double minAngle, std::vector
 /// Step 2, one round: the closest (point, segment) pairs first, each split only where none of its
 /// three points took part in a split of this round (so the splits are independent, as if made one
 /// after the other, and two segments cannot split each other back and forth). Returns the splits.
-std::size_t snapPointsToSegments(FeatureSegments& f, double d, double minAngle, const ExactFeaturePoints& exact)
+std::size_t snapPointsToSegments(FeatureSegments& f, double d, double minAngle)
 {
   if (f.segments.empty())
     return 0;
   std::vector<SnapCandidate> candidates;
-  nearSegmentCandidates(f, d, exact, candidates);
+  nearSegmentCandidates(f, d, candidates);
   if (minAngle > 0)
     smallAngleCandidates(f, minAngle, candidates);
   std::sort(candidates.begin(), candidates.end());
@@ -317,12 +271,12 @@ std::size_t snapPointsToSegments(FeatureSegments& f, double d, double minAngle, 
 }
 
 /// Step 2 until nothing moves (at most `rounds`, a backstop): a split can bring a new segment near a point.
-std::size_t snapUntilStable(FeatureSegments& f, double d, double minAngle, const ExactFeaturePoints& exact, int rounds = 64)
+std::size_t snapUntilStable(FeatureSegments& f, double d, double minAngle, int rounds = 64)
 {
   std::size_t total = 0;
   for (int r = 0; r < rounds; ++r)
   {
-    const std::size_t n = snapPointsToSegments(f, d, minAngle, exact);
+    const std::size_t n = snapPointsToSegments(f, d, minAngle);
     total += n;
     if (!n)
       break;
@@ -683,14 +637,14 @@ FeatureNetworkReport simplifyFeatureNetwork(FeatureSegments& f, const FeatureNet
   const double d = tol.mergeDistance();
   if (d > 0)
   {
-    report.pointsMerged = mergeNearbyPoints(f, d, tol.exact);
-    report.pointsSnapped = snapUntilStable(f, d, tol.minAngle, tol.exact);
+    report.pointsMerged = mergeNearbyPoints(f, d);
+    report.pointsSnapped = snapUntilStable(f, d, tol.minAngle);
   }
   if (tol.spurLength() > 0)
     dropSpurs(f, tol.spurLength(), report);
   report.pointsResampled = resampleFeatureLines(f, h, std::max(0.0, tol.chordTolerance));
   if (d > 0)
-    report.pointsSnapped += snapUntilStable(f, d, tol.minAngle, tol.exact);
+    report.pointsSnapped += snapUntilStable(f, d, tol.minAngle);
   if (tol.inDomain)
   {
     report.segmentsOutside = dropSegmentsLeavingDomain(f, tol);

@@ -1,7 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 
-#include "ExactFeaturePoints.h"
 #include "FeatureSegments.h"
 
 #include <cstddef>
@@ -32,12 +31,6 @@ struct FeatureNetworkTolerances
   /// length, as the mesher's own test): simplified segments that leave it are dropped, they could not
   /// become mesh edges. Empty: everywhere.
   std::function<bool(const Vec3&)> inDomain;
-  /// Points of lines found where the inputs meet (empty: none, given lines only). In step 1 an
-  /// end or junction of them merges into a point farther than its tolerance only when that point
-  /// lies on its interfaces (ExactFeaturePoints::onInterfacesOf) and the chords to its other
-  /// neighbours then pass within its tolerance of it: a triple line's end is not pulled onto a
-  /// crease corner beside it (issue 13).
-  ExactFeaturePoints exact;
   double mergeDistance() const { return mergeFraction * edgeLength; }
   double spurLength() const { return spurFraction * edgeLength; }
 };
@@ -69,7 +62,7 @@ struct FeatureNetworkReport
 /// the input surfaces):
 ///  1. points closer than the merge distance d are merged, greedily, into the point of highest
 ///     degree among them (then the lowest index; a kd-tree range search): every point moves by at
-///     most d, and the kept points are at least d apart (but for found corners held, see exact);
+///     most d, and the kept points are at least d apart;
 ///  2. a point closer than d to a segment it does not end becomes a point of that segment (a
 ///     near-touch becomes a junction), and two segments meeting at less than minAngle share a trunk
 ///     (the longer becomes the shorter plus the chord from its far end): the lines' total length
@@ -84,7 +77,7 @@ struct FeatureNetworkReport
 ///     no mesh could hold those segments as edges there) are bypassed by their neighbours' chord
 ///     or lose those segments (then step 3 again).
 /// What it guarantees: kept points are input points at least d apart (so no segment is shorter
-/// than d), but for found corners that `exact` holds apart; at the end of step 2 no two segments sharing a point meet at less than minAngle (the
+/// than d); at the end of step 2 no two segments sharing a point meet at less than minAngle (the
 /// measured smallest angle is reported, as resampling's chords and step 6 come after). How far the
 /// lines move is measured, both ways, and reported rather than bounded a priori: a merge moves a
 /// line by at most d, a trunk by at most half its shorter segment, a chord by at most the chord

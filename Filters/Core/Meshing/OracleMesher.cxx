@@ -584,16 +584,6 @@ std::optional<FeatureSegments> resampledFeatures(const FeatureSegments& given, c
         tolerances.edgeLength = std::min(tolerances.edgeLength, e);
   tolerances.chordTolerance = distance > 0 ? 0.5 * distance : 0.05 * tolerances.edgeLength;
   tolerances.inDomain = [&oracle](const Vec3& p) { return oracle.material(p) != kOutside; };
-  // found lines within a tenth of their materials' smallest facet distance (else of the global
-  // one, else h / 20), as the search resampled them
-  tolerances.exact = ExactFeaturePoints(given, options.featureMaterials, [&](const std::vector<int>& materials) {
-    double fd = 0.0;
-    for (int m : materials)
-      if (const double d = m >= 0 ? options.criteria.of(m).facetDistance : 0.0; d > 0 && (fd <= 0 || d < fd))
-        fd = d;
-    fd = fd > 0 ? fd : g.facetDistance;
-    return fd > 0 ? 0.1 * fd : 0.05 * tolerances.edgeLength;
-  });
   FeatureSegments resampled = given;
   report = simplifyFeatureNetwork(resampled, tolerances);
   // each chord keeps the own edge size of the given line nearest to it

@@ -6,7 +6,6 @@
 #include "MeshingDeadline.h"
 #include "TetMesh.h"
 
-#include <array>
 #include <cstddef>
 #include <functional>
 #include <stdexcept>
@@ -63,11 +62,6 @@ struct MesherOptions
   /// feature lines made of many tiny noisy segments (sharp edges of scanned surfaces); the scene
   /// files turn it on for sharp edges found on a surface. Statistics feature_network.*.
   bool resampleFeatureLines = false;
-  /// Per segment of the feature lines, the materials a line found where the inputs meet separates
-  /// (FeatureSelection::Origin; -2 unused, all -2 for a given segment; empty: none found). With
-  /// resampleFeatureLines the simplification keeps found lines within a tenth of their materials'
-  /// smallest facet distance of their interfaces (FeatureNetworkTolerances::exact).
-  std::vector<std::array<int, 4>> featureMaterials;
   /// Tetrahedra with at least three vertices on interfaces or feature lines and a minimal dihedral angle
   /// below this (degrees) are refined like bad cells: the optimisers cannot fix them. 0 = off.
   /// Below radius-edge 1.2 only those with a circumradius of at least 1/8 of their material's cell
