@@ -43,6 +43,37 @@ std::vector<int> blockLabels(const std::array<int, 3>& d)
     return l;
   });
 }
+
+/// A 17 x 13 x 11 trilinear label map of a blob (1) crossed by two thin layers (2), with about one
+/// voxel in `noise` relabelled at random (0-3) from `rng`; and two oracles of it: `alone` (the map
+/// only) and `walked` (a cut far away first, which changes nothing but makes the oracle walk every
+/// segment to its end and check what the walk found).
+struct NoisyBlobOracles
+{
+  std::shared_ptr<LabelMapDomain> map;
+  HierarchicalOracle alone, walked;
+};
+
+NoisyBlobOracles noisyBlobOracles(std::mt19937& rng, unsigned noise)
+{
+  const std::array<int, 3> d{ 17, 13, 11 };
+  const std::vector<int> labels = labelGrid(d, [&](int i, int j, int k) {
+    int l = (i - 8) * (i - 8) + (j - 6) * (j - 6) + 2 * (k - 5) * (k - 5) < 30 ? 1 : 0;
+    if (j == 4 || i == 10)
+      l = 2;
+    if (rng() % noise == 0)
+      l = static_cast<int>(rng() % 4);
+    return l;
+  });
+  NoisyBlobOracles o;
+  o.map = std::make_shared<LabelMapDomain>(d, labels, AffineMap(), 0, "random", LabelInterpolation::Trilinear);
+  o.alone.add(o.map);
+  auto far = std::make_shared<SphereDomain>(Vec3{ 500, 500, 500 }, 1.0, 9, "far");
+  far->setCut(true);
+  o.walked.add(far);
+  o.walked.add(o.map);
+  return o;
+}
 }
 
 TEST(LabelMapDomain, PointScalarsAreVoxelCentres)
@@ -438,23 +469,10 @@ TEST(LabelMapDomain, OneDomainOracleStopsAtTheFirstChangeWithTheSameAnswers)
   // an oracle of the label map alone lets the walk stop after its first change; with a second
   // domain (a cut far away, which changes nothing) it walks every segment to its end: the same
   // intersections, to the bit, on segments through thin layers, blobs and lone voxels
-  const std::array<int, 3> d{ 17, 13, 11 };
   std::mt19937 rng(5);
-  const std::vector<int> labels = labelGrid(d, [&](int i, int j, int k) {
-    int l = (i - 8) * (i - 8) + (j - 6) * (j - 6) + 2 * (k - 5) * (k - 5) < 30 ? 1 : 0;
-    if (j == 4 || i == 10)
-      l = 2;
-    if (rng() % 13 == 0)
-      l = static_cast<int>(rng() % 4);
-    return l;
-  });
-  auto map = std::make_shared<LabelMapDomain>(d, labels, AffineMap(), 0, "random", LabelInterpolation::Trilinear);
-  HierarchicalOracle alone, walked;
-  alone.add(map);
-  auto far = std::make_shared<SphereDomain>(Vec3{ 500, 500, 500 }, 1.0, 9, "far");
-  far->setCut(true);
-  walked.add(far);
-  walked.add(map);
+  NoisyBlobOracles o = noisyBlobOracles(rng, 13);
+  const auto& map = o.map;
+  const HierarchicalOracle &alone = o.alone, &walked = o.walked;
   std::uniform_real_distribution<double> u(-1.0, 18.0);
   size_t found = 0, stopped = 0;
   for (int n = 0; n < 5000; ++n)
@@ -483,23 +501,10 @@ TEST(LabelMapDomain, WalkShowsOneLabelOnlyWhereTheMaterialHoldsAlongTheSegment)
   // firstCrossings' true (no sampled piece, both ends in the grid) lets the oracle of one domain
   // skip its checks: the material must then be the start's all along the segment, and the answer
   // the same as an oracle that checks (a second domain that changes nothing turns the skip off)
-  const std::array<int, 3> d{ 17, 13, 11 };
   std::mt19937 rng(7);
-  const std::vector<int> labels = labelGrid(d, [&](int i, int j, int k) {
-    int l = (i - 8) * (i - 8) + (j - 6) * (j - 6) + 2 * (k - 5) * (k - 5) < 30 ? 1 : 0;
-    if (j == 4 || i == 10)
-      l = 2;
-    if (rng() % 29 == 0)
-      l = static_cast<int>(rng() % 4);
-    return l;
-  });
-  auto map = std::make_shared<LabelMapDomain>(d, labels, AffineMap(), 0, "random", LabelInterpolation::Trilinear);
-  HierarchicalOracle alone, checked;
-  alone.add(map);
-  auto far = std::make_shared<SphereDomain>(Vec3{ 500, 500, 500 }, 1.0, 9, "far");
-  far->setCut(true);
-  checked.add(far);
-  checked.add(map);
+  NoisyBlobOracles o = noisyBlobOracles(rng, 29);
+  const auto& map = o.map;
+  const HierarchicalOracle &alone = o.alone, &checked = o.walked;
   std::uniform_real_distribution<double> where(-0.5, 17.5), step(-2.5, 2.5);
   size_t shown = 0, throughMixed = 0;
   for (int n = 0; n < 20000; ++n)
