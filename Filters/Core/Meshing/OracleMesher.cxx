@@ -1055,13 +1055,12 @@ private:
     parallelPhases_.leftBad.insert(parallelPhases_.leftBad.end(), run.leftBad.begin(), run.leftBad.end());
     parallelPhases_.repeatsRefused += run.repeatsRefused;
     parallelVertices_ = 0; // the complex holds them again
-    if (run.budgetHit)
+    if (run.budgetHit) // meshOracle meshes again on one thread: nothing of this run is kept
       throw ParallelBudgetReached{ deadline_.elapsed(), c3t3_->triangulation().number_of_vertices() };
-    budgetHit_ = run.budgetHit;
     stalled_ = run.stalled;
     parallelCpu_ += run.cpuSeconds;
     parallelBusiestCpu_ += run.busiestThreadCpu;
-    if (budgetHit_ || stalled_) // the cells a stop left out of the complex, as drive() does
+    if (stalled_) // the cells the stop left out of the complex, as drive() does
       Mesher(*c3t3_, *domain_, *criteria_, CGAL::FACET_VERTICES_ON_SURFACE).fix_c3t3();
   }
 
