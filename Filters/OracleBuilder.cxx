@@ -545,8 +545,39 @@ std::vector<std::string> OracleBuilder::InputPlacementWarnings(const omesh::Hier
     if (!d->isCut() && d->bounded() && !d->bounds().empty())
       placed.push_back(d.get());
   auto largest = [](const omesh::Vec3& v) { return std::max({ v.x, v.y, v.z }); };
-  for (size_t i = 0; i < placed.size(); ++i)
-    for (size_t j = i + 1; j < placed.size(); ++j)
+  // share of the smaller box inside the other, per axis (a flat box counts as overlapping on its
+  // flat axis when it lies within the other's range); `across` leaves out the axes where the
+  // boxes only touch (a face, an edge shared), for parts meeting on purpose
+  auto overlapShare = [](const omesh::BoundingBox& a, const omesh::BoundingBox& b, bool across)
+  {
+    double share = 1.0;
+    const double amin[3] = { a.min.x, a.min.y, a.min.z }, amax[3] = { a.max.x, a.max.y, a.max.z };
+    const double bmin[3] = { b.min.x, b.min.y, b.min.z }, bmax[3] = { b.max.x, b.max.y, b.max.z };
+    for (int k = 0; k < 3; ++k)
+    {
+      const double overlap = std::min(amax[k], bmax[k]) - std::max(amin[k], bmin[k]);
+      const double smaller = std::min(amax[k] - amin[k], bmax[k] - bmin[k]);
+      if (across && overlap == 0.0)
+        continue;
+      share *= overlap < 0 ? 0.0 : (smaller > 0 ? std::min(1.0, overlap / smaller) : 1.0);
+    }
+    return share;
+  };
+  const size_t n = placed.size();
+  std::vector<double> share(n * n, 0.0);
+  // inputs whose boxes overlap (enough) are one group: two implant parts that only touch each
+  // other but both sit in the bone are placed alike; a group apart from the rest is not
+  std::vector<size_t> group(n);
+  for (size_t i = 0; i < n; ++i)
+    group[i] = i;
+  auto root = [&group](size_t i)
+  {
+    while (group[i] != i)
+      i = group[i] = group[group[i]];
+    return i;
+  };
+  for (size_t i = 0; i < n; ++i)
+    for (size_t j = i + 1; j < n; ++j)
     {
       const omesh::BoundingBox a = placed[i]->bounds(), b = placed[j]->bounds();
       const double ea = largest(a.size()), eb = largest(b.size());
@@ -558,29 +589,36 @@ std::vector<std::string> OracleBuilder::InputPlacementWarnings(const omesh::Hier
           << " (largest extent " << eb << ") differ in size by " << std::llround(ratio)
           << "x: different units (metres and millimetres)?";
         warnings.push_back(o.str());
+        group[root(j)] = root(i); // warned once: not again as apart
         continue;
       }
-      // share of the smaller box inside the other, per axis (a flat box counts as overlapping
-      // on its flat axis when it lies within the other's range)
-      double share = 1.0;
-      const double amin[3] = { a.min.x, a.min.y, a.min.z }, amax[3] = { a.max.x, a.max.y, a.max.z };
-      const double bmin[3] = { b.min.x, b.min.y, b.min.z }, bmax[3] = { b.max.x, b.max.y, b.max.z };
-      for (int k = 0; k < 3; ++k)
-      {
-        const double overlap = std::min(amax[k], bmax[k]) - std::max(amin[k], bmin[k]);
-        const double smaller = std::min(amax[k] - amin[k], bmax[k] - bmin[k]);
-        share *= overlap < 0 ? 0.0 : (smaller > 0 ? std::min(1.0, overlap / smaller) : 1.0);
-      }
-      if (share < OverlapWarningShare)
-      {
-        std::ostringstream o;
-        o << "inputs: the bounding boxes of " << placed[i]->name() << " and " << placed[j]->name()
-          << (share == 0.0 ? " do not overlap" : " barely overlap (" + std::to_string(100.0 * share).substr(0, 4) +
-                   "% of the smaller)")
-          << ": placed in different frames (LPS and RAS, a missing transform)?";
-        warnings.push_back(o.str());
-      }
+      share[i * n + j] = share[j * n + i] = overlapShare(a, b, false);
+      if (overlapShare(a, b, true) >= OverlapWarningShare)
+        group[root(j)] = root(i);
     }
+  // each group but the one of the highest-priority input, named against all the others
+  for (size_t g = 0; g < n; ++g)
+  {
+    if (root(g) != g || root(0) == g)
+      continue;
+    std::string members, others;
+    double most = 0.0;
+    for (size_t i = 0; i < n; ++i)
+    {
+      std::string& list = root(i) == g ? members : others;
+      list += (list.empty() ? "" : ", ") + placed[i]->name();
+      if (root(i) == g)
+        for (size_t j = 0; j < n; ++j)
+          if (root(j) != g)
+            most = std::max(most, share[i * n + j]);
+    }
+    std::ostringstream o;
+    o << "inputs: the bounding boxes of " << members
+      << (most == 0.0 ? " do not overlap" : " barely overlap (" + std::to_string(100.0 * most).substr(0, 4) +
+               "% of the smaller)")
+      << " those of " << others << ": placed in different frames (LPS and RAS, a missing transform)?";
+    warnings.push_back(o.str());
+  }
   return warnings;
 }
 

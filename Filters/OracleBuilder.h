@@ -86,8 +86,11 @@ public:
 
   /// Warnings for inputs that look placed in different frames or units: two bounded material
   /// domains whose bounding boxes differ in size by ScaleWarningRatio or more (metres and
-  /// millimetres), or overlap in less than OverlapWarningShare of the smaller box (apart, or
-  /// touching only: a surface in another frame than the label map).
+  /// millimetres), or a group of inputs whose boxes overlap none of the others' in
+  /// OverlapWarningShare of the smaller box or more (apart, or barely overlapping: a surface in
+  /// another frame than the label map). Boxes that share a face or an edge overlap across it (parts
+  /// meeting on purpose), and a group may hang together through a third input (two implant parts
+  /// in a bone).
   static std::vector<std::string> InputPlacementWarnings(const omesh::HierarchicalOracle& oracle);
   static constexpr double ScaleWarningRatio = 100.0;
   static constexpr double OverlapWarningShare = 0.05;

@@ -36,6 +36,18 @@ class InputWarnings(unittest.TestCase):
                           "mesh": MESH})
         self.assertTrue(any("do not overlap" in w for w in result.input_warnings), result.input_warnings)
 
+    def test_parts_touching_inside_a_third_are_placed_alike(self):
+        # two implant parts meeting face to face (their boxes share a face only) inside a bone
+        parts = [{"name": "a", "type": "box", "bounds": [0, 10, 0, 10, 0, 10], "material": 1},
+                 {"name": "b", "type": "box", "bounds": [10, 20, 0, 10, 0, 10], "material": 2}]
+        result = om.mesh({"domains": parts + [sphere("bone", [10, 5, 5], 16, 3)], "mesh": MESH})
+        self.assertEqual(result.input_warnings, [])
+        # the same parts far from the bone: one warning, the bone against the group of the first input
+        result = om.mesh({"domains": parts + [sphere("bone", [200, 5, 5], 16, 3)], "mesh": MESH})
+        apart = [w for w in result.input_warnings if "overlap" in w]
+        self.assertEqual(len(apart), 1, result.input_warnings)
+        self.assertRegex(apart[0], r"of .*'bone' do not overlap those of .*'a'.*'b'")
+
     def test_a_matching_scene_has_none(self):
         result = om.mesh({"domains": [sphere("a", [0, 0, 0], 10, 2), sphere("b", [0, 0, 0], 20, 1)], "mesh": MESH})
         self.assertEqual(result.input_warnings, [])
