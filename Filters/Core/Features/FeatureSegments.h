@@ -76,8 +76,9 @@ struct FeatureSegments
 
 /// Gives each segment of `to` the own edge size of the segment of `from` nearest to its midpoint,
 /// when that one has an own value and lies within `maxDistance` of the midpoint (else unset): for
-/// feature lines rebuilt from given ones (resampled, split where automatic lines meet them). Leaves
-/// `to.edgeSizes` empty when `from` has none.
+/// given lines split where automatic lines meet them, whose pieces stay on them (selectFeatures;
+/// where a rebuild moves lines, the nearest segment can be another line's: simplifyFeatureNetwork
+/// goes by FeatureSegments::source). Leaves `to.edgeSizes` empty when `from` has none.
 void transferEdgeSizes(const FeatureSegments& from, FeatureSegments& to, double maxDistance);
 
 /// Angle (degrees) at v between the directions to p and to q.
