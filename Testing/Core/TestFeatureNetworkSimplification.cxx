@@ -357,3 +357,25 @@ TEST(FeatureNetworkSimplification, ASegmentMergedOntoAnotherIsTheOneThatStayed)
   EXPECT_EQ(f.source, std::vector<int>{ 1 });
   EXPECT_EQ(f.edgeSizes, (std::vector<std::optional<double>>{ 0.1 }));
 }
+
+// Own edge sizes ride on the sources: they change no step of the simplification (they used to be
+// carried beside the segments without being kept in step, so after a merge had collapsed a segment
+// mergeFeatureSegments left the copies it should have merged).
+TEST(FeatureNetworkSimplification, OwnEdgeSizesDoNotChangeTheLines)
+{
+  const FeatureSegments bare = noisyNetwork(0.02, 5);
+  FeatureSegments sized = bare;
+  sized.edgeSizes.assign(sized.segments.size(), 0.1);
+  FeatureSegments f = bare;
+  FeatureNetworkTolerances tol;
+  tol.edgeLength = 0.1;
+  tol.chordTolerance = 0.01;
+  simplifyFeatureNetwork(f, tol);
+  simplifyFeatureNetwork(sized, tol);
+  EXPECT_EQ(sized.segments, f.segments);
+  EXPECT_EQ(sized.source, f.source);
+  ASSERT_EQ(sized.points.size(), f.points.size());
+  for (size_t i = 0; i < f.points.size(); ++i)
+    EXPECT_EQ(norm(sized.points[i] - f.points[i]), 0.0);
+  EXPECT_EQ(sized.edgeSizes, std::vector<std::optional<double>>(f.segments.size(), 0.1));
+}
