@@ -26,7 +26,7 @@ struct FeatureSegments
   /// transferEdgeSizes).
   std::vector<std::optional<double>> edgeSizes;
   /// Each segment's provenance: the index of the segment it came from in the lines a rebuild
-  /// started from (simplifyFeatureNetwork: the lines as passed to it). Empty when not tracked,
+  /// started from (simplifyFeatureNetwork: the lines as passed to it; >= 0). Empty when not tracked,
   /// else one per segment. Functions that rebuild the segments carry it (mergeFeatureSegments,
   /// resampleFeatureLines, simplifyFeatureNetwork's steps): a piece of a split keeps its segment's,
   /// a chord takes the one most of the length it replaces came from (sourceOfMost), of copies made
