@@ -110,8 +110,7 @@ void TetMeshOutput::FillInterfaces(vtkPolyData* interfaces, const omesh::TetMesh
   interfaces->GetCellData()->AddArray(sides);
 }
 
-void TetMeshOutput::FillSegments(
-  vtkPolyData* segments, const omesh::TetMesh& mesh, const omesh::FeatureSelection& selection, bool sameSegments)
+void TetMeshOutput::FillSegments(vtkPolyData* segments, const omesh::TetMesh& mesh, const omesh::FeatureSelection& selection)
 {
   vtkNew<vtkPoints> points;
   points->SetDataTypeToDouble();
@@ -131,10 +130,8 @@ void TetMeshOutput::FillSegments(
     lines->InsertNextCell(2, ids);
     present->InsertNextValue(s.present ? 1 : 0);
     input->InsertNextValue(s.input);
-    const int k = sameSegments && s.input >= 0 && static_cast<std::size_t>(s.input) < selection.origin.size()
-      ? s.input
-      : selection.nearestSegment(omesh::lerp(s.a, s.b, 0.5));
-    const omesh::FeatureSelection::Origin o = k >= 0 ? selection.origin[k] : omesh::FeatureSelection::Origin{};
+    const bool tagged = s.input >= 0 && static_cast<std::size_t>(s.input) < selection.origin.size();
+    const omesh::FeatureSelection::Origin o = tagged ? selection.origin[s.input] : omesh::FeatureSelection::Origin{};
     origin->InsertNextValue(o.automatic ? 1 : 0);
     separates->InsertNextTypedTuple(o.materials.data());
   }

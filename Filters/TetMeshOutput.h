@@ -25,12 +25,11 @@ public:
     const std::vector<std::string>& inputWarnings);
   /// Port 1: interface triangles on the grid's points, cell array Materials (the two sides).
   static void FillInterfaces(vtkPolyData* interfaces, const omesh::TetMesh& mesh, vtkUnstructuredGrid* grid);
-  /// Port 2: the constrained segments as they stand in the mesh (cell arrays Present, InputSegment;
+  /// Port 2: the constrained segments as they stand in the mesh (cell arrays Present, InputSegment:
+  /// the segment of `selection` the piece comes from, also after the mesher resampled them;
   /// Origin, 0 given, 1 found where the inputs meet, and Materials, the 4 materials a found piece
-  /// separates, from `selection`: by the piece's input segment when `sameSegments` (the mesher
-  /// kept the selection's numbering), else by the selection's segment nearest to its midpoint).
-  static void FillSegments(vtkPolyData* segments, const omesh::TetMesh& mesh, const omesh::FeatureSelection& selection,
-    bool sameSegments);
+  /// separates: that segment's tags).
+  static void FillSegments(vtkPolyData* segments, const omesh::TetMesh& mesh, const omesh::FeatureSelection& selection);
   /// The statistics as two field-data arrays, StatisticNames and StatisticValues.
   static void AddStatistics(vtkFieldData* fieldData, const std::map<std::string, double>& statistics);
 

@@ -423,9 +423,8 @@ void vtkFeaturePreservingTetrahedralizer::AssembleOutputs(MeshingRun& run, vtkIn
   vtkUnstructuredGrid* grid = vtkUnstructuredGrid::GetData(outputVector, 0);
   TetMeshOutput::FillGrid(grid, run.mesh, run.options.elementOrder == 2 ? &run.quadratic : nullptr, run.inputNotes);
   TetMeshOutput::FillInterfaces(vtkPolyData::GetData(outputVector, 1), run.mesh, grid);
-  // without resampling the mesher's segments are the selection's, else it renumbered them
-  TetMeshOutput::FillSegments(
-    vtkPolyData::GetData(outputVector, 2), run.mesh, run.selection, !run.options.resampleFeatureLines);
+  // the mesher's pieces name the selection's segments, also where it resampled them
+  TetMeshOutput::FillSegments(vtkPolyData::GetData(outputVector, 2), run.mesh, run.selection);
 }
 
 void vtkFeaturePreservingTetrahedralizer::PrintSelf(ostream& os, vtkIndent indent)

@@ -9,9 +9,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <memory>
+#include <optional>
 #include <random>
 #include <set>
+#include <string>
 
 using namespace omesh;
 
@@ -265,4 +268,114 @@ TEST(FeatureNetworkSimplification, ConvexCornerOfAWedgeKept)
   EXPECT_TRUE(isInputPoint(f, { 0, 0, 0 }));
   EXPECT_EQ(f.segments.size(), 2u);
   EXPECT_NEAR(r.givenToSimplified, 0.0, 1e-9);
+}
+
+namespace
+{
+/// Two lines 0.2 apart along x: A (segments 0..11, own edge size 0.1) zigzags between 0.2 and
+/// 0.45 above B (0.5 apart in x, chords of 1 replace two of them), B (segments 12..35, own edge
+/// size 0.4) is straight on the x axis, 0.25 apart.
+FeatureSegments zigzagBesideStraightLine()
+{
+  FeatureSegments f;
+  for (int i = 0; i <= 12; ++i)
+    f.points.push_back({ 0.5 * i, i % 2 ? 0.45 : 0.2, 0.0 });
+  for (int i = 0; i < 12; ++i)
+    f.segments.push_back({ i, i + 1 });
+  for (int i = 0; i <= 24; ++i)
+    f.points.push_back({ 0.25 * i, 0.0, 0.0 });
+  for (int i = 0; i < 24; ++i)
+    f.segments.push_back({ 13 + i, 14 + i });
+  f.edgeSizes.assign(12, 0.1);
+  f.edgeSizes.resize(36, 0.4);
+  return f;
+}
+}
+
+// A chord replacing A's zigzag runs 0.2 from B and 0.22 from A's own segments, so the segment
+// nearest its midpoint is B's (checked below: the rule of before, transferEdgeSizes, gives it B's
+// edge size). Its source says where it came from: a segment of A it covers, and A's edge size.
+TEST(FeatureNetworkSimplification, ChordsKeepTheLineTheyCameFromWhereAnotherLineIsNearer)
+{
+  const FeatureSegments input = zigzagBesideStraightLine();
+  FeatureSegments f = input;
+  FeatureNetworkTolerances tol;
+  tol.edgeLength = 1.0;
+  tol.chordTolerance = 0.3;
+  tol.mergeFraction = 0.1; // no merges or snaps: the lines are 0.2 apart
+  simplifyFeatureNetwork(f, tol);
+  ASSERT_EQ(f.source.size(), f.segments.size());
+  ASSERT_EQ(f.edgeSizes.size(), f.segments.size());
+  EXPECT_LT(f.segments.size(), input.segments.size()); // chords replaced the input segments
+  const auto lineOf = [](const Vec3& p) { return p.y > 0.1 ? 'A' : 'B'; };
+  const auto lineOfSegment = [](size_t s) { return s < 12 ? 'A' : 'B'; };
+  for (size_t s = 0; s < f.segments.size(); ++s)
+  {
+    const Vec3 &a = f.points[f.segments[s][0]], &b = f.points[f.segments[s][1]];
+    const char line = lineOf(a);
+    ASSERT_EQ(lineOf(b), line);
+    SCOPED_TRACE(std::string("chord of ") + line + " from x = " + std::to_string(a.x) + " to " + std::to_string(b.x));
+    ASSERT_GE(f.source[s], 0);
+    ASSERT_LT(f.source[s], static_cast<int>(input.segments.size()));
+    const auto& from = input.segments[f.source[s]];
+    EXPECT_EQ(lineOfSegment(static_cast<size_t>(f.source[s])), line);
+    // the source is one of the segments the chord replaced (it lies within the chord's span)
+    const double lo = std::min(a.x, b.x), hi = std::max(a.x, b.x);
+    for (int e : from)
+    {
+      EXPECT_GE(input.points[e].x, lo);
+      EXPECT_LE(input.points[e].x, hi);
+    }
+    EXPECT_EQ(f.edgeSizes[s], std::optional<double>(line == 'A' ? 0.1 : 0.4));
+  }
+  // The case tells the rules apart: by the nearest segment, some chord of A gets B's edge size.
+  FeatureSegments nearest = f;
+  transferEdgeSizes(input, nearest, std::numeric_limits<double>::infinity());
+  size_t wrong = 0;
+  for (size_t s = 0; s < f.segments.size(); ++s)
+    wrong += nearest.edgeSizes[s] != f.edgeSizes[s];
+  EXPECT_GT(wrong, 0u);
+}
+
+// Two segments made one by merging points: the one kept is the segment that stayed in place (A's
+// points are kept, the lower indices on a tie of degrees), whichever was listed first.
+TEST(FeatureNetworkSimplification, ASegmentMergedOntoAnotherIsTheOneThatStayed)
+{
+  FeatureSegments f;
+  f.points = { { 0, 0.05, 0 }, { 1, 0.05, 0 }, { 0, 0, 0 }, { 1, 0, 0 } };
+  f.segments = { { 2, 3 }, { 0, 1 } }; // B, then A
+  f.edgeSizes = { 0.4, 0.1 };
+  FeatureNetworkTolerances tol;
+  tol.edgeLength = 1.0;
+  tol.chordTolerance = 0.01;
+  tol.mergeFraction = 0.1;
+  tol.spurFraction = 0.5;
+  const FeatureNetworkReport r = simplifyFeatureNetwork(f, tol);
+  EXPECT_EQ(r.pointsMerged, 2u);
+  ASSERT_EQ(f.segments.size(), 1u);
+  EXPECT_EQ(f.points[f.segments[0][0]].y, 0.05);
+  EXPECT_EQ(f.source, std::vector<int>{ 1 });
+  EXPECT_EQ(f.edgeSizes, (std::vector<std::optional<double>>{ 0.1 }));
+}
+
+// Own edge sizes ride on the sources: they change no step of the simplification (they used to be
+// carried beside the segments without being kept in step, so after a merge had collapsed a segment
+// mergeFeatureSegments left the copies it should have merged).
+TEST(FeatureNetworkSimplification, OwnEdgeSizesDoNotChangeTheLines)
+{
+  const FeatureSegments bare = noisyNetwork(0.02, 5);
+  FeatureSegments sized = bare;
+  sized.edgeSizes.assign(sized.segments.size(), 0.1);
+  FeatureSegments f = bare;
+  FeatureNetworkTolerances tol;
+  tol.edgeLength = 0.1;
+  tol.chordTolerance = 0.01;
+  simplifyFeatureNetwork(f, tol);
+  simplifyFeatureNetwork(sized, tol);
+  EXPECT_EQ(sized.segments, f.segments);
+  EXPECT_EQ(sized.source, f.source);
+  ASSERT_EQ(sized.points.size(), f.points.size());
+  for (size_t i = 0; i < f.points.size(); ++i)
+    EXPECT_EQ(norm(sized.points[i] - f.points[i]), 0.0);
+  EXPECT_EQ(sized.edgeSizes, std::vector<std::optional<double>>(f.segments.size(), 0.1));
 }

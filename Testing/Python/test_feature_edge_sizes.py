@@ -20,14 +20,13 @@ LINE_A = ((0, 0, 0), (1, 0, 0))  # a cube edge along x at y = z = 0
 LINE_B = ((0, 1, 1), (1, 1, 1))  # the opposite one
 
 
-def write_line(path, ends, edge_size=None):
-    """One polyline (with a middle point) as .vtp, with an "EdgeSize" cell array when given."""
+def write_line(path, ends, edge_size=None, pieces=2):
+    """One polyline (of `pieces` equal segments) as .vtp, with an "EdgeSize" cell array when given."""
     points = vtkPoints()
-    mid = tuple(0.5 * (a + b) for a, b in zip(*ends))
-    for p in (ends[0], mid, ends[1]):
-        points.InsertNextPoint(p)
+    for k in range(pieces + 1):
+        points.InsertNextPoint(tuple(a + k / pieces * (b - a) for a, b in zip(*ends)))
     cells = vtkCellArray()
-    cells.InsertNextCell(3, [0, 1, 2])
+    cells.InsertNextCell(pieces + 1, list(range(pieces + 1)))
     lines = vtkPolyData()
     lines.SetPoints(points)
     lines.SetLines(cells)
@@ -89,6 +88,32 @@ class FeatureEdgeSizes(unittest.TestCase):
         self.assertLessEqual(max(along_a), 0.1 * (1 + 1e-9))
         self.assertLessEqual(max(along_b), 0.4 * (1 + 1e-9))
         self.assertGreater(max(along_b), 0.1, "line B was meshed at line A's edge size")
+
+    def test_port_2_names_the_given_segment_of_each_piece_of_resampled_lines(self):
+        # 20 segments a line, resampled (points closer than the finest edge size, 0.1, merged; chords
+        # up to it): the mesher renumbers the segments, but port 2's InputSegment is the given one a
+        # piece comes from (A's are 0-19, B's 20-39), one that its chord replaced.
+        from vtkmodules.util.numpy_support import vtk_to_numpy
+        from oraclemesh.fielddata import strings
+        from oraclemesh.meshing import as_scene, mesher_for
+        a = write_line(self.path("a.vtp"), LINE_A, edge_size=0.1, pieces=20)
+        b = write_line(self.path("b.vtp"), LINE_B, edge_size=0.4, pieces=20)
+        scene = cube_scene([a, b])
+        scene["mesh"]["features"]["resample"] = True
+        mesher = mesher_for(as_scene(scene))
+        grid = om.update(mesher)
+        self.assertIn("feature lines simplified: 40 segments became", "\n".join(strings(grid.GetFieldData(), "Warnings")))
+        lines = mesher.GetOutputDataObject(2)
+        points = vtk_to_numpy(lines.GetPoints().GetData())
+        cells = vtk_to_numpy(lines.GetLines().GetData()).reshape(-1, 3)[:, 1:]
+        given = vtk_to_numpy(lines.GetCellData().GetArray("InputSegment"))
+        self.assertTrue(vtk_to_numpy(lines.GetCellData().GetArray("Present")).all())
+        for (p, q), s in zip(points[cells], given):
+            on_a = p[1] == 0 and q[1] == 0  # line A lies on y = 0, B on y = 1
+            self.assertIn(s, range(0, 20) if on_a else range(20, 40), (p, q))
+            k = s % 20  # the given segment [k / 20, (k + 1) / 20] lies in the piece's chord (at most 0.1 long)
+            self.assertGreaterEqual(min(p[0], q[0]), k / 20 - 0.1 - 1e-6, (p, q, s))
+            self.assertLessEqual(max(p[0], q[0]), (k + 1) / 20 + 0.1 + 1e-6, (p, q, s))  # float input points
 
     def test_a_bad_scene_value_is_named_with_its_path(self):
         a = write_line(self.path("a.vtp"), LINE_A)

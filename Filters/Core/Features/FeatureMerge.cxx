@@ -13,6 +13,8 @@
 #include <optional>
 #include <set>
 #include <sstream>
+#include <stdexcept>
+#include <string>
 #include <tuple>
 
 namespace omesh
@@ -25,18 +27,24 @@ using Box = CGAL::Box_intersection_d::Box_with_info_d<double, 3, std::size_t>;
 
 namespace
 {
-/// Segments with their own edge sizes (FeatureSegments::edgeSizes, empty when none has one).
+/// Segments with their own edge sizes and sources (FeatureSegments::edgeSizes, source: empty
+/// when not given).
 struct Pieces
 {
   std::vector<std::array<int, 2>> segments;
   std::vector<std::optional<double>> edgeSizes;
-  void add(const std::array<int, 2>& s, std::optional<double> size, bool sized)
+  std::vector<int> source;
+  void add(const std::array<int, 2>& s, std::optional<double> size, bool sized, int from)
   {
     segments.push_back(s);
     if (sized)
       edgeSizes.push_back(size);
+    if (from >= 0)
+      source.push_back(from);
   }
 };
+
+int sourceOf(const FeatureSegments& f, std::size_t s) { return f.source.empty() ? -1 : f.source[s]; }
 
 /// One line given twice (repeated or overlapping) keeps its own edge size; two different ones
 /// are a contradiction (InputError naming the line and both values).
@@ -92,7 +100,7 @@ Pieces withoutRepeatedSegments(const FeatureSegments& f, FeatureMergeCounts& cou
         continue;
       }
     }
-    unique.add(s, f.edgeSize(k), sized);
+    unique.add(s, f.edgeSize(k), sized, sourceOf(f, k)); // a repeated one: the first's
   }
   return unique;
 }
@@ -151,6 +159,7 @@ Pieces withOverlapsMerged(const FeatureSegments& f, const Pieces& pieces, Featur
   const std::vector<std::array<int, 2>>& unique = pieces.segments;
   const bool sized = !pieces.edgeSizes.empty();
   const auto sizeOf = [&](std::size_t s) { return sized ? pieces.edgeSizes[s] : std::nullopt; };
+  const auto sourceOf = [&](std::size_t s) { return pieces.source.empty() ? -1 : pieces.source[s]; };
   std::vector<bool> overlaps;
   UnionFind groups = overlapGroups(f, unique, overlaps);
   std::map<std::size_t, std::vector<std::size_t>> members;
@@ -161,7 +170,7 @@ Pieces withOverlapsMerged(const FeatureSegments& f, const Pieces& pieces, Featur
     if (overlaps[s])
       members[groups.find(s)].push_back(s);
     else
-      merged.add(unique[s], sizeOf(s), sized);
+      merged.add(unique[s], sizeOf(s), sized, sourceOf(s));
   }
   for (const auto& [root, group] : members)
   {
@@ -183,17 +192,20 @@ Pieces withOverlapsMerged(const FeatureSegments& f, const Pieces& pieces, Featur
       const std::array<int, 2> piece{ vertices[k], vertices[k + 1] };
       bool covered = false;
       std::optional<double> size;
+      int from = -1; // the first covering segment's
       for (std::size_t s : group)
       {
         const double t0 = param(unique[s][0]), t1 = param(unique[s][1]);
         if (std::min(t0, t1) < mid && mid < std::max(t0, t1))
         {
+          if (!covered)
+            from = sourceOf(s);
           covered = true;
           size = sameEdgeSize(f, piece, size, sizeOf(s));
         }
       }
       if (covered)
-        merged.add(piece, size, sized);
+        merged.add(piece, size, sized, from);
     }
   }
   return merged;
@@ -218,6 +230,7 @@ void keepUsedPoints(FeatureSegments& f, Pieces pieces)
   f.points = std::move(points);
   f.segments = std::move(segments);
   f.edgeSizes = std::move(pieces.edgeSizes);
+  f.source = std::move(pieces.source);
 }
 }
 
@@ -231,6 +244,9 @@ FeatureMergeCounts mergeFeatureSegments(FeatureSegments& f)
     for (int v : s)
       if (v < 0 || v >= static_cast<int>(f.points.size()))
         return counts; // validate names it
+  if (!f.source.empty() && f.source.size() != f.segments.size())
+    throw std::logic_error("mergeFeatureSegments: " + std::to_string(f.source.size()) + " sources for " +
+      std::to_string(f.segments.size()) + " segments"); // internal: whoever rebuilt them lost track
   if (!f.edgeSizes.empty())
   {
     if (f.edgeSizes.size() != f.segments.size())

@@ -21,7 +21,9 @@ struct FeatureMergeCounts
 /// appended, a polyline drawn twice): points with identical coordinates become one vertex, repeated
 /// segments are dropped, and collinear segments that overlap (exact predicates) are replaced by
 /// the pieces of their union between consecutive end points. Own edge sizes (edgeSizes) go with
-/// their segments; one piece given two different ones is an InputError naming it. Segments that cross or touch without
+/// their segments; one piece given two different ones is an InputError naming it. Sources
+/// (FeatureSegments::source) go with them too: a repeated segment's is the first listed, a piece
+/// of a union the first covering segment's. Segments that cross or touch without
 /// overlapping are left as they are (FeatureSegments::validate refuses them), so are zero-length
 /// ones. Points that no segment uses any more are removed. Does nothing when a coordinate is not
 /// finite (validate names it).

@@ -17,6 +17,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <numeric>
 #include <tuple>
 
@@ -74,16 +75,54 @@ void keepUsedPoints(FeatureSegments& f)
   f.points = std::move(points);
 }
 
+/// Keeps the segments (and their sources) where `keep`.
+void keepSegments(FeatureSegments& f, const std::vector<char>& keep)
+{
+  std::size_t n = 0;
+  for (std::size_t s = 0; s < f.segments.size(); ++s)
+    if (keep[s])
+    {
+      f.segments[n] = f.segments[s];
+      if (!f.source.empty())
+        f.source[n] = f.source[s];
+      ++n;
+    }
+  f.segments.resize(n);
+  if (!f.source.empty())
+    f.source.resize(n);
+}
+
+/// A segment that a merge or a snap made a copy of one that stayed in place is that one: it takes
+/// its source, so the copy mergeFeatureSegments keeps (the first) comes from the line that is there.
+void copiesTakeSourceOfUnmoved(FeatureSegments& f, const std::vector<char>& moved)
+{
+  if (f.source.empty())
+    return;
+  std::map<std::pair<int, int>, int> unmoved;
+  const auto key = [](const std::array<int, 2>& s) { return std::make_pair(std::min(s[0], s[1]), std::max(s[0], s[1])); };
+  for (std::size_t s = 0; s < f.segments.size(); ++s)
+    if (!moved[s])
+      unmoved.emplace(key(f.segments[s]), f.source[s]);
+  for (std::size_t s = 0; s < f.segments.size(); ++s)
+    if (moved[s])
+      if (const auto it = unmoved.find(key(f.segments[s])); it != unmoved.end())
+        f.source[s] = it->second;
+}
+
 /// Segments renumbered by `to`, without the ones that became a point, then repeated points and
 /// segments merged and unused points removed (mergeFeatureSegments).
 void remapSegments(FeatureSegments& f, const std::vector<int>& to)
 {
-  std::vector<std::array<int, 2>> kept;
-  kept.reserve(f.segments.size());
-  for (const auto& s : f.segments)
-    if (to[s[0]] != to[s[1]])
-      kept.push_back({ to[s[0]], to[s[1]] });
-  f.segments = std::move(kept);
+  std::vector<char> keep(f.segments.size()), moved(f.segments.size());
+  for (std::size_t i = 0; i < f.segments.size(); ++i)
+  {
+    auto& s = f.segments[i];
+    moved[i] = to[s[0]] != s[0] || to[s[1]] != s[1];
+    s = { to[s[0]], to[s[1]] };
+    keep[i] = s[0] != s[1];
+  }
+  copiesTakeSourceOfUnmoved(f, moved);
+  keepSegments(f, keep);
   mergeFeatureSegments(f);
 }
 
@@ -253,19 +292,29 @@ std::size_t snapPointsToSegments(FeatureSegments& f, double d, double minAngle)
   }
   if (!count)
     return 0;
-  std::vector<std::array<int, 2>> out;
-  out.reserve(f.segments.size() + count);
+  FeatureSegments out;
+  out.points = std::move(f.points);
+  out.segments.reserve(f.segments.size() + count);
+  std::vector<char> split; // the halves: a shared trunk's is a copy of the shorter segment, which stays
   for (std::size_t s = 0; s < f.segments.size(); ++s)
   {
+    const int from = f.source.empty() ? -1 : f.source[s];
+    const auto add = [&](const std::array<int, 2>& e, bool half) {
+      out.segments.push_back(e);
+      split.push_back(half);
+      if (from >= 0)
+        out.source.push_back(from);
+    };
     if (splitAt[s] < 0)
-      out.push_back(f.segments[s]);
+      add(f.segments[s], false);
     else
     {
-      out.push_back({ f.segments[s][0], splitAt[s] });
-      out.push_back({ splitAt[s], f.segments[s][1] });
+      add({ f.segments[s][0], splitAt[s] }, true);
+      add({ splitAt[s], f.segments[s][1] }, true);
     }
   }
-  f.segments = std::move(out);
+  copiesTakeSourceOfUnmoved(out, split);
+  f = std::move(out);
   mergeFeatureSegments(f);
   return count;
 }
@@ -400,13 +449,12 @@ void dropSpurs(FeatureSegments& f, double s, FeatureNetworkReport& report)
   SpurRemoval removal(f);
   removal.dropSpurs(s, report);
   removal.dropLoops(s, report);
-  std::vector<std::array<int, 2>> kept;
+  std::vector<char> keep(f.segments.size());
   for (std::size_t i = 0; i < f.segments.size(); ++i)
-    if (!removal.dropped(i))
-      kept.push_back(f.segments[i]);
-  if (kept.size() != f.segments.size())
+    keep[i] = !removal.dropped(i);
+  if (std::find(keep.begin(), keep.end(), 0) != keep.end())
   {
-    f.segments = std::move(kept);
+    keepSegments(f, keep);
     keepUsedPoints(f);
   }
 }
@@ -460,14 +508,13 @@ bool staysInDomain(const Vec3& a, const Vec3& b, const FeatureNetworkTolerances&
 /// mesh edge: segments that do not stay in the domain are dropped.
 std::size_t dropSegmentsLeavingDomain(FeatureSegments& f, const FeatureNetworkTolerances& tol)
 {
-  std::vector<std::array<int, 2>> kept;
-  for (const auto& seg : f.segments)
-    if (staysInDomain(f.points[seg[0]], f.points[seg[1]], tol))
-      kept.push_back(seg);
-  const std::size_t dropped = f.segments.size() - kept.size();
+  std::vector<char> keep(f.segments.size());
+  for (std::size_t s = 0; s < f.segments.size(); ++s)
+    keep[s] = staysInDomain(f.points[f.segments[s][0]], f.points[f.segments[s][1]], tol);
+  const std::size_t dropped = static_cast<std::size_t>(std::count(keep.begin(), keep.end(), 0));
   if (dropped)
   {
-    f.segments = std::move(kept);
+    keepSegments(f, keep);
     keepUsedPoints(f);
   }
   return dropped;
@@ -545,6 +592,7 @@ std::size_t removeUnmeshableEnds(FeatureSegments& f, const FeatureNetworkToleran
     const auto adjacent = neighbours(f);
     std::vector<char> drop(f.segments.size(), 0), bypassed(f.points.size(), 0);
     std::vector<std::array<int, 2>> added;
+    std::vector<int> addedSource; // a bypass comes from the longer of the two segments it replaces
     std::size_t found = 0;
     for (std::size_t v = 0; v < f.points.size(); ++v)
     {
@@ -570,26 +618,33 @@ std::size_t removeUnmeshableEnds(FeatureSegments& f, const FeatureNetworkToleran
       ++found;
       // neighbours not bypassed in this round, so that the bypasses are independent
       const bool free = std::none_of(n.begin(), n.end(), [&](int w) { return bypassed[w] != 0; });
-      if (n.size() == 2 && free && !bypassed[v] && staysInDomain(f.points[n[0]], f.points[n[1]], tol))
+      const bool bypass = n.size() == 2 && free && !bypassed[v] && staysInDomain(f.points[n[0]], f.points[n[1]], tol);
+      if (bypass)
       {
         bypassed[v] = 1;
         added.push_back({ n[0], n[1] });
         bad = n;
       }
+      std::vector<std::size_t> replaced;
       for (std::size_t s = 0; s < f.segments.size(); ++s)
         for (int w : bad)
           if ((f.segments[s][0] == static_cast<int>(v) && f.segments[s][1] == w) ||
             (f.segments[s][1] == static_cast<int>(v) && f.segments[s][0] == w))
+          {
             drop[s] = 1;
+            replaced.push_back(s);
+          }
+      if (bypass && !f.source.empty())
+        addedSource.push_back(f.sourceOfMost(replaced));
     }
     if (!found)
       break;
-    std::vector<std::array<int, 2>> kept;
-    for (std::size_t s = 0; s < f.segments.size(); ++s)
-      if (!drop[s])
-        kept.push_back(f.segments[s]);
-    kept.insert(kept.end(), added.begin(), added.end());
-    f.segments = std::move(kept);
+    for (char& d : drop)
+      d = !d;
+    keepSegments(f, drop);
+    f.segments.insert(f.segments.end(), added.begin(), added.end());
+    if (!f.source.empty())
+      f.source.insert(f.source.end(), addedSource.begin(), addedSource.end());
     removed += found;
     mergeFeatureSegments(f);
     keepUsedPoints(f);
@@ -631,9 +686,22 @@ FeatureNetworkReport simplifyFeatureNetwork(FeatureSegments& f, const FeatureNet
 {
   FeatureNetworkReport report;
   const double h = tol.edgeLength;
-  if (f.empty() || !(h > 0))
-    return report;
   const FeatureSegments given = f;
+  // Own edge sizes go with the sources, which every step carries (two lines' sizes on one segment
+  // are no contradiction here, as mergeFeatureSegments takes them for a given line).
+  f.edgeSizes.clear();
+  f.source.resize(f.segments.size());
+  std::iota(f.source.begin(), f.source.end(), 0);
+  const auto sizesFromSources = [&] {
+    if (!given.edgeSizes.empty())
+      for (int s : f.source)
+        f.edgeSizes.push_back(given.edgeSize(static_cast<std::size_t>(s)));
+  };
+  if (f.empty() || !(h > 0))
+  {
+    sizesFromSources();
+    return report;
+  }
   const double d = tol.mergeDistance();
   if (d > 0)
   {
@@ -659,6 +727,7 @@ FeatureNetworkReport simplifyFeatureNetwork(FeatureSegments& f, const FeatureNet
   report.simplifiedToGiven = featureLinesDistance(f, given, h / 50.0);
   report.smallestAngle = f.smallestAngle();
   report.shortestSegment = shortestSegment(f);
+  sizesFromSources();
   return report;
 }
 }

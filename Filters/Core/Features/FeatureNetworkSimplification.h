@@ -83,6 +83,10 @@ struct FeatureNetworkReport
 /// line by at most d, a trunk by at most half its shorter segment, a chord by at most the chord
 /// tolerance, but steps 2, 3 and 6 compose (on the noisy spheres: simplified to given 0.5-0.6 h,
 /// given to simplified 1.2-2.7 h where chords outside the surface or at spike tips were dropped).
+/// Provenance: f.source is set to, per segment, the index of the segment of f as passed that it
+/// came from (FeatureSegments::source: a piece of a split or snap keeps its segment's, a merged
+/// copy of a segment that stayed in place is that one, a chord or a bypass takes the segment it
+/// covers most of), and each segment keeps that one's own edge size (edgeSizes).
 FeatureNetworkReport simplifyFeatureNetwork(FeatureSegments& f, const FeatureNetworkTolerances& tolerances);
 
 /// Largest distance from a point of the lines `from` to the lines `to`, from samples at most

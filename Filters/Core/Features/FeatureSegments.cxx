@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <sstream>
 
 #include "FeatureMerge.h"
@@ -282,10 +283,11 @@ namespace
 {
 /// Greedy sleeve: from each kept point, the farthest next point whose chord holds every point in
 /// between within the tolerance and is not longer than maxLength (at least the next point).
-std::vector<int> simplifyChain(const std::vector<Vec3>& pts, const std::vector<int>& chain, double maxLength,
+/// Returns the kept points' positions in `chain`.
+std::vector<size_t> simplifyChain(const std::vector<Vec3>& pts, const std::vector<int>& chain, double maxLength,
   double tolerance)
 {
-  std::vector<int> kept{ chain.front() };
+  std::vector<size_t> kept{ 0 };
   size_t anchor = 0;
   while (anchor + 1 < chain.size())
   {
@@ -302,7 +304,7 @@ std::vector<int> simplifyChain(const std::vector<Vec3>& pts, const std::vector<i
         break;
       best = j;
     }
-    kept.push_back(chain[best]);
+    kept.push_back(best);
     anchor = best;
   }
   return kept;
@@ -357,14 +359,17 @@ size_t resampleFeatureLines(FeatureSegments& f, double maxLength, double toleran
   std::vector<char> corner = chainCorners(f, inc, cornerAngle);
   std::vector<char> used(f.segments.size(), 0);
   std::vector<std::array<int, 2>> out;
+  std::vector<int> source;
   // Walks the chain that leaves `start` through segment `first` up to the next corner (or back to start).
   auto walk = [&](int start, size_t first) {
     std::vector<int> chain{ start };
+    std::vector<size_t> segs; // segs[i] joins chain[i] and chain[i + 1]
     int v = start;
     size_t seg = first;
     while (true)
     {
       used[seg] = 1;
+      segs.push_back(seg);
       v = other(seg, v);
       chain.push_back(v);
       if (corner[v] || v == start)
@@ -373,9 +378,13 @@ size_t resampleFeatureLines(FeatureSegments& f, double maxLength, double toleran
       if (used[seg])
         break;
     }
-    const std::vector<int> kept = simplifyChain(f.points, chain, maxLength, tolerance);
+    const std::vector<size_t> kept = simplifyChain(f.points, chain, maxLength, tolerance);
     for (size_t k = 0; k + 1 < kept.size(); ++k)
-      out.push_back({ kept[k], kept[k + 1] });
+    {
+      out.push_back({ chain[kept[k]], chain[kept[k + 1]] });
+      if (!f.source.empty())
+        source.push_back(f.sourceOfMost(std::vector<size_t>(segs.begin() + kept[k], segs.begin() + kept[k + 1])));
+    }
   };
   for (size_t v = 0; v < f.points.size(); ++v)
     if (corner[v])
@@ -408,11 +417,30 @@ size_t resampleFeatureLines(FeatureSegments& f, double maxLength, double toleran
   }
   // Renumber: only points that end a kept segment remain.
   FeatureSegments r = withUsedPoints(f, std::move(out));
+  r.source = std::move(source);
   // two chains between the same corners that both fit one chord become one segment
   mergeFeatureSegments(r);
   const size_t dropped = f.points.size() - r.points.size();
   f = std::move(r);
   return dropped;
+}
+
+int FeatureSegments::sourceOfMost(const std::vector<size_t>& segs) const
+{
+  if (source.empty())
+    return -1;
+  std::map<int, double> lengthFrom;
+  for (size_t s : segs)
+    lengthFrom[source[s]] += length(s);
+  int best = -1;
+  double most = -1.0;
+  for (size_t s : segs) // in the order given, so the first wins a tie
+    if (lengthFrom[source[s]] > most)
+    {
+      most = lengthFrom[source[s]];
+      best = source[s];
+    }
+  return best;
 }
 
 void transferEdgeSizes(const FeatureSegments& from, FeatureSegments& to, double maxDistance)

@@ -25,6 +25,14 @@ struct FeatureSegments
   /// and >= 0 (validate). Functions that rebuild the segments carry it (mergeFeatureSegments,
   /// transferEdgeSizes).
   std::vector<std::optional<double>> edgeSizes;
+  /// Each segment's provenance: the index of the segment it came from in the lines a rebuild
+  /// started from (simplifyFeatureNetwork: the lines as passed to it; >= 0). Empty when not tracked,
+  /// else one per segment. Functions that rebuild the segments carry it (mergeFeatureSegments,
+  /// resampleFeatureLines, simplifyFeatureNetwork's steps): a piece of a split keeps its segment's,
+  /// a chord takes the one most of the length it replaces came from (sourceOfMost), of copies made
+  /// one the first's. Tags and edge sizes follow it: a line moved beside another by the rebuild is
+  /// still the same line, which its distances no longer tell.
+  std::vector<int> source;
 
   bool empty() const { return segments.empty(); }
   double length(size_t s) const { return norm(points[segments[s][1]] - points[segments[s][0]]); }
@@ -53,6 +61,10 @@ struct FeatureSegments
   /// Smallest angle (degrees) between two segments sharing a vertex; 180 if none share one.
   double smallestAngle() const;
 
+  /// The source (see there) of the largest part of the total length of `segs` (the first on a
+  /// tie), -1 when source is empty: what a chord replacing those segments came from.
+  int sourceOfMost(const std::vector<size_t>& segs) const;
+
   /// Segment s's own edge size (nullopt when it has none).
   std::optional<double> edgeSize(size_t s) const { return s < edgeSizes.size() ? edgeSizes[s] : std::nullopt; }
   /// Throws InputError naming the segment when an own edge size is negative, NaN or infinite, or
@@ -64,8 +76,9 @@ struct FeatureSegments
 
 /// Gives each segment of `to` the own edge size of the segment of `from` nearest to its midpoint,
 /// when that one has an own value and lies within `maxDistance` of the midpoint (else unset): for
-/// feature lines rebuilt from given ones (resampled, split where automatic lines meet them). Leaves
-/// `to.edgeSizes` empty when `from` has none.
+/// given lines split where automatic lines meet them, whose pieces stay on them (selectFeatures;
+/// where a rebuild moves lines, the nearest segment can be another line's: simplifyFeatureNetwork
+/// goes by FeatureSegments::source). Leaves `to.edgeSizes` empty when `from` has none.
 void transferEdgeSizes(const FeatureSegments& from, FeatureSegments& to, double maxDistance);
 
 /// Angle (degrees) at v between the directions to p and to q.
@@ -79,6 +92,6 @@ double angleAt(const Vec3& v, const Vec3& p, const Vec3& q);
 /// is longer than `maxLength` (unless it was one input segment). Kept points are input points,
 /// so the chords stay on the feature line as given. Closed loops without a corner keep their
 /// sharpest point; two chains between the same corners that fit one chord become one segment.
-/// Returns the number of points dropped.
+/// Own edge sizes are not kept; the source (when tracked) is. Returns the number of points dropped.
 size_t resampleFeatureLines(FeatureSegments& f, double maxLength, double tolerance, double cornerAngle = 60.0);
 }

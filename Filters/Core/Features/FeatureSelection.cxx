@@ -520,20 +520,6 @@ void labelOrigins(FeatureSelection& out, const FeatureSegments& given, FeatureSo
 }
 }
 
-int FeatureSelection::nearestSegment(const Vec3& x) const
-{
-  int best = -1;
-  double nearest = HUGE_VAL;
-  for (size_t s = 0; s < segments.segments.size(); ++s)
-    if (const double d = distanceToSegment(x, segments.points[segments.segments[s][0]], segments.points[segments.segments[s][1]]);
-        d < nearest)
-    {
-      nearest = d;
-      best = static_cast<int>(s);
-    }
-  return best;
-}
-
 FeatureSelection selectFeatures(const HierarchicalOracle& oracle, const FeatureSegments& given, FeatureSource source,
   const MaterialCriteria& criteria, double creaseAngle, const std::function<bool(double)>& progress)
 {

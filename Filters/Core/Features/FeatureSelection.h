@@ -53,9 +53,6 @@ struct FeatureSelection
     std::array<int, 4> materials{ -2, -2, -2, -2 };
   };
   std::vector<Origin> origin;
-  /// The segment of `segments` nearest to x (-1 when there are none): for pieces of lines the
-  /// mesher simplified, whose numbering is its own.
-  int nearestSegment(const Vec3& x) const;
 };
 
 /// The lines the mesher gets for `source`. Automatic lines are resampled within a tenth of the

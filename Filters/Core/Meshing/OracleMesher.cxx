@@ -585,9 +585,8 @@ std::optional<FeatureSegments> resampledFeatures(const FeatureSegments& given, c
   tolerances.chordTolerance = distance > 0 ? 0.5 * distance : 0.05 * tolerances.edgeLength;
   tolerances.inDomain = [&oracle](const Vec3& p) { return oracle.material(p) != kOutside; };
   FeatureSegments resampled = given;
+  // each chord keeps the own edge size of the given segment it came from (its source)
   report = simplifyFeatureNetwork(resampled, tolerances);
-  // each chord keeps the own edge size of the given line nearest to it
-  transferEdgeSizes(given, resampled, std::numeric_limits<double>::infinity());
   if (resampled.segments.size() != given.segments.size() || resampled.points.size() != given.points.size())
   {
     // How far the lines kept lie from the given ones; apart from that, how far the given ones lie
@@ -1330,6 +1329,11 @@ private:
         o << "; the first missing piece lies on " << features_->describe(static_cast<size_t>(first->input));
       warnings_.push_back(o.str());
     }
+    // From here on a piece names the segment as given that its resampled one came from: the
+    // caller's tags (found or given, materials) are per given segment.
+    if (resampled_)
+      for (auto& piece : mesh.segments)
+        piece.input = resampled_->source[static_cast<size_t>(piece.input)];
     warnMissingPieces();
     std::vector<unsigned char> defects;
     // Missing feature-line pieces are defects only where the strategy promises them (not None).

@@ -30,7 +30,9 @@ struct TetMesh
   {
     Vec3 a, b;
     int aId = -1, bId = -1; ///< mesh point ids of the ends, -1 where an end is no mesh vertex
-    int input = -1;         ///< index of the input segment it belongs to
+    /// index of the input segment it belongs to: of the lines given to the mesher, also when it
+    /// resampled them (the given segment its resampled one came from, FeatureSegments::source)
+    int input = -1;
     bool present = false;
   };
   std::vector<Segment> segments;
