@@ -29,7 +29,7 @@ enum class FeatureSource
 /// command line take theirs from here): Given, the meshes of before. Not Both (Automatic when no
 /// lines are given), which issue 13 suggests: valid everywhere measured and 1.03x on the demo, but
 /// 1.08-1.33x the tetrahedra on the generated cases (the issue's aim is 1.2x) and every call pays
-/// the search (README, "Feature lines where inputs meet").
+/// the search (docs/FEATURE-LINES.md).
 constexpr FeatureSource kDefaultFeatureSource = FeatureSource::Given;
 
 const char* toString(FeatureSource s);
