@@ -1213,10 +1213,11 @@ private:
   /// After refinement stopped at the vertex budget: the partial mesh made valid. The same levels
   /// (segments, facets, cells at picked points; CGAL's Mesher_3 for ProtectingBalls) run once
   /// more, on one thread, with only what validity needs (validityMeshCriteria: sub-segments
-  /// present as mesh edges, restricted facets' vertices on the surface, no cell below the
-  /// sliver or picking angle; no size, distance, facet-angle or radius-edge bound), until they are
-  /// met or the round has added finishOverdraft vertices. The time limit and abort apply as in
-  /// any round. Not after a stall (a point repeating a vertex would stall it again).
+  /// present as mesh edges, restricted facets' vertices on the surface, no cell below
+  /// max(SliverAngle, kFinishSliverAngle); no size, distance, facet-angle or radius-edge bound but
+  /// around the sub-segments missing from the complex, missingRegion), until they are met or the
+  /// round has added finishOverdraft vertices. The time limit and abort apply as in any round.
+  /// Not after a stall (a point repeating a vertex would stall it again).
   void finishAfterBudget()
   {
     if (!budgetHit_ || stalled_)
