@@ -1095,3 +1095,18 @@ TEST(OracleMesherBudget, RunsBelowTheBudgetHaveNoFinishingRound)
   EXPECT_FALSE(hasWarning(m, "refinement stopped at MaximumNumberOfVertices"));
   EXPECT_EQ(m.statistics.count("refinement.finish_vertices"), 0u);
 }
+
+TEST(OracleMesherBudget, OverdraftEndsTheFinishingRoundAndSaysSo)
+{
+  // a sliver bound no mesh reaches (25 degrees) keeps the finishing round going until its overdraft
+  const CutBox box;
+  MesherOptions opt = CutBox::options(1, 1000);
+  opt.sliverAngle = 25.0;
+  opt.perturb = opt.exude = false;
+  const TetMesh m = meshOracle(box.oracle, box.lines, {}, opt);
+  EXPECT_TRUE(hasWarning(m, "refinement stopped at MaximumNumberOfVertices = 1000"));
+  EXPECT_TRUE(hasWarning(m, "the finishing round after the vertex budget stopped at its overdraft of 500 vertices"));
+  EXPECT_EQ(statistic(m, "refinement.finish_completed"), 0.0);
+  EXPECT_GE(statistic(m, "refinement.finish_vertices"), 500.0);
+  EXPECT_LE(statistic(m, "refinement.finish_vertices"), 510.0); // asked at every step (a split may add mirrored points)
+}
