@@ -876,7 +876,8 @@ void expectTimeLimit(const FeatureSegments& features, MesherOptions opt, const s
 {
   const double seconds = 2.0;
   const std::set<std::string> phases = { "feature-line conformation", "inserting the feature-line points",
-    "feature protection (protecting balls)", "refinement", "perturbation", "exudation", "optimisation", "locating the feature lines in the mesh", "validation" };
+    "feature protection (protecting balls)", "refinement", "refinement (finishing round after the vertex budget)",
+    "perturbation", "exudation", "optimisation", "locating the feature lines in the mesh", "validation" };
   HierarchicalOracle o;
   o.add(std::make_shared<SphereDomain>(Vec3{ 0, 0, 0 }, 3.0, 2));
   o.add(std::make_shared<BoxDomain>(Vec3{ -5, -5, -5 }, Vec3{ 5, 5, 5 }, 1));
