@@ -1226,7 +1226,7 @@ private:
     finish_.overdraft = finishOverdraft(options_.maximumNumberOfVertices);
     finish_.limit = start + finish_.overdraft;
     auto region = std::make_shared<CriteriaRegion>(missingRegion());
-    finish_.regionBalls = region->balls.size();
+    finish_.regionBalls = region->size();
     const double angle = std::max(options_.sliverAngle, kFinishSliverAngle);
     finish_.criteria = std::make_unique<Criteria>(validityMeshCriteria<Tr>(
       options_, criteria_->edge_criteria_object(), angle, pickingRegion().targetAngle, std::move(region)));
@@ -1254,8 +1254,9 @@ private:
       const int s = static_cast<int>(i);
       const Vec3 a = segs.points[segs.subs[s][0]], b = segs.points[segs.subs[s][1]];
       if (!segments_->inComplex(s) && touchesMaterial(a, b))
-        region.balls.push_back({ 0.5 * (a + b), kFinishRegionFactor * norm(b - a) });
+        region.add(0.5 * (a + b), kFinishRegionFactor * norm(b - a));
     }
+    region.index();
     return region;
   }
 

@@ -14,6 +14,7 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -276,13 +277,48 @@ CGAL::Mesh_criteria_3<Tr> materialMeshCriteria(
 
 /// Balls (centre, radius) where the finishing round after the vertex budget applies the run's
 /// criteria in full: around the constrained sub-segments that no cell of the complex holds yet.
-struct CriteriaRegion
+/// Asked for every vertex of every facet and cell the round looks at: the balls are binned in a
+/// grid of the largest radius, so a query looks at the balls of one bin.
+class CriteriaRegion
 {
-  std::vector<std::pair<Vec3, double>> balls;
+public:
+  void add(const Vec3& centre, double radius)
+  {
+    balls_.push_back({ centre, radius });
+    bins_.clear();
+  }
+  size_t size() const { return balls_.size(); }
+  bool empty() const { return balls_.empty(); }
+
+  /// Bins the balls (after the last add, before the queries).
+  void index()
+  {
+    bins_.clear();
+    bin_ = 0.0;
+    for (const auto& b : balls_)
+      bin_ = std::max(bin_, b.second);
+    if (!(bin_ > 0.0))
+      bin_ = 1.0;
+    for (size_t i = 0; i < balls_.size(); ++i)
+    {
+      const auto lo = cellOf(balls_[i].first - balls_[i].second * Vec3{ 1, 1, 1 });
+      const auto hi = cellOf(balls_[i].first + balls_[i].second * Vec3{ 1, 1, 1 });
+      for (long long x = lo[0]; x <= hi[0]; ++x)
+        for (long long y = lo[1]; y <= hi[1]; ++y)
+          for (long long z = lo[2]; z <= hi[2]; ++z)
+            bins_[key({ x, y, z })].push_back(i);
+    }
+  }
 
   bool contains(const Vec3& p) const
   {
-    return std::any_of(balls.begin(), balls.end(), [&](const auto& b) { return norm(p - b.first) <= b.second; });
+    if (balls_.empty())
+      return false;
+    const auto it = bins_.find(key(cellOf(p)));
+    if (it == bins_.end())
+      return false;
+    return std::any_of(it->second.begin(), it->second.end(),
+      [&](size_t i) { return norm(p - balls_[i].first) <= balls_[i].second; });
   }
   /// One of the element's vertices lies in a ball.
   template <class Tr, size_t N>
@@ -290,6 +326,23 @@ struct CriteriaRegion
   {
     return std::any_of(v.begin(), v.end(), [&](const typename Tr::Weighted_point* p) { return contains(toVec(p->point())); });
   }
+
+private:
+  std::array<long long, 3> cellOf(const Vec3& p) const
+  {
+    return { static_cast<long long>(std::floor(p.x / bin_)), static_cast<long long>(std::floor(p.y / bin_)),
+      static_cast<long long>(std::floor(p.z / bin_)) };
+  }
+  static unsigned long long key(const std::array<long long, 3>& c)
+  {
+    // 21 bits per axis: the balls lie in the domain's box, a few thousand bins across at most
+    auto bits = [](long long v) { return static_cast<unsigned long long>(v) & ((1ull << 21) - 1); };
+    return bits(c[0]) | bits(c[1]) << 21 | bits(c[2]) << 42;
+  }
+
+  std::vector<std::pair<Vec3, double>> balls_;
+  double bin_ = 1.0;
+  std::unordered_map<unsigned long long, std::vector<size_t>> bins_;
 };
 
 /// The run's cell criterion, asked only of cells with a vertex in `region`.
@@ -371,7 +424,7 @@ CGAL::Mesh_criteria_3<Tr> validityMeshCriteria(const MesherOptions& options,
   for (int k = 0; k < MeshCriteria::kCount; ++k)
     unbounded.global[k] = 0.0;
   criteria.add_cell_criterion(new MaterialCellCriterion<Tr>(unbounded, sliverAngle, 0.0));
-  if (region && !region->balls.empty())
+  if (region && !region->empty())
   {
     criteria.add_facet_criterion(new RegionalFacetCriterion<Tr>(region, options.criteria));
     criteria.add_cell_criterion(
