@@ -1195,8 +1195,8 @@ private:
     {
       if (finish_.overdrawn)
         warnings_.push_back(when + "the finishing round after the vertex budget stopped at its overdraft of " +
-          std::to_string(finish_.overdraft) + " vertices (" + std::to_string(finish_.limit) +
-          " in all): the mesh may keep feature-line pieces that are no mesh edges, facets with vertices off "
+          std::to_string(finish_.overdraft) + " vertices (10 % of the budget, at least " +
+          std::to_string(kFinishOverdraftMin) + "): the mesh may keep feature-line pieces that are no mesh edges, facets with vertices off "
           "the surface or slivers (the validity check names what is left)");
     }
     else if (budgetHit_)
