@@ -240,6 +240,10 @@ public:
 
   ///@{
   /// Refinement stops (with a warning) at this many vertices; 0 = unlimited. Default 2,000,000.
+  /// The partial mesh is then finished for validity (feature-line pieces as mesh edges, surface
+  /// facets' vertices on the surface, no tetrahedron below SliverAngle, at least 1 degree), with
+  /// at most max(10 % of this, 500) vertices more; a warning names what is left if that is not
+  /// enough (README, "Time limit").
   vtkSetMacro(MaximumNumberOfVertices, vtkIdType); // >= 0
   vtkGetMacro(MaximumNumberOfVertices, vtkIdType);
   ///@}

@@ -6,6 +6,7 @@
 #include "LabelMapDomain.h"
 #include "MeshQuality.h"
 #include "MeshValidity.h"
+#include "OracleFeatureLines.h"
 #include "OracleMesher.h"
 #include "SphereDomain.h"
 #include "SurfaceDomain.h"
@@ -875,7 +876,8 @@ void expectTimeLimit(const FeatureSegments& features, MesherOptions opt, const s
 {
   const double seconds = 2.0;
   const std::set<std::string> phases = { "feature-line conformation", "inserting the feature-line points",
-    "feature protection (protecting balls)", "refinement", "perturbation", "exudation", "optimisation", "locating the feature lines in the mesh", "validation" };
+    "feature protection (protecting balls)", "refinement", "refinement (finishing round after the vertex budget)",
+    "perturbation", "exudation", "optimisation", "locating the feature lines in the mesh", "validation" };
   HierarchicalOracle o;
   o.add(std::make_shared<SphereDomain>(Vec3{ 0, 0, 0 }, 3.0, 2));
   o.add(std::make_shared<BoxDomain>(Vec3{ -5, -5, -5 }, Vec3{ 5, 5, 5 }, 1));
@@ -1010,4 +1012,102 @@ TEST(OracleMesher, ProtectingBallsHonourTheSeed)
   const auto a = points(7);
   EXPECT_EQ(a, points(7)); // same seed, same mesh
   EXPECT_NE(a, points(8)); // the seed chooses the initial surface points (it used to change nothing)
+}
+
+
+namespace
+{
+/// A box (material 1) cut by a tilted plane, with the lines where they meet (findFeatureLines: the
+/// cut's rim and the box's edges below it), for a vertex budget its criteria cannot meet: before
+/// the finishing round after the budget, every budget-stopped run of it (seeds 1-4, budgets
+/// 700-1,100, radius-edge 1.3 and 2) ended with a feature-line piece missing from the mesh edges.
+struct CutBox
+{
+  HierarchicalOracle oracle;
+  FeatureSegments lines;
+  CutBox()
+  {
+    auto cut = std::make_shared<HalfSpaceDomain>(Vec3{ 5, 5, 6 }, Vec3{ 0.3, 0.2, 1 }, 0, "cut");
+    cut->setCut(true);
+    oracle.add(cut);
+    oracle.add(std::make_shared<BoxDomain>(Vec3{ 0, 0, 0 }, Vec3{ 10, 10, 10 }, 1, "box"));
+    FeatureLineOptions search;
+    search.maxSegmentLength = 0.5;
+    lines = findFeatureLines(oracle, search).segments;
+  }
+  static MesherOptions options(unsigned seed, size_t budget)
+  {
+    MesherOptions o;
+    o.criteria.global = { 25.0, 1.0, 0.1, 1.0, 1.3, 0.5 }; // angle, facet size, distance, cell size, radius-edge, edge
+    o.seed = seed;
+    o.maximumNumberOfVertices = budget;
+    return o;
+  }
+};
+
+double statistic(const TetMesh& m, const std::string& name)
+{
+  const auto it = m.statistics.find(name);
+  return it == m.statistics.end() ? -1.0 : it->second;
+}
+}
+
+TEST(OracleMesherBudget, FinishingRoundLeavesAValidMeshWithEverySubSegment)
+{
+  const CutBox box;
+  ASSERT_GT(box.lines.segments.size(), 50u);
+  for (unsigned seed : { 1u, 2u })
+  {
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    const TetMesh m = meshOracle(box.oracle, box.lines, {}, CutBox::options(seed, 1000));
+    // still a budget-stopped mesh, and said so
+    EXPECT_TRUE(hasWarning(m, "refinement stopped at MaximumNumberOfVertices = 1000: the criteria are not met everywhere"));
+    EXPECT_EQ(statistic(m, "refinement.finish_completed"), 1.0);
+    EXPECT_GT(statistic(m, "refinement.finish_vertices"), 0.0);
+    EXPECT_LE(statistic(m, "refinement.finish_vertices"), statistic(m, "refinement.finish_overdraft"));
+    EXPECT_EQ(statistic(m, "refinement.finish_overdraft"), 500.0); // max(10 % of 1,000, 500)
+    // valid, by the independent check with the oracle's materials, every constrained piece an edge
+    const MeshValidity v = checkMeshValidity(m, [&](const Vec3& p) { return box.oracle.material(p); });
+    EXPECT_TRUE(v.valid()) << v.describe();
+    EXPECT_EQ(statistic(m, "validity.defects"), 0.0);
+    ASSERT_FALSE(m.segments.empty());
+    for (const auto& piece : m.segments)
+      EXPECT_TRUE(piece.present) << "a piece of input segment " << piece.input << " is no mesh edge";
+    EXPECT_NEAR(featureCoverage(m.segments, box.lines), 1.0, 1e-12);
+  }
+}
+
+TEST(OracleMesherBudget, FinishingRoundKeepsTheSeedsMesh)
+{
+  const CutBox box;
+  const TetMesh a = meshOracle(box.oracle, box.lines, {}, CutBox::options(3, 1000));
+  const TetMesh b = meshOracle(box.oracle, box.lines, {}, CutBox::options(3, 1000));
+  ASSERT_GT(statistic(a, "refinement.finish_vertices"), 0.0);
+  ASSERT_EQ(a.points.size(), b.points.size());
+  for (size_t i = 0; i < a.points.size(); ++i)
+    ASSERT_EQ(norm(a.points[i] - b.points[i]), 0.0) << "point " << i;
+  EXPECT_EQ(a.tets, b.tets);
+}
+
+TEST(OracleMesherBudget, RunsBelowTheBudgetHaveNoFinishingRound)
+{
+  const CutBox box;
+  const TetMesh m = meshOracle(box.oracle, box.lines, {}, CutBox::options(1, 100000));
+  EXPECT_FALSE(hasWarning(m, "refinement stopped at MaximumNumberOfVertices"));
+  EXPECT_EQ(m.statistics.count("refinement.finish_vertices"), 0u);
+}
+
+TEST(OracleMesherBudget, OverdraftEndsTheFinishingRoundAndSaysSo)
+{
+  // a sliver bound no mesh reaches (25 degrees) keeps the finishing round going until its overdraft
+  const CutBox box;
+  MesherOptions opt = CutBox::options(1, 1000);
+  opt.sliverAngle = 25.0;
+  opt.perturb = opt.exude = false;
+  const TetMesh m = meshOracle(box.oracle, box.lines, {}, opt);
+  EXPECT_TRUE(hasWarning(m, "refinement stopped at MaximumNumberOfVertices = 1000"));
+  EXPECT_TRUE(hasWarning(m, "the finishing round after the vertex budget stopped at its overdraft of 500 vertices"));
+  EXPECT_EQ(statistic(m, "refinement.finish_completed"), 0.0);
+  EXPECT_GE(statistic(m, "refinement.finish_vertices"), 500.0);
+  EXPECT_LE(statistic(m, "refinement.finish_vertices"), 510.0); // asked at every step (a split may add mirrored points)
 }

@@ -387,6 +387,17 @@ std::vector<Tr::Vertex_handle> verticesOfBadCells(const C3t3& c3t3, const Criter
 /// this bound at most, the sequential round after them to the material's own.
 constexpr double kParallelRadiusEdgeFloor = 1.2;
 
+/// The finishing round after the vertex budget (MeshingRun::finishAfterBudget) may add this share
+/// of the budget, at least kFinishOverdraftMin vertices (see the README's "Time limit").
+constexpr double kFinishOverdraftShare = 0.1;
+constexpr size_t kFinishOverdraftMin = 500;
+/// The finishing round refines cells below this angle at least (the default SliverAngle: what
+/// removes flat tetrahedra; the picking angle cost 49 % of a 3,000-vertex budget on the demo).
+constexpr double kFinishSliverAngle = 1.0;
+/// Around a sub-segment missing from the complex, the run's criteria apply within this many times
+/// its length (MeshingRun::missingRegion).
+constexpr double kFinishRegionFactor = 3.0;
+
 /// `options` with every radius-edge bound below `floor` raised to it (bounds <= 0, none, kept).
 MesherOptions withRadiusEdgeAtLeast(MesherOptions options, double floor)
 {
@@ -903,17 +914,26 @@ private:
 
 
   /// Steps `mesher` until it is done and `more` (asked when it is) queues nothing more: progress,
-  /// abort and the vertex budget in our hands.
+  /// abort and the vertex budget in our hands. In the finishing round (finish_.active) the limit
+  /// is the finishing round's (its overdraft, asked at every step), else the vertex budget (asked
+  /// every 512 steps).
   template <class M>
   void drive(M& mesher, const std::function<bool()>& more)
   {
     mesher.initialize();
     size_t lastCount = 0, idleChecks = 0;
+    bool stopped = false;
     while (!mesher.is_algorithm_done() || (more && more()))
     {
       mesher.one_step();
       if (steps_ % 16 == 0)
         deadline_.check(refinePhase_); // also where steps insert nothing
+      if (finish_.active && c3t3_->triangulation().number_of_vertices() >= finish_.limit)
+      {
+        finish_.overdrawn = stopped = true;
+        ++steps_;
+        break;
+      }
       if (++steps_ % 512 == 0)
       {
         const size_t count = c3t3_->triangulation().number_of_vertices();
@@ -929,14 +949,14 @@ private:
         }
         const double n = static_cast<double>(count);
         report(0.05 + 0.4 * std::min(1.0, n / expected_), "refinement");
-        if (options_.maximumNumberOfVertices && n >= options_.maximumNumberOfVertices)
+        if (!finish_.active && options_.maximumNumberOfVertices && n >= options_.maximumNumberOfVertices)
         {
-          budgetHit_ = true;
+          budgetHit_ = stopped = true;
           break;
         }
       }
     }
-    if (budgetHit_)
+    if (stopped)
       mesher.fix_c3t3();
   }
 
@@ -970,16 +990,22 @@ private:
     return r;
   }
 
+  /// The criteria of the current round: the run's, or in the finishing round after the vertex
+  /// budget only what validity needs (validityMeshCriteria).
+  const Criteria& roundCriteria() const { return finish_.active ? *finish_.criteria : *criteria_; }
+
   /// One refinement round: Conforming with the segment level below the facets; without one, the
-  /// same mesher with no segments where the cells pick their points; else CGAL's Mesher_3.
+  /// same mesher with no segments where the cells pick their points; else CGAL's Mesher_3. On
+  /// one thread in the finishing round.
   void refineOnce()
   {
+    const Criteria& criteria = roundCriteria();
     if (conforming_)
     {
       const auto wanted = [this](const Vec3& a, const Vec3& b) { return touchesMaterial(a, b); };
       Segments level(*c3t3_, *segments_, domain_->index_from_curve_index(1));
       ConformingMesher3<C3t3, Criteria, MeshDomain> mesher(
-        *c3t3_, *domain_, *criteria_, level, CGAL::FACET_VERTICES_ON_SURFACE, pickingRegion());
+        *c3t3_, *domain_, criteria, level, CGAL::FACET_VERTICES_ON_SURFACE, pickingRegion());
       mesher.restrictFirstScanTo(std::move(tailRegion_), std::move(sliverRegion_)); // empty but after the parallel phase
       tailRegion_.clear();
       sliverRegion_.clear();
@@ -987,7 +1013,7 @@ private:
       countPicks(mesher.pickingCounters());
       missing_ = level.missingCensus(wanted);
     }
-    else if (threads_ > 1)
+    else if (threads_ > 1 && !finish_.active)
     {
       parallelPhases_.leftBad.clear(); // this round's refused points only
       refineInParallelOnce();
@@ -1007,7 +1033,7 @@ private:
       refineAtPickedPoints({});
     else
     {
-      Mesher mesher(*c3t3_, *domain_, *criteria_, CGAL::FACET_VERTICES_ON_SURFACE);
+      Mesher mesher(*c3t3_, *domain_, criteria, CGAL::FACET_VERTICES_ON_SURFACE);
       drive(mesher, {});
     }
     ++rounds_;
@@ -1022,7 +1048,7 @@ private:
     SegmentState<C3t3> none(*c3t3_, SegmentSet{});
     Segments level(*c3t3_, none, domain_->index_from_curve_index(1));
     ConformingMesher3<C3t3, Criteria, MeshDomain> mesher(
-      *c3t3_, *domain_, *criteria_, level, CGAL::FACET_VERTICES_ON_SURFACE, pickingRegion());
+      *c3t3_, *domain_, roundCriteria(), level, CGAL::FACET_VERTICES_ON_SURFACE, pickingRegion());
     mesher.restrictFirstScanTo(std::move(region), std::move(cellRegion));
     drive(mesher, {});
     countPicks(mesher.pickingCounters());
@@ -1157,15 +1183,80 @@ private:
     }
   }
 
-  /// A refinement round that ended at the vertex budget or stalled says so (`when`: which round).
+  /// A refinement round that ended at the vertex budget, at the finishing round's overdraft or
+  /// stalled says so (`when`: which round).
   void warnIfUnfinished(const std::string& when)
   {
     if (stalled_)
       warnings_.push_back(when + "refinement stalled (100k steps without a new vertex: a refinement point "
                           "repeats an existing vertex); the criteria are not met everywhere");
-    if (budgetHit_)
+    if (finish_.active)
+    {
+      if (finish_.overdrawn)
+        warnings_.push_back(when + "the finishing round after the vertex budget stopped at its overdraft of " +
+          std::to_string(finish_.overdraft) + " vertices (10 % of the budget, at least " +
+          std::to_string(kFinishOverdraftMin) + "): the mesh may keep feature-line pieces that are no mesh edges, facets with vertices off "
+          "the surface or slivers (the validity check names what is left)");
+    }
+    else if (budgetHit_)
       warnings_.push_back(when + "refinement stopped at MaximumNumberOfVertices = " +
         std::to_string(options_.maximumNumberOfVertices) + ": the criteria are not met everywhere");
+  }
+
+  /// The overdraft of the finishing round: 10 % of the vertex budget, at least kFinishOverdraftMin.
+  static size_t finishOverdraft(size_t budget)
+  {
+    return std::max(kFinishOverdraftMin, static_cast<size_t>(std::ceil(kFinishOverdraftShare * static_cast<double>(budget))));
+  }
+
+  /// After refinement stopped at the vertex budget: the partial mesh made valid. The same levels
+  /// (segments, facets, cells at picked points; CGAL's Mesher_3 for ProtectingBalls) run once
+  /// more, on one thread, with only what validity needs (validityMeshCriteria: sub-segments
+  /// present as mesh edges, restricted facets' vertices on the surface, no cell below
+  /// max(SliverAngle, kFinishSliverAngle); no size, distance, facet-angle or radius-edge bound but
+  /// around the sub-segments missing from the complex, missingRegion), until they are met or the
+  /// round has added finishOverdraft vertices. The time limit and abort apply as in any round.
+  /// Not after a stall (a point repeating a vertex would stall it again).
+  void finishAfterBudget()
+  {
+    if (!budgetHit_ || stalled_)
+      return;
+    const size_t start = c3t3_->triangulation().number_of_vertices();
+    finish_.overdraft = finishOverdraft(options_.maximumNumberOfVertices);
+    finish_.limit = start + finish_.overdraft;
+    auto region = std::make_shared<CriteriaRegion>(missingRegion());
+    finish_.regionBalls = region->size();
+    const double angle = std::max(options_.sliverAngle, kFinishSliverAngle);
+    finish_.criteria = std::make_unique<Criteria>(validityMeshCriteria<Tr>(
+      options_, criteria_->edge_criteria_object(), angle, pickingRegion().targetAngle, std::move(region)));
+    finish_.active = true;
+    const char* phase = refinePhase_;
+    refinePhase_ = "refinement (finishing round after the vertex budget)";
+    report(0.45, "refinement (finishing round after the vertex budget)");
+    refineOnce();
+    refinePhase_ = phase;
+    finish_.vertices = c3t3_->triangulation().number_of_vertices() - start;
+    finish_.completed = !finish_.overdrawn && !stalled_;
+    warnIfUnfinished("");
+  }
+
+  /// Where the finishing round applies the run's criteria in full: a ball around each wanted
+  /// sub-segment that no cell of the complex holds, kFinishRegionFactor times its length.
+  CriteriaRegion missingRegion() const
+  {
+    CriteriaRegion region;
+    if (!conforming_)
+      return region;
+    const SegmentSet& segs = segments_->segments();
+    for (size_t i = 0; i < segments_->size(); ++i)
+    {
+      const int s = static_cast<int>(i);
+      const Vec3 a = segs.points[segs.subs[s][0]], b = segs.points[segs.subs[s][1]];
+      if (!segments_->inComplex(s) && touchesMaterial(a, b))
+        region.add(0.5 * (a + b), kFinishRegionFactor * norm(b - a));
+    }
+    region.index();
+    return region;
   }
 
   /// The segment, facet and cell levels together (rules T1.2, T2, T3), one step at a time.
@@ -1192,6 +1283,7 @@ private:
     if (conforming_ && threads_ > 1)
       parallelPhases_.tailSeconds = seconds(tailStart);
     warnIfUnfinished("");
+    finishAfterBudget();
     c3t3_->clear_manifold_info();
     refinedVertices_ = c3t3_->triangulation().number_of_vertices();
     refineTime_ = seconds(refineStart);
@@ -1239,7 +1331,9 @@ private:
   /// weights are still zero here, after the exuder they are not).
   void repairSegmentsAfterPerturbation()
   {
-    if (!conforming_ || budgetHit_ || stalled_)
+    // after the vertex budget: only when the finishing round made the segments present, with its
+    // criteria and what is left of its overdraft
+    if (!conforming_ || (budgetHit_ && !finish_.completed) || stalled_)
       return;
     segments_->reindex();
     bool encroached = false;
@@ -1406,6 +1500,14 @@ private:
       st["feature_network.shortest_segment"] = network_.shortestSegment;
     }
     st["refinement_steps"] = static_cast<double>(steps_);
+    if (budgetHit_)
+    {
+      // the finishing round after the vertex budget (finishAfterBudget; not run after a stall)
+      st["refinement.finish_vertices"] = static_cast<double>(finish_.vertices);
+      st["refinement.finish_overdraft"] = static_cast<double>(finish_.overdraft);
+      st["refinement.finish_completed"] = finish_.completed;
+      st["refinement.finish_missing_sub_segments"] = static_cast<double>(finish_.regionBalls);
+    }
     st["refinement_threads"] = threads_;
     st["refinement_rounds"] = rounds_;
     if (threads_ > 1)
@@ -1534,6 +1636,16 @@ private:
   size_t outputVertices_ = 0, outputTets_ = 0; ///< of the output, once the complex is cleared
   int rounds_ = 0;
   bool budgetHit_ = false, stalled_ = false;
+  /// The finishing round after the vertex budget (finishAfterBudget).
+  struct Finish
+  {
+    bool active = false;    ///< rounds use its criteria and limit (from the finishing round on)
+    bool overdrawn = false; ///< a round of it stopped at its limit
+    bool completed = false; ///< it ended with its criteria met (no overdraft, no stall)
+    size_t overdraft = 0, limit = 0, vertices = 0; ///< allowed, vertex count to stop at, added by the round
+    size_t regionBalls = 0; ///< sub-segments missing from the complex when it started (missingRegion)
+    std::unique_ptr<Criteria> criteria; ///< validityMeshCriteria
+  } finish_;
   double initTime_ = 0.0, refineTime_ = 0.0, refineCpu_ = 0.0, optTime_ = 0.0, optCpu_ = 0.0;
   double callingThreadRefineCpu_ = 0.0;
   double parallelCpu_ = 0.0, parallelBusiestCpu_ = 0.0; ///< of every refinement thread, of the busiest one

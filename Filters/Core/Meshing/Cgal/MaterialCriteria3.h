@@ -13,6 +13,10 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <memory>
+#include <unordered_map>
+#include <utility>
+#include <vector>
 
 namespace omesh::cgal
 {
@@ -90,6 +94,7 @@ template <class Tr>
 class MaterialCellCriterion
   : public CGAL::Mesh_3::Abstract_criterion<Tr, typename CGAL::Mesh_criteria_3<Tr>::Cell_criteria::Visitor>
 {
+protected:
   using Visitor = typename CGAL::Mesh_criteria_3<Tr>::Cell_criteria::Visitor;
   using Base = CGAL::Mesh_3::Abstract_criterion<Tr, Visitor>;
   using Quality = typename Base::Quality;
@@ -186,6 +191,7 @@ template <class Tr>
 class MaterialFacetCriterion
   : public CGAL::Mesh_3::Abstract_criterion<Tr, typename CGAL::Mesh_criteria_3<Tr>::Facet_criteria::Visitor>
 {
+protected:
   using Visitor = typename CGAL::Mesh_criteria_3<Tr>::Facet_criteria::Visitor;
   using Base = CGAL::Mesh_3::Abstract_criterion<Tr, Visitor>;
   using Quality = typename Base::Quality;
@@ -266,6 +272,164 @@ CGAL::Mesh_criteria_3<Tr> materialMeshCriteria(
   criteria.add_facet_criterion(new MaterialFacetCriterion<Tr>(options.criteria));
   criteria.add_cell_criterion(
     new MaterialCellCriterion<Tr>(options.criteria, sliverAngle, options.interfaceSliverAngle));
+  return criteria;
+}
+
+/// Balls (centre, radius) where the finishing round after the vertex budget applies the run's
+/// criteria in full: around the constrained sub-segments that no cell of the complex holds yet.
+/// Asked for every vertex of every facet and cell the round looks at: the balls are binned in a
+/// grid of the largest radius, so a query looks at the balls of one bin.
+class CriteriaRegion
+{
+public:
+  void add(const Vec3& centre, double radius)
+  {
+    balls_.push_back({ centre, radius });
+    bins_.clear();
+  }
+  size_t size() const { return balls_.size(); }
+  bool empty() const { return balls_.empty(); }
+
+  /// Bins the balls (after the last add, before the queries).
+  void index()
+  {
+    bins_.clear();
+    bin_ = 0.0;
+    for (const auto& b : balls_)
+      bin_ = std::max(bin_, b.second);
+    if (!(bin_ > 0.0))
+      bin_ = 1.0;
+    for (size_t i = 0; i < balls_.size(); ++i)
+    {
+      const auto lo = cellOf(balls_[i].first - balls_[i].second * Vec3{ 1, 1, 1 });
+      const auto hi = cellOf(balls_[i].first + balls_[i].second * Vec3{ 1, 1, 1 });
+      for (long long x = lo[0]; x <= hi[0]; ++x)
+        for (long long y = lo[1]; y <= hi[1]; ++y)
+          for (long long z = lo[2]; z <= hi[2]; ++z)
+            bins_[key({ x, y, z })].push_back(i);
+    }
+  }
+
+  bool contains(const Vec3& p) const
+  {
+    if (balls_.empty())
+      return false;
+    const auto it = bins_.find(key(cellOf(p)));
+    if (it == bins_.end())
+      return false;
+    return std::any_of(it->second.begin(), it->second.end(),
+      [&](size_t i) { return norm(p - balls_[i].first) <= balls_[i].second; });
+  }
+  /// One of the element's vertices lies in a ball.
+  template <class Tr, size_t N>
+  bool touches(const std::array<const typename Tr::Weighted_point*, N>& v) const
+  {
+    return std::any_of(v.begin(), v.end(), [&](const typename Tr::Weighted_point* p) { return contains(toVec(p->point())); });
+  }
+
+private:
+  std::array<long long, 3> cellOf(const Vec3& p) const
+  {
+    return { static_cast<long long>(std::floor(p.x / bin_)), static_cast<long long>(std::floor(p.y / bin_)),
+      static_cast<long long>(std::floor(p.z / bin_)) };
+  }
+  static unsigned long long key(const std::array<long long, 3>& c)
+  {
+    // 21 bits per axis: the balls lie in the domain's box, a few thousand bins across at most
+    auto bits = [](long long v) { return static_cast<unsigned long long>(v) & ((1ull << 21) - 1); };
+    return bits(c[0]) | bits(c[1]) << 21 | bits(c[2]) << 42;
+  }
+
+  std::vector<std::pair<Vec3, double>> balls_;
+  double bin_ = 1.0;
+  std::unordered_map<unsigned long long, std::vector<size_t>> bins_;
+};
+
+/// The run's cell criterion, asked only of cells with a vertex in `region`.
+template <class Tr>
+class RegionalCellCriterion : public MaterialCellCriterion<Tr>
+{
+  using Base = MaterialCellCriterion<Tr>;
+
+public:
+  RegionalCellCriterion(std::shared_ptr<const CriteriaRegion> region, const MaterialCriteria& c, double sliverAngle,
+    double interfaceSliverAngle)
+    : Base(c, sliverAngle, interfaceSliverAngle)
+    , region_(std::move(region))
+  {
+  }
+
+protected:
+  RegionalCellCriterion* do_clone() const override { return new RegionalCellCriterion(*this); }
+  typename Base::Is_bad do_is_bad(const Tr& tr, const typename Tr::Cell_handle& c) const override
+  {
+    if (!region_->template touches<Tr, 4>({ &tr.point(c, 0), &tr.point(c, 1), &tr.point(c, 2), &tr.point(c, 3) }))
+      return typename Base::Is_bad();
+    return Base::do_is_bad(tr, c);
+  }
+
+private:
+  std::shared_ptr<const CriteriaRegion> region_;
+};
+
+/// The run's facet criterion, asked only of facets with a vertex in `region`.
+template <class Tr>
+class RegionalFacetCriterion : public MaterialFacetCriterion<Tr>
+{
+  using Base = MaterialFacetCriterion<Tr>;
+
+public:
+  RegionalFacetCriterion(std::shared_ptr<const CriteriaRegion> region, const MaterialCriteria& c)
+    : Base(c)
+    , region_(std::move(region))
+  {
+  }
+
+protected:
+  RegionalFacetCriterion* do_clone() const override { return new RegionalFacetCriterion(*this); }
+  typename Base::Is_bad do_is_bad(const Tr& tr, const typename Tr::Facet& f) const override
+  {
+    if (!region_->template touches<Tr, 3>({ &tr.point(f.first, (f.second + 1) & 3),
+          &tr.point(f.first, (f.second + 2) & 3), &tr.point(f.first, (f.second + 3) & 3) }))
+      return typename Base::Is_bad();
+    return Base::do_is_bad(tr, f);
+  }
+
+private:
+  std::shared_ptr<const CriteriaRegion> region_;
+};
+
+/// The criteria of the finishing round after the vertex budget (MeshingRun::finishAfterBudget):
+/// what a valid mesh needs, not what makes it fine. Everywhere: CGAL's topology criterion (every
+/// restricted facet has its three vertices on the surface, T2: the boundary stays a restricted
+/// Delaunay surface) and the rule that refines any cell below `sliverAngle` (flat tetrahedra, at
+/// picked points where the cell level picks); no angle, size, distance, radius-edge or
+/// interface-sliver bound. In `region` (balls around the constrained sub-segments no cell of the
+/// complex holds) the run's own criteria (`options`, `runSliverAngle`): splitting such a
+/// sub-segment alone does not bring it into the complex where the surface around it is still
+/// coarse (its cells' circumcentres stay outside, and the section-5 rule splits it down to the
+/// split floor); the full criteria refine there as a finished run does. The segment level has
+/// no criterion of its own to relax (a sub-segment is split when encroached, refused a point, or
+/// missing from the complex). `edges` is the run's (only feature protection reads it).
+template <class Tr>
+CGAL::Mesh_criteria_3<Tr> validityMeshCriteria(const MesherOptions& options,
+  const typename CGAL::Mesh_criteria_3<Tr>::Edge_criteria& edges, double sliverAngle, double runSliverAngle,
+  std::shared_ptr<const CriteriaRegion> region)
+{
+  using Criteria = CGAL::Mesh_criteria_3<Tr>;
+  typename Criteria::Facet_criteria facetCriteria(0.0, 0.0, 0.0, CGAL::FACET_VERTICES_ON_SURFACE);
+  typename Criteria::Cell_criteria cellCriteria(0.0, 0.0);
+  Criteria criteria(edges, facetCriteria, cellCriteria);
+  MaterialCriteria unbounded; // every value 0: no bound (MeshCriteria: values <= 0 mean none)
+  for (int k = 0; k < MeshCriteria::kCount; ++k)
+    unbounded.global[k] = 0.0;
+  criteria.add_cell_criterion(new MaterialCellCriterion<Tr>(unbounded, sliverAngle, 0.0));
+  if (region && !region->empty())
+  {
+    criteria.add_facet_criterion(new RegionalFacetCriterion<Tr>(region, options.criteria));
+    criteria.add_cell_criterion(
+      new RegionalCellCriterion<Tr>(region, options.criteria, runSliverAngle, options.interfaceSliverAngle));
+  }
   return criteria;
 }
 }
