@@ -914,9 +914,8 @@ private:
 
 
   /// Steps `mesher` until it is done and `more` (asked when it is) queues nothing more: progress,
-  /// abort and the vertex budget in our hands. In the finishing round (finish_.active) the limit
-  /// is the finishing round's (its overdraft, asked at every step), else the vertex budget (asked
-  /// every 512 steps).
+  /// abort and the vertex budget in our hands. The vertex limit is asked at every step: in the
+  /// finishing round (finish_.active) the finishing round's (its overdraft), else the vertex budget.
   template <class M>
   void drive(M& mesher, const std::function<bool()>& more)
   {
@@ -928,9 +927,11 @@ private:
       mesher.one_step();
       if (steps_ % 16 == 0)
         deadline_.check(refinePhase_); // also where steps insert nothing
-      if (finish_.active && c3t3_->triangulation().number_of_vertices() >= finish_.limit)
+      // the limit at every step (one load): a budget means that many vertices, not a few hundred more
+      const size_t limit = finish_.active ? finish_.limit : options_.maximumNumberOfVertices;
+      if (limit && c3t3_->triangulation().number_of_vertices() >= limit)
       {
-        finish_.overdrawn = stopped = true;
+        (finish_.active ? finish_.overdrawn : budgetHit_) = stopped = true;
         ++steps_;
         break;
       }
@@ -949,11 +950,6 @@ private:
         }
         const double n = static_cast<double>(count);
         report(0.05 + 0.4 * std::min(1.0, n / expected_), "refinement");
-        if (!finish_.active && options_.maximumNumberOfVertices && n >= options_.maximumNumberOfVertices)
-        {
-          budgetHit_ = stopped = true;
-          break;
-        }
       }
     }
     if (stopped)
