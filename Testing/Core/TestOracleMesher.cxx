@@ -1066,6 +1066,8 @@ TEST(OracleMesherBudget, FinishingRoundLeavesAValidMeshWithEverySubSegment)
     EXPECT_GT(statistic(m, "refinement.finish_vertices"), 0.0);
     EXPECT_LE(statistic(m, "refinement.finish_vertices"), statistic(m, "refinement.finish_overdraft"));
     EXPECT_EQ(statistic(m, "refinement.finish_overdraft"), 500.0); // max(10 % of 1,000, 500)
+    // the budget is asked at every step: refinement ends at it, give or take one step's points
+    EXPECT_LE(static_cast<double>(m.points.size()), 1000.0 + 10.0 + statistic(m, "refinement.finish_vertices"));
     // valid, by the independent check with the oracle's materials, every constrained piece an edge
     const MeshValidity v = checkMeshValidity(m, [&](const Vec3& p) { return box.oracle.material(p); });
     EXPECT_TRUE(v.valid()) << v.describe();
