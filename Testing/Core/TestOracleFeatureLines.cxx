@@ -1187,4 +1187,25 @@ TEST(OracleFeatureLines, ACreaseMeetsTheTripleLineThatTouchesItAtTheExactCrossin
           nearest = std::min(nearest, distanceToSegment(x, P[l->points[q]], P[l->points[q + 1]]));
       EXPECT_LT(nearest, 1e-6) << "arm " << arm << " at " << d << " beyond T is " << nearest << " off the chords";
     }
+  // what the mesher gets: the pieces on the edge keep their materials, and the mesh every line
+  MaterialCriteria criteria;
+  criteria.global = { 25.0, 0.6, 0.03, 0.6, 1.3, 0.3 }; // angle, facet size, distance, cell size, radius-edge, edge
+  const FeatureSelection selection = selectFeatures(oracle, {}, FeatureSource::Automatic, criteria);
+  const auto& Q = selection.segments.points;
+  int onTheEdge = 0;
+  for (size_t k = 0; k < selection.segments.segments.size(); ++k)
+  {
+    const Vec3 a = Q[selection.segments.segments[k][0]], b = Q[selection.segments.segments[k][1]];
+    if (!onEdge(a) || !onEdge(b))
+      continue;
+    ++onTheEdge;
+    std::set<int> around;
+    for (int j = 0; j < 16; ++j)
+      around.insert(oracle.material(0.5 * (a + b) + 1e-4 * Vec3{ 0, std::cos(j * M_PI / 8), std::sin(j * M_PI / 8) }));
+    std::array<int, 4> tag{ -2, -2, -2, -2 };
+    std::copy(around.begin(), around.end(), tag.begin());
+    EXPECT_EQ(selection.origin[k].materials, tag) << selection.segments.describe(k);
+  }
+  EXPECT_GT(onTheEdge, 0);
+  expectMeshedWithEveryLine(oracle, selection, criteria);
 }
