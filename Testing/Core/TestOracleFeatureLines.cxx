@@ -1122,3 +1122,90 @@ TEST(OracleFeatureLines, ChordsOfARimAtAGrazingAngleToATrilinearInterfaceKeepWit
       }
   EXPECT_GT(chords, 5);
 }
+
+TEST(OracleFeatureLines, ACreaseMeetsTheTripleLineThatTouchesItAtTheExactCrossingAndEachPieceHasItsMaterials)
+{
+  // A box (implant, decides first) on bone cut away above a plane that meets the box's edge along
+  // x (y = z = 0) at T = (x0, 0, 0) at a grazing angle: the triple line outside/bone/box is a V
+  // with its tip on the edge at T, one arm on the face y = 0 (z = s (x - x0)), one on the face
+  // z = 0 (y = -s (x - x0) / t), 11.5 degrees apart, closer than a grid step for 0.75 beyond T
+  // (as the implant's collar edge on the generated case bbox_centre_on_face). The edge changes its
+  // materials at T (outside/box before, bone/box after): both pieces and the triple line share T.
+  const double x0 = 0.3137, s = 0.03, t = -0.15;
+  HierarchicalOracle oracle;
+  oracle.add(std::make_shared<BoxDomain>(Vec3{ -2, 0, 0 }, Vec3{ 2, 1, 1 }, 3, "implant"));
+  auto cut = std::make_shared<HalfSpaceDomain>(Vec3{ x0, 0, 0 }, Vec3{ s, t, -1 }, 0, "cut");
+  cut->setCut(true);
+  oracle.add(cut);
+  oracle.add(std::make_shared<BoxDomain>(Vec3{ -3, -1, -1 }, Vec3{ 3, 2, 2 }, 2, "bone"));
+  FeatureLineOptions options;
+  options.maxSegmentLength = 0.3;
+  const FeatureLines f = findFeatureLines(oracle, options);
+  const auto& P = f.segments.points;
+  const Vec3 T{ x0, 0, 0 };
+  const auto onEdge = [](const Vec3& p) { return std::abs(p.y) < 1e-9 && std::abs(p.z) < 1e-9; };
+  int tip = -1;
+  std::vector<const FeatureLine*> edgePieces, triple;
+  for (const FeatureLine& l : f.lines)
+  {
+    if (l.crease && onEdge(P[l.points.front()]) && onEdge(P[l.points.back()]))
+      edgePieces.push_back(&l);
+    if (l.materials == std::vector<int>{ kOutside, 2, 3 })
+      triple.push_back(&l);
+  }
+  for (size_t p = 0; p < P.size(); ++p)
+    if (norm(P[p] - T) < 1e-6)
+      tip = static_cast<int>(p);
+  ASSERT_GE(tip, 0) << "no vertex at the crossing T";
+  // the edge: two pieces ending at T, each with exactly the materials around its midpoint
+  ASSERT_EQ(edgePieces.size(), 2u);
+  for (const FeatureLine* l : edgePieces)
+  {
+    EXPECT_TRUE(l->points.front() == tip || l->points.back() == tip) << "a piece of the edge does not end at T";
+    const Vec3 m = 0.5 * (P[l->points.front()] + P[l->points.back()]);
+    std::set<int> around;
+    for (int k = 0; k < 16; ++k)
+      around.insert(oracle.material(m + 1e-4 * Vec3{ 0, std::cos(k * M_PI / 8), std::sin(k * M_PI / 8) }));
+    EXPECT_EQ(l->materials, std::vector<int>(around.begin(), around.end())) << "the piece at x = " << m.x;
+  }
+  // the triple line passes through T: both arms are straight, so every point of the V within 0.75
+  // of T lies on a chord
+  ASSERT_FALSE(triple.empty());
+  bool throughTip = false;
+  for (const FeatureLine* l : triple)
+    for (int p : l->points)
+      throughTip = throughTip || p == tip;
+  EXPECT_TRUE(throughTip) << "the triple line does not pass through T";
+  for (int arm = 0; arm < 2; ++arm)
+    for (int k = 1; k <= 20; ++k)
+    {
+      const double d = 0.75 * k / 20;
+      const Vec3 x = arm == 0 ? Vec3{ x0 + d, 0, s * d } : Vec3{ x0 + d, -s * d / t, 0 };
+      double nearest = 1e300;
+      for (const FeatureLine* l : triple)
+        for (size_t q = 0; q + 1 < l->points.size(); ++q)
+          nearest = std::min(nearest, distanceToSegment(x, P[l->points[q]], P[l->points[q + 1]]));
+      EXPECT_LT(nearest, 1e-6) << "arm " << arm << " at " << d << " beyond T is " << nearest << " off the chords";
+    }
+  // what the mesher gets: the pieces on the edge keep their materials, and the mesh every line
+  MaterialCriteria criteria;
+  criteria.global = { 25.0, 0.6, 0.03, 0.6, 1.3, 0.3 }; // angle, facet size, distance, cell size, radius-edge, edge
+  const FeatureSelection selection = selectFeatures(oracle, {}, FeatureSource::Automatic, criteria);
+  const auto& Q = selection.segments.points;
+  int onTheEdge = 0;
+  for (size_t k = 0; k < selection.segments.segments.size(); ++k)
+  {
+    const Vec3 a = Q[selection.segments.segments[k][0]], b = Q[selection.segments.segments[k][1]];
+    if (!onEdge(a) || !onEdge(b))
+      continue;
+    ++onTheEdge;
+    std::set<int> around;
+    for (int j = 0; j < 16; ++j)
+      around.insert(oracle.material(0.5 * (a + b) + 1e-4 * Vec3{ 0, std::cos(j * M_PI / 8), std::sin(j * M_PI / 8) }));
+    std::array<int, 4> tag{ -2, -2, -2, -2 };
+    std::copy(around.begin(), around.end(), tag.begin());
+    EXPECT_EQ(selection.origin[k].materials, tag) << selection.segments.describe(k);
+  }
+  EXPECT_GT(onTheEdge, 0);
+  expectMeshedWithEveryLine(oracle, selection, criteria);
+}

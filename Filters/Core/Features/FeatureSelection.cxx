@@ -92,6 +92,8 @@ void shareCrossings(const HierarchicalOracle& oracle, FeatureSegments& given, Fe
       const int end = s[1];
       s[1] = ai;
       A.segments.push_back({ ai, end });
+      if (!A.source.empty())
+        A.source.push_back(A.source[best]);
       for (FeatureLine& l : automatic.lines)
         for (size_t k = 0; k + 1 < l.points.size(); ++k)
           if ((l.points[k] == s[0] && l.points[k + 1] == end) || (l.points[k] == end && l.points[k + 1] == s[0]))
@@ -115,6 +117,11 @@ std::size_t dropAutomaticAlongGiven(FeatureSegments& f, std::size_t& firstAutoma
 {
   std::vector<std::array<int, 2>> given(f.segments.begin(), f.segments.begin() + static_cast<long>(firstAutomatic));
   std::vector<std::array<int, 2>> automatic(f.segments.begin() + static_cast<long>(firstAutomatic), f.segments.end());
+  // the sources (FeatureSegments::source, when tracked) go with the segments: a piece of a split keeps its own
+  const bool tracked = !f.source.empty();
+  std::vector<int> givenSource, keptSource;
+  if (tracked)
+    givenSource.assign(f.source.begin(), f.source.begin() + static_cast<long>(firstAutomatic));
   auto nearestGiven = [&](const Vec3& x) {
     std::pair<double, int> best{ HUGE_VAL, -1 };
     for (size_t g = 0; g < given.size(); ++g)
@@ -123,14 +130,19 @@ std::size_t dropAutomaticAlongGiven(FeatureSegments& f, std::size_t& firstAutoma
   };
   std::size_t dropped = 0;
   std::vector<std::array<int, 2>> kept;
-  for (const auto& s : automatic)
+  for (size_t k = 0; k < automatic.size(); ++k)
   {
+    const auto& s = automatic[k];
     const Vec3 a = f.points[s[0]], b = f.points[s[1]];
     if (nearestGiven(a).first <= eps && nearestGiven(b).first <= eps && nearestGiven(lerp(a, b, 0.5)).first <= eps &&
       nearestGiven(lerp(a, b, 0.25)).first <= eps && nearestGiven(lerp(a, b, 0.75)).first <= eps)
       ++dropped;
     else
+    {
       kept.push_back(s);
+      if (tracked)
+        keptSource.push_back(f.source[firstAutomatic + k]);
+    }
   }
   if (dropped == 0)
     return 0;
@@ -157,15 +169,30 @@ std::size_t dropAutomaticAlongGiven(FeatureSegments& f, std::size_t& firstAutoma
     f.points[v] = lerp(f.points[g0], f.points[g1], t); // onto the given line, which stays straight
     given[g] = { g0, v };
     given.push_back({ v, g1 });
+    if (tracked)
+      givenSource.push_back(givenSource[g]);
   }
   for (auto& s : kept)
     for (int& v : s)
       if (auto it = remap.find(v); it != remap.end())
         v = it->second;
-  kept.erase(std::remove_if(kept.begin(), kept.end(), [](const std::array<int, 2>& s) { return s[0] == s[1]; }), kept.end());
+  std::vector<std::array<int, 2>> nonEmpty;
+  std::vector<int> nonEmptySource;
+  for (size_t k = 0; k < kept.size(); ++k)
+    if (kept[k][0] != kept[k][1])
+    {
+      nonEmpty.push_back(kept[k]);
+      if (tracked)
+        nonEmptySource.push_back(keptSource[k]);
+    }
   firstAutomatic = given.size();
   f.segments = std::move(given);
-  f.segments.insert(f.segments.end(), kept.begin(), kept.end());
+  f.segments.insert(f.segments.end(), nonEmpty.begin(), nonEmpty.end());
+  if (tracked)
+  {
+    f.source = std::move(givenSource);
+    f.source.insert(f.source.end(), nonEmptySource.begin(), nonEmptySource.end());
+  }
   return dropped;
 }
 }
@@ -273,12 +300,16 @@ void dropNearDuplicateCurves(FeatureSelection& out, double smallAngle)
   FeatureSegments& A = out.automatic.segments;
   FeatureSegments taken;
   taken.points = A.points;
+  // each segment's source: the index of its curve in out.automatic.lines (labelOrigins tags by it)
   for (const FeatureLine* l : triplesThenLongest(out.automatic))
   {
     std::size_t first = taken.segments.size();
     for (size_t k = 0; k + 1 < l->points.size(); ++k)
       if (l->points[k] != l->points[k + 1])
+      {
         taken.segments.push_back({ l->points[k], l->points[k + 1] });
+        taken.source.push_back(static_cast<int>(l - out.automatic.lines.data()));
+      }
     if (first > 0)
       out.droppedNearDuplicate += dropAutomaticAlongGiven(taken, first, 0.5 * out.automatic.spacing);
   }
@@ -361,17 +392,28 @@ void appendAutomatic(const HierarchicalOracle& oracle, FeatureSelection& out)
   const FeatureSegments& A = out.automatic.segments;
   const double step = out.automatic.spacing;
   std::vector<std::array<int, 2>> kept;
+  std::vector<size_t> keptIndex; // in A.segments
   std::set<int> droppedEnds;
-  for (const auto& s : A.segments)
+  for (size_t k = 0; k < A.segments.size(); ++k)
+  {
+    const auto& s = A.segments[k];
     if (holdableChord(oracle, A.points[s[0]], A.points[s[1]], step))
+    {
       kept.push_back(s);
+      keptIndex.push_back(k);
+    }
     else
       droppedEnds.insert({ s[0], s[1] });
+  }
   std::size_t unmeshable = A.segments.size() - kept.size();
   const std::set<std::size_t> remnants = unmeshable > 0 ? shortRemnants(A, kept, droppedEnds, step) : std::set<std::size_t>{};
+  out.segments.source.assign(out.segments.segments.size(), -1); // the given ones: no curve found
   for (size_t k = 0; k < kept.size(); ++k)
     if (!remnants.count(k))
+    {
       out.segments.segments.push_back({ index[kept[k][0]], index[kept[k][1]] });
+      out.segments.source.push_back(A.source.empty() ? -1 : A.source[keptIndex[k]]);
+    }
   unmeshable += remnants.size();
   if (unmeshable > 0)
   {
@@ -408,10 +450,16 @@ void dropAutomaticAtGiven(FeatureSelection& out, std::size_t firstAutomatic)
   if (drop.empty())
     return;
   std::vector<std::array<int, 2>> kept;
+  std::vector<int> keptSource;
   for (std::size_t s = 0; s < out.segments.segments.size(); ++s)
     if (!drop.count(s))
+    {
       kept.push_back(out.segments.segments[s]);
+      if (!out.segments.source.empty())
+        keptSource.push_back(out.segments.source[s]);
+    }
   out.segments.segments = std::move(kept);
+  out.segments.source = std::move(keptSource);
   out.droppedAutomatic = drop.size();
   out.warnings.push_back("feature lines: " + std::to_string(drop.size()) +
     " segment(s) of the lines found where inputs meet cross given lines and were dropped (the given ones are kept)");
@@ -487,7 +535,12 @@ void dropUnusedPoints(FeatureSegments& f)
 /// line (its midpoint within onGivenLine of one: pieces of given segments, split or merged, stay on
 /// them) is given, any other was found. Where a given line and a curve found coincide, given wins:
 /// dropAutomaticAlongGiven kept the given segment (the user's course and own edge size) and dropped
-/// the found one. A found segment's materials are those of the curve nearest its midpoint.
+/// the found one. A found segment's materials are those of the curve it came from
+/// (FeatureSegments::source, carried through every step above: a piece of a split, a segment whose
+/// end was moved onto another curve and a shared trunk keep theirs), not of the curve nearest its
+/// midpoint: a trunk or a moved end can lie nearer another curve and took that one's materials
+/// (issue 13). The nearest rule remains for a segment without a source. The sources are cleared
+/// afterwards: the network simplification numbers its own.
 void labelOrigins(FeatureSelection& out, const FeatureSegments& given, FeatureSource source, const HierarchicalOracle& oracle)
 {
   const auto& P = out.segments.points;
@@ -505,18 +558,25 @@ void labelOrigins(FeatureSelection& out, const FeatureSegments& given, FeatureSo
     if (onGiven)
       continue;
     out.origin[s].automatic = true;
+    const FeatureLine *line = nullptr, *nearestLine = nullptr;
+    if (const int from = s < out.segments.source.size() ? out.segments.source[s] : -1;
+        from >= 0 && from < static_cast<int>(out.automatic.lines.size()))
+      line = &out.automatic.lines[from];
     double nearest = HUGE_VAL;
-    const FeatureLine* line = nullptr;
-    for (const FeatureLine& l : out.automatic.lines)
-      for (size_t k = 0; k + 1 < l.points.size(); ++k)
-        if (const double d = distanceToSegment(m, A[l.points[k]], A[l.points[k + 1]]); d < nearest)
-        {
-          nearest = d;
-          line = &l;
-        }
+    for (size_t i = 0; !line && i < out.automatic.lines.size(); ++i)
+      for (size_t k = 0; k + 1 < out.automatic.lines[i].points.size(); ++k)
+      {
+        const auto& l = out.automatic.lines[i].points;
+        if (const double d = distanceToSegment(m, A[l[k]], A[l[k + 1]]); d < nearest)
+          nearest = d, nearestLine = &out.automatic.lines[i];
+      }
+    if (!line)
+      line = nearestLine;
     for (size_t k = 0; line && k < line->materials.size() && k < 4; ++k)
       out.origin[s].materials[k] = line->materials[k];
   }
+  out.segments.source.clear();
+  out.automatic.segments.source.clear();
 }
 }
 

@@ -10,6 +10,7 @@
 #include <climits>
 #include <cmath>
 #include <cstdint>
+#include <iterator>
 #include <map>
 #include <set>
 #include <sstream>
@@ -579,7 +580,22 @@ public:
     for (CreasePiece& piece : pieces)
       if (!piece.closed)
         for (int end = 0; end < 2; ++end)
-          piece.endPoint[end] = endVertex(end ? piece.points.back() : piece.points.front(), piece.entering[end] ? h_ : h_ / 64);
+        {
+          const Vec3& x = end ? piece.points.back() : piece.points.front();
+          // Where the crease's materials change (another input's exact crossing: outside/implant
+          // before, bone/implant after), the three meet: x is a point of the curve of all of them,
+          // which must pass through it. The grid does not see that curve closer than a step to
+          // another piece of itself: a triple line touching the crease at a grazing angle is a V
+          // with its tip on x (bbox_centre_on_face: arms 12 degrees apart, the corner cut 0.8 mm
+          // short of the crease, the tip shared by no curve), so that curve is looked for farther.
+          std::vector<int> meeting;
+          if (!piece.across[end].empty() && piece.across[end] != piece.materials)
+            std::set_union(piece.materials.begin(), piece.materials.end(), piece.across[end].begin(),
+              piece.across[end].end(), std::back_inserter(meeting));
+          piece.endPoint[end] = meeting.size() >= 3 ? meetingVertex(x, meeting) : -1;
+          if (piece.endPoint[end] < 0)
+            piece.endPoint[end] = endVertex(x, piece.entering[end] ? h_ : h_ / 64);
+        }
     for (const CreasePiece& piece : pieces)
       addCreasePiece(piece);
   }
@@ -781,13 +797,15 @@ private:
     return std::isfinite(chord) ? std::max(length, chord) : length;
   }
 
-  /// A crease seen with one set of materials; an end that enters another input is `entering`.
+  /// A crease seen with one set of materials; an end that enters another input is `entering`;
+  /// `across[end]`: the materials the crease is seen with beyond that end (empty: none, not seen).
   struct CreasePiece
   {
     std::vector<Vec3> points;
     std::vector<int> materials;
     bool closed = false;
     bool entering[2] = { false, false };
+    std::vector<int> across[2];
     int endPoint[2] = { -1, -1 };
   };
 
@@ -867,6 +885,10 @@ private:
         p.points.assign(at.begin() + static_cast<long>(q), at.begin() + static_cast<long>(r) + 1);
         p.entering[0] = entry[q];
         p.entering[1] = entry[r];
+        if (q > 0)
+          p.across[0] = seen[q - 1];
+        if (r < seen.size())
+          p.across[1] = seen[r];
         runs.push_back(std::move(p));
         span.push_back({ q, r });
       }
@@ -881,6 +903,7 @@ private:
         CreasePiece& last = runs.back();
         last.points.insert(last.points.end(), runs.front().points.begin() + 1, runs.front().points.end());
         last.entering[1] = runs.front().entering[1];
+        last.across[1] = runs.front().across[1];
         runs.erase(runs.begin());
       }
     }
@@ -895,6 +918,81 @@ private:
         continue;
       pieces.push_back(std::move(p));
     }
+  }
+
+  /// The vertex of a crease's end x where the crease's materials change, so all of `meeting` meet
+  /// there: x becomes a vertex of the nearest curve found with all those materials (within
+  /// kMeetingReach grid steps; -1: none), its nearest vertex moved onto x when within h/64 (the
+  /// curve's own corner there), else its nearest chord split at x and the two new chords put back
+  /// on the curve (onCurve's midpoint splits, as the curve's other chords).
+  int meetingVertex(const Vec3& x, const std::vector<int>& meeting)
+  {
+    if (auto it = creasePoint_.find(key(x)); it != creasePoint_.end())
+      return it->second;
+    auto& S = result_.segments;
+    int bestLine = -1;
+    size_t bestK = 0;
+    double nearest = kMeetingReach * h_;
+    for (size_t l = 0; l < result_.lines.size(); ++l)
+    {
+      const FeatureLine& line = result_.lines[l];
+      if (!std::includes(line.materials.begin(), line.materials.end(), meeting.begin(), meeting.end()))
+        continue;
+      for (size_t k = 0; k + 1 < line.points.size(); ++k)
+        if (const double d = distanceToSegment(x, S.points[line.points[k]], S.points[line.points[k + 1]]); d < nearest)
+        {
+          nearest = d;
+          bestLine = static_cast<int>(l);
+          bestK = k;
+        }
+    }
+    if (bestLine < 0)
+      return -1;
+    FeatureLine& line = result_.lines[bestLine];
+    const int a = line.points[bestK], b = line.points[bestK + 1];
+    int v = -1;
+    if (norm(S.points[a] - x) <= h_ / 64 || norm(S.points[b] - x) <= h_ / 64)
+    {
+      v = norm(S.points[a] - x) <= norm(S.points[b] - x) ? a : b;
+      S.points[v] = x;
+    }
+    else
+    {
+      // a -> (on the curve) -> x -> (on the curve) -> b, replacing the chord ab
+      std::vector<Vec3> inner;
+      const auto regions = signature_.find(bestLine);
+      const double tolerance = toleranceFor(line.materials, lengthFor(line.materials));
+      if (regions != signature_.end() && tolerance > 0)
+        splitOnCurve(S.points[a], x, regions->second, tolerance, 8, inner);
+      const size_t before = inner.size();
+      inner.push_back(x);
+      if (regions != signature_.end() && tolerance > 0)
+        splitOnCurve(x, S.points[b], regions->second, tolerance, 8, inner);
+      std::vector<int> ids;
+      for (size_t k = 0; k < inner.size(); ++k)
+      {
+        ids.push_back(static_cast<int>(S.points.size()));
+        S.points.push_back(inner[k]);
+      }
+      v = ids[before];
+      for (auto& seg : S.segments)
+        if ((seg[0] == a && seg[1] == b) || (seg[0] == b && seg[1] == a))
+        {
+          const bool forward = seg[0] == a;
+          std::vector<int> chain{ a };
+          chain.insert(chain.end(), ids.begin(), ids.end());
+          chain.push_back(b);
+          if (!forward)
+            std::reverse(chain.begin(), chain.end());
+          seg[1] = chain[1];
+          for (size_t k = 1; k + 1 < chain.size(); ++k)
+            S.segments.push_back({ chain[k], chain[k + 1] });
+          break;
+        }
+      line.points.insert(line.points.begin() + static_cast<long>(bestK) + 1, ids.begin(), ids.end());
+    }
+    creasePoint_.emplace(key(x), v);
+    return v;
   }
 
   /// The vertex of a crease's end x (the same point for every crease ending there: a box's corner).
@@ -1005,6 +1103,8 @@ private:
     for (size_t k = 0; k + 1 < line.points.size(); ++k)
       if (line.points[k] != line.points[k + 1])
         result_.segments.segments.push_back({ line.points[k], line.points[k + 1] });
+    if (regions)
+      signature_.emplace(static_cast<int>(result_.lines.size()), *regions);
     result_.lines.push_back(std::move(line));
   }
 
@@ -1014,6 +1114,19 @@ private:
   /// interfaces by more than their facets' tolerance leaves the mesher a gap between the segment
   /// and the surfaces through the curve, which it filled with ever smaller cells (issue 13: random_05
   /// at radius-edge 1.1, chords 0.03-0.1 off a triple line at a grazing angle).
+  /// Appends to `out` the curve's points between a and b (both on it, neither appended) where the
+  /// chord's midpoint lies farther than `tolerance` from the curve, recursively (`depth` levels).
+  void splitOnCurve(const Vec3& a, const Vec3& b, const Signature& regions, double tolerance, int depth, std::vector<Vec3>& out) const
+  {
+    Crossing m;
+    if (depth > 0 && curveBetween(a, b, regions, m) && norm(m.point - 0.5 * (a + b)) > tolerance)
+    {
+      splitOnCurve(a, m.point, regions, tolerance, depth - 1, out);
+      out.push_back(m.point);
+      splitOnCurve(m.point, b, regions, tolerance, depth - 1, out);
+    }
+  }
+
   std::vector<Vec3> onCurve(const std::vector<Vec3>& along, const Signature& regions, double tolerance) const
   {
     std::vector<Vec3> out;
@@ -1022,19 +1135,10 @@ private:
     const std::vector<Vec3> chain = withBends(along, regions);
     if (!(tolerance > 0))
       return chain;
-    std::function<void(const Vec3&, const Vec3&, int)> split = [&](const Vec3& a, const Vec3& b, int depth) {
-      Crossing m;
-      if (depth > 0 && curveBetween(a, b, regions, m) && norm(m.point - 0.5 * (a + b)) > tolerance)
-      {
-        split(a, m.point, depth - 1);
-        out.push_back(m.point);
-        split(m.point, b, depth - 1);
-      }
-    };
     out.push_back(chain.front());
     for (size_t k = 0; k + 1 < chain.size(); ++k)
     {
-      split(chain[k], chain[k + 1], 8);
+      splitOnCurve(chain[k], chain[k + 1], regions, tolerance, 8, out);
       out.push_back(chain[k + 1]);
     }
     return out;
@@ -1204,6 +1308,11 @@ private:
   std::vector<std::vector<int>> adjacent_;
   std::map<int, int> sharedPoint_; // node -> point of result.segments
   std::map<std::array<double, 3>, int> creasePoint_; // crease ends -> point of result.segments
+  std::map<int, Signature> signature_;               // curve found (index in result.lines) -> its regions
+  /// How far (grid steps) a curve found may run from a crease's point where its materials change:
+  /// a V of two arms closer than a step is cut about a step over the angle between them short of
+  /// its tip (8: arms down to about 7 degrees apart; below 60 the mesher is warned anyway).
+  static constexpr double kMeetingReach = 8.0;
   double probe_ = 0;                                  // how far beside a crease its sides are probed
 };
 
