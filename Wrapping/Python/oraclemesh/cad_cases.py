@@ -427,7 +427,10 @@ def _scene(seed, parts, cut, housing, radius_edge, strategy, volumes):
             "strategy": strategy,
             "criteria": {**CRITERIA, "cell_radius_edge_ratio": float(radius_edge)},
             "materials": {str(p["material"]): dict(PART_CRITERIA) for p in parts},
-            "features": {"from_surface": [p["name"] for p in parts], "feature_angle": FEATURE_ANGLE},
+            # resample off: the edges are exact (resampling simplifies noisy networks; on CAD edges it
+            # merges a small cylinder's corners and cuts its volume, docs/PERFORMANCE.md)
+            "features": {"from_surface": [p["name"] for p in parts], "feature_angle": FEATURE_ANGLE,
+                         "resample": False},
             "seed": int(seed),
             "maximum_number_of_vertices": 200000,
         },
