@@ -339,10 +339,24 @@ void vtkFeaturePreservingTetrahedralizer::GatherInputs(vtkInformationVector** in
   run.features = OracleBuilder::ToFeatureSegments(lines);
   const omesh::FeatureMergeCounts merged = omesh::mergeFeatureSegments(run.features);
   if (merged.changed())
-    run.notes.push_back("feature lines: merged " + std::to_string(merged.duplicates) + " duplicate segment(s), " +
-      std::to_string(merged.overlapping) + " overlapping collinear segment(s) in " +
-      std::to_string(merged.overlapGroups) + " group(s) and " + std::to_string(merged.mergedPoints) +
-      " repeated point(s); " + std::to_string(run.features.segments.size()) + " segments remain");
+  {
+    // only what happened: "merged 2 duplicate segment(s); split 4 pair(s) of crossing segments ..."
+    std::vector<std::string> merges;
+    if (merged.duplicates)
+      merges.push_back(std::to_string(merged.duplicates) + " duplicate segment(s)");
+    if (merged.overlapping)
+      merges.push_back(std::to_string(merged.overlapping) + " overlapping collinear segment(s) in " +
+        std::to_string(merged.overlapGroups) + " group(s)");
+    if (merged.mergedPoints)
+      merges.push_back(std::to_string(merged.mergedPoints) + " repeated point(s)");
+    std::string text = "feature lines: ";
+    for (size_t i = 0; i < merges.size(); ++i)
+      text += (i == 0 ? "merged " : i + 1 == merges.size() ? " and " : ", ") + merges[i];
+    if (merged.crossings)
+      text += (merges.empty() ? "" : "; ") + std::string("split ") + std::to_string(merged.crossings) +
+        " pair(s) of crossing segments where they cross (lines may meet only at shared points)";
+    run.notes.push_back(text + "; " + std::to_string(run.features.segments.size()) + " segments remain");
+  }
 
   run.oracle = OracleBuilder::BuildOracle(oracleData);
   for (const std::string& w : OracleBuilder::DomainWarnings(*run.oracle))

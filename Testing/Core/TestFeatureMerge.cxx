@@ -51,7 +51,7 @@ TEST(FeatureMerge, DuplicatesAndOverlapsBecomeTheirUnion)
     EXPECT_NE(s[0], s[1]);
 }
 
-TEST(FeatureMerge, CleanLinesAndCrossingsAreLeftAsTheyAre)
+TEST(FeatureMerge, CleanLinesAreLeftAsTheyAre)
 {
   FeatureSegments clean;
   clean.points = { { 0, 0, 0 }, { 1, 0, 0 }, { 1, 1, 0 } };
@@ -59,12 +59,86 @@ TEST(FeatureMerge, CleanLinesAndCrossingsAreLeftAsTheyAre)
   const FeatureSegments before = clean;
   EXPECT_FALSE(mergeFeatureSegments(clean).changed());
   EXPECT_EQ(clean.segments, before.segments);
+}
 
-  FeatureSegments crossing; // an X: not an overlap, still refused by validate
-  crossing.points = { { -1, 0, 0 }, { 1, 0, 0 }, { 0, -1, 0 }, { 0, 1, 0 } };
-  crossing.segments = { { 0, 1 }, { 2, 3 } };
-  EXPECT_FALSE(mergeFeatureSegments(crossing).changed());
-  EXPECT_THROW(crossing.validate(ballOracle(), 0), InputError);
+/// Each of `f`'s segments lies on one of `lines` (a, b pairs), and together they cover each line.
+void expectPiecesOf(const FeatureSegments& f, const std::vector<std::pair<Vec3, Vec3>>& lines)
+{
+  std::vector<double> covered(lines.size(), 0.0);
+  for (size_t s = 0; s < f.segments.size(); ++s)
+  {
+    const Vec3 p = f.points[f.segments[s][0]], q = f.points[f.segments[s][1]];
+    bool on = false;
+    for (size_t l = 0; l < lines.size() && !on; ++l)
+    {
+      const auto& [a, b] = lines[l];
+      const double len = norm(b - a);
+      const auto within = [&](const Vec3& x) {
+        const double t = dot(x - a, b - a) / (len * len);
+        return norm(cross(x - a, b - a)) <= 1e-12 * len && t >= -1e-12 && t <= 1.0 + 1e-12;
+      };
+      if (within(p) && within(q))
+      {
+        on = true;
+        covered[l] += norm(q - p);
+      }
+    }
+    EXPECT_TRUE(on) << f.describe(s) << " lies on no given line";
+  }
+  for (size_t l = 0; l < lines.size(); ++l)
+    EXPECT_NEAR(covered[l], norm(lines[l].second - lines[l].first), 1e-12) << "line " << l;
+}
+
+TEST(FeatureMerge, CrossingSegmentsAreSplitWhereTheyCross)
+{
+  // An X (two parts' edges crossing on a shared face), a T (one's end inside the other) and an
+  // X off the axes: afterwards the lines meet only at shared points, with the same geometry.
+  FeatureSegments f;
+  f.points = { { -1, 0, 0 }, { 1, 0, 0 }, { 0, -1, 0 }, { 0, 1, 0 }, // X at the origin
+    { 3, 0, 0 }, { 5, 0, 0 }, { 4, 0, 0 }, { 4, 2, 0 },             // T: (4,0,0) on the first
+    { 0, 0, 2 }, { 2, 2, 4 }, { 2, 0, 3 }, { 0, 2, 3 } };            // an X off the axes, at (1, 1, 3)
+  f.segments = { { 0, 1 }, { 2, 3 }, { 4, 5 }, { 6, 7 }, { 8, 9 }, { 10, 11 } };
+  f.edgeSizes = { 0.5, std::nullopt, 0.25, std::nullopt, std::nullopt, 0.1 };
+  f.source = { 0, 1, 2, 3, 4, 5 };
+  const FeatureSegments given = f;
+  ASSERT_EQ(f.crossingPairs().size(), 3u);
+  const FeatureMergeCounts counts = mergeFeatureSegments(f);
+  EXPECT_EQ(counts.crossings, 3u);
+  EXPECT_TRUE(counts.changed());
+  EXPECT_TRUE(f.crossingPairs().empty());
+  EXPECT_NO_THROW(f.validate(ballOracle(), 0));
+  std::vector<std::pair<Vec3, Vec3>> lines;
+  for (const auto& s : given.segments)
+    lines.emplace_back(given.points[s[0]], given.points[s[1]]);
+  expectPiecesOf(f, lines);
+  // each X's point is shared by four pieces, at the crossing; the T's end by three
+  const auto inc = f.incidence();
+  size_t fourWay = 0, threeWay = 0;
+  for (size_t v = 0; v < f.points.size(); ++v)
+  {
+    if (inc[v].size() == 4)
+    {
+      ++fourWay;
+      EXPECT_LE(std::min(norm(f.points[v]), norm(f.points[v] - Vec3{ 1, 1, 3 })), 1e-15);
+    }
+    if (inc[v].size() == 3)
+    {
+      ++threeWay;
+      EXPECT_EQ(norm(f.points[v] - Vec3{ 4, 0, 0 }), 0.0);
+    }
+  }
+  EXPECT_EQ(fourWay, 2u);
+  EXPECT_EQ(threeWay, 1u);
+  // each piece keeps its segment's own edge size and source
+  ASSERT_EQ(f.edgeSizes.size(), f.segments.size());
+  ASSERT_EQ(f.source.size(), f.segments.size());
+  for (size_t s = 0; s < f.segments.size(); ++s)
+  {
+    const int from = f.source[s];
+    EXPECT_EQ(f.edgeSizes[s], given.edgeSizes[from]) << f.describe(s);
+    const Vec3 a = given.points[given.segments[from][0]], b = given.points[given.segments[from][1]];
+    EXPECT_LE(norm(cross(f.points[f.segments[s][0]] - a, b - a)), 1e-12 * norm(b - a)) << f.describe(s);
+  }
 }
 
 TEST(FeatureMerge, AbsurdCoordinatesAreRefusedByValidate)

@@ -234,6 +234,85 @@ void keepUsedPoints(FeatureSegments& f, Pieces pieces)
 }
 }
 
+namespace
+{
+/// 5. Segments that cross or touch at a point inside one of them split there, so that lines meet
+/// only at shared points: the sharp edges of two parts meeting face to face cross on the shared
+/// face (an X) or end on each other's edges (a T), and each part's vtkFeatureEdges knows nothing
+/// of the other. A T is split at the stem's end (exactly: the end lies on the bar, exact
+/// predicates); an X at a new point, the one nearest both lines. Pieces keep their segment's own
+/// edge size and source. Returns the number of pairs split. Parallel contacts (overlaps the
+/// merge left) are not touched: validate names them.
+std::size_t splitAtCrossings(FeatureSegments& f)
+{
+  const auto P = [&f](int i) { return K::Point_3(f.points[i].x, f.points[i].y, f.points[i].z); };
+  const std::vector<std::pair<std::size_t, std::size_t>> crossing = f.crossingPairs();
+  if (crossing.empty())
+    return 0;
+  std::vector<std::vector<int>> inner(f.segments.size()); // points to split each segment at
+  std::size_t split = 0;
+  for (const auto& [s, t] : crossing)
+  {
+    const auto& a = f.segments[s];
+    const auto& b = f.segments[t];
+    const Vec3 u = f.points[a[1]] - f.points[a[0]], w = f.points[b[1]] - f.points[b[0]];
+    if (!(norm(cross(u, w)) > 1e-12 * norm(u) * norm(w)))
+      continue; // parallel: an overlap, not a crossing
+    bool tee = false;
+    for (const auto& [end, other, at] : { std::tuple{ a, b, t }, std::tuple{ b, a, s } })
+      for (int v : end)
+        if (v != other[0] && v != other[1] && CGAL::collinear(P(other[0]), P(v), P(other[1])) &&
+          CGAL::collinear_are_strictly_ordered_along_line(P(other[0]), P(v), P(other[1])))
+        {
+          inner[at].push_back(v);
+          tee = true;
+        }
+    if (!tee)
+    {
+      // the X's point: the closest points of the two lines, halfway
+      const Vec3 r = f.points[a[0]] - f.points[b[0]];
+      const double uu = dot(u, u), uw = dot(u, w), ww = dot(w, w), ur = dot(u, r), wr = dot(w, r);
+      const double den = uu * ww - uw * uw;
+      const double sa = std::clamp((uw * wr - ww * ur) / den, 0.0, 1.0);
+      const double tb = std::clamp((uu * wr - uw * ur) / den, 0.0, 1.0);
+      const Vec3 x = 0.5 * ((f.points[a[0]] + sa * u) + (f.points[b[0]] + tb * w));
+      const int id = static_cast<int>(f.points.size());
+      f.points.push_back(x);
+      inner[s].push_back(id);
+      inner[t].push_back(id);
+    }
+    ++split;
+  }
+  if (!split)
+    return 0;
+  const bool sized = !f.edgeSizes.empty(), sourced = !f.source.empty();
+  FeatureSegments out;
+  for (std::size_t s = 0; s < f.segments.size(); ++s)
+  {
+    std::vector<int> chain{ f.segments[s][0] };
+    const Vec3 a = f.points[f.segments[s][0]], d = f.points[f.segments[s][1]] - a;
+    std::vector<int>& in = inner[s];
+    std::sort(in.begin(), in.end(), [&](int i, int j) { return dot(f.points[i] - a, d) < dot(f.points[j] - a, d); });
+    in.erase(std::unique(in.begin(), in.end()), in.end());
+    chain.insert(chain.end(), in.begin(), in.end());
+    chain.push_back(f.segments[s][1]);
+    for (std::size_t k = 0; k + 1 < chain.size(); ++k)
+      if (chain[k] != chain[k + 1] && norm(f.points[chain[k + 1]] - f.points[chain[k]]) > 0.0)
+      {
+        out.segments.push_back({ chain[k], chain[k + 1] });
+        if (sized)
+          out.edgeSizes.push_back(f.edgeSizes[s]);
+        if (sourced)
+          out.source.push_back(f.source[s]);
+      }
+  }
+  f.segments = std::move(out.segments);
+  f.edgeSizes = std::move(out.edgeSizes);
+  f.source = std::move(out.source);
+  return split;
+}
+}
+
 FeatureMergeCounts mergeFeatureSegments(FeatureSegments& f)
 {
   FeatureMergeCounts counts;
@@ -255,12 +334,24 @@ FeatureMergeCounts mergeFeatureSegments(FeatureSegments& f)
       if (e && !(std::isfinite(*e) && *e >= 0))
         return counts;
   }
-  mergeRepeatedPoints(f, counts);
-  const Pieces unique = withoutRepeatedSegments(f, counts);
-  Pieces merged = withOverlapsMerged(f, unique, counts);
-  if (!counts.changed())
-    return counts; // as given: same points, same order
-  keepUsedPoints(f, std::move(merged));
+  // after a split, again: an X point may repeat a point of a third line, pieces may overlap
+  for (int round = 0; round < 3; ++round)
+  {
+    FeatureMergeCounts c;
+    mergeRepeatedPoints(f, c);
+    const Pieces unique = withoutRepeatedSegments(f, c);
+    Pieces merged = withOverlapsMerged(f, unique, c);
+    if (c.changed())
+      keepUsedPoints(f, std::move(merged)); // else as given: same points, same order
+    counts.mergedPoints += c.mergedPoints;
+    counts.duplicates += c.duplicates;
+    counts.overlapping += c.overlapping;
+    counts.overlapGroups += c.overlapGroups;
+    const std::size_t split = splitAtCrossings(f);
+    counts.crossings += split;
+    if (!split)
+      break;
+  }
   return counts;
 }
 }

@@ -14,18 +14,21 @@ struct FeatureMergeCounts
   std::size_t duplicates = 0;     ///< segments listed again (either direction), dropped
   std::size_t overlapping = 0;    ///< segments that overlapped a collinear one (before the merge)
   std::size_t overlapGroups = 0;  ///< groups of overlapping segments, each replaced by its union
-  bool changed() const { return mergedPoints || duplicates || overlapping; }
+  std::size_t crossings = 0;      ///< pairs of segments that crossed or touched inside one, split there
+  bool changed() const { return mergedPoints || duplicates || overlapping || crossings; }
 };
 
 /// Cleans feature lines the way users produce them (the outputs of several vtkFeatureEdges
 /// appended, a polyline drawn twice): points with identical coordinates become one vertex, repeated
 /// segments are dropped, and collinear segments that overlap (exact predicates) are replaced by
-/// the pieces of their union between consecutive end points. Own edge sizes (edgeSizes) go with
+/// the pieces of their union between consecutive end points. Segments that cross (an X) or touch
+/// inside one of them (a T: one's end on the other) are split there, at a new shared point for an
+/// X, at the end for a T: the sharp edges of parts meeting face to face cross on the shared face.
+/// Own edge sizes (edgeSizes) go with
 /// their segments; one piece given two different ones is an InputError naming it. Sources
 /// (FeatureSegments::source) go with them too: a repeated segment's is the first listed, a piece
-/// of a union the first covering segment's. Segments that cross or touch without
-/// overlapping are left as they are (FeatureSegments::validate refuses them), so are zero-length
-/// ones. Points that no segment uses any more are removed. Does nothing when a coordinate is not
-/// finite (validate names it).
+/// of a union or of a split segment the first covering segment's. Zero-length segments are left
+/// as they are (validate refuses them). Points that no segment uses any more are removed (not
+/// after a split alone). Does nothing when a coordinate is not finite (validate names it).
 FeatureMergeCounts mergeFeatureSegments(FeatureSegments& features);
 }
