@@ -348,13 +348,17 @@ void vtkFeaturePreservingTetrahedralizer::GatherInputs(vtkInformationVector** in
       merges.push_back(std::to_string(merged.overlapping) + " overlapping collinear segment(s) in " +
         std::to_string(merged.overlapGroups) + " group(s)");
     if (merged.mergedPoints)
-      merges.push_back(std::to_string(merged.mergedPoints) + " repeated point(s)");
+      merges.push_back(std::to_string(merged.mergedPoints) + " repeated point(s)" +
+        (merged.withinRounding ? " (some within rounding of each other)" : ""));
     std::string text = "feature lines: ";
     for (size_t i = 0; i < merges.size(); ++i)
       text += (i == 0 ? "merged " : i + 1 == merges.size() ? " and " : ", ") + merges[i];
     if (merged.crossings)
       text += (merges.empty() ? "" : "; ") + std::string("split ") + std::to_string(merged.crossings) +
         " pair(s) of crossing segments where they cross (lines may meet only at shared points)";
+    if (merged.splitSegments)
+      text += (merges.empty() && !merged.crossings ? "" : "; ") + std::string("split ") +
+        std::to_string(merged.splitSegments) + " segment(s) at points of other lines lying on them within rounding";
     run.notes.push_back(text + "; " + std::to_string(run.features.segments.size()) + " segments remain");
   }
 

@@ -141,6 +141,40 @@ TEST(FeatureMerge, CrossingSegmentsAreSplitWhereTheyCross)
   }
 }
 
+// Two parts' shared edge computed with cos/sin: 4.4e-16 apart, parallel to exact predicates, so
+// neither a crossing nor an overlap; kept as two lines they split each other without end
+// (Benchmarks/cad_defects item 3). Within rounding they are one line.
+TEST(FeatureMerge, LinesCoincidingUpToRoundingBecomeOne)
+{
+  FeatureSegments f;
+  // the box edge (1..4) and the cylinder's (0..6) 4.4e-16 off it; a point 1e-17 off (1,0,-2) too
+  f.points = { { 1, 0, -2 }, { 4, 0, -2 }, { 0, -4.4e-16, -2 }, { 6, -4.4e-16, -2 }, { 1, 1e-17, -2 }, { 1, 1, -2 } };
+  f.segments = { { 0, 1 }, { 2, 3 }, { 4, 5 } };
+  f.source = { 0, 1, 2 };
+  EXPECT_NO_THROW(f.crossingPairs()); // exact predicates: no crossing, no overlap
+  EXPECT_TRUE(f.crossingPairs().empty());
+  try
+  {
+    f.validate(ballOracle(), 0);
+    ADD_FAILURE() << "accepted lines 4.4e-16 apart";
+  }
+  catch (const InputError& e)
+  {
+    EXPECT_NE(std::string(e.what()).find("within rounding"), std::string::npos) << e.what();
+  }
+  const FeatureMergeCounts counts = mergeFeatureSegments(f);
+  EXPECT_EQ(counts.mergedPoints, 1u);  // (1, 1e-17, -2) is (1, 0, -2)
+  EXPECT_EQ(counts.splitSegments, 1u); // the cylinder's edge at the box edge's ends
+  EXPECT_EQ(counts.duplicates, 1u);    // 1..4 given twice
+  EXPECT_EQ(counts.withinRounding, 2u);
+  EXPECT_EQ(f.segments.size(), 4u); // 0..1, 1..4, 4..6 and the one to (1, 1, -2)
+  EXPECT_EQ(f.points.size(), 5u);
+  EXPECT_EQ(f.source.size(), f.segments.size());
+  EXPECT_NEAR(totalLength(f), 7.0, 1e-12);
+  EXPECT_NO_THROW(f.validate(ballOracle(), 0));
+  EXPECT_FALSE(mergeFeatureSegments(f).changed()); // merged lines stay as they are
+}
+
 TEST(FeatureMerge, AbsurdCoordinatesAreRefusedByValidate)
 {
   FeatureSegments f;

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "BoxDomain.h"
+#include "FeatureMerge.h"
 #include "HalfSpaceDomain.h"
 #include "HierarchicalOracle.h"
 #include "InputError.h"
@@ -1112,4 +1113,95 @@ TEST(OracleMesherBudget, OverdraftEndsTheFinishingRoundAndSaysSo)
   EXPECT_EQ(statistic(m, "refinement.finish_completed"), 0.0);
   EXPECT_GE(statistic(m, "refinement.finish_vertices"), 500.0);
   EXPECT_LE(statistic(m, "refinement.finish_vertices"), 510.0); // asked at every step (a split may add mirrored points)
+}
+
+namespace
+{
+/// The box [lo, hi] as 12 outward triangles.
+TriangleSurface boxSurface(const Vec3& lo, const Vec3& hi)
+{
+  TriangleSurface s = test::cube(0.0, 1.0);
+  for (Vec3& p : s.points)
+    p = { lo.x + p.x * (hi.x - lo.x), lo.y + p.y * (hi.y - lo.y), lo.z + p.z * (hi.z - lo.z) };
+  return s;
+}
+
+/// A prism along x (x0..x1) over the regular n-gon of radius r around the x axis, its corners at
+/// the angles 2 pi i / n computed with cos and sin, as CAD exports write them: the corner at
+/// 270 degrees lies at y = -1.8e-16 r, not 0. Outward triangles.
+TriangleSurface polygonalCylinder(int n, double r, double x0, double x1)
+{
+  TriangleSurface s;
+  for (double x : { x0, x1 })
+    for (int i = 0; i < n; ++i)
+      s.points.push_back({ x, r * std::cos(2 * M_PI * i / n), r * std::sin(2 * M_PI * i / n) });
+  for (int i = 0; i < n; ++i)
+  {
+    const int j = (i + 1) % n;
+    s.triangles.push_back({ i, j, n + j });
+    s.triangles.push_back({ i, n + j, n + i });
+  }
+  for (int i = 1; i + 1 < n; ++i)
+  {
+    s.triangles.push_back({ 0, i + 1, i });
+    s.triangles.push_back({ n, n + i, n + i + 1 });
+  }
+  test::orientOutward(s);
+  return s;
+}
+
+/// b's segments appended to a's (b's points after a's).
+FeatureSegments appended(FeatureSegments a, const FeatureSegments& b)
+{
+  const int offset = static_cast<int>(a.points.size());
+  a.points.insert(a.points.end(), b.points.begin(), b.points.end());
+  for (const auto& s : b.segments)
+    a.segments.push_back({ s[0] + offset, s[1] + offset });
+  return a;
+}
+}
+
+// Benchmarks/cad_defects item 3 (edge_on_edge_hang): a 16-gon cylinder whose side edge lies on a
+// box's edge, both parts' sharp edges given. The cylinder's edge is 1.8e-16 off the box's (cos and
+// sin), so exact predicates found the lines parallel, not overlapping: both stayed, each splitting
+// the other's sub-segments without end (55k segment points in 30 s) or CGAL failing on a refinement
+// point that repeats a vertex. mergeFeatureSegments now takes them for one line (within rounding).
+TEST(OracleMesher, PartsSharingAnEdgeUpToRoundingMeshWithOneLine)
+{
+  const TriangleSurface box = boxSurface({ 0.5, 0, -2 }, { 2.5, 2, -1 }); // edge y = 0, z = -1, x 0.5..2.5
+  const TriangleSurface cylinder = polygonalCylinder(16, 1.0, 0.0, 3.0);  // side edge y = -1.8e-16, z = -1
+  ASSERT_NE(cylinder.points[12].y, 0.0);
+  ASSERT_EQ(cylinder.points[12].z, -1.0);
+  HierarchicalOracle o;
+  o.add(std::make_shared<SurfaceDomain>(box, 3));
+  o.add(std::make_shared<SurfaceDomain>(cylinder, 5));
+  o.add(std::make_shared<BoxDomain>(Vec3{ -1, -2, -3 }, Vec3{ 4, 3, 2 }, 1));
+  FeatureSegments lines = appended(test::sharpEdges(box, 20.0), test::sharpEdges(cylinder, 20.0));
+  MesherOptions opt;
+  opt.criteria.global = { 25.0, 0.6, 0.05, 0.6, 2.0, 0.5 }; // angle, facet size, distance, cell size, radius-edge, edge
+  opt.timeLimit = 15.0; // 0.3 s each; before, the time limit ended every seed in refinement (85k segment points)
+  EXPECT_THROW(meshOracle(o, lines, {}, opt), InputError); // unmerged: refused, not meshed without end
+  const FeatureMergeCounts merged = mergeFeatureSegments(lines); // as the filter does with its input lines
+  EXPECT_EQ(merged.splitSegments, 1u); // the cylinder's edge, at the box edge's ends
+  EXPECT_EQ(merged.duplicates, 1u);    // the piece between them, given twice
+  for (unsigned seed : { 1u, 2u, 3u })
+  {
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    opt.seed = seed;
+    const auto started = std::chrono::steady_clock::now();
+    TetMesh m;
+    try
+    {
+      m = meshOracle(o, lines, {}, opt);
+    }
+    catch (const std::exception& e)
+    {
+      ADD_FAILURE() << e.what();
+      continue;
+    }
+    EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count(), 20.0);
+    EXPECT_EQ(m.statistics.at("validity.defects"), 0.0);
+    EXPECT_NEAR(m.statistics.at("feature_coverage"), 1.0, 1e-9);
+    EXPECT_GT(materialVolumes(m).at(3), 0.0);
+  }
 }

@@ -63,8 +63,30 @@ std::optional<double> sameEdgeSize(const FeatureSegments& f, const std::array<in
   return mine ? mine : other;
 }
 
-/// 1. One vertex per coordinate triple.
-void mergeRepeatedPoints(FeatureSegments& f, FeatureMergeCounts& counts)
+/// How close two feature points, or a point and a segment, must be to be taken for the same place:
+/// a few hundred ulps of the lines' extent. CAD parts meshed together share edges only up to
+/// rounding (a 16-gon's side edge computed with cos/sin lies 4.4e-16 off the box edge it was placed
+/// on); exact predicates call such lines parallel, not overlapping, so they stayed two lines, each
+/// splitting the other's sub-segments (their points encroach each other's diametral balls) without
+/// end: 55k segment points in 30 s, or CGAL failing on a refinement point that repeats a vertex.
+constexpr double kSamePlaceRelative = 1e-10;
+
+double samePlaceTolerance(const FeatureSegments& f)
+{
+  if (f.points.empty())
+    return 0.0;
+  Vec3 lo = f.points[0], hi = f.points[0];
+  for (const Vec3& p : f.points)
+  {
+    lo = { std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z) };
+    hi = { std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z) };
+  }
+  return kSamePlaceRelative * norm(hi - lo);
+}
+
+/// 1. One vertex per place: identical coordinates, or closer than `tolerance` (the first listed
+/// point's coordinates are kept).
+void mergeRepeatedPoints(FeatureSegments& f, double tolerance, FeatureMergeCounts& counts)
 {
   std::map<std::tuple<double, double, double>, int> byCoordinates;
   std::vector<int> same(f.points.size());
@@ -75,8 +97,118 @@ void mergeRepeatedPoints(FeatureSegments& f, FeatureMergeCounts& counts)
     same[i] = it->second;
     counts.mergedPoints += !inserted;
   }
+  if (tolerance > 0)
+  {
+    std::vector<Box> boxes;
+    for (const auto& [xyz, i] : byCoordinates)
+    {
+      const Vec3& p = f.points[i];
+      double lo[3] = { p.x - tolerance, p.y - tolerance, p.z - tolerance };
+      double hi[3] = { p.x + tolerance, p.y + tolerance, p.z + tolerance };
+      boxes.emplace_back(lo, hi, static_cast<std::size_t>(i));
+    }
+    UnionFind near(f.points.size());
+    CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), [&](const Box& a, const Box& b) {
+      if (norm(f.points[a.info()] - f.points[b.info()]) <= tolerance)
+        near.join(std::max(a.info(), b.info()), std::min(a.info(), b.info()));
+    });
+    std::map<std::size_t, int> first; // each near group's first listed point
+    for (const auto& [xyz, i] : byCoordinates)
+    {
+      auto [it, inserted] = first.emplace(near.find(i), i);
+      if (!inserted)
+        it->second = std::min(it->second, i);
+    }
+    for (const auto& [xyz, i] : byCoordinates)
+      if (const int keep = first[near.find(i)]; keep != i)
+      {
+        ++counts.mergedPoints;
+        if (!counts.withinRounding++)
+          counts.firstWithinRounding = f.points[i];
+      }
+    for (std::size_t i = 0; i < f.points.size(); ++i)
+      same[i] = first[near.find(same[i])];
+  }
   for (auto& s : f.segments)
     s = { same[s[0]], same[s[1]] };
+}
+
+/// 3c. A segment that passes within `tolerance` of a feature point other than its ends is split
+/// there: a line that runs along another up to rounding then shares its vertices, and the pieces
+/// they both cover become repeated segments (step 2 again). Edge sizes and sources go with the pieces.
+void splitAtPointsOnSegments(FeatureSegments& f, double tolerance, FeatureMergeCounts& counts)
+{
+  if (tolerance <= 0 || f.segments.empty())
+    return;
+  std::vector<bool> used(f.points.size(), false);
+  for (const auto& s : f.segments)
+    used[s[0]] = used[s[1]] = true;
+  std::vector<Box> points, segments;
+  for (std::size_t i = 0; i < f.points.size(); ++i)
+    if (used[i])
+    {
+      const Vec3& p = f.points[i];
+      double lo[3] = { p.x - tolerance, p.y - tolerance, p.z - tolerance };
+      double hi[3] = { p.x + tolerance, p.y + tolerance, p.z + tolerance };
+      points.emplace_back(lo, hi, i);
+    }
+  for (std::size_t k = 0; k < f.segments.size(); ++k)
+  {
+    const Vec3 &a = f.points[f.segments[k][0]], &b = f.points[f.segments[k][1]];
+    double lo[3] = { std::min(a.x, b.x), std::min(a.y, b.y), std::min(a.z, b.z) };
+    double hi[3] = { std::max(a.x, b.x), std::max(a.y, b.y), std::max(a.z, b.z) };
+    segments.emplace_back(lo, hi, k);
+  }
+  std::map<std::size_t, std::vector<std::pair<double, int>>> inside; // segment -> (parameter, point)
+  CGAL::box_intersection_d(segments.begin(), segments.end(), points.begin(), points.end(),
+    [&](const Box& sb, const Box& pb) {
+      const auto& s = f.segments[sb.info()];
+      const int v = static_cast<int>(pb.info());
+      if (v == s[0] || v == s[1] || s[0] == s[1])
+        return;
+      const Vec3 &a = f.points[s[0]], &b = f.points[s[1]], &p = f.points[v];
+      const Vec3 d = b - a;
+      const double t = dot(p - a, d) / dot(d, d);
+      if (!(t > 0 && t < 1) || norm(p - (a + t * d)) > tolerance || norm(p - a) <= tolerance ||
+        norm(p - b) <= tolerance)
+        return;
+      const auto P = [&f](int i) { return K::Point_3(f.points[i].x, f.points[i].y, f.points[i].z); };
+      if (CGAL::collinear(P(s[0]), P(v), P(s[1])))
+        return; // exactly on it: a T, which splitAtCrossings splits (and counts)
+      inside[sb.info()].push_back({ t, v });
+    });
+  if (inside.empty())
+    return;
+  std::vector<std::array<int, 2>> out;
+  std::vector<std::optional<double>> sizes;
+  std::vector<int> source;
+  for (std::size_t k = 0; k < f.segments.size(); ++k)
+  {
+    std::vector<int> chain{ f.segments[k][0] };
+    if (auto it = inside.find(k); it != inside.end())
+    {
+      std::sort(it->second.begin(), it->second.end());
+      for (const auto& [t, v] : it->second)
+        chain.push_back(v);
+      counts.splitSegments += 1;
+      if (!counts.withinRounding++)
+        counts.firstWithinRounding = f.points[it->second.front().second];
+    }
+    chain.push_back(f.segments[k][1]);
+    for (std::size_t j = 0; j + 1 < chain.size(); ++j)
+    {
+      out.push_back({ chain[j], chain[j + 1] });
+      if (!f.edgeSizes.empty())
+        sizes.push_back(f.edgeSizes[k]);
+      if (!f.source.empty())
+        source.push_back(f.source[k]);
+    }
+  }
+  f.segments = std::move(out);
+  if (!f.edgeSizes.empty())
+    f.edgeSizes = std::move(sizes);
+  if (!f.source.empty())
+    f.source = std::move(source);
 }
 
 /// 2. Repeated segments (either direction); zero-length ones stay for validate to name.
@@ -335,18 +467,28 @@ FeatureMergeCounts mergeFeatureSegments(FeatureSegments& f)
         return counts;
   }
   // after a split, again: an X point may repeat a point of a third line, pieces may overlap
+  const double tolerance = samePlaceTolerance(f);
   for (int round = 0; round < 3; ++round)
   {
     FeatureMergeCounts c;
-    mergeRepeatedPoints(f, c);
+    mergeRepeatedPoints(f, tolerance, c);
     const Pieces unique = withoutRepeatedSegments(f, c);
     Pieces merged = withOverlapsMerged(f, unique, c);
     if (c.changed())
       keepUsedPoints(f, std::move(merged)); // else as given: same points, same order
+    // lines that run along each other only up to rounding (exact predicates: parallel, neither
+    // overlapping nor crossing): split at each other's points, their common pieces repeat
+    splitAtPointsOnSegments(f, tolerance, c);
+    if (c.splitSegments)
+      keepUsedPoints(f, withoutRepeatedSegments(f, c));
     counts.mergedPoints += c.mergedPoints;
     counts.duplicates += c.duplicates;
     counts.overlapping += c.overlapping;
     counts.overlapGroups += c.overlapGroups;
+    counts.splitSegments += c.splitSegments;
+    if (c.withinRounding && !counts.withinRounding)
+      counts.firstWithinRounding = c.firstWithinRounding;
+    counts.withinRounding += c.withinRounding;
     const std::size_t split = splitAtCrossings(f);
     counts.crossings += split;
     if (!split)

@@ -178,6 +178,25 @@ void checkNoCrossings(const FeatureSegments& f)
   }
 }
 
+/// Lines that meet or run along each other only up to rounding (a point within 1e-10 of the
+/// lines' diagonal of another point or of a segment, not exactly on it) are neither crossings nor
+/// one line to the exact predicates; kept as two, each line's splits encroach the other's
+/// sub-segments without end. mergeFeatureSegments makes them one line (the filter calls it).
+void checkNoneWithinRounding(const FeatureSegments& f)
+{
+  FeatureSegments merged = f;
+  const FeatureMergeCounts counts = mergeFeatureSegments(merged);
+  if (counts.withinRounding)
+  {
+    const Vec3& p = counts.firstWithinRounding;
+    std::ostringstream msg;
+    msg << "feature lines: " << counts.withinRounding
+        << " point(s) lie within rounding of another point or segment without being on it; first: (" << p.x
+        << ", " << p.y << ", " << p.z << ") (merge the lines first: mergeFeatureSegments)";
+    throw InputError(msg.str());
+  }
+}
+
 /// Warnings for segments meeting at less than 60 degrees and for a radius-edge bound below what
 /// the smallest angle needs (paper section 5: B < 1/(2 sin alpha0) contradicts the segments). The
 /// bound is about small angles only: at 90 degrees and more the segments' diametral balls do not
@@ -273,6 +292,7 @@ std::vector<std::string> FeatureSegments::validate(const HierarchicalOracle& ora
   checkPointsAndIndices(*this);
   checkEdgeSizes();
   checkNoCrossings(*this);
+  checkNoneWithinRounding(*this);
   std::vector<std::string> warnings;
   warnSmallAngles(*this, radiusEdgeBound, warnings);
   warnOutside(*this, oracle, warnings);

@@ -39,7 +39,7 @@ struct FeatureSegments
 
   /// Checks what the paper's algorithm needs. Throws InputError for NaN points, indices out of
   /// range, zero-length segments, segments crossing each other (named by index and
-  /// coordinates) and own edge sizes that are negative, NaN or infinite (checkEdgeSizes). Returns warnings for what it cannot guarantee: angles below 60 degrees between
+  /// coordinates), points within rounding of another point or segment (not merged: mergeFeatureSegments) and own edge sizes that are negative, NaN or infinite (checkEdgeSizes). Returns warnings for what it cannot guarantee: angles below 60 degrees between
   /// segments at a shared vertex, segments outside every domain of `oracle`, and a radius-edge
   /// bound B < 1 / (2 sin alpha0) that contradicts the smallest angle alpha0.
   std::vector<std::string> validate(const HierarchicalOracle& oracle, double radiusEdgeBound) const;
