@@ -71,7 +71,7 @@ void expectPiecesOf(const FeatureSegments& f, const std::vector<std::pair<Vec3, 
     bool on = false;
     for (size_t l = 0; l < lines.size() && !on; ++l)
     {
-      const auto& [a, b] = lines[l];
+      const Vec3 a = lines[l].first, b = lines[l].second; // not a binding: lambdas capture it (C++17)
       const double len = norm(b - a);
       const auto within = [&](const Vec3& x) {
         const double t = dot(x - a, b - a) / (len * len);
