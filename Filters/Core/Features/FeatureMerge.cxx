@@ -34,12 +34,13 @@ struct Pieces
   std::vector<std::array<int, 2>> segments;
   std::vector<std::optional<double>> edgeSizes;
   std::vector<int> source;
-  void add(const std::array<int, 2>& s, std::optional<double> size, bool sized, int from)
+  /// `sourced`: the segments have sources (a source may be -1, "none": it is kept in step too)
+  void add(const std::array<int, 2>& s, std::optional<double> size, bool sized, int from, bool sourced)
   {
     segments.push_back(s);
     if (sized)
       edgeSizes.push_back(size);
-    if (from >= 0)
+    if (sourced)
       source.push_back(from);
   }
 };
@@ -232,7 +233,7 @@ Pieces withoutRepeatedSegments(const FeatureSegments& f, FeatureMergeCounts& cou
         continue;
       }
     }
-    unique.add(s, f.edgeSize(k), sized, sourceOf(f, k)); // a repeated one: the first's
+    unique.add(s, f.edgeSize(k), sized, sourceOf(f, k), !f.source.empty()); // a repeated one: the first's
   }
   return unique;
 }
@@ -291,7 +292,8 @@ Pieces withOverlapsMerged(const FeatureSegments& f, const Pieces& pieces, Featur
   const std::vector<std::array<int, 2>>& unique = pieces.segments;
   const bool sized = !pieces.edgeSizes.empty();
   const auto sizeOf = [&](std::size_t s) { return sized ? pieces.edgeSizes[s] : std::nullopt; };
-  const auto sourceOf = [&](std::size_t s) { return pieces.source.empty() ? -1 : pieces.source[s]; };
+  const bool sourced = !pieces.source.empty();
+  const auto sourceOf = [&](std::size_t s) { return sourced ? pieces.source[s] : -1; };
   std::vector<bool> overlaps;
   UnionFind groups = overlapGroups(f, unique, overlaps);
   std::map<std::size_t, std::vector<std::size_t>> members;
@@ -302,7 +304,7 @@ Pieces withOverlapsMerged(const FeatureSegments& f, const Pieces& pieces, Featur
     if (overlaps[s])
       members[groups.find(s)].push_back(s);
     else
-      merged.add(unique[s], sizeOf(s), sized, sourceOf(s));
+      merged.add(unique[s], sizeOf(s), sized, sourceOf(s), sourced);
   }
   for (const auto& [root, group] : members)
   {
@@ -337,7 +339,7 @@ Pieces withOverlapsMerged(const FeatureSegments& f, const Pieces& pieces, Featur
         }
       }
       if (covered)
-        merged.add(piece, size, sized, from);
+        merged.add(piece, size, sized, from, sourced);
     }
   }
   return merged;
