@@ -47,6 +47,47 @@ struct Pieces
 
 int sourceOf(const FeatureSegments& f, std::size_t s) { return f.source.empty() ? -1 : f.source[s]; }
 
+K::Point_3 point3(const FeatureSegments& f, int i) { return { f.points[i].x, f.points[i].y, f.points[i].z }; }
+
+/// The box of half-width `tolerance` around feature point i.
+Box pointBox(const FeatureSegments& f, std::size_t i, double tolerance)
+{
+  const Vec3& p = f.points[i];
+  double lo[3] = { p.x - tolerance, p.y - tolerance, p.z - tolerance };
+  double hi[3] = { p.x + tolerance, p.y + tolerance, p.z + tolerance };
+  return Box(lo, hi, i);
+}
+
+/// Each segment split at its `inner` points (in any order; repeats and points at its ends give no
+/// piece), the pieces in order along it with the segment's own edge size and source.
+void splitSegmentsAt(FeatureSegments& f, std::vector<std::vector<int>>& inner)
+{
+  const bool sized = !f.edgeSizes.empty(), sourced = !f.source.empty();
+  FeatureSegments out;
+  for (std::size_t s = 0; s < f.segments.size(); ++s)
+  {
+    std::vector<int> chain{ f.segments[s][0] };
+    const Vec3 a = f.points[f.segments[s][0]], d = f.points[f.segments[s][1]] - a;
+    std::vector<int>& in = inner[s];
+    std::sort(in.begin(), in.end(), [&](int i, int j) { return dot(f.points[i] - a, d) < dot(f.points[j] - a, d); });
+    in.erase(std::unique(in.begin(), in.end()), in.end());
+    chain.insert(chain.end(), in.begin(), in.end());
+    chain.push_back(f.segments[s][1]);
+    for (std::size_t k = 0; k + 1 < chain.size(); ++k)
+      if (chain[k] != chain[k + 1] && norm(f.points[chain[k + 1]] - f.points[chain[k]]) > 0.0)
+      {
+        out.segments.push_back({ chain[k], chain[k + 1] });
+        if (sized)
+          out.edgeSizes.push_back(f.edgeSizes[s]);
+        if (sourced)
+          out.source.push_back(f.source[s]);
+      }
+  }
+  f.segments = std::move(out.segments);
+  f.edgeSizes = std::move(out.edgeSizes);
+  f.source = std::move(out.source);
+}
+
 /// One line given twice (repeated or overlapping) keeps its own edge size; two different ones
 /// are a contradiction (InputError naming the line and both values).
 std::optional<double> sameEdgeSize(const FeatureSegments& f, const std::array<int, 2>& s, std::optional<double> mine,
@@ -102,12 +143,7 @@ void mergeRepeatedPoints(FeatureSegments& f, double tolerance, FeatureMergeCount
   {
     std::vector<Box> boxes;
     for (const auto& [xyz, i] : byCoordinates)
-    {
-      const Vec3& p = f.points[i];
-      double lo[3] = { p.x - tolerance, p.y - tolerance, p.z - tolerance };
-      double hi[3] = { p.x + tolerance, p.y + tolerance, p.z + tolerance };
-      boxes.emplace_back(lo, hi, static_cast<std::size_t>(i));
-    }
+      boxes.push_back(pointBox(f, static_cast<std::size_t>(i), tolerance));
     UnionFind near(f.points.size());
     CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), [&](const Box& a, const Box& b) {
       if (norm(f.points[a.info()] - f.points[b.info()]) <= tolerance)
@@ -147,12 +183,7 @@ void splitAtPointsOnSegments(FeatureSegments& f, double tolerance, FeatureMergeC
   std::vector<Box> points, segments;
   for (std::size_t i = 0; i < f.points.size(); ++i)
     if (used[i])
-    {
-      const Vec3& p = f.points[i];
-      double lo[3] = { p.x - tolerance, p.y - tolerance, p.z - tolerance };
-      double hi[3] = { p.x + tolerance, p.y + tolerance, p.z + tolerance };
-      points.emplace_back(lo, hi, i);
-    }
+      points.push_back(pointBox(f, i, tolerance));
   for (std::size_t k = 0; k < f.segments.size(); ++k)
   {
     const Vec3 &a = f.points[f.segments[k][0]], &b = f.points[f.segments[k][1]];
@@ -160,7 +191,7 @@ void splitAtPointsOnSegments(FeatureSegments& f, double tolerance, FeatureMergeC
     double hi[3] = { std::max(a.x, b.x), std::max(a.y, b.y), std::max(a.z, b.z) };
     segments.emplace_back(lo, hi, k);
   }
-  std::map<std::size_t, std::vector<std::pair<double, int>>> inside; // segment -> (parameter, point)
+  std::vector<std::vector<int>> inner(f.segments.size()); // points to split each segment at
   CGAL::box_intersection_d(segments.begin(), segments.end(), points.begin(), points.end(),
     [&](const Box& sb, const Box& pb) {
       const auto& s = f.segments[sb.info()];
@@ -173,43 +204,20 @@ void splitAtPointsOnSegments(FeatureSegments& f, double tolerance, FeatureMergeC
       if (!(t > 0 && t < 1) || norm(p - (a + t * d)) > tolerance || norm(p - a) <= tolerance ||
         norm(p - b) <= tolerance)
         return;
-      const auto P = [&f](int i) { return K::Point_3(f.points[i].x, f.points[i].y, f.points[i].z); };
-      if (CGAL::collinear(P(s[0]), P(v), P(s[1])))
+      if (CGAL::collinear(point3(f, s[0]), point3(f, v), point3(f, s[1])))
         return; // exactly on it: a T, which splitAtCrossings splits (and counts)
-      inside[sb.info()].push_back({ t, v });
+      inner[sb.info()].push_back(v);
     });
-  if (inside.empty())
+  if (std::all_of(inner.begin(), inner.end(), [](const std::vector<int>& in) { return in.empty(); }))
     return;
-  std::vector<std::array<int, 2>> out;
-  std::vector<std::optional<double>> sizes;
-  std::vector<int> source;
-  for (std::size_t k = 0; k < f.segments.size(); ++k)
-  {
-    std::vector<int> chain{ f.segments[k][0] };
-    if (auto it = inside.find(k); it != inside.end())
+  splitSegmentsAt(f, inner); // sorts each segment's points along it
+  for (const std::vector<int>& in : inner)
+    if (!in.empty())
     {
-      std::sort(it->second.begin(), it->second.end());
-      for (const auto& [t, v] : it->second)
-        chain.push_back(v);
       counts.splitSegments += 1;
       if (!counts.withinRounding++)
-        counts.firstWithinRounding = f.points[it->second.front().second];
+        counts.firstWithinRounding = f.points[in.front()];
     }
-    chain.push_back(f.segments[k][1]);
-    for (std::size_t j = 0; j + 1 < chain.size(); ++j)
-    {
-      out.push_back({ chain[j], chain[j + 1] });
-      if (!f.edgeSizes.empty())
-        sizes.push_back(f.edgeSizes[k]);
-      if (!f.source.empty())
-        source.push_back(f.source[k]);
-    }
-  }
-  f.segments = std::move(out);
-  if (!f.edgeSizes.empty())
-    f.edgeSizes = std::move(sizes);
-  if (!f.source.empty())
-    f.source = std::move(source);
 }
 
 /// 2. Repeated segments (either direction); zero-length ones stay for validate to name.
@@ -241,7 +249,7 @@ Pieces withoutRepeatedSegments(const FeatureSegments& f, FeatureMergeCounts& cou
 /// 3a. Collinear overlapping segments, grouped by union-find; `overlaps` marks the segments in a group.
 UnionFind overlapGroups(const FeatureSegments& f, const std::vector<std::array<int, 2>>& unique, std::vector<bool>& overlaps)
 {
-  const auto P = [&](int i) { return K::Point_3(f.points[i].x, f.points[i].y, f.points[i].z); };
+  const auto P = [&](int i) { return point3(f, i); };
   std::vector<Box> boxes;
   boxes.reserve(unique.size());
   for (std::size_t s = 0; s < unique.size(); ++s)
@@ -379,7 +387,6 @@ namespace
 /// merge left) are not touched: validate names them.
 std::size_t splitAtCrossings(FeatureSegments& f)
 {
-  const auto P = [&f](int i) { return K::Point_3(f.points[i].x, f.points[i].y, f.points[i].z); };
   const std::vector<std::pair<std::size_t, std::size_t>> crossing = f.crossingPairs();
   if (crossing.empty())
     return 0;
@@ -395,8 +402,8 @@ std::size_t splitAtCrossings(FeatureSegments& f)
     bool tee = false;
     for (const auto& [end, other, at] : { std::tuple{ a, b, t }, std::tuple{ b, a, s } })
       for (int v : end)
-        if (v != other[0] && v != other[1] && CGAL::collinear(P(other[0]), P(v), P(other[1])) &&
-          CGAL::collinear_are_strictly_ordered_along_line(P(other[0]), P(v), P(other[1])))
+        if (v != other[0] && v != other[1] && CGAL::collinear(point3(f, other[0]), point3(f, v), point3(f, other[1])) &&
+          CGAL::collinear_are_strictly_ordered_along_line(point3(f, other[0]), point3(f, v), point3(f, other[1])))
         {
           inner[at].push_back(v);
           tee = true;
@@ -417,32 +424,8 @@ std::size_t splitAtCrossings(FeatureSegments& f)
     }
     ++split;
   }
-  if (!split)
-    return 0;
-  const bool sized = !f.edgeSizes.empty(), sourced = !f.source.empty();
-  FeatureSegments out;
-  for (std::size_t s = 0; s < f.segments.size(); ++s)
-  {
-    std::vector<int> chain{ f.segments[s][0] };
-    const Vec3 a = f.points[f.segments[s][0]], d = f.points[f.segments[s][1]] - a;
-    std::vector<int>& in = inner[s];
-    std::sort(in.begin(), in.end(), [&](int i, int j) { return dot(f.points[i] - a, d) < dot(f.points[j] - a, d); });
-    in.erase(std::unique(in.begin(), in.end()), in.end());
-    chain.insert(chain.end(), in.begin(), in.end());
-    chain.push_back(f.segments[s][1]);
-    for (std::size_t k = 0; k + 1 < chain.size(); ++k)
-      if (chain[k] != chain[k + 1] && norm(f.points[chain[k + 1]] - f.points[chain[k]]) > 0.0)
-      {
-        out.segments.push_back({ chain[k], chain[k + 1] });
-        if (sized)
-          out.edgeSizes.push_back(f.edgeSizes[s]);
-        if (sourced)
-          out.source.push_back(f.source[s]);
-      }
-  }
-  f.segments = std::move(out.segments);
-  f.edgeSizes = std::move(out.edgeSizes);
-  f.source = std::move(out.source);
+  if (split)
+    splitSegmentsAt(f, inner);
   return split;
 }
 }
