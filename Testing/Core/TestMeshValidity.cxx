@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 
 using namespace omesh;
@@ -263,4 +264,45 @@ TEST(MeshValidity, UnusedVertexIsSeen)
   EXPECT_EQ(v.unusedVertices, 1u);
   EXPECT_EQ(v.defects(), 1u);
   EXPECT_NE(v.describe().find("1 vertices no tetrahedron uses"), std::string::npos);
+}
+
+// A tetrahedron with every vertex on an interface whose centroid lies in another material fills
+// part of that material: counted (not a defect) when it reaches across farther than the finer
+// facet distance of the two, by its smallest altitude.
+TEST(MeshValidity, TetrahedraAcrossABoundaryAreCountedAboveTheFacetDistance)
+{
+  TetMesh m = twoTets();
+  m.pointDimension = { 2, 2, 2, 2, 3 };                          // the upper one: every vertex on interfaces
+  auto oracle = [](const Vec3&) { return 2; }; // the upper one is material 1, the oracle says 2
+  const double h = smallestAltitude(m.points[0], m.points[1], m.points[2], m.points[3]); // 1/sqrt(3)
+  ValidityThresholds th;
+  auto counted = [&](double d1, double d2) {
+    th.facetDistanceOf = [=](int material) { return material == 1 ? d1 : d2; };
+    return checkMeshValidity(m, oracle, th);
+  };
+  MeshValidity v = counted(0.1, 0.5);
+  EXPECT_EQ(v.acrossBoundaryTetrahedra, 1u);
+  EXPECT_NEAR(v.acrossBoundaryVolume, 1.0 / 6.0, 1e-12);
+  EXPECT_TRUE(v.valid()); // a fidelity figure, not a defect
+  EXPECT_EQ(counted(0.5, 0.1).acrossBoundaryTetrahedra, 1u); // the finer of the two
+  EXPECT_EQ(counted(0.9 * h, 0.0).acrossBoundaryTetrahedra, 1u); // one without a facet distance
+  EXPECT_EQ(counted(1.1 * h, 2.0).acrossBoundaryTetrahedra, 0u); // thinner than both
+  EXPECT_EQ(counted(0.0, 0.0).acrossBoundaryTetrahedra, 0u);     // neither has one
+  m.pointDimension[3] = 3; // an inside vertex: the material check's business, not this one
+  EXPECT_EQ(counted(0.1, 0.1).acrossBoundaryTetrahedra, 0u);
+  m.pointDimension[3] = 2;
+  th.facetDistanceOf = {};
+  EXPECT_EQ(checkMeshValidity(m, oracle, th).acrossBoundaryTetrahedra, 0u); // not asked for
+  const auto pairs = counted(0.1, 0.1).asStatistics();
+  const std::map<std::string, double> st(pairs.begin(), pairs.end());
+  EXPECT_EQ(st.at("validity.across_boundary_tetrahedra"), 1.0);
+  EXPECT_NEAR(st.at("validity.across_boundary_volume"), 1.0 / 6.0, 1e-12);
+}
+
+TEST(MeshQuality, SmallestAltitudeIsTheHeightOverTheLargestFace)
+{
+  const Vec3 o{ 0, 0, 0 }, x{ 1, 0, 0 }, y{ 0, 1, 0 }, z{ 0, 0, 1 };
+  EXPECT_NEAR(smallestAltitude(o, x, y, z), 1.0 / std::sqrt(3.0), 1e-15); // over the face x + y + z = 1
+  EXPECT_NEAR(smallestAltitude(o, x, y, 0.01 * z), 0.01 / std::sqrt(1.0 + 2.0 * 1e-4) * 1.0, 1e-6);
+  EXPECT_EQ(smallestAltitude(o, x, y, Vec3{ 1, 1, 0 }), 0.0); // flat
 }

@@ -75,6 +75,15 @@ void MeshCriteria::checkFinite(const std::string& who) const
     }
 }
 
+double MaterialCriteria::finestFacetDistance() const
+{
+  double finest = globalValues().facetDistance;
+  for (const auto& entry : perMaterial)
+    if (const double d = of(entry.first).facetDistance; d > 0 && (finest <= 0 || d < finest))
+      finest = d;
+  return finest > 0 ? finest : 0.0;
+}
+
 MeshCriteria::Values MaterialCriteria::of(int material) const
 {
   auto it = perMaterial.find(material);

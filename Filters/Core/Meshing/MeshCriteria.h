@@ -73,6 +73,8 @@ struct MaterialCriteria
   /// Material m's resolved criteria: perMaterial[m] over global over the defaults.
   MeshCriteria::Values of(int material) const;
   MeshCriteria::Values globalValues() const { return global.values(); }
+  /// The smallest facet distance of any material; 0 when none has one.
+  double finestFacetDistance() const;
 
   /// Every material's resolved criteria, computed once: the mesher's criteria ask for them per
   /// facet and cell (of() resolving each time was ~4 % of a coarse label map's refinement).

@@ -582,10 +582,7 @@ std::optional<FeatureSegments> resampledFeatures(const FeatureSegments& given, c
   if (!options.resampleFeatureLines || given.empty())
     return std::nullopt;
   const MeshCriteria::Values g = options.criteria.globalValues();
-  double distance = g.facetDistance;
-  for (const auto& [m, unused] : options.criteria.perMaterial)
-    if (const double d = options.criteria.of(m).facetDistance; d > 0 && (distance <= 0 || d < distance))
-      distance = d;
+  const double distance = options.criteria.finestFacetDistance();
   FeatureNetworkTolerances tolerances;
   tolerances.edgeLength = g.edgeSize > 0 ? g.edgeSize : g.facetSize > 0 ? g.facetSize : norm(inner.size()) / 40.0;
   // a line with a finer edge size of its own (or of its materials) keeps its detail: h is the finest
@@ -721,7 +718,8 @@ private:
     // before the criteria (the parallel levels take circumcentres at SliverAngle; the sequential
     // round after them picks its points around the slivers they left)
     threads_ = requestedThreads(options_);
-    criteria_ = std::make_unique<Criteria>(materialMeshCriteria<Tr>(options_, Criteria::Edge_criteria(sizing), pickingRegion().targetAngle));
+    criteria_ = std::make_unique<Criteria>(
+      materialMeshCriteria<Tr>(options_, Criteria::Edge_criteria(sizing), pickingRegion().targetAngle, &oracle_));
   }
 
   /// ProtectingBalls: the polylines added to the domain and the balls' sizes, per polyline when
@@ -1429,6 +1427,7 @@ private:
     // Missing feature-line pieces are defects only where the strategy promises them (not None).
     ValidityThresholds thresholds;
     thresholds.segmentsRequired = options_.strategy != FeatureStrategy::None;
+    thresholds.facetDistanceOf = [this](int m) { return options_.criteria.of(m).facetDistance; };
     const MeshValidity validity = checkMeshValidity(
       mesh,
       [this](const Vec3& p) {
@@ -1439,6 +1438,17 @@ private:
     mesh.tetDefects = std::move(defects);
     if (!validity.valid())
       warnings_.push_back("mesh validity: " + validity.describe());
+    if (validity.acrossBoundaryTetrahedra > 0)
+    {
+      std::ostringstream o;
+      const bool one = validity.acrossBoundaryTetrahedra == 1;
+      o << validity.acrossBoundaryTetrahedra << (one ? " tetrahedron (volume " : " tetrahedra (volume ")
+        << validity.acrossBoundaryVolume << (one ? ") lies" : ") lie")
+        << " across a boundary: every vertex on an interface or feature line, the centroid in "
+        << "another material, thicker than the finer facet distance of the two (a thin or acute part "
+        << "loses or gains that volume)";
+      warnings_.push_back(o.str());
+    }
     for (const auto& [name, value] : validity.asStatistics())
       mesh.statistics[name] = value;
     addStatistics(mesh, coverage);

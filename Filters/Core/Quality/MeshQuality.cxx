@@ -15,6 +15,13 @@ double signedVolume(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d)
   return dot(cross(b - a, c - a), d - a) / 6.0;
 }
 
+double smallestAltitude(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d)
+{
+  const double twiceArea = std::max({ norm(cross(b - a, c - a)), norm(cross(b - a, d - a)), norm(cross(c - a, d - a)),
+    norm(cross(c - b, d - b)) });
+  return twiceArea > 0 ? 6.0 * std::abs(signedVolume(a, b, c, d)) / twiceArea : 0.0;
+}
+
 double minDihedralAngle(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d)
 {
   const Vec3 p[4] = { a, b, c, d };

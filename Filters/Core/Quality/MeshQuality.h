@@ -22,6 +22,10 @@ Vec3 circumcenter(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
 /// Signed volume of abcd (positive when d is on the side of abc its normal (b-a)x(c-a) points to).
 double signedVolume(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
 
+/// Smallest of the four heights of abcd (3 |volume| / largest face area; 0 for a flat one): how
+/// far the tetrahedron reaches from its largest face.
+double smallestAltitude(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
+
 /// Volume of the tetrahedra of each material.
 std::map<int, double> materialVolumes(const TetMesh& mesh);
 

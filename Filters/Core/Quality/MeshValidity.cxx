@@ -164,7 +164,9 @@ std::vector<std::pair<std::string, double>> MeshValidity::asStatistics() const
     { keys::VALIDITY_INVERTED_TETRAHEDRA, d(invertedTetrahedra) }, { keys::VALIDITY_NON_MANIFOLD_FACES, d(nonManifoldFaces) },
     { keys::VALIDITY_BAD_VERTEX_INDICES, d(badIndices) }, { keys::VALIDITY_MATERIAL_MISMATCHES, d(materialMismatches) },
     { keys::VALIDITY_MISSING_SEGMENT_PIECES, d(missingSegmentPieces) }, { keys::VALIDITY_MEDIAN_EDGE, medianEdge },
-    { keys::VALIDITY_SHORTEST_EDGE, shortestEdge }, { keys::VALIDITY_UNUSED_VERTICES, d(unusedVertices) } };
+    { keys::VALIDITY_SHORTEST_EDGE, shortestEdge }, { keys::VALIDITY_UNUSED_VERTICES, d(unusedVertices) },
+    { keys::VALIDITY_ACROSS_BOUNDARY_TETRAHEDRA, d(acrossBoundaryTetrahedra) },
+    { keys::VALIDITY_ACROSS_BOUNDARY_VOLUME, acrossBoundaryVolume } };
 }
 
 namespace
@@ -226,6 +228,24 @@ unsigned char shapeAndMaterialDefects(const TetMesh& mesh, std::size_t t,
   }
   return flags;
 }
+
+/// Every vertex on an interface or line, centroid in another material, smallest altitude above
+/// acrossBoundaryLength of the two.
+bool acrossBoundary(const TetMesh& mesh, std::size_t t, const std::function<int(const Vec3&)>& materialAt,
+  const std::function<double(int)>& facetDistanceOf)
+{
+  const auto& k = mesh.tets[t];
+  for (int i = 0; i < 4; ++i)
+    if (mesh.pointDimension[k[i]] == 3)
+      return false;
+  const Vec3 &a = mesh.points[k[0]], &b = mesh.points[k[1]], &c = mesh.points[k[2]], &d = mesh.points[k[3]];
+  const double height = smallestAltitude(a, b, c, d);
+  const int own = mesh.tetMaterial[t], there = materialAt(0.25 * (a + b + c + d));
+  if (there == own)
+    return false;
+  const double length = acrossBoundaryLength(facetDistanceOf(own), there >= 0 ? facetDistanceOf(there) : 0.0);
+  return length > 0 && height > length;
+}
 }
 
 MeshValidity checkMeshValidity(const TetMesh& mesh, const std::function<int(const Vec3&)>& materialAt,
@@ -282,6 +302,15 @@ MeshValidity checkMeshValidity(const TetMesh& mesh, const std::function<int(cons
   }
   for (const auto& s : mesh.segments)
     r.missingSegmentPieces += th.segmentsRequired && !s.present;
+  if (materialAt && th.facetDistanceOf && mesh.pointDimension.size() == mesh.points.size())
+    for (std::size_t t : good)
+      if (t < mesh.tetMaterial.size() && acrossBoundary(mesh, t, materialAt, th.facetDistanceOf))
+      {
+        const auto& k = mesh.tets[t];
+        ++r.acrossBoundaryTetrahedra;
+        r.acrossBoundaryVolume +=
+          std::abs(signedVolume(mesh.points[k[0]], mesh.points[k[1]], mesh.points[k[2]], mesh.points[k[3]]));
+      }
   if (tetDefects)
     *tetDefects = std::move(flags);
   return r;

@@ -20,7 +20,21 @@ struct ValidityThresholds
   double micro = 1e-4;     ///< a tetrahedron whose longest edge is below this x L is micro
   double flat = 1e-8;      ///< a tetrahedron with |volume| below this x (longest edge)^3 is flat
   bool segmentsRequired = true; ///< count TetMesh::segments pieces that are not mesh edges
+  /// The facet distance of a material (<= 0: none). When given, tetrahedra with every vertex on
+  /// an interface or feature line whose centroid lies in another material are counted as lying
+  /// across a boundary (MeshValidity::acrossBoundary*) if their smallest altitude (how far they
+  /// reach across) exceeds acrossBoundaryLength of the two materials: thinner ones misplace the
+  /// boundary by less than the facet criterion allows.
+  std::function<double(int)> facetDistanceOf;
 };
+
+/// The length above which a tetrahedron of material `a` whose centroid lies in material `b` counts as
+/// across a boundary, from their facet distances (<= 0: none): the smaller one; 0 (never) when
+/// neither has one. The mesher's refinement uses the same rule (MaterialCellCriterion).
+inline double acrossBoundaryLength(double a, double b)
+{
+  return a > 0 && b > 0 ? (a < b ? a : b) : a > 0 ? a : b > 0 ? b : 0.0;
+}
 
 /// Defect counts of one mesh; every count is a defect except where noted.
 struct MeshValidity
@@ -41,6 +55,13 @@ struct MeshValidity
   /// Points no tetrahedron uses: nodes without an element leave a zero row in a stiffness matrix
   /// (a singular system) or are refused by finite-element codes.
   std::size_t unusedVertices = 0;
+
+  /// Not a defect (the elements are sound), a fidelity figure: tetrahedra whose vertices all lie
+  /// on interfaces or feature lines but whose centroid the oracle puts in another material, thicker
+  /// (smallest altitude) than acrossBoundaryLength of the two materials (ValidityThresholds::facetDistanceOf): they fill a part of a material with another
+  /// (at an acute edge, cells from one face to the other labelled by a circumcentre outside).
+  std::size_t acrossBoundaryTetrahedra = 0;
+  double acrossBoundaryVolume = 0.0; ///< their volume
 
   double medianEdge = 0.0;     ///< not a defect (L is at least this)
   double shortestEdge = 0.0;   ///< not a defect

@@ -228,7 +228,8 @@ ParallelRefinementRun refineInParallel(SequentialC3t3& c3t3, const MeshDomain& d
   Parallel::C3t3& par = *parallel;
   copyComplex(c3t3, par);
   const Parallel::Criteria criteria =
-    materialMeshCriteria<Parallel::Tr>(options, Parallel::Criteria::Edge_criteria(edgeSize > 0 ? edgeSize : 1.0), options.sliverAngle);
+    materialMeshCriteria<Parallel::Tr>(options, Parallel::Criteria::Edge_criteria(edgeSize > 0 ? edgeSize : 1.0),
+      options.sliverAngle, &domain.oracle());
   std::atomic<bool> stop{ false };
   {
     const SegmentSet noSegments;
