@@ -46,6 +46,41 @@ std::vector<Segment> cgalSegments(const FeatureSegments& f)
   return s;
 }
 
+/// Whether a segment stays within FeatureNetworkTolerances::maxDeviation of the given lines:
+/// samples at most a quarter of it apart, each within it (so the segment within 1.125 times it).
+class DeviationBound
+{
+public:
+  DeviationBound(const FeatureSegments& given, double bound)
+    : bound_(bound)
+    , segments_(cgalSegments(given))
+  {
+    if (bounded())
+    {
+      tree_.insert(segments_.begin(), segments_.end());
+      tree_.accelerate_distance_queries();
+    }
+  }
+  bool bounded() const { return std::isfinite(bound_) && !segments_.empty(); }
+  bool allows(const Vec3& a, const Vec3& b) const
+  {
+    if (!bounded())
+      return true;
+    const int n = std::max(1, static_cast<int>(std::ceil(norm(b - a) / (0.25 * bound_))));
+    if (n > 100000)
+      return false;
+    for (int k = 0; k <= n; ++k)
+      if (tree_.squared_distance(toPoint(lerp(a, b, static_cast<double>(k) / n))) > bound_ * bound_)
+        return false;
+    return true;
+  }
+
+private:
+  double bound_;
+  std::vector<Segment> segments_;
+  Tree tree_;
+};
+
 std::vector<std::size_t> degrees(const FeatureSegments& f)
 {
   std::vector<std::size_t> d(f.points.size(), 0);
@@ -128,7 +163,7 @@ void remapSegments(FeatureSegments& f, const std::vector<int>& to)
 
 /// Step 1: greedy clustering, highest degree first: each point not yet taken keeps its place and
 /// takes every untaken point within `d` (a kd-tree range query). Returns the points merged.
-std::size_t mergeNearbyPoints(FeatureSegments& f, double d)
+std::size_t mergeNearbyPoints(FeatureSegments& f, double d, const DeviationBound& bound)
 {
   const std::size_t n = f.points.size();
   std::vector<Point> pts(n);
@@ -143,6 +178,29 @@ std::size_t mergeNearbyPoints(FeatureSegments& f, double d)
   std::vector<int> to(n, -1);
   std::size_t merged = 0;
   std::vector<std::size_t> near;
+  // with a deviation bound: w goes to v only where its segments, from v to where their other ends
+  // are by now (merged or not yet), stay near the given lines (a later merge of an end checks again)
+  std::vector<std::vector<int>> adjacent;
+  if (bound.bounded())
+  {
+    adjacent.resize(n);
+    for (const auto& s : f.segments)
+    {
+      adjacent[s[0]].push_back(s[1]);
+      adjacent[s[1]].push_back(s[0]);
+    }
+  }
+  const auto mergeStaysNear = [&](std::size_t w, std::size_t v) {
+    if (!bound.bounded())
+      return true;
+    for (int r : adjacent[w])
+    {
+      const int at = to[r] >= 0 ? to[r] : r;
+      if (at != static_cast<int>(v) && !bound.allows(f.points[v], f.points[at]))
+        return false;
+    }
+    return true;
+  };
   for (std::size_t v : order)
   {
     if (to[v] >= 0)
@@ -151,7 +209,7 @@ std::size_t mergeNearbyPoints(FeatureSegments& f, double d)
     near.clear();
     tree.search(std::back_inserter(near), Sphere(pts[v], d, 0.0, KdTraits(PointMap(pts.data()))));
     for (std::size_t w : near)
-      if (to[w] < 0 && CGAL::squared_distance(pts[v], pts[w]) < d * d)
+      if (to[w] < 0 && CGAL::squared_distance(pts[v], pts[w]) < d * d && mergeStaysNear(w, v))
       {
         to[w] = static_cast<int>(v);
         ++merged;
@@ -269,7 +327,7 @@ void smallAngleCandidates(const FeatureSegments& f, double minAngle, std::vector
 /// Step 2, one round: the closest (point, segment) pairs first, each split only where none of its
 /// three points took part in a split of this round (so the splits are independent, as if made one
 /// after the other, and two segments cannot split each other back and forth). Returns the splits.
-std::size_t snapPointsToSegments(FeatureSegments& f, double d, double minAngle)
+std::size_t snapPointsToSegments(FeatureSegments& f, double d, double minAngle, const DeviationBound& bound)
 {
   if (f.segments.empty())
     return 0;
@@ -286,6 +344,8 @@ std::size_t snapPointsToSegments(FeatureSegments& f, double d, double minAngle)
     const auto& e = f.segments[c.segment];
     if (taken[e[0]] || taken[e[1]] || taken[c.point])
       continue;
+    if (!bound.allows(f.points[e[0]], f.points[c.point]) || !bound.allows(f.points[c.point], f.points[e[1]]))
+      continue; // would move the line too far from the given one
     taken[e[0]] = taken[e[1]] = taken[c.point] = 1;
     splitAt[c.segment] = c.point;
     ++count;
@@ -320,12 +380,12 @@ std::size_t snapPointsToSegments(FeatureSegments& f, double d, double minAngle)
 }
 
 /// Step 2 until nothing moves (at most `rounds`, a backstop): a split can bring a new segment near a point.
-std::size_t snapUntilStable(FeatureSegments& f, double d, double minAngle, int rounds = 64)
+std::size_t snapUntilStable(FeatureSegments& f, double d, double minAngle, const DeviationBound& bound, int rounds = 64)
 {
   std::size_t total = 0;
   for (int r = 0; r < rounds; ++r)
   {
-    const std::size_t n = snapPointsToSegments(f, d, minAngle);
+    const std::size_t n = snapPointsToSegments(f, d, minAngle, bound);
     total += n;
     if (!n)
       break;
@@ -703,16 +763,17 @@ FeatureNetworkReport simplifyFeatureNetwork(FeatureSegments& f, const FeatureNet
     return report;
   }
   const double d = tol.mergeDistance();
+  const DeviationBound bound(given, tol.maxDeviation);
   if (d > 0)
   {
-    report.pointsMerged = mergeNearbyPoints(f, d);
-    report.pointsSnapped = snapUntilStable(f, d, tol.minAngle);
+    report.pointsMerged = mergeNearbyPoints(f, d, bound);
+    report.pointsSnapped = snapUntilStable(f, d, tol.minAngle, bound);
   }
   if (tol.spurLength() > 0)
     dropSpurs(f, tol.spurLength(), report);
   report.pointsResampled = resampleFeatureLines(f, h, std::max(0.0, tol.chordTolerance));
   if (d > 0)
-    report.pointsSnapped += snapUntilStable(f, d, tol.minAngle);
+    report.pointsSnapped += snapUntilStable(f, d, tol.minAngle, bound);
   if (tol.inDomain)
   {
     report.segmentsOutside = dropSegmentsLeavingDomain(f, tol);
