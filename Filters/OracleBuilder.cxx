@@ -5,6 +5,7 @@
 
 #include "BoxDomain.h"
 #include "FeatureSegments.h"
+#include "FieldDataKeys.h"
 #include "CylinderDomain.h"
 #include "HalfSpaceDomain.h"
 #include "HierarchicalOracle.h"
@@ -205,8 +206,10 @@ omesh::TriangleSurface OracleBuilder::ToTriangleSurface(vtkPolyData* pd, const s
   return s;
 }
 
-omesh::FeatureSegments OracleBuilder::ToFeatureSegments(vtkPolyData* lines)
+omesh::FeatureSegments OracleBuilder::ToFeatureSegments(vtkPolyData* lines, std::vector<int>* owners)
 {
+  if (owners)
+    owners->clear();
   omesh::FeatureSegments f;
   if (!lines)
     return f;
@@ -234,6 +237,10 @@ omesh::FeatureSegments OracleBuilder::ToFeatureSegments(vtkPolyData* lines)
   if (sizes && sizes->GetNumberOfComponents() != 1)
     throw InputError(who + ": cell array EdgeSize has " + std::to_string(sizes->GetNumberOfComponents()) +
       " components (one edge size per line is needed)");
+  vtkDataArray* ownerArray = owners ? lines->GetCellData()->GetArray(omesh::keys::EDGES_OF_DOMAIN) : nullptr;
+  if (ownerArray && ownerArray->GetNumberOfComponents() != 1)
+    throw InputError(who + ": cell array " + omesh::keys::EDGES_OF_DOMAIN + " has " +
+      std::to_string(ownerArray->GetNumberOfComponents()) + " components (one input index per line is needed)");
   auto it = vtk::TakeSmartPointer(lines->GetLines()->NewIterator());
   for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell())
   {
@@ -246,6 +253,8 @@ omesh::FeatureSegments OracleBuilder::ToFeatureSegments(vtkPolyData* lines)
       f.segments.push_back({ vertex(ids[k]), vertex(ids[k + 1]) });
       if (sizes)
         f.edgeSizes.push_back(size == -1.0 ? std::nullopt : std::optional<double>(size));
+      if (owners)
+        owners->push_back(ownerArray ? static_cast<int>(ownerArray->GetComponent(it->GetCurrentCellId(), 0)) : -1);
     }
   }
   return f;

@@ -58,7 +58,11 @@ public:
   /// The lines of `lines` as constrained segments: polylines split into segments, a point shared
   /// by several polylines one vertex. Null gives no segments. A cell array "EdgeSize" gives each
   /// line its own edge size (FeatureSegments::edgeSizes; -1 = none, the materials' or global counts).
-  static omesh::FeatureSegments ToFeatureSegments(vtkPolyData* lines);
+  /// `owners`, when given, gets one entry per segment from the integer cell array "EdgesOfDomain"
+  /// (keys::EDGES_OF_DOMAIN): the index, in the oracle's priority order, of the input whose sharp
+  /// edges the line is (scene `features.from_surface`), -1 (omesh::kUserLine) for a user's own line
+  /// and for every line when the array is missing (clipFeatureSegments).
+  static omesh::FeatureSegments ToFeatureSegments(vtkPolyData* lines, std::vector<int>* owners = nullptr);
 
   /// The label map of `image` as described by `md` (array, association, background).
   static std::shared_ptr<omesh::LabelMapDomain> ToLabelMap(

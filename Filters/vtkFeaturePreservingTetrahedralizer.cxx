@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "vtkFeaturePreservingTetrahedralizer.h"
 
+#include "FeatureClip.h"
 #include "FeatureMerge.h"
 #include "FeatureSelection.h"
 #include "HierarchicalOracle.h"
@@ -336,7 +337,13 @@ void vtkFeaturePreservingTetrahedralizer::GatherInputs(vtkInformationVector** in
     throw omesh::InputError(std::string("seed points (input port 2): need points (vtkPolyData), got ") +
       seedsData->GetClassName());
   this->SetUpOptions(run);
-  run.features = OracleBuilder::ToFeatureSegments(lines);
+  std::vector<int> owners;
+  run.features = OracleBuilder::ToFeatureSegments(lines, &owners);
+  // The oracle first: the lines are clipped to where they can be features of its domain before
+  // they are merged (the merge makes a clipped end one with any given point there).
+  run.oracle = OracleBuilder::BuildOracle(oracleData);
+  if (!run.features.empty())
+    ClipFeatures(run, owners);
   const omesh::FeatureMergeCounts merged = omesh::mergeFeatureSegments(run.features);
   if (merged.changed())
   {
@@ -362,7 +369,6 @@ void vtkFeaturePreservingTetrahedralizer::GatherInputs(vtkInformationVector** in
     run.notes.push_back(text + "; " + std::to_string(run.features.segments.size()) + " segments remain");
   }
 
-  run.oracle = OracleBuilder::BuildOracle(oracleData);
   for (const std::string& w : OracleBuilder::DomainWarnings(*run.oracle))
     run.notes.push_back(w);
   run.inputNotes = OracleBuilder::InputPlacementWarnings(*run.oracle);
@@ -384,6 +390,41 @@ void vtkFeaturePreservingTetrahedralizer::GatherInputs(vtkInformationVector** in
     seeds->GetPoint(i, x);
     run.seedPoints.push_back({ x[0], x[1], x[2] });
   }
+}
+
+void vtkFeaturePreservingTetrahedralizer::ClipFeatures(MeshingRun& run, const std::vector<int>& owners)
+{
+  const omesh::FeatureClipCounts clipped = omesh::clipFeatureSegments(run.features, *run.oracle, owners);
+  if (!clipped.changed())
+    return;
+  // one warning: how many segments, of which inputs
+  std::ostringstream o;
+  o << "feature lines clipped to the meshed domain: " << clipped.removed() << " segment(s) removed and "
+    << clipped.split() << " split where they leave it (";
+  bool first = true;
+  for (const auto& [owner, c] : clipped.owners)
+  {
+    o << (first ? "" : "; ");
+    first = false;
+    if (owner == omesh::kUserLine)
+      o << "the given lines";
+    else
+    {
+      const auto& domains = run.oracle->domains();
+      o << "the sharp edges of ";
+      if (owner >= 0 && owner < static_cast<int>(domains.size()) && !domains[owner]->name().empty())
+        o << domains[owner]->name();
+      else
+        o << "input " << owner;
+    }
+    o << ": " << c.removed << " removed, " << c.split << " split";
+  }
+  o << "): no material lies there (beyond the domains or cut away)";
+  if (std::any_of(clipped.owners.begin(), clipped.owners.end(), [](const auto& e) { return e.first != omesh::kUserLine; }))
+    o << " or a higher-priority input covers the part's edge";
+  o << ", so no mesh edge can hold them and they are not counted as missing; " << run.features.segments.size()
+    << " segments remain";
+  run.notes.push_back(o.str());
 }
 
 void vtkFeaturePreservingTetrahedralizer::SelectFeatures(MeshingRun& run)

@@ -45,6 +45,7 @@
 #include <vtkUnstructuredGridAlgorithm.h>
 
 #include <array>
+#include <vector>
 #include <map>
 #include <string>
 
@@ -311,6 +312,9 @@ private:
   void CheckProperties() const;
   void SetUpOptions(MeshingRun& run);
   void GatherInputs(vtkInformationVector** inputVector, MeshingRun& run);
+  // (of GatherInputs) the given lines clipped to the oracle's domain (owners: EdgesOfDomain per
+  // segment, clipFeatureSegments), with one warning for what was clipped
+  void ClipFeatures(MeshingRun& run, const std::vector<int>& owners);
   // (of GatherInputs) the lines to mesh (Features), the search under the run's time limit
   void SelectFeatures(MeshingRun& run);
   void MeshInputs(MeshingRun& run);

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "BoxDomain.h"
 #include "FeatureMerge.h"
+#include "FeatureNetworkSimplification.h"
 #include "HalfSpaceDomain.h"
 #include "HierarchicalOracle.h"
 #include "InputError.h"
@@ -1248,4 +1249,41 @@ TEST(OracleMesher, CellsAcrossAnAcuteEdgeAreRefinedUntilTheirLabelsAgree)
   const double volume = materialVolumes(m).at(2);
   EXPECT_LT(volume, 4.5 + 1e-9);
   EXPECT_GT(volume, 4.5 - 0.07);
+
+// Benchmarks/cad_defects item 6: resampling (on by default with from_surface) merged the points of
+// a polygonal circle smaller than the edge size (closer than h to each other) into a few: a 16-gon
+// cylinder of radius 1 at edge size 1 lost 11.7 % of its volume (study seed 17). Merges, snaps and
+// trunks are now bounded by the chord tolerance (half the facet distance): the resampled lines
+// stay within it of the given ones (their points are input points), and the cylinder keeps its
+// volume within the facet distance times its surface.
+TEST(OracleMesher, ResamplingKeepsASmallPolygonalCylinder)
+{
+  const TriangleSurface cylinder = polygonalCylinder(16, 1.0, 0.0, 3.0);
+  HierarchicalOracle o;
+  o.add(std::make_shared<SurfaceDomain>(cylinder, 5));
+  o.add(std::make_shared<BoxDomain>(Vec3{ -1, -2, -2 }, Vec3{ 4, 2, 2 }, 1));
+  const FeatureSegments given = test::sharpEdges(cylinder, 20.0); // the study's feature angle
+  ASSERT_EQ(given.segments.size(), 48u); // the two rims and the 16 side edges (22.5 degrees)
+  MesherOptions opt;
+  const double facetDistance = 0.01;
+  opt.criteria.global = { 25.0, 0.5, facetDistance, 0.6, 2.0, 1.0 }; // angle, facet size, distance, cell size, radius-edge, edge
+  opt.resampleFeatureLines = true;
+  opt.seed = 1;
+  const TetMesh m = meshOracle(o, given, {}, opt);
+  const double tolerance = 0.5 * facetDistance; // the chord tolerance
+  // the lines meshed (the mesher's, resampled: every mesh vertex on a feature piece) near the given ones
+  FeatureSegments kept;
+  for (const auto& piece : m.segments)
+  {
+    kept.points.push_back(piece.a);
+    kept.points.push_back(piece.b);
+    kept.segments.push_back({ static_cast<int>(kept.points.size()) - 2, static_cast<int>(kept.points.size()) - 1 });
+  }
+  ASSERT_FALSE(kept.segments.empty());
+  EXPECT_LE(featureLinesDistance(kept, given, 0.01), tolerance * 1.125 + 1e-12);
+  const double side = 2.0 * std::sin(M_PI / 16.0);
+  const double exact = 0.5 * 16 * std::sin(2 * M_PI / 16) * 3.0;                 // 16-gon area x length
+  const double area = 16 * side * 3.0 + 2 * 0.5 * 16 * std::sin(2 * M_PI / 16); // sides and caps
+  EXPECT_NEAR(materialVolumes(m).at(5), exact, facetDistance * area);
+  EXPECT_EQ(m.statistics.at("validity.defects"), 0.0);
 }

@@ -5,6 +5,7 @@
 
 #include <cstddef>
 #include <functional>
+#include <limits>
 
 namespace omesh
 {
@@ -31,6 +32,15 @@ struct FeatureNetworkTolerances
   /// length, as the mesher's own test): simplified segments that leave it are dropped, they could not
   /// become mesh edges. Empty: everywhere.
   std::function<bool(const Vec3&)> inDomain;
+  /// How far steps 1, 2 and 5 may move the lines from the given ones: a merge (step 1) or a snap
+  /// or shared trunk (steps 2, 5) is made only where every segment it makes stays within this of
+  /// the given lines (sampled at a quarter of it), so that no line moves farther than the chords
+  /// of step 4 may. Infinity (the default): unbounded, the merge distance alone decides (noisy
+  /// networks, whose points are all within noise of each other). The mesher's resampling sets it
+  /// to the chord tolerance: a polygonal circle smaller than the edge size keeps its shape (its
+  /// points, closer than h, were merged into a few: a 16-gon of radius 1 at h = 1 lost 11.7 % of
+  /// its volume, Benchmarks/cad_defects item 6), as do corners and sharp turns.
+  double maxDeviation = std::numeric_limits<double>::infinity();
   double mergeDistance() const { return mergeFraction * edgeLength; }
   double spurLength() const { return spurFraction * edgeLength; }
 };
@@ -77,7 +87,8 @@ struct FeatureNetworkReport
 ///     no mesh could hold those segments as edges there) are bypassed by their neighbours' chord
 ///     or lose those segments (then step 3 again).
 /// What it guarantees: kept points are input points at least d apart (so no segment is shorter
-/// than d); at the end of step 2 no two segments sharing a point meet at less than minAngle (the
+/// than d; with a finite maxDeviation only where merging them kept the lines that near the given
+/// ones, and no merge, snap or trunk moves them farther); at the end of step 2 no two segments sharing a point meet at less than minAngle (the
 /// measured smallest angle is reported, as resampling's chords and step 6 come after). How far the
 /// lines move is measured, both ways, and reported rather than bounded a priori: a merge moves a
 /// line by at most d, a trunk by at most half its shorter segment, a chord by at most the chord

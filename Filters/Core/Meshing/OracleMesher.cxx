@@ -591,6 +591,9 @@ std::optional<FeatureSegments> resampledFeatures(const FeatureSegments& given, c
       if (e > 0)
         tolerances.edgeLength = std::min(tolerances.edgeLength, e);
   tolerances.chordTolerance = distance > 0 ? 0.5 * distance : 0.05 * tolerances.edgeLength;
+  // merges, snaps and shared trunks keep the lines as near the given ones as the chords do: CAD
+  // edges (a small polygonal circle, a corner) keep their shape (Benchmarks/cad_defects item 6)
+  tolerances.maxDeviation = tolerances.chordTolerance;
   tolerances.inDomain = [&oracle](const Vec3& p) { return oracle.material(p) != kOutside; };
   FeatureSegments resampled = given;
   // each chord keeps the own edge size of the given segment it came from (its source)

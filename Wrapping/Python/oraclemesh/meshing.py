@@ -69,11 +69,19 @@ def mesher_for(scene, strategy=None, element_order=None, features=None, threads=
         parts.extend(scene.feature_readers)
         sizes = [None] * len(features["from_surface"]) + list(scene.feature_edge_sizes)
         names = [f"the sharp edges of {scene.domains[i].GetMaterialName()}" for i in features["from_surface"]] + features["files"]
-        if any(size is not None for size in sizes) or (len(parts) > 1 and any(
-                _edge_size_array(part) is not None for part in scene.feature_readers)):
+        # whose sharp edges each part's lines are (the domain's index = its priority in the oracle),
+        # -1 for the files: the filter clips a part's edges to where that part survives
+        owners = list(features["from_surface"]) + [-1] * len(scene.feature_readers)
+        sized = any(size is not None for size in sizes) or (len(parts) > 1 and any(
+            _edge_size_array(part) is not None for part in scene.feature_readers))
+        if sized or features["from_surface"]:
             # per-feature edge sizes: each part's lines get an "EdgeSize" cell array (-1 = none), so
-            # that appending keeps it (vtkAppendPolyData drops arrays some inputs lack)
-            parts = [_with_edge_sizes(part, size, name) for part, size, name in zip(parts, sizes, names)]
+            # that appending keeps it (vtkAppendPolyData drops arrays some inputs lack); with
+            # from_surface each part's lines say whose edges they are (fieldkeys.EDGES_OF_DOMAIN)
+            if sized:
+                parts = [_with_edge_sizes(part, size, name) for part, size, name in zip(parts, sizes, names)]
+            if features["from_surface"]:
+                parts = [_with_owner(part, owner) for part, owner in zip(parts, owners)]
             lines = vtkAppendPolyData()
             for part in parts:
                 lines.AddInputData(part)
@@ -125,6 +133,27 @@ def _with_edge_sizes(part, size, name):
             value = size
         values.SetValue(cell, value)
     lines.GetCellData().RemoveArray("EdgeSize")
+    lines.GetCellData().AddArray(values)
+    return lines
+
+
+def _with_owner(lines, owner):
+    """The lines of `lines` (a vtkPolyData, or an algorithm whose output they are) with the integer
+    cell array fieldkeys.EDGES_OF_DOMAIN: `owner` on every line (the index of the domain whose sharp
+    edges they are, -1 for a user's own lines)."""
+    from vtkmodules.vtkCommonCore import vtkIntArray
+    from vtkmodules.vtkCommonDataModel import vtkPolyData
+
+    if not isinstance(lines, vtkPolyData):
+        lines.Update()
+        copy = vtkPolyData()
+        copy.ShallowCopy(lines.GetOutput())
+        lines = copy
+    values = vtkIntArray()
+    values.SetName(fieldkeys.EDGES_OF_DOMAIN)
+    values.SetNumberOfTuples(lines.GetNumberOfCells())
+    values.Fill(owner)
+    lines.GetCellData().RemoveArray(fieldkeys.EDGES_OF_DOMAIN)
     lines.GetCellData().AddArray(values)
     return lines
 
