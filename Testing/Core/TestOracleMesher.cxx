@@ -1249,6 +1249,7 @@ TEST(OracleMesher, CellsAcrossAnAcuteEdgeAreRefinedUntilTheirLabelsAgree)
   const double volume = materialVolumes(m).at(2);
   EXPECT_LT(volume, 4.5 + 1e-9);
   EXPECT_GT(volume, 4.5 - 0.07);
+}
 
 // Benchmarks/cad_defects item 6: resampling (on by default with from_surface) merged the points of
 // a polygonal circle smaller than the edge size (closer than h to each other) into a few: a 16-gon
