@@ -6,6 +6,7 @@
 // the mesher asks it after optimisation.
 #pragma once
 
+#include "CentroidLabel.h"
 #include "OracleMeshDomain.h"
 #include "SegmentConformation.h"
 #include "SegmentRules.h"
@@ -45,10 +46,13 @@ public:
     size_t missingChecks = 0;      ///< sub-segments looked at by the missing-edge search
   };
 
-  SegmentState(C3t3& c3t3, SegmentSet segments)
+  /// `oracle`: when given, a cell the output takes by its centroid (subdomainByCentroid) holds
+  /// its sub-segments as a cell of the complex does.
+  SegmentState(C3t3& c3t3, SegmentSet segments, const HierarchicalOracle* oracle = nullptr)
     : c3t3_(c3t3)
     , tr_(c3t3.triangulation())
     , segs_(std::move(segments))
+    , oracle_(oracle)
   {
   }
   SegmentState(const SegmentState&) = delete;
@@ -105,6 +109,17 @@ public:
     return it == pointOf_.end() ? -1 : it->second;
   }
   const std::vector<int>& subsAt(int p) const { return subsAt_[p]; }
+  /// Vertices a and b are the ends of a sub-segment.
+  bool isSubSegment(const Vertex_handle& a, const Vertex_handle& b) const
+  {
+    const int pa = pointOf(a), pb = pointOf(b);
+    if (pa < 0 || pb < 0)
+      return false;
+    for (int s : subsAt_[pa])
+      if (segs_.subs[s][0] == pb || segs_.subs[s][1] == pb)
+        return true;
+    return false;
+  }
   Counters& counters() { return count_; }
   const Counters& counters() const { return count_; }
 
@@ -168,7 +183,8 @@ public:
     return n;
   }
 
-  /// Sub-segment s is an edge with an incident cell in the complex.
+  /// Sub-segment s is an edge with an incident cell in the complex (or one the output takes by
+  /// its centroid: splitting below it would not bring the edge in, and split it to the floor).
   bool inComplex(int s) const
   {
     Cell_handle c;
@@ -178,7 +194,7 @@ public:
     auto first = tr_.incident_cells(c, i, j), cell = first;
     do
     {
-      if (c3t3_.is_in_complex(cell))
+      if (c3t3_.is_in_complex(cell) || (oracle_ && subdomainByCentroid(c3t3_, Cell_handle(cell), *oracle_)))
         return true;
     } while (++cell != first);
     return false;
@@ -274,6 +290,7 @@ private:
   C3t3& c3t3_;
   Tr& tr_;
   SegmentSet segs_;
+  const HierarchicalOracle* oracle_; ///< for inComplex (subdomainByCentroid), or none
   std::vector<Vertex_handle> vertexOf_;
   std::unordered_map<Vertex_handle, int> pointOf_;
   std::vector<std::vector<int>> subsAt_;
