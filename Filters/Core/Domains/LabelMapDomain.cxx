@@ -175,33 +175,50 @@ void LabelMapDomain::buildClearance()
 bool LabelMapDomain::firstChange(const Vec3& a, const Vec3& b, ShownChange& shown, std::vector<double>& ts,
   bool& candidatesShown) const
 {
-  const Vec3 ua = worldToVoxel_.apply(a), ub = worldToVoxel_.apply(b);
-  auto inGrid = [&](const Vec3& u) {
-    return u.x >= 0.0 && u.y >= 0.0 && u.z >= 0.0 && u.x <= dimsD_[0] && u.y <= dimsD_[1] && u.z <= dimsD_[2];
-  };
-  if (interpolation_ != LabelInterpolation::Trilinear || !inGrid(ua) || !inGrid(ub))
+  const Vec3 ua = worldToVoxel_.apply(a), ub = worldToVoxel_.apply(b), d = ub - ua;
+  double t0 = 0.0, t1 = 1.0;
+  BoundingBox grid;
+  grid.add(Vec3{ 0.0, 0.0, 0.0 });
+  grid.add(Vec3{ dimsD_[0], dimsD_[1], dimsD_[2] });
+  if (interpolation_ != LabelInterpolation::Trilinear || !isFinite(ua) || !isFinite(d))
   {
     candidatesShown = firstCrossings(a, b, ts, 1);
     return false;
   }
-  // as firstCrossings: the walk on [0, 1] after the candidates 0 and 1
+  if (!grid.clip(ua, d, t0, t1)) // outside the grid all along
+    return true;
+  if (!(t0 < t1)) // touches the grid's boundary only: the oracle looks
+  {
+    candidatesShown = firstCrossings(a, b, ts, 1);
+    return false;
+  }
+  // as firstCrossings: the walk on [t0, t1] after the candidates t0 and t1
   const size_t from = ts.size();
-  ts.push_back(0.0);
-  ts.push_back(1.0);
+  ts.push_back(t0);
+  ts.push_back(t1);
   WalkReport walk;
-  candidatesShown = trilinearCrossings(ua, ub - ua, 0.0, 1.0, 1, ts, &walk);
+  candidatesShown = trilinearCrossings(ua, d, t0, t1, 1, ts, &walk) && t0 == 0.0 && t1 == 1.0;
   if (walk.sampled)
     return false;
-  // No piece sampled up to the first change: the material at a is the walk's start label (the
-  // same evaluation as material(a)), the first change is exact, and the label after it holds up
-  // to the next change or the piece's end (the oracle's checks at the candidates' midpoints).
-  shown.before = indexMaterial_[walk.start];
-  shown.found = ts.size() > from + 2;
-  if (shown.found)
-  {
-    shown.t = ts[from + 2];
-    shown.after = indexMaterial_[walk.afterFirst];
-  }
+  // No piece sampled up to the first change: the walk's start label is the material at t0 (the
+  // same evaluation as material() there), its first change is exact and the label after it holds
+  // up to the next change or the piece's end; outside the grid every point is outside. These are
+  // the answers of the oracle's checks at the candidates' midpoints.
+  const int start = indexMaterial_[walk.start];
+  auto change = [&](double t, int after) {
+    shown.found = true;
+    shown.t = t;
+    shown.after = after;
+    return true;
+  };
+  shown.before = t0 > 0.0 ? kOutside : start;
+  if (start != shown.before) // a outside the grid, material where ab enters it
+    return change(t0, start);
+  if (ts.size() > from + 2)
+    return change(ts[from + 2], indexMaterial_[walk.afterFirst]);
+  const int end = indexMaterial_[walk.afterFirst]; // no change: the last label
+  if (t1 < 1.0 && end != kOutside)                 // b outside the grid
+    return change(t1, kOutside);
   return true;
 }
 
@@ -431,16 +448,16 @@ public:
     return c;
   }
 
-  /// Bernstein coefficients of how far `label` leads along the piece [a, b] (in the cell of its
-  /// midpoint, which this loads; a mixed cell): the trilinear interpolant of +1 at the corners
+  /// Bernstein coefficients of how far `label` leads along the piece [a, b] (in `cell`, the cell
+  /// of its midpoint, which this loads; a mixed cell): the trilinear interpolant of +1 at the corners
   /// of `label`, -1 at the others, a cubic along the piece. In a cell of two labels, `label` one
   /// of them, that is exactly its lead over the other (its indicator minus the other's), so the
   /// label changes where the cubic changes sign: true. With more labels it is 2 chi - 1 (chi its
   /// indicator), above 0 only where `label` certainly wins: false.
-  bool leadOnPiece(double a, double b, uint16_t label, double lead[4])
+  bool leadOnPiece(double a, double b, const int cell[3], uint16_t label, double lead[4])
   {
-    double f[3];
-    cornersAt(0.5 * (a + b), f);
+    if (!sameCell(cell, cache_.lo))
+      loadCorners(dims_, index_, cell, cache_);
     const Corners& k = cache_;
     double fa[3], fb[3];
     for (int end = 0; end < 2; ++end)
@@ -705,7 +722,7 @@ bool LabelMapDomain::trilinearCrossings(const Vec3& ua, const Vec3& d, double t0
   bool noChange = false;
   uint16_t previous = walk.labelAtStart(t0, t1, noChange);
   if (report)
-    report->start = previous;
+    report->start = report->afterFirst = previous;
   if (noChange) // the whole segment in one cube of one label: the walk would jump to its end
     return true;
   thread_local std::vector<uint16_t> labelsBefore; // reused: no allocation per query
@@ -759,7 +776,7 @@ bool LabelMapDomain::trilinearCrossings(const Vec3& ua, const Vec3& d, double t0
       // the lead's cubic: a certificate that the label holds, or in a cell of two labels every
       // change along the piece, without samples
       double lead[4], roots[3];
-      const bool two = walk.leadOnPiece(a, b, previous, lead);
+      const bool two = walk.leadOnPiece(a, b, lo, previous, lead);
       const int n = trilinear::allAbove(lead, kMargin) ? 0
         : two && lead[0] > 0.0                        ? trilinear::signChanges(lead, a, b, kMargin, roots)
                                                       : -1;

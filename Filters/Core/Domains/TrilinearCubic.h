@@ -83,42 +83,52 @@ inline bool oneSignChange(const double b[4], double margin)
 
 /// The first t of [lo, hi] where p((t - ta) * scale) no longer has the sign `s` (+1 or -1) it has
 /// at lo, to 1e-12 (1 + |t|) as the label map's search: p has sign s at lo and -s (or 0) at hi and
-/// one root between. Newton steps from the secant's point, kept inside the bracket (a bisection
-/// where a step leaves it or the bracket does not shrink by half in two steps); once a step is
-/// below the tolerance, a point just past it on the other side closes the bracket.
+/// one root between. Newton steps kept inside the bracket: where a step leaves it, the secant
+/// between the bracket's ends, and a bisection where the bracket has not halved in three steps
+/// and the step is not small against it.
+/// Once a step is below the tolerance, a point just past it on the other side closes the bracket.
 inline double lastOfSign(const double c[4], double ta, double scale, double s, double lo, double hi)
 {
   double vLo = s * evalPower(c, (lo - ta) * scale), vHi = s * evalPower(c, (hi - ta) * scale);
-  double t = vLo - vHi > 0.0 ? lo + (hi - lo) * (vLo / (vLo - vHi)) : 0.5 * (lo + hi);
+  auto secant = [&]() {
+    const double x = vLo - vHi > 0.0 ? lo + (hi - lo) * (vLo / (vLo - vHi)) : 0.5 * (lo + hi);
+    return x > lo && x < hi ? x : 0.5 * (lo + hi);
+  };
+  double t = secant();
   double reference = hi - lo;
   int steps = 0;
   for (int guard = 0; guard < 200; ++guard)
   {
-    const double tol = 1e-12 * (1.0 + std::abs(hi));
-    if (hi - lo <= tol)
-      break;
-    if (!(t > lo && t < hi))
-      t = 0.5 * (lo + hi);
     const double x = (t - ta) * scale;
     const double v = s * evalPower(c, x);
     const bool holds = v > 0.0;
     (holds ? lo : hi) = t;
+    (holds ? vLo : vHi) = v;
+    const double tol = 1e-12 * (1.0 + std::abs(hi));
+    if (hi - lo <= tol)
+      break;
+    const double dv = s * ((3.0 * c[3] * x + 2.0 * c[2]) * x + c[1]) * scale; // dv/dt
+    const double step = dv != 0.0 ? -v / dv : 0.0;
+    if (dv != 0.0 && std::abs(step) < 0.5 * tol)
+    {
+      t += holds ? 0.5 * tol : -0.5 * tol; // converged: just past the root closes the bracket
+      continue;
+    }
     if (hi - lo <= 0.5 * reference)
     {
       reference = hi - lo;
       steps = 0;
     }
-    else if (++steps >= 2) // two steps without halving the bracket: bisect
-    {
+    else if (++steps >= 3 && std::abs(step) > 1e-3 * (hi - lo)) // three steps without halving
+    {                                                              // the bracket, nor converging
       reference = hi - lo;
       steps = 0;
       t = 0.5 * (lo + hi);
       continue;
     }
-    const double dv = s * ((3.0 * c[3] * x + 2.0 * c[2]) * x + c[1]) * scale; // dv/dt
-    const double step = dv != 0.0 ? -v / dv : 0.0;
-    // converged (or flat): just past the root, on the side t is not, closes the bracket
-    t = std::abs(step) < 0.5 * tol ? t + (holds ? 0.5 * tol : -0.5 * tol) : t + step;
+    t += step;
+    if (!(t > lo && t < hi))
+      t = secant();
   }
   return hi;
 }
