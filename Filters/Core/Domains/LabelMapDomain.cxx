@@ -175,22 +175,33 @@ void LabelMapDomain::buildClearance()
 bool LabelMapDomain::firstChange(const Vec3& a, const Vec3& b, ShownChange& shown, std::vector<double>& ts,
   bool& candidatesShown) const
 {
-  const Vec3 ua = worldToVoxel_.apply(a), ub = worldToVoxel_.apply(b), d = ub - ua;
-  double t0 = 0.0, t1 = 1.0;
-  BoundingBox grid;
-  grid.add(Vec3{ 0.0, 0.0, 0.0 });
-  grid.add(Vec3{ dimsD_[0], dimsD_[1], dimsD_[2] });
-  if (interpolation_ != LabelInterpolation::Trilinear || !isFinite(ua) || !isFinite(d))
+  if (interpolation_ != LabelInterpolation::Trilinear)
   {
     candidatesShown = firstCrossings(a, b, ts, 1);
     return false;
   }
-  if (!grid.clip(ua, d, t0, t1)) // outside the grid all along
-    return true;
-  if (!(t0 < t1)) // touches the grid's boundary only: the oracle looks
+  const Vec3 ua = worldToVoxel_.apply(a), ub = worldToVoxel_.apply(b), d = ub - ua;
+  auto inGrid = [&](const Vec3& u) {
+    return u.x >= 0.0 && u.y >= 0.0 && u.z >= 0.0 && u.x <= dimsD_[0] && u.y <= dimsD_[1] && u.z <= dimsD_[2];
+  };
+  double t0 = 0.0, t1 = 1.0;
+  if (!inGrid(ua) || !inGrid(ub)) // (both ends in the grid: the clip keeps 0 and 1)
   {
-    candidatesShown = firstCrossings(a, b, ts, 1);
-    return false;
+    if (!isFinite(ua) || !isFinite(d))
+    {
+      candidatesShown = firstCrossings(a, b, ts, 1);
+      return false;
+    }
+    BoundingBox grid;
+    grid.add(Vec3{ 0.0, 0.0, 0.0 });
+    grid.add(Vec3{ dimsD_[0], dimsD_[1], dimsD_[2] });
+    if (!grid.clip(ua, d, t0, t1)) // outside the grid all along
+      return true;
+    if (!(t0 < t1)) // touches the grid's boundary only: the oracle looks
+    {
+      candidatesShown = firstCrossings(a, b, ts, 1);
+      return false;
+    }
   }
   // as firstCrossings: the walk on [t0, t1] after the candidates t0 and t1
   const size_t from = ts.size();
@@ -459,13 +470,13 @@ public:
     if (!sameCell(cell, cache_.lo))
       loadCorners(dims_, index_, cell, cache_);
     const Corners& k = cache_;
-    double fa[3], fb[3];
-    for (int end = 0; end < 2; ++end)
+    double fa[3], fb[3]; // (in a cell at the grid's border the clamped corners repeat along the
+    for (int end = 0; end < 2; ++end) // outer axis: the fractions there do not matter)
     {
       const Vec3 u = ua_ + (end == 0 ? a : b) * d_;
       double* fe = end == 0 ? fa : fb;
       for (int ax = 0; ax < 3; ++ax)
-        fe[ax] = std::clamp(std::clamp(u[ax], 0.0, double(dims_[ax])) - 0.5 - k.lo[ax], 0.0, 1.0);
+        fe[ax] = std::clamp(u[ax] - 0.5 - k.lo[ax], 0.0, 1.0);
     }
     double v[8];
     for (int c = 0; c < 8; ++c)
