@@ -31,6 +31,16 @@ struct Crease
   }
 };
 
+/// The first change of a domain's material along a segment ab, as the domain itself shows it
+/// (Domain::firstChange).
+struct ShownChange
+{
+  bool found = false;    ///< the material changes along ab
+  double t = 0.0;        ///< where it first changes (a parameter on ab, as the crossings')
+  int before = kOutside; ///< the material at a
+  int after = kOutside;  ///< the material just past t
+};
+
 /// One input of the hierarchical oracle: a region of space that assigns materials to the points it
 /// contains. Implementations must be safe to query from several threads at once (const queries).
 /// A plane across which a domain's boundary may bend: a point on it and its normal (not unit).
@@ -63,6 +73,18 @@ public:
   {
     (void)changes;
     crossings(a, b, ts);
+    return false;
+  }
+  /// For the oracle of this domain alone (not a cut): the material at a and the first change
+  /// along ab, where the domain can show them without sampling and without the oracle's checks
+  /// (true: `shown` filled, exactly what the oracle's checks of the candidates would give up to
+  /// rounding); otherwise false, with ts and the return value `candidatesShown` of
+  /// firstCrossings(a, b, ts, 1).
+  virtual bool firstChange(const Vec3& a, const Vec3& b, ShownChange& shown, std::vector<double>& ts,
+    bool& candidatesShown) const
+  {
+    (void)shown;
+    candidatesShown = firstCrossings(a, b, ts, 1);
     return false;
   }
 

@@ -18,18 +18,39 @@ void HierarchicalOracle::add(std::shared_ptr<const Domain> domain)
 Intersection HierarchicalOracle::intersect(const Vec3& a, const Vec3& b) const
 {
   Intersection result;
-  result.materialBefore = material(a);
   thread_local std::vector<double> ts; // reused: the mesher asks millions of times
   ts.clear();
   if (domains_.size() == 1) // its first change is the oracle's
   {
+    const Domain& d = *domains_[0];
+    bool shown = false;
+    ShownChange change;
+    if (d.isCut())
+      shown = d.firstCrossings(a, b, ts, 1);
+    else if (d.firstChange(a, b, change, ts, shown))
+    {
+      // the domain showed the material at a and its first change: what the checks below give
+      result.materialBefore = change.before;
+      if (change.found)
+      {
+        result.found = true;
+        result.t = change.t;
+        result.point = lerp(a, b, change.t);
+        result.materialAfter = change.after;
+      }
+      return result;
+    }
+    result.materialBefore = material(a);
     // shown to keep one material along ab: the checks below would find no change
-    if (domains_[0]->firstCrossings(a, b, ts, 1))
+    if (shown)
       return result;
   }
   else
+  {
+    result.materialBefore = material(a);
     for (const auto& d : domains_)
       d->crossings(a, b, ts);
+  }
   std::sort(ts.begin(), ts.end());
   ts.push_back(1.0);
   double previous = 0.0;

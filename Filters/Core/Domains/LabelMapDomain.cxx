@@ -4,6 +4,7 @@
 #include "BoundingBox.h"
 
 #include "InputError.h"
+#include "TrilinearCubic.h"
 
 #include <algorithm>
 #include <cmath>
@@ -169,6 +170,67 @@ void LabelMapDomain::buildClearance()
   for (size_t z = n[2] - 2; z >= 1; --z)
     for (size_t y = n[1] - 2; y >= 1; --y)
       pass(y, z, -1);
+}
+
+bool LabelMapDomain::firstChange(const Vec3& a, const Vec3& b, ShownChange& shown, std::vector<double>& ts,
+  bool& candidatesShown) const
+{
+  if (interpolation_ != LabelInterpolation::Trilinear)
+  {
+    candidatesShown = firstCrossings(a, b, ts, 1);
+    return false;
+  }
+  const Vec3 ua = worldToVoxel_.apply(a), ub = worldToVoxel_.apply(b), d = ub - ua;
+  auto inGrid = [&](const Vec3& u) {
+    return u.x >= 0.0 && u.y >= 0.0 && u.z >= 0.0 && u.x <= dimsD_[0] && u.y <= dimsD_[1] && u.z <= dimsD_[2];
+  };
+  double t0 = 0.0, t1 = 1.0;
+  if (!inGrid(ua) || !inGrid(ub)) // (both ends in the grid: the clip keeps 0 and 1)
+  {
+    if (!isFinite(ua) || !isFinite(d))
+    {
+      candidatesShown = firstCrossings(a, b, ts, 1);
+      return false;
+    }
+    BoundingBox grid;
+    grid.add(Vec3{ 0.0, 0.0, 0.0 });
+    grid.add(Vec3{ dimsD_[0], dimsD_[1], dimsD_[2] });
+    if (!grid.clip(ua, d, t0, t1)) // outside the grid all along
+      return true;
+    if (!(t0 < t1)) // touches the grid's boundary only: the oracle looks
+    {
+      candidatesShown = firstCrossings(a, b, ts, 1);
+      return false;
+    }
+  }
+  // as firstCrossings: the walk on [t0, t1] after the candidates t0 and t1
+  const size_t from = ts.size();
+  ts.push_back(t0);
+  ts.push_back(t1);
+  WalkReport walk;
+  candidatesShown = trilinearCrossings(ua, d, t0, t1, 1, ts, &walk) && t0 == 0.0 && t1 == 1.0;
+  if (walk.sampled)
+    return false;
+  // No piece sampled up to the first change: the walk's start label is the material at t0 (the
+  // same evaluation as material() there), its first change is exact and the label after it holds
+  // up to the next change or the piece's end; outside the grid every point is outside. These are
+  // the answers of the oracle's checks at the candidates' midpoints.
+  const int start = indexMaterial_[walk.start];
+  auto change = [&](double t, int after) {
+    shown.found = true;
+    shown.t = t;
+    shown.after = after;
+    return true;
+  };
+  shown.before = t0 > 0.0 ? kOutside : start;
+  if (start != shown.before) // a outside the grid, material where ab enters it
+    return change(t0, start);
+  if (ts.size() > from + 2)
+    return change(ts[from + 2], indexMaterial_[walk.afterFirst]);
+  const int end = indexMaterial_[walk.afterFirst]; // no change: the last label
+  if (t1 < 1.0 && end != kOutside)                 // b outside the grid
+    return change(t1, kOutside);
+  return true;
 }
 
 bool LabelMapDomain::firstCrossings(const Vec3& a, const Vec3& b, std::vector<double>& ts, int changes) const
@@ -397,44 +459,34 @@ public:
     return c;
   }
 
-  /// Whether `label` wins everywhere on the piece [a, b] (in the cell of its midpoint, which this
-  /// loads), so that no sample there can give another label: its indicator, trilinear in the
-  /// cell, is above 1/2 (with a margin far above rounding) at the 8 corners of the piece's
-  /// bounding box, where a trilinear function takes its smallest value on the box.
-  bool holdsOnPiece(double a, double b, uint16_t label)
+  /// Bernstein coefficients of how far `label` leads along the piece [a, b] (in `cell`, the cell
+  /// of its midpoint, which this loads; a mixed cell): the trilinear interpolant of +1 at the corners
+  /// of `label`, -1 at the others, a cubic along the piece. In a cell of two labels, `label` one
+  /// of them, that is exactly its lead over the other (its indicator minus the other's), so the
+  /// label changes where the cubic changes sign: true. With more labels it is 2 chi - 1 (chi its
+  /// indicator), above 0 only where `label` certainly wins: false.
+  bool leadOnPiece(double a, double b, const int cell[3], uint16_t label, double lead[4])
   {
-    double f[3];
-    cornersAt(0.5 * (a + b), f);
+    if (!sameCell(cell, cache_.lo))
+      loadCorners(dims_, index_, cell, cache_);
     const Corners& k = cache_;
-    double lo[3], hi[3];
-    for (int end = 0; end < 2; ++end)
+    double fa[3], fb[3]; // (in a cell at the grid's border the clamped corners repeat along the
+    for (int end = 0; end < 2; ++end) // outer axis: the fractions there do not matter)
     {
       const Vec3 u = ua_ + (end == 0 ? a : b) * d_;
+      double* fe = end == 0 ? fa : fb;
       for (int ax = 0; ax < 3; ++ax)
-      {
-        const double x = std::clamp(std::clamp(u[ax], 0.0, double(dims_[ax])) - 0.5 - k.lo[ax], 0.0, 1.0);
-        lo[ax] = end == 0 ? x : std::min(lo[ax], x);
-        hi[ax] = end == 0 ? x : std::max(hi[ax], x);
-      }
+        fe[ax] = std::clamp(u[ax] - 0.5 - k.lo[ax], 0.0, 1.0);
     }
-    double chi[8];
+    double v[8];
     for (int c = 0; c < 8; ++c)
-      chi[c] = k.idx[c] == label ? 1.0 : 0.0;
-    // collapse x (per y, z corner pair), then y, then z, at both ends of the box on each axis
-    double ex[4][2];
-    for (int q = 0; q < 4; ++q)
-      for (int s = 0; s < 2; ++s)
-        ex[q][s] = chi[2 * q] + (chi[2 * q + 1] - chi[2 * q]) * (s ? hi[0] : lo[0]);
-    double smallest = 1.0;
-    for (int sx = 0; sx < 2; ++sx)
-      for (int sy = 0; sy < 2; ++sy)
-      {
-        const double y = sy ? hi[1] : lo[1];
-        const double z0 = ex[0][sx] + (ex[1][sx] - ex[0][sx]) * y, z1 = ex[2][sx] + (ex[3][sx] - ex[2][sx]) * y;
-        smallest = std::min({ smallest, z0 + (z1 - z0) * lo[2], z0 + (z1 - z0) * hi[2] });
-      }
-    return smallest > 0.5 + 1e-9;
+      v[c] = k.idx[c] == label ? 1.0 : -1.0;
+    trilinear::bernsteinOnLine(v, fa, fb, lead);
+    return k.distinctCount == 2 && (k.distinct[0] == label || k.distinct[1] == label);
   }
+
+  /// The loaded cell's label other than `label` (a cell of two labels, one of them `label`).
+  uint16_t otherLabel(uint16_t label) const { return cache_.distinct[0] == label ? cache_.distinct[1] : cache_.distinct[0]; }
 
   /// Where the segment leaves the cube of cells around cell lo that a clearance of D says are of
   /// one label: the parameter of a plane through voxel centres, computed as PieceEnds computes it.
@@ -662,19 +714,26 @@ struct WalkCrossings
 };
 }
 
-bool LabelMapDomain::trilinearCrossings(
-  const Vec3& ua, const Vec3& d, double t0, double t1, int changes, std::vector<double>& ts) const
+bool LabelMapDomain::trilinearCrossings(const Vec3& ua, const Vec3& d, double t0, double t1, int changes,
+  std::vector<double>& ts, WalkReport* report) const
 {
   // Between the planes through voxel centres the indicators are trilinear (cubic along the
-  // segment): sample each such piece four times and search every change of label to full
-  // precision. Two changes closer than a quarter of a piece may be missed (a sliver of a label
-  // thinner than about a quarter voxel along the segment).
+  // segment). In a cell of two labels (most mixed cells) the walk's label holds where its lead
+  // over the other, one cubic, is positive: the cubic's Bernstein coefficients show that it holds
+  // on the piece, or its critical points split the piece into monotone parts and every sign
+  // change is found by Newton steps (TrilinearCubic.h), however thin the layer. Elsewhere, and
+  // where rounding could decide (the lead within 1e-10 of 0 at a piece's end or at a critical
+  // point: a change at a plane through voxel centres, a tangency), the piece is sampled four
+  // times and every change between samples is searched to full precision; two changes closer
+  // than a quarter of such a piece may be missed.
   // Most pieces lie in a cell whose 8 corners all carry the label the walk is in (one load of
   // clearance_ says so; nothing can change there), most of those deep inside a cube of such
   // cells, which the walk jumps over to the plane where it leaves the cube.
   TrilinearWalk walk(dims_, index_.data(), clearance_.data(), clearanceStride_, ua, d);
   bool noChange = false;
   uint16_t previous = walk.labelAtStart(t0, t1, noChange);
+  if (report)
+    report->start = report->afterFirst = previous;
   if (noChange) // the whole segment in one cube of one label: the walk would jump to its end
     return true;
   thread_local std::vector<uint16_t> labelsBefore; // reused: no allocation per query
@@ -683,7 +742,30 @@ bool LabelMapDomain::trilinearCrossings(
   PieceEnds ends(ua, d, t0, t1);
   constexpr int kSamples = 4;
   double previousT = t0;
+  // how far beyond rounding the lead's cubic must be from 0 to decide (the cubic's coefficients and
+  // the trilinear evaluation differ by a few 1e-14 in voxel grids of ~1000 voxels)
+  constexpr double kMargin = 1e-10;
   bool sampled = false; // a piece's label was sampled, not shown (returns false)
+  // Samples the piece [pa, pb] four times and searches every change of label between samples.
+  auto sampleAndSearch = [&](double pa, double pb) {
+    sampled = true;
+    for (int s = 1; s <= kSamples; ++s)
+    {
+      const double t = pa + (pb - pa) * s / kSamples;
+      const uint16_t at = walk.labelAt(t);
+      // every change between the previous sample and t (a few at most)
+      for (int guard = 0; at != previous && guard < 8; ++guard)
+      {
+        const double hi = walk.lastOf(previous, previousT, t);
+        const uint16_t after = walk.labelAt(hi);
+        found.add(hi, previous, after);
+        previous = after;
+        previousT = hi;
+      }
+      previous = at;
+      previousT = t;
+    }
+  };
   double a = 0.0, b = 0.0;
   ends.next(a);
   for (; ends.next(b); a = b)
@@ -700,36 +782,44 @@ bool LabelMapDomain::trilinearCrossings(
       previousT = b;
       continue;
     }
-    if (clearance == 0 && walk.holdsOnPiece(a, b, previous))
+    if (clearance == 0)
     {
-      previousT = a + (b - a) * kSamples / kSamples; // the last sample's t, as the samples leave it
-      continue;
-    }
-    sampled = true;
-    for (int s = 1; s <= kSamples; ++s)
-    {
-      const double t = a + (b - a) * s / kSamples;
-      const uint16_t at = walk.labelAt(t);
-      // every change between the previous sample and t (a few at most)
-      for (int guard = 0; at != previous && guard < 8; ++guard)
+      // the lead's cubic: a certificate that the label holds, or in a cell of two labels every
+      // change along the piece, without samples
+      double lead[4], roots[3];
+      const bool two = walk.leadOnPiece(a, b, lo, previous, lead);
+      const int n = trilinear::allAbove(lead, kMargin) ? 0
+        : two && lead[0] > 0.0                        ? trilinear::signChanges(lead, a, b, kMargin, roots)
+                                                      : -1;
+      if (n >= 0)
       {
-        const double hi = walk.lastOf(previous, previousT, t);
-        const uint16_t after = walk.labelAt(hi);
-        found.add(hi, previous, after);
-        previous = after;
-        previousT = hi;
+        uint16_t other = n > 0 ? walk.otherLabel(previous) : previous;
+        for (int r = 0; r < n; ++r)
+        {
+          found.add(roots[r], previous, other);
+          std::swap(previous, other);
+        }
+        previousT = a + (b - a) * kSamples / kSamples; // the last sample's t, as the samples leave it
       }
-      previous = at;
-      previousT = t;
+      else
+        sampleAndSearch(a, b);
     }
+    else
+      sampleAndSearch(a, b);
     // enough changes: the rest of the walk cannot come before them. The piece's end is a
     // candidate too: the material after the last change holds up to it (or the samples would
     // have found another change), so the caller can tell it from the material before.
     if (ts.size() - found.from >= static_cast<size_t>(changes))
     {
       ts.push_back(b);
-      return false;
+      break;
     }
+  }
+  if (report)
+  {
+    report->sampled = sampled;
+    // the label before the second change, or the last one
+    report->afterFirst = labelsBefore.size() > 1 ? labelsBefore[1] : previous;
   }
   return !sampled && ts.size() == found.from;
 }

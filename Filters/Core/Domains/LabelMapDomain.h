@@ -57,8 +57,13 @@ public:
   }
   /// Trilinear: the walk stops after the piece where it found the first `changes` changes; true
   /// when ab lies in the grid and every piece of it was shown to keep the start's label (cells of
-  /// one label, holdsOnPiece), none sampled.
+  /// one label, the lead's cubic), none sampled.
   bool firstCrossings(const Vec3& a, const Vec3& b, std::vector<double>& ts, int changes) const override;
+  /// Trilinear: answered where the walk sampled no piece up to its first change (cells of one
+  /// label, the lead's cubic in cells of two labels; see trilinearCrossings), the grid's
+  /// boundary included (outside it every point is outside).
+  bool firstChange(const Vec3& a, const Vec3& b, ShownChange& shown, std::vector<double>& ts,
+    bool& candidatesShown) const override;
   /// The planes through voxel centres (Trilinear) or voxel faces (Nearest) that ab crosses.
   void bendPlanes(const Vec3& a, const Vec3& b, std::vector<BendPlane>& planes) const override;
   BoundingBox bounds() const override;
@@ -89,7 +94,17 @@ private:
   }
   /// Compact label index of the largest trilinear indicator at voxel coordinates u (in the grid).
   uint16_t trilinearIndex(const Vec3& u) const;
-  bool trilinearCrossings(const Vec3& ua, const Vec3& d, double t0, double t1, int changes, std::vector<double>& ts) const;
+  /// What a walk found besides its crossings.
+  struct WalkReport
+  {
+    uint16_t start = 0;      ///< the label at its start
+    bool sampled = false;    ///< some piece's label was sampled (four samples and searches)
+    uint16_t afterFirst = 0; ///< the label after its first crossing, or its last label without one
+  };
+  /// The walk along ua + t d, t in [t0, t1] (on the grid): appends the changes of label (see the
+  /// definition) and returns whether it showed the start's label to hold all along, no piece sampled.
+  bool trilinearCrossings(const Vec3& ua, const Vec3& d, double t0, double t1, int changes, std::vector<double>& ts,
+    WalkReport* report = nullptr) const;
   /// Fills clearance_ (Trilinear only).
   void buildClearance();
 

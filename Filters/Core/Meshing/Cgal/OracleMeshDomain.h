@@ -80,6 +80,12 @@ public:
   /// exactly. False when the segment misses the box.
   bool clip(Vec3& a, Vec3& b) const
   {
+    auto inBox = [&](const Vec3& p) {
+      return p.x >= box_.min.x && p.y >= box_.min.y && p.z >= box_.min.z && p.x <= box_.max.x &&
+        p.y <= box_.max.y && p.z <= box_.max.z;
+    };
+    if (inBox(a) && inBox(b)) // (the slab method keeps both ends: the common case, done at once)
+      return true;
     if (!isFinite(a) || !isFinite(b)) // the dual of a flat cell
       return false;
     const Vec3 d = b - a;
