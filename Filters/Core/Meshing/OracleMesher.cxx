@@ -528,8 +528,8 @@ OptimiserRun exude(C3t3& c3t3, double timeLimit, std::size_t budget, double sliv
 
 /// The cells outside the complex that the output takes, in the triangulation's order
 /// (deterministic, unlike the handles' addresses): those subdomainByCentroid gives a material
-/// that hold a constrained sub-segment no cell of the complex holds (`holdsMissingSubSegment`; the
-/// segment level counts them as holding it, so the output must have them). Not every cell
+/// that hold a constrained sub-segment no cell of the complex holds (`holdsMissingSubSegment`): a
+/// last resort where the segment level split such a piece to its floor and it stayed out. Not every cell
 /// subdomainByCentroid gives a material: on the demo 2,945 cells, 2,708 of them thin ones along
 /// the bone's outer surface and the resection's rim (373 mm3 in all, min dihedral 0.03 degrees,
 /// never optimised); nor those reaching across by more than their facet distance (250 cells, 68
@@ -963,7 +963,7 @@ private:
   {
     if (!conforming_)
       return;
-    segments_ = std::make_unique<SegmentState<C3t3>>(*c3t3_, std::move(conformed_), &oracle_);
+    segments_ = std::make_unique<SegmentState<C3t3>>(*c3t3_, std::move(conformed_));
     // collinear points: an insertion can take milliseconds
     segments_->insertPoints(*domain_, [this] { deadline_.check("inserting the feature-line points"); });
     c3t3_->rescan_after_load_of_triangulation();

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// Private to the mesher (includes CGAL): which cells outside the complex the output takes by
-// their centroid, asked by the output (toTetMesh) and by the segment level's missing-edge rule.
+// Private to the mesher (includes CGAL): which cells outside the complex the output may take by
+// their centroid (toTetMesh, where they hold a constrained piece no cell of the complex holds).
 #pragma once
 
 #include "HierarchicalOracle.h"
