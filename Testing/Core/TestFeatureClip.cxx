@@ -19,14 +19,7 @@ using namespace omesh;
 
 namespace
 {
-FeatureSegments polyline(const std::vector<Vec3>& points)
-{
-  FeatureSegments f;
-  f.points = points;
-  for (int i = 0; i + 1 < static_cast<int>(points.size()); ++i)
-    f.segments.push_back({ i, i + 1 });
-  return f;
-}
+using test::polyline;
 
 TriangleSurface boxSurface(const Vec3& lo, const Vec3& hi)
 {

@@ -2,6 +2,7 @@
 // Each defect of MeshValidity built by hand on a small valid mesh, and seen.
 #include "MeshQuality.h"
 #include "MeshValidity.h"
+#include "TestShapes.h"
 
 #include <gtest/gtest.h>
 
@@ -201,18 +202,7 @@ TEST(MeshValidity, MissingSegmentPiecesAreCounted)
   EXPECT_NE(v.describe().find("2 constrained segment pieces missing"), std::string::npos);
 }
 
-namespace
-{
-/// The polyline through `points`, one segment per pair of consecutive points.
-FeatureSegments polyline(const std::vector<Vec3>& points)
-{
-  FeatureSegments f;
-  f.points = points;
-  for (int i = 0; i + 1 < static_cast<int>(points.size()); ++i)
-    f.segments.push_back({ i, i + 1 });
-  return f;
-}
-}
+using test::polyline;
 
 // CGAL's protecting balls join consecutive ball centres; where the line runs straight through an
 // input point between them, that edge is the line (the measure once called both pieces missing).

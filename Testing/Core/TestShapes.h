@@ -11,9 +11,20 @@
 #include <cmath>
 #include <map>
 #include <utility>
+#include <vector>
 
 namespace omesh::test
 {
+/// The polyline through `points`, one segment per pair of consecutive points.
+inline FeatureSegments polyline(const std::vector<Vec3>& points)
+{
+  FeatureSegments f;
+  f.points = points;
+  for (int i = 0; i + 1 < static_cast<int>(points.size()); ++i)
+    f.segments.push_back({ i, i + 1 });
+  return f;
+}
+
 /// Axis-aligned cube [lo, hi]^3, 12 outward triangles.
 inline TriangleSurface cube(double lo, double hi)
 {
