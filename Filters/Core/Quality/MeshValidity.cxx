@@ -229,8 +229,8 @@ unsigned char shapeAndMaterialDefects(const TetMesh& mesh, std::size_t t,
   return flags;
 }
 
-/// Every vertex on an interface or line, centroid in another material, smallest altitude above
-/// acrossBoundaryLength of the two.
+/// Every vertex on an interface or line, centroid in another material, reaching across by more
+/// than acrossBoundaryLength of the two (reachesAcross).
 bool acrossBoundary(const TetMesh& mesh, std::size_t t, const std::function<int(const Vec3&)>& materialAt,
   const std::function<double(int)>& facetDistanceOf)
 {
@@ -239,13 +239,24 @@ bool acrossBoundary(const TetMesh& mesh, std::size_t t, const std::function<int(
     if (mesh.pointDimension[k[i]] == 3)
       return false;
   const Vec3 &a = mesh.points[k[0]], &b = mesh.points[k[1]], &c = mesh.points[k[2]], &d = mesh.points[k[3]];
-  const double height = smallestAltitude(a, b, c, d);
   const int own = mesh.tetMaterial[t], there = materialAt(0.25 * (a + b + c + d));
   if (there == own)
     return false;
   const double length = acrossBoundaryLength(facetDistanceOf(own), there >= 0 ? facetDistanceOf(there) : 0.0);
-  return length > 0 && height > length;
+  return length > 0 && reachesAcross(a, b, c, d, there, length, materialAt);
 }
+}
+
+bool reachesAcross(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, int there, double length,
+  const std::function<int(const Vec3&)>& materialAt)
+{
+  if (!(smallestAltitude(a, b, c, d) > length))
+    return false;
+  const Vec3 centroid = 0.25 * (a + b + c + d);
+  for (const Vec3* v : { &a, &b, &c, &d })
+    if (materialAt(0.5 * (centroid + *v)) != there)
+      return false;
+  return true;
 }
 
 MeshValidity checkMeshValidity(const TetMesh& mesh, const std::function<int(const Vec3&)>& materialAt,
