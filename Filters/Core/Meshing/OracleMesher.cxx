@@ -526,34 +526,28 @@ OptimiserRun exude(C3t3& c3t3, double timeLimit, std::size_t budget, double sliv
   return runOptimiser(c3t3, exuder, budget, std::move(check), deadline, "exudation");
 }
 
-/// The cells outside the complex that the output takes, in the triangulation's order
-/// (deterministic, unlike the handles' addresses): those subdomainByCentroid gives a material
-/// that hold a constrained sub-segment no cell of the complex holds (`holdsMissingSubSegment`): a
-/// last resort where the segment level split such a piece to its floor and it stayed out. Not every cell
-/// subdomainByCentroid gives a material: on the demo 2,945 cells, 2,708 of them thin ones along
-/// the bone's outer surface and the resection's rim (373 mm3 in all, min dihedral 0.03 degrees,
-/// never optimised); nor those reaching across by more than their facet distance (250 cells, 68
-/// mm3, 0.14 degrees): volume at an acute edge on the outer boundary stays a known gap
-/// (docs/MESHER.md).
+/// The cells outside the complex that the output takes: of `candidates` (the cells around the
+/// constrained sub-segments no cell of the complex holds, SegmentState), those subdomainByCentroid
+/// gives a material. A last resort where the segment level split such a piece to its floor and it
+/// stayed out. Not every cell subdomainByCentroid gives a material: on the demo 2,945 cells, 2,708
+/// of them thin ones along the bone's outer surface and the resection's rim (373 mm3 in all, min
+/// dihedral 0.03 degrees, never optimised); nor those reaching across by more than their facet
+/// distance (250 cells, 68 mm3, 0.14 degrees): volume at an acute edge on the outer boundary stays
+/// a known gap (docs/MESHER.md).
 std::vector<std::pair<Tr::Cell_handle, int>> cellsInsideByCentroid(
-  const C3t3& c3t3, const HierarchicalOracle& oracle, const std::function<bool(Tr::Cell_handle)>& holdsMissingSubSegment)
+  const C3t3& c3t3, const HierarchicalOracle& oracle, const std::vector<Tr::Cell_handle>& candidates)
 {
   std::vector<std::pair<Tr::Cell_handle, int>> taken;
-  if (!holdsMissingSubSegment)
-    return taken;
-  const Tr& tr = c3t3.triangulation();
-  for (auto c = tr.finite_cells_begin(); c != tr.finite_cells_end(); ++c)
-    if (!c3t3.is_in_complex(c) && holdsMissingSubSegment(c))
-      if (const int index = subdomainByCentroid(c3t3, c, oracle))
-        taken.emplace_back(c, index);
+  for (const Tr::Cell_handle& c : candidates)
+    if (const int index = subdomainByCentroid(c3t3, c, oracle))
+      taken.emplace_back(c, index);
   return taken;
 }
 
 /// Converts the complex to the output mesh: its cells, and the cells outside it that lie inside a
 /// material by their centroid (cellsInsideByCentroid); interface triangles are the complex's
 /// facets, and around the cells taken the faces between different materials.
-TetMesh toTetMesh(
-  const C3t3& c3t3, const HierarchicalOracle& oracle, const std::function<bool(Tr::Cell_handle)>& holdsMissingSubSegment)
+TetMesh toTetMesh(const C3t3& c3t3, const HierarchicalOracle& oracle, const std::vector<Tr::Cell_handle>& candidates)
 {
   TetMesh out;
   const Tr& tr = c3t3.triangulation();
@@ -568,7 +562,7 @@ TetMesh toTetMesh(
     }
     return it->second;
   };
-  const std::vector<std::pair<Tr::Cell_handle, int>> taken = cellsInsideByCentroid(c3t3, oracle, holdsMissingSubSegment);
+  const std::vector<std::pair<Tr::Cell_handle, int>> taken = cellsInsideByCentroid(c3t3, oracle, candidates);
   std::unordered_map<Tr::Cell_handle, std::size_t> takenAt; // position in `taken`
   for (std::size_t k = 0; k < taken.size(); ++k)
     takenAt.emplace(taken[k].first, k);
@@ -1457,32 +1451,12 @@ private:
         std::to_string(lost.facets) + " interface triangles missing)");
   }
 
-  /// A cell of the complex has edge (i, j) of cell c.
-  bool heldByComplex(Tr::Cell_handle c, int i, int j) const
-  {
-    auto first = c3t3_->triangulation().incident_cells(c, i, j), cell = first;
-    do
-    {
-      if (c3t3_->is_in_complex(cell))
-        return true;
-    } while (++cell != first);
-    return false;
-  }
-
   /// The output mesh, checked on its own (what a finite-element code would reject), with the
   /// statistics of the run.
   TetMesh validatedMesh()
   {
-    std::function<bool(Tr::Cell_handle)> holdsMissingSubSegment;
-    if (segments_)
-      holdsMissingSubSegment = [this](Tr::Cell_handle c) {
-        for (int i = 0; i < 4; ++i)
-          for (int j = i + 1; j < 4; ++j)
-            if (segments_->isSubSegment(c->vertex(i), c->vertex(j)) && !heldByComplex(c, i, j))
-              return true;
-        return false;
-      };
-    TetMesh mesh = toTetMesh(*c3t3_, oracle_, holdsMissingSubSegment);
+    TetMesh mesh = toTetMesh(
+      *c3t3_, oracle_, segments_ ? segments_->cellsAroundEdgesOutsideComplex() : std::vector<Tr::Cell_handle>{});
     outputVertices_ = mesh.points.size();
     outputTets_ = mesh.tets.size();
     // Only the output is needed from here on: the triangulation's memory goes back before the
@@ -1528,9 +1502,9 @@ private:
       const bool one = validity.acrossBoundaryTetrahedra == 1;
       o << validity.acrossBoundaryTetrahedra << (one ? " tetrahedron (volume " : " tetrahedra (volume ")
         << validity.acrossBoundaryVolume << (one ? ") lies" : ") lie")
-        << " across a boundary: every vertex on an interface or feature line, the centroid in "
-        << "another material, thicker than the finer facet distance of the two (a thin or acute part "
-        << "loses or gains that volume)";
+        << " across a boundary: every vertex on an interface or feature line, lying in another "
+        << "material by more than the finer facet distance of the two (a thin or acute part loses or "
+        << "gains that volume)";
       warnings_.push_back(o.str());
     }
     for (const auto& [name, value] : validity.asStatistics())

@@ -229,8 +229,7 @@ unsigned char shapeAndMaterialDefects(const TetMesh& mesh, std::size_t t,
   return flags;
 }
 
-/// Every vertex on an interface or line, centroid in another material, reaching across by more
-/// than acrossBoundaryLength of the two (reachesAcross).
+/// Every vertex on an interface or line, reaching across a boundary (acrossBoundaryBy).
 bool acrossBoundary(const TetMesh& mesh, std::size_t t, const std::function<int(const Vec3&)>& materialAt,
   const std::function<double(int)>& facetDistanceOf)
 {
@@ -238,25 +237,25 @@ bool acrossBoundary(const TetMesh& mesh, std::size_t t, const std::function<int(
   for (int i = 0; i < 4; ++i)
     if (mesh.pointDimension[k[i]] == 3)
       return false;
-  const Vec3 &a = mesh.points[k[0]], &b = mesh.points[k[1]], &c = mesh.points[k[2]], &d = mesh.points[k[3]];
-  const int own = mesh.tetMaterial[t], there = materialAt(0.25 * (a + b + c + d));
-  if (there == own)
-    return false;
-  const double length = acrossBoundaryLength(facetDistanceOf(own), there >= 0 ? facetDistanceOf(there) : 0.0);
-  return length > 0 && reachesAcross(a, b, c, d, there, length, materialAt);
+  return acrossBoundaryBy(mesh.points[k[0]], mesh.points[k[1]], mesh.points[k[2]], mesh.points[k[3]],
+           mesh.tetMaterial[t], facetDistanceOf, materialAt) > 0;
 }
 }
 
-bool reachesAcross(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, int there, double length,
-  const std::function<int(const Vec3&)>& materialAt)
+double acrossBoundaryBy(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, int own,
+  const std::function<double(int)>& facetDistanceOf, const std::function<int(const Vec3&)>& materialAt)
 {
-  if (!(smallestAltitude(a, b, c, d) > length))
-    return false;
   const Vec3 centroid = 0.25 * (a + b + c + d);
+  const int there = materialAt(centroid);
+  if (there == own)
+    return 0.0;
+  const double length = acrossBoundaryLength(facetDistanceOf(own), there >= 0 ? facetDistanceOf(there) : 0.0);
+  if (!(length > 0 && smallestAltitude(a, b, c, d) > length))
+    return 0.0;
   for (const Vec3* v : { &a, &b, &c, &d })
     if (materialAt(0.5 * (centroid + *v)) != there)
-      return false;
-  return true;
+      return 0.0;
+  return length;
 }
 
 MeshValidity checkMeshValidity(const TetMesh& mesh, const std::function<int(const Vec3&)>& materialAt,

@@ -36,13 +36,15 @@ inline double acrossBoundaryLength(double a, double b)
   return a > 0 && b > 0 ? (a < b ? a : b) : a > 0 ? a : b > 0 ? b : 0.0;
 }
 
-/// Tetrahedron abcd, whose centroid lies in material `there`, reaches across a boundary by more
-/// than `length`: its smallest altitude exceeds `length` and `there` also holds half way from the
-/// centroid to each vertex (the tetrahedron lies in `there`, not across a thin layer of it: a
-/// lamina of a label map thinner than the tetrahedron misplaces the boundary by less). Used by the
-/// validity check and by the mesher's label rule alike.
-bool reachesAcross(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, int there, double length,
-  const std::function<int(const Vec3&)>& materialAt);
+/// How far tetrahedron abcd of material `own` is known to reach across a boundary: the length of
+/// acrossBoundaryLength for `own` and the material at its centroid when that material differs,
+/// the smallest altitude exceeds the length, and that material also holds half way from the
+/// centroid to each vertex (the tetrahedron lies in it, not across a thin layer of it: a lamina of
+/// a label map thinner than the tetrahedron misplaces the boundary by less); else 0. Whether the
+/// vertices lie on interfaces is the caller's test. Used by the validity check and by the
+/// mesher's label rule alike.
+double acrossBoundaryBy(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, int own,
+  const std::function<double(int)>& facetDistanceOf, const std::function<int(const Vec3&)>& materialAt);
 
 /// Defect counts of one mesh; every count is a defect except where noted.
 struct MeshValidity

@@ -181,7 +181,7 @@ protected:
         worst = 0.99 * a / sliverBound;
     }
     if (worst >= 1.0 && oracle_ && !(weighted(0) || weighted(1) || weighted(2) || weighted(3)))
-      worst = labelQuality(c, m, p, q, r, s);
+      worst = labelQuality(c, p, q, r, s);
     return worst < 1.0 ? Is_bad(Quality(worst)) : Is_bad();
   }
 
@@ -194,14 +194,13 @@ protected:
   /// such facets pass). Refining these cells (their circumcentres encroach the facets across the
   /// part, which the facet level then splits on the surface) samples the faces until the labels
   /// agree. Only cells that reach across by more than the finer facet distance of the two
-  /// materials (reachesAcross: smallest altitude above it, and the other material half way from the
-  /// centroid to each vertex): a thinner cell, or a cell across a thin layer of the other
-  /// material, misplaces the boundary by less than the facet criterion allows, and near the edge itself the
-  /// rule would refine towards it without end. (Without the layer test, a label map's thin laminae
-  /// found by its walk cost 1.6x the tetrahedra at h = 4, facet distance 1.) (The longest edge instead cost 1.5-4.9x the tetrahedra of the parts of
-  /// generated CAD assemblies: the flat cells along every face of a 16-gon cylinder.)
-  double labelQuality(const typename Tr::Cell_handle& c, const MeshCriteria::Values& m, const K::Point_3& p,
-    const K::Point_3& q, const K::Point_3& r, const K::Point_3& s) const
+  /// materials (acrossBoundaryBy): a thinner cell, or one across a layer of the other material
+  /// thinner than itself, misplaces the boundary by less than the facet criterion allows, and near
+  /// the edge itself the rule would refine towards it without end. Measured alternatives
+  /// (docs/MESHER.md): the longest edge instead of the smallest altitude cost up to 4.9x the
+  /// tetrahedra of a CAD part; the altitude without the layer test 1.6x those of a label map.
+  double labelQuality(const typename Tr::Cell_handle& c, const K::Point_3& p, const K::Point_3& q,
+    const K::Point_3& r, const K::Point_3& s) const
   {
     if (!(finestFacetDistance_ > 0))
       return 1.0;
@@ -210,18 +209,13 @@ protected:
         return 1.0;
     const Vec3 a = toVec(p), b = toVec(q), d = toVec(r), e = toVec(s);
     const double height = smallestAltitude(a, b, d, e);
-    if (height <= finestFacetDistance_)
-      return 1.0;
-    const int material = oracle_->material(0.25 * (a + b + d + e));
-    if (material == materialOf(c->subdomain_index()))
-      return 1.0;
-    const double floor =
-      acrossBoundaryLength(m.facetDistance, material >= 0 ? criteria_.of(material).facetDistance : 0.0);
-    if (!(floor > 0 && height > floor))
+    if (height <= finestFacetDistance_) // no material's bound is finer: spare the oracle's queries
       return 1.0;
     const HierarchicalOracle& oracle = *oracle_;
-    const bool across = reachesAcross(a, b, d, e, material, floor, [&oracle](const Vec3& x) { return oracle.material(x); });
-    return across ? 0.5 * floor / height : 1.0;
+    const double by = acrossBoundaryBy(
+      a, b, d, e, materialOf(c->subdomain_index()), [this](int material) { return criteria_.of(material).facetDistance; },
+      [&oracle](const Vec3& x) { return oracle.material(x); });
+    return by > 0 ? 0.5 * by / height : 1.0;
   }
 
 private:

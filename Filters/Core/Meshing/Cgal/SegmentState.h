@@ -15,6 +15,7 @@
 #include <limits>
 #include <optional>
 #include <unordered_map>
+#include <unordered_set>
 #include <vector>
 
 namespace omesh
@@ -105,17 +106,6 @@ public:
     return it == pointOf_.end() ? -1 : it->second;
   }
   const std::vector<int>& subsAt(int p) const { return subsAt_[p]; }
-  /// Vertices a and b are the ends of a sub-segment.
-  bool isSubSegment(const Vertex_handle& a, const Vertex_handle& b) const
-  {
-    const int pa = pointOf(a), pb = pointOf(b);
-    if (pa < 0 || pb < 0)
-      return false;
-    for (int s : subsAt_[pa])
-      if (segs_.subs[s][0] == pb || segs_.subs[s][1] == pb)
-        return true;
-    return false;
-  }
   Counters& counters() { return count_; }
   const Counters& counters() const { return count_; }
 
@@ -187,15 +177,30 @@ public:
   {
     Cell_handle c;
     int i, j;
-    if (!tr_.is_edge(vertexOf_[segs_.subs[s][0]], vertexOf_[segs_.subs[s][1]], c, i, j))
-      return false;
-    auto first = tr_.incident_cells(c, i, j), cell = first;
-    do
+    return tr_.is_edge(vertexOf_[segs_.subs[s][0]], vertexOf_[segs_.subs[s][1]], c, i, j) && edgeInComplex(c, i, j);
+  }
+
+  /// The finite cells around the sub-segments that are edges no cell of the complex holds, each
+  /// once, in the order of the sub-segments and around them (deterministic).
+  std::vector<Cell_handle> cellsAroundEdgesOutsideComplex() const
+  {
+    std::vector<Cell_handle> cells;
+    std::unordered_set<Cell_handle> seen;
+    for (size_t s = 0; s < segs_.subs.size(); ++s)
     {
-      if (c3t3_.is_in_complex(cell))
-        return true;
-    } while (++cell != first);
-    return false;
+      Cell_handle c;
+      int i, j;
+      if (!tr_.is_edge(vertexOf_[segs_.subs[s][0]], vertexOf_[segs_.subs[s][1]], c, i, j) || edgeInComplex(c, i, j))
+        continue;
+      auto first = tr_.incident_cells(c, i, j), cell = first;
+      do
+      {
+        const Cell_handle h = cell;
+        if (!tr_.is_infinite(h) && seen.insert(h).second)
+          cells.push_back(h);
+      } while (++cell != first);
+    }
+    return cells;
   }
 
   /// Sub-segment s is splittable, no cell of the complex holds it, and `wanted` it.
@@ -285,6 +290,18 @@ public:
   }
 
 private:
+  /// A cell of the complex holds edge (i, j) of cell c.
+  bool edgeInComplex(const Cell_handle& c, int i, int j) const
+  {
+    auto first = tr_.incident_cells(c, i, j), cell = first;
+    do
+    {
+      if (c3t3_.is_in_complex(cell))
+        return true;
+    } while (++cell != first);
+    return false;
+  }
+
   C3t3& c3t3_;
   Tr& tr_;
   SegmentSet segs_;
