@@ -94,6 +94,36 @@ def read_mesh(path):
     return grid, points, tets, material
 
 
+def run_and_measure(args, out, summary, timeout, row):
+    """Runs `oraclemesh` with `args` (which write the mesh `out` and the JSON `summary`, both removed
+    first) and reads what both studies measure. On failure sets row["error"] and returns None;
+    else a dict: summary, grid, points, tets, material, lo / hi (per-tet min / max dihedral),
+    vol (per-tet volume), stats (the mesher's statistics), validity, and the common row fields
+    (tets, vertices, min/max dihedral, min before optimisation, defects, coverage) set in `row`."""
+    for stale in (out, summary):
+        if os.path.exists(stale):
+            os.remove(stale)
+    rc, seconds, tail = run_measured(command() + args, timeout)
+    row.update(rc=rc, seconds=seconds, error="")
+    if rc != 0 or not os.path.exists(out):
+        row["error"] = tail or f"exit {rc}"
+        return None
+    with open(summary) as f:
+        s = json.load(f)
+    grid, points, tets, material = read_mesh(out)
+    lo, hi = dihedral_range(points, tets)
+    p = points[tets]
+    vol = np.abs(np.einsum("ij,ij->i", p[:, 1] - p[:, 0], np.cross(p[:, 2] - p[:, 0], p[:, 3] - p[:, 0]))) / 6
+    stats = statistics(grid)
+    v = validity(grid)
+    before = stats.get("optimisation.min_dihedral_before")
+    row.update(tets=len(tets), vertices=int(len(np.unique(tets))), min_dihedral=float(lo.min()),
+               min_before=float(before) if before is not None and before >= 0 else None,
+               max_dihedral=float(hi.max()), defects=int(v["validity.defects"]), coverage=s.get("feature_coverage"))
+    return dict(summary=s, grid=grid, points=points, tets=tets, material=material, lo=lo, hi=hi, vol=vol,
+                stats=stats, validity=v)
+
+
 def sampled_volumes(scene, dims, timeout):
     """{material: volume} of the oracle sampled on dims^3 points (oraclemesh sample)."""
     out = os.path.join(os.path.dirname(scene), "sample.txt")
@@ -142,9 +172,6 @@ def mesh_case(case, strategy, timeout, features=None, settings=()):
     tag = strategy.replace(":", "_")
     out = os.path.join(case["dir"], f"mesh_{tag}.vtu")
     summary = os.path.join(case["dir"], f"summary_{tag}.json")
-    for stale in (out, summary):
-        if os.path.exists(stale):
-            os.remove(stale)
     scene = case["scene"]
     variant = next((v for suffix, v in OPTIMISER_VARIANTS.items() if strategy.endswith(suffix)), None)
     if variant:
@@ -157,28 +184,16 @@ def mesh_case(case, strategy, timeout, features=None, settings=()):
     extra = ["--features", features] if features else []
     for setting in settings:
         extra += ["--set", setting]
-    rc, seconds, tail = run_measured(command() + ["mesh", scene, "--strategy", strategy.split(":")[0], "-o", out,
-                                                  "--summary", summary] + extra, timeout)
-    row = {"case": case["name"], "strategy": strategy, "rc": rc, "seconds": seconds, "error": ""}
-    if rc != 0 or not os.path.exists(out):
-        row["error"] = tail or f"exit {rc}"
+    row = {"case": case["name"], "strategy": strategy}
+    m = run_and_measure(["mesh", scene, "--strategy", strategy.split(":")[0], "-o", out, "--summary", summary] + extra,
+                        out, summary, timeout, row)
+    if m is None:
         return row
-    with open(summary) as f:
-        s = json.load(f)
-    grid, points, tets, material = read_mesh(out)
-    lo, hi = dihedral_range(points, tets)
-    p = points[tets]
-    vol = np.abs(np.einsum("ij,ij->i", p[:, 1] - p[:, 0], np.cross(p[:, 2] - p[:, 0], p[:, 3] - p[:, 0]))) / 6
-    stats = statistics(grid)
-    v = validity(grid)
-    warnings = strings(grid.GetFieldData(), "Warnings")
+    s, points, tets, material, vol, stats = m["summary"], m["points"], m["tets"], m["material"], m["vol"], m["stats"]
+    warnings = strings(m["grid"].GetFieldData(), "Warnings")
     implant = float(vol[material == IMPLANT].sum())
     bone = float(vol[np.isin(material, BONE)].sum())
-    before = stats.get("optimisation.min_dihedral_before")
-    row.update(tets=len(tets), vertices=int(len(np.unique(tets))), min_dihedral=float(lo.min()),
-               min_before=float(before) if before is not None and before >= 0 else None,
-               max_dihedral=float(hi.max()), defects=int(v["validity.defects"]),
-               coverage=s.get("feature_coverage"), peak_mib=s.get("peak_rss_mib", 0.0),
+    row.update(peak_mib=s.get("peak_rss_mib", 0.0),
                implant_error=implant / case["implant_volume"] - 1 if case["implant_volume"] else None,
                bone_error=bone / case["bone_volume"] - 1 if case["bone_volume"] else None,
                bone_deficit_bound=(bone_deficit_bound(points, tets, material) / case["bone_volume"]

@@ -31,11 +31,10 @@ from concurrent.futures import ThreadPoolExecutor
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from bone_implant_study import command, dihedral_range, read_mesh, run_measured  # noqa: E402
+from bone_implant_study import run_and_measure  # noqa: E402
 
 from oraclemesh import cad_cases  # noqa: E402
 from oraclemesh.fielddata import strings  # noqa: E402
-from oraclemesh.report import statistics, validity  # noqa: E402
 
 SLIVER_ANGLE = 1.0  # the mesher's default sliver_angle: no tetrahedron below it, before or after optimisation
 FLAT_TOLERANCE = 1e-6  # rounding: the least tolerance of any material (see volume_tolerance)
@@ -89,26 +88,14 @@ def volume_tolerance(case, m, tris, facet_distance, features):
 def mesh_case(case, timeout, features=None, settings=(), tag=""):
     out = os.path.join(case["dir"], f"mesh{tag}.vtu")
     summary = os.path.join(case["dir"], f"summary{tag}.json")
-    for stale in (out, summary):
-        if os.path.exists(stale):
-            os.remove(stale)
     extra = ["--features", features] if features else []
     for setting in settings:
         extra += ["--set", setting]
-    rc, seconds, tail = run_measured(command() + ["mesh", case["scene"], "-o", out, "--summary", summary] + extra,
-                                     timeout)
-    row = {"case": case["name"], "rc": rc, "seconds": seconds, "error": ""}
-    if rc != 0 or not os.path.exists(out):
-        row["error"] = tail or f"exit {rc}"
+    row = {"case": case["name"]}
+    m = run_and_measure(["mesh", case["scene"], "-o", out, "--summary", summary] + extra, out, summary, timeout, row)
+    if m is None:
         return row
-    with open(summary) as f:
-        s = json.load(f)
-    grid, points, tets, material = read_mesh(out)
-    lo, hi = dihedral_range(points, tets)
-    p = points[tets]
-    vol = np.abs(np.einsum("ij,ij->i", p[:, 1] - p[:, 0], np.cross(p[:, 2] - p[:, 0], p[:, 3] - p[:, 0]))) / 6
-    stats = statistics(grid)
-    v = validity(grid)
+    grid, points, tets, material, vol, stats = m["grid"], m["points"], m["tets"], m["material"], m["vol"], m["stats"]
     with open(case["scene"]) as f:
         fd = json.load(f)["mesh"]["criteria"]["facet_distance"]
     errors, bad_volumes = {}, []
@@ -119,12 +106,8 @@ def mesh_case(case, timeout, features=None, settings=(), tag=""):
         errors[m] = err
         if not lower <= err <= upper:
             bad_volumes.append(f"material {m}: {100 * err:+.4f}% outside [{100 * lower:+.4f}%, {100 * upper:+.4f}%]")
-    before = stats.get("optimisation.min_dihedral_before")
     parts = [e for m, e in errors.items() if m != cad_cases.HOUSING_MATERIAL]
-    row.update(tets=len(tets), vertices=int(len(np.unique(tets))), min_dihedral=float(lo.min()),
-               min_before=float(before) if before is not None and before >= 0 else None,
-               max_dihedral=float(hi.max()), defects=int(v["validity.defects"]), coverage=s.get("feature_coverage"),
-               part_error=max(parts, key=abs) if parts else None, housing_error=errors.get(cad_cases.HOUSING_MATERIAL),
+    row.update(part_error=max(parts, key=abs) if parts else None, housing_error=errors.get(cad_cases.HOUSING_MATERIAL),
                bad_volumes=bad_volumes, input_warnings=strings(grid.GetFieldData(), "InputWarnings"),
                warnings=strings(grid.GetFieldData(), "Warnings"),
                picking=stats.get("refinement.picking_sliver_angle"))
