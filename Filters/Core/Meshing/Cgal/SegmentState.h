@@ -12,8 +12,10 @@
 
 #include <cmath>
 #include <functional>
+#include <iterator>
 #include <limits>
 #include <optional>
+#include <set>
 #include <unordered_map>
 #include <unordered_set>
 #include <vector>
@@ -241,7 +243,9 @@ public:
   /// sub-segment too short to split breaks that sub-segment for good (seen at apexes of 1 degree).
   /// Removes such vertices; a refinement pass then fills their holes, refusing points inside the
   /// balls. Returns how many were removed (the complex needs a rescan then).
-  size_t removeEncroachersOfShortSubSegments()
+  /// `around` (if given) receives the vertices next to the removed ones: where the removals made
+  /// new cells.
+  size_t removeEncroachersOfShortSubSegments(std::set<Vertex_handle>* around = nullptr)
   {
     size_t removed = 0;
     for (size_t s = 0; s < segs_.subs.size(); ++s)
@@ -253,6 +257,11 @@ public:
         const Vertex_handle v = encroacher(static_cast<int>(s));
         if (v == Vertex_handle() || pointOf_.count(v) || v->in_dimension() < 2)
           break;
+        if (around)
+        {
+          tr_.finite_adjacent_vertices(v, std::inserter(*around, around->end()));
+          around->erase(v);
+        }
         tr_.remove(v);
         ++removed;
       }
