@@ -137,6 +137,25 @@ void shareCrossings(const HierarchicalOracle& oracle, FeatureSegments& given, Fe
 /// the kept ones that lie on a given line are moved onto it and become vertices of it (joined, not
 /// a T: the given line keeps its course, the automatic end moves by at most `eps`).
 /// Segments [0, firstAutomatic) are given. Returns the number dropped; firstAutomatic is updated.
+/// Whether chord a-b lies within eps of `segments` (of `points`) at its ends, its middle and its
+/// quarters: a curve found along a given line.
+bool runsAlong(const std::vector<std::array<int, 2>>& segments, const std::vector<Vec3>& points, const Vec3& a,
+  const Vec3& b, double eps)
+{
+  const auto near = [&](const Vec3& x) {
+    for (const auto& g : segments)
+      if (distanceToSegment(x, points[g[0]], points[g[1]]) <= eps)
+        return true;
+    return false;
+  };
+  return near(a) && near(b) && near(lerp(a, b, 0.5)) && near(lerp(a, b, 0.25)) && near(lerp(a, b, 0.75));
+}
+
+bool runsAlong(const FeatureSegments& lines, const Vec3& a, const Vec3& b, double eps)
+{
+  return runsAlong(lines.segments, lines.points, a, b, eps);
+}
+
 std::size_t dropAutomaticAlongGiven(FeatureSegments& f, std::size_t& firstAutomatic, double eps)
 {
   std::vector<std::array<int, 2>> given(f.segments.begin(), f.segments.begin() + static_cast<long>(firstAutomatic));
@@ -158,8 +177,7 @@ std::size_t dropAutomaticAlongGiven(FeatureSegments& f, std::size_t& firstAutoma
   {
     const auto& s = automatic[k];
     const Vec3 a = f.points[s[0]], b = f.points[s[1]];
-    if (nearestGiven(a).first <= eps && nearestGiven(b).first <= eps && nearestGiven(lerp(a, b, 0.5)).first <= eps &&
-      nearestGiven(lerp(a, b, 0.25)).first <= eps && nearestGiven(lerp(a, b, 0.75)).first <= eps)
+    if (runsAlong(given, f.points, a, b, eps))
       ++dropped;
     else
     {
@@ -288,7 +306,11 @@ std::vector<const FeatureLine*> triplesThenLongest(const FeatureLines& automatic
 /// shorter one and the chord from its far end (moving that curve by at most sin(angle) times the
 /// shorter segment). Wider angles are the segment level's (clusters below 30 degrees). Returns the
 /// number of segments rerouted. `f` has no own edge sizes (automatic segments have none).
-std::size_t shareTrunks(FeatureSegments& f)
+/// Segments marked in `keep` (those along given lines, which the selection drops later) are
+/// neither rerouted nor a trunk: rerouted, such a crease (a part's given edge found again, 15
+/// degrees from another part's edge at a shared corner) came back as a chord 0.4 off both edges
+/// that no given line covers, meeting the given edge at 5 degrees (Benchmarks/cad_defects item 7).
+std::size_t shareTrunks(FeatureSegments& f, const std::vector<char>& keep = {})
 {
   std::size_t shared = 0;
   for (int round = 0; round < 16; ++round)
@@ -304,7 +326,7 @@ std::size_t shareTrunks(FeatureSegments& f)
         for (size_t j = i + 1; j < at[v].size(); ++j)
         {
           const size_t si = at[v][i], sj = at[v][j];
-          if (touched[si] || touched[sj])
+          if (touched[si] || touched[sj] || (!keep.empty() && (keep[si] || keep[sj])))
             continue;
           const int a = f.segments[si][0] == int(v) ? f.segments[si][1] : f.segments[si][0];
           const int b = f.segments[sj][0] == int(v) ? f.segments[sj][1] : f.segments[sj][0];
@@ -345,7 +367,7 @@ std::size_t shareTrunks(FeatureSegments& f)
 /// then the longest first), a curve's segments that run along the curves already taken are
 /// dropped and its ends there moved onto them, so such curves share a trunk and part at a wider
 /// angle (shareTrunks). The small-angle warnings then describe the lines as they are now.
-void dropNearDuplicateCurves(FeatureSelection& out, double smallAngle)
+void dropNearDuplicateCurves(FeatureSelection& out, double smallAngle, const FeatureSegments& given)
 {
   FeatureSegments& A = out.automatic.segments;
   FeatureSegments taken;
@@ -363,7 +385,12 @@ void dropNearDuplicateCurves(FeatureSelection& out, double smallAngle)
     if (first > 0)
       out.droppedNearDuplicate += dropAutomaticAlongGiven(taken, first, 0.5 * out.automatic.spacing);
   }
-  out.trunksShared += shareTrunks(taken);
+  std::vector<char> alongGiven(taken.segments.size(), 0);
+  if (!given.segments.empty())
+    for (size_t k = 0; k < taken.segments.size(); ++k)
+      alongGiven[k] = runsAlong(given, taken.points[taken.segments[k][0]], taken.points[taken.segments[k][1]],
+        0.5 * out.automatic.spacing);
+  out.trunksShared += shareTrunks(taken, alongGiven);
   A = std::move(taken);
   out.warnings.erase(std::remove_if(out.warnings.begin(), out.warnings.end(),
                        [](const std::string& w) { return w.rfind("feature lines meet", 0) == 0; }),
@@ -539,7 +566,7 @@ FeatureSelection selectWithoutEdgeSizes(const HierarchicalOracle& oracle, const 
   options.progress = progress;
   out.automatic = findFeatureLines(oracle, options);
   out.warnings = out.automatic.warnings;
-  dropNearDuplicateCurves(out, options.smallAngle);
+  dropNearDuplicateCurves(out, options.smallAngle, out.segments);
   if (!out.segments.empty())
     shareCrossings(oracle, out.segments, out.automatic);
   const std::size_t firstAutomatic = out.segments.segments.size();

@@ -1403,6 +1403,12 @@ private:
     else
       encroached = segments_->countEncroached() > 0 ||
         segments_->countMissingFromComplex([this](const Vec3& a, const Vec3& b) { return touchesMaterial(a, b); }) > 0;
+    if (options_.segmentRepairForTesting && segments_->size() > 0)
+    {
+      encroached = true;
+      for (int k : { 0, 1 })
+        region.insert(segments_->vertexOf(segments_->end(0, k)));
+    }
     if (!encroached)
       return;
     // The round looks only around the broken sub-segments and the removals (the insertions'
