@@ -10,7 +10,11 @@ for each case and mesh size runs, each in its own process:
   PeerOracleMesh --opt default    OracleMesh's defaults (Conforming, its optimisation policy, no time limit)
   PeerOracleMesh --opt limit:T    CGAL's optimisation policy: perturb and exude each limited to T =
                                   CGAL's refinement time of that case, nothing else
-and prints a Markdown table (raw figures in <work>/results.jsonl). With --threads 1 2: OracleMesh
+and prints a Markdown table (raw figures in <work>/results.jsonl). With --refine-only: refinement alone,
+like for like (issue 12, item 2: refinement time per tetrahedron against CGAL's): --opt none, our
+circumcentres (--sliver-angle 0), each repetition runs CGAL, the --reference build (if given) and
+--oraclemesh in turn, each pinned to one core with taskset; prints each run's per-tet ratio of
+refinement CPU seconds, their median and the best of --repeat in microseconds per tetrahedron. With --threads 1 2: OracleMesh
 alone per refinement thread count (circumcentres on each: --sliver-angle 0), the best of --repeat runs, and the refinement's speed-up. Same criteria for both tools
 (facet angle 25, radius-edge 3, cell size = facet size = h, facet distance h/4, edge size h/2 for
 the CAD part), same seed. Min dihedral angle, validity and coverage are computed from each output
@@ -20,11 +24,14 @@ by the same code (Filters/Core/Quality/MeshQuality, MeshValidity).
     python3 Benchmarks/peer_benchmark.py --cgal build/bin/PeerCgal --oraclemesh build/bin/PeerOracleMesh \
         --data Data/demo --work build/peer_benchmark [--cases labels surface cad] [--sizes 4 2] [--repeat 3]
         [--threads 1 2 [--opt none]]
+    python3 Benchmarks/peer_benchmark.py --cgal build/bin/PeerCgal --oraclemesh build/bin/PeerOracleMesh \
+        --data Data/demo --work build/peer_benchmark --refine-only --sizes 4 2 1 --repeat 7 [--reference OTHER/PeerOracleMesh]
 """
 import argparse
 import json
 import math
 import os
+import shutil
 import statistics
 import subprocess
 import sys
@@ -194,6 +201,48 @@ def threads_table(rows):
     return "\n".join(out)
 
 
+def refine_only(a, paths):
+    """Refinement alone, CGAL and OracleMesh (and a reference build) alternately, --repeat times per size."""
+    tools = [("CGAL", a.cgal)] + ([("reference", a.reference)] if a.reference else []) + [("OracleMesh", a.oraclemesh)]
+    pin = ["taskset", "-c", str(a.cpu)] if shutil.which("taskset") else []
+    started, loads = time.time(), [os.getloadavg()[0]]
+    out = []
+    for case in a.cases:
+        for h in a.sizes or (QUICK_SIZES if a.quick else SIZES)[case]:
+            runs = {name: [] for name, _ in tools}
+            for rep in range(a.repeat):
+                for name, exe in tools:
+                    # refinement only: no optimisation; ours places circumcentres as CGAL does (no
+                    # picked points, whose sliver rule CGAL does not have)
+                    args = pin + [exe, case, paths[case]] + ([paths["cad_features"]] if case == "cad" else []) + \
+                        criteria(case, h) + ["--opt", "none", "--seed", "1"] + \
+                        (["--sliver-angle", "0"] if name != "CGAL" else [])
+                    p = subprocess.run(args, capture_output=True, text=True, timeout=3600)
+                    if p.returncode != 0:
+                        sys.exit("failed (%d): %s\n%s" % (p.returncode, " ".join(args), p.stderr[-2000:]))
+                    r = json.loads(p.stdout.strip().splitlines()[-1])
+                    runs[name].append(r)
+                    loads.append(os.getloadavg()[0])
+                    print("  %s h=%g run %d: %d tets, refine CPU %.3f s (%.2f us/tet), load %.1f" % (
+                        name, h, rep + 1, r["tets"], r["refine_cpu"], 1e6 * r["refine_cpu"] / r["tets"], loads[-1]),
+                        file=sys.stderr, flush=True)
+            per_tet = {n: [1e6 * r["refine_cpu"] / r["tets"] for r in rs] for n, rs in runs.items()}
+            for name, _ in tools[1:]:
+                ratios = [x / c for x, c in zip(per_tet[name], per_tet["CGAL"])]
+                out.append("| %s | %g | %s | %s / %s | %.2f / %.2f (%.2fx) | %s | %.2fx |" % (
+                    case, h, name, f"{runs[name][0]['tets']:,}", f"{runs['CGAL'][0]['tets']:,}",
+                    min(per_tet[name]), min(per_tet["CGAL"]), min(per_tet[name]) / min(per_tet["CGAL"]),
+                    " ".join("%.2f" % x for x in ratios), statistics.median(ratios)))
+    print("| case | h | build | tets / CGAL | best of %d: us per tet / CGAL (ratio) | per-run ratios | median ratio |"
+          % a.repeat)
+    print("|---|---|---|---|---|---|---|")
+    print("\n".join(out))
+    print("\nRefinement CPU seconds per tetrahedron (ours without the initialisation, CGAL's refine_mesh_3 with it), "
+          "%s; %.0f s; load average %.1f-%.1f (median %.1f)." % (
+              "pinned to CPU %d" % a.cpu if pin else "not pinned (no taskset)", time.time() - started, min(loads),
+              max(loads), statistics.median(loads)))
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--cgal", help="PeerCgal (not needed with --threads)")
@@ -209,8 +258,18 @@ def main():
                     help="instead of the side-by-side table: OracleMesh alone with each of these refinement thread "
                          "counts (MesherOptions::threads; e.g. 1 2), the best of --repeat runs, and the speed-up")
     ap.add_argument("--opt", default="default", help="with --threads: the optimisation (default, none, ...)")
+    ap.add_argument("--refine-only", action="store_true",
+                    help="refinement alone, like for like: CGAL, --reference and --oraclemesh in turn per repetition, "
+                         "each pinned with taskset; per-run ratios, their median and the best of --repeat")
+    ap.add_argument("--reference", help="with --refine-only: another PeerOracleMesh (e.g. a build of the previous main)")
+    ap.add_argument("--cpu", type=int, default=1, help="with --refine-only: the core taskset pins each run to")
     a = ap.parse_args()
     paths = prepare(a.data, a.work)
+    if a.refine_only:
+        if not a.cgal:
+            ap.error("--refine-only needs --cgal")
+        refine_only(a, paths)
+        return
     started = time.time()
     load0 = os.getloadavg()[0]
     if not a.threads and not a.cgal:

@@ -26,6 +26,21 @@ inline int floorAboveMinusOne(double x)
   return i;
 }
 
+/// floor(x) and ceil(x) of a voxel coordinate (|x| far below 2^31), as doubles, the same values as
+/// std::floor and std::ceil (up to the sign of a zero) without their rounding sequences (the piece
+/// ends' setup per query was ~1.5 % of a coarse label map's refinement): truncation, then a step
+/// towards the rounding direction where it went the other way.
+inline double floorOf(double x)
+{
+  const int i = static_cast<int>(x);
+  return static_cast<double>(i > x ? i - 1 : i);
+}
+inline double ceilOf(double x)
+{
+  const int i = static_cast<int>(x);
+  return static_cast<double>(i < x ? i + 1 : i);
+}
+
 AffineMap voxelToWorld(const Vec3& origin, const Vec3& spacing, const std::array<double, 9>& d, double shift)
 {
   // world = origin + D * diag(spacing) * (u + shift)
@@ -288,7 +303,9 @@ struct Corners
   int lo[3] = { std::numeric_limits<int>::min(), 0, 0 };
   uint16_t idx[8] = {};
   bool uniform = false;
-  // the distinct labels in order of first appearance, and each corner's place among them
+  // the distinct labels in order of first appearance, and each corner's place among them (a mixed
+  // cell's, once distinctLabels has run: the lead's cubic needs only idx)
+  bool slotted = false;
   int distinctCount = 0;
   uint16_t distinct[8] = {};
   uint8_t slot[8] = {};
@@ -336,8 +353,15 @@ inline void loadCorners(const std::array<int, 3>& dims, const uint16_t* index, c
   for (int c = 0; c < 8; ++c)
     k.idx[c] = index[off[0][c & 1] + off[1][(c >> 1) & 1] + off[2][(c >> 2) & 1]];
   k.uniform = std::all_of(k.idx + 1, k.idx + 8, [&](uint16_t i) { return i == k.idx[0]; });
-  if (k.uniform)
+  k.slotted = false;
+}
+
+/// Fills k's distinct labels and slots (a mixed cell's; loadCorners leaves them).
+inline void distinctLabels(Corners& k)
+{
+  if (k.slotted || k.uniform)
     return;
+  k.slotted = true;
   k.distinctCount = 0;
   for (int c = 0; c < 8; ++c)
   {
@@ -407,6 +431,7 @@ uint16_t LabelMapDomain::trilinearIndex(const Vec3& u) const
     return index_[lowerCorner(dims_, lo)]; // all 8 corners carry one label
   Corners k;
   loadCorners(dims_, index_.data(), lo, k);
+  distinctLabels(k);
   return pickLabel(k, f);
 }
 
@@ -445,6 +470,7 @@ public:
     cellAt(t, lo, f);
     if (!sameCell(lo, cache_.lo))
       loadCorners(dims_, index_, lo, cache_);
+    distinctLabels(cache_); // for the weights of its labels
   }
 
   /// The clearance of the cell of t (0: mixed) and, when it is not mixed, its one label. lo gets
@@ -478,15 +504,28 @@ public:
       for (int ax = 0; ax < 3; ++ax)
         fe[ax] = std::clamp(u[ax] - 0.5 - k.lo[ax], 0.0, 1.0);
     }
+    // the corners' values, and whether the cell's labels are `label` and one other (the first
+    // corner of another label's), from the corners alone (no list of distinct labels)
     double v[8];
+    bool has = false, two = true;
+    other_ = label;
     for (int c = 0; c < 8; ++c)
-      v[c] = k.idx[c] == label ? 1.0 : -1.0;
+    {
+      const uint16_t i = k.idx[c];
+      const bool own = i == label;
+      v[c] = own ? 1.0 : -1.0;
+      has = has || own;
+      if (!own && other_ == label)
+        other_ = i;
+      two = two && (own || i == other_);
+    }
     trilinear::bernsteinOnLine(v, fa, fb, lead);
-    return k.distinctCount == 2 && (k.distinct[0] == label || k.distinct[1] == label);
+    return has && two && other_ != label;
   }
 
-  /// The loaded cell's label other than `label` (a cell of two labels, one of them `label`).
-  uint16_t otherLabel(uint16_t label) const { return cache_.distinct[0] == label ? cache_.distinct[1] : cache_.distinct[0]; }
+  /// The label other than `label` of the cell leadOnPiece loaded last (a cell of two labels, one
+  /// of them `label`).
+  uint16_t otherLabel() const { return other_; }
 
   /// Where the segment leaves the cube of cells around cell lo that a clearance of D says are of
   /// one label: the parameter of a plane through voxel centres, computed as PieceEnds computes it.
@@ -596,6 +635,7 @@ private:
   const std::array<size_t, 3>& clearanceStride_;
   Vec3 ua_, d_;
   Corners cache_;
+  uint16_t other_ = 0; ///< leadOnPiece's other label
 };
 
 /// The ends of a walk's pieces in increasing order: t0, t1 and every t in between where ua + t d
@@ -616,7 +656,7 @@ public:
       // the planes k + 0.5 with lo < k < hi
       const double lo = std::min(ua[i] + t0 * d[i], ua[i] + t1 * d[i]) - 0.5;
       const double hi = std::max(ua[i] + t0 * d[i], ua[i] + t1 * d[i]) - 0.5;
-      const double first = std::floor(lo) + 1.0, last = std::ceil(hi) - 1.0;
+      const double first = floorOf(lo) + 1.0, last = ceilOf(hi) - 1.0;
       if (!(first <= last))
         continue;
       left_[i] = static_cast<long>(last - first) + 1;
@@ -793,7 +833,7 @@ bool LabelMapDomain::trilinearCrossings(const Vec3& ua, const Vec3& d, double t0
                                                       : -1;
       if (n >= 0)
       {
-        uint16_t other = n > 0 ? walk.otherLabel(previous) : previous;
+        uint16_t other = n > 0 ? walk.otherLabel() : previous;
         for (int r = 0; r < n; ++r)
         {
           found.add(roots[r], previous, other);

@@ -243,6 +243,11 @@ public:
   explicit MaterialFacetCriterion(const MaterialCriteria& c)
     : criteria_(c)
   {
+    // every facet asked for sin^2 of its angle bound (a libm sin a facet, ~2 % of a coarse label
+    // map's refinement): the bounds of the materials' angles, computed once
+    addAngleBound(c.globalValues().facetAngle);
+    for (const auto& entry : c.perMaterial)
+      addAngleBound(c.of(entry.first).facetAngle);
   }
 
 protected:
@@ -275,7 +280,7 @@ protected:
       const double d12 = CGAL::squared_distance(p1, p2), d13 = CGAL::squared_distance(p1, p3),
                    d23 = CGAL::squared_distance(p2, p3);
       const double sqSin = 4.0 * CGAL::squared_area(p1, p2, p3) * std::min({ d12, d13, d23 }) / (d12 * d13 * d23);
-      const double bound = squared(std::sin(angle * M_PI / 180.0));
+      const double bound = angleBound(angle);
       if (sqSin < bound)
         worst = std::min(worst, sqSin / bound);
     }
@@ -296,7 +301,27 @@ protected:
   }
 
 private:
+  static double sqSinBound(double angle) { return squared(std::sin(angle * M_PI / 180.0)); }
+  void addAngleBound(double angle)
+  {
+    for (int i = 0; i < angles_; ++i)
+      if (angleBounds_[i].first == angle)
+        return;
+    if (angles_ < static_cast<int>(angleBounds_.size()))
+      angleBounds_[angles_++] = { angle, sqSinBound(angle) };
+  }
+  /// sin^2 of `angle` (degrees): the value computed once for a material's angle, else computed.
+  double angleBound(double angle) const
+  {
+    for (int i = 0; i < angles_; ++i)
+      if (angleBounds_[i].first == angle)
+        return angleBounds_[i].second;
+    return sqSinBound(angle);
+  }
+
   MaterialCriteria::Resolved criteria_;
+  std::array<std::pair<double, double>, 8> angleBounds_{}; ///< (angle, sin^2 of it), the first angles_
+  int angles_ = 0;
 };
 /// The mesher's criteria: ours per material (MaterialFacetCriterion, MaterialCellCriterion) and
 /// CGAL's topology criterion (facet vertices on the surface, T2); `edges` bounds the protecting
