@@ -1064,7 +1064,8 @@ TEST(OracleFeatureLines, ATripleLineOnATrilinearLabelMapTurnsOnItsCellPlanesAndL
   // inside each interpolation cell and bends on the planes x = i + 0.5 between them. A box of
   // material 3 ends on y = 1.4: the triple line runs on that plane along the ramp, turning on
   // every cell plane. Each turn is a vertex on its plane, and every vertex lies on the curve (all
-  // three materials within 1e-7 of it); before, the turns were cut by up to 1/256 of a grid step
+  // three materials within 1e-7 of it); a turn the chord would miss by more than the tolerance is
+  // a vertex on its plane. Before, the turns were cut by up to 1/256 of a grid step
   // and the chords between found points left the interfaces by up to 0.1 mm on a generated case,
   // where the mesher then refined one spot without end (random_05 at radius-edge 1.1).
   const std::array<int, 3> dims{ 6, 3, 5 };
@@ -1101,12 +1102,30 @@ TEST(OracleFeatureLines, ATripleLineOnATrilinearLabelMapTurnsOnItsCellPlanesAndL
   }
   EXPECT_LT(lo, 0.5 + 1e-8);
   EXPECT_GT(hi, 5.5 - 1e-8);
+  // Every turn lies within the tolerance of the chords: a vertex where the chord would miss it by
+  // more (the steps of the ramp, x = 1.5 and 3.5), none where it would not (a bend vertex at every
+  // cell plane cut a bone rim on a voxel staircase into chords of a cell, issue 13).
   for (int i = 0; i < 6; ++i)
   {
-    double nearest = 1e300;
+    const double x = i + 0.5;
+    double below = 0.0, above = 4.0; // the 1 | 2 interface at y = 1.4, just off the box
+    for (int it = 0; it < 80; ++it)
+    {
+      const double mid = 0.5 * (below + above);
+      (oracle.material({ x, 1.4 - 1e-9, mid }) == 1 ? below : above) = mid;
+    }
+    const Vec3 turn{ x, 1.4, below };
+    double nearest = 1e300, nearestVertex = 1e300;
+    for (size_t k = 0; k + 1 < triple->points.size(); ++k)
+      nearest = std::min(nearest,
+        distanceToSegment(turn, f.segments.points[triple->points[k]], f.segments.points[triple->points[k + 1]]));
     for (int p : triple->points)
-      nearest = std::min(nearest, std::abs(f.segments.points[p].x - (i + 0.5)));
-    EXPECT_LT(nearest, 1e-8) << "no vertex on the cell plane x = " << i + 0.5;
+      nearestVertex = std::min(nearestVertex, std::abs(f.segments.points[p].x - x));
+    EXPECT_LT(nearest, options.tolerance + 1e-7) << "the chords miss the turn on the cell plane x = " << x;
+    if (i == 1 || i == 3)
+      EXPECT_LT(nearestVertex, 1e-8) << "no vertex on the cell plane x = " << x;
+    if (i == 2 || i == 4) // the curve turns there by less than the tolerance: no vertex of its own
+      EXPECT_GT(nearestVertex, 1e-6) << "a vertex on the cell plane x = " << x;
   }
 }
 
