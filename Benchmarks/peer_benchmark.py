@@ -29,7 +29,6 @@ by the same code (Filters/Core/Quality/MeshQuality, MeshValidity).
 """
 import argparse
 import json
-import math
 import os
 import shutil
 import statistics
