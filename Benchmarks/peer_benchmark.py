@@ -122,16 +122,24 @@ def criteria(case, h):
     return c
 
 
+def tool_args(exe, case, paths, h, opt, threads=1, extra=()):
+    """The command line of one peer program's run."""
+    return [exe, case, paths[case]] + ([paths["cad_features"]] if case == "cad" else []) + criteria(case, h) + \
+        ["--opt", opt, "--seed", "1"] + (["--threads", str(threads)] if threads != 1 else []) + list(extra)
+
+
+def run_once(args):
+    """Runs a peer program; its figures (the JSON of its last output line). Exits on failure."""
+    p = subprocess.run(args, capture_output=True, text=True, timeout=3600)
+    if p.returncode != 0:
+        sys.exit("failed (%d): %s\n%s" % (p.returncode, " ".join(args), p.stderr[-2000:]))
+    return json.loads(p.stdout.strip().splitlines()[-1])
+
+
 def run(exe, case, paths, h, opt, repeat, log, threads=1, best=False, extra=()):
     """Runs one configuration `repeat` times; the timings are the medians (the minima with `best`)."""
-    args = [exe, case, paths[case]] + ([paths["cad_features"]] if case == "cad" else []) + criteria(case, h) + \
-        ["--opt", opt, "--seed", "1"] + (["--threads", str(threads)] if threads != 1 else []) + list(extra)
-    runs = []
-    for _ in range(repeat):
-        p = subprocess.run(args, capture_output=True, text=True, timeout=3600)
-        if p.returncode != 0:
-            sys.exit("failed (%d): %s\n%s" % (p.returncode, " ".join(args), p.stderr[-2000:]))
-        runs.append(json.loads(p.stdout.strip().splitlines()[-1]))
+    args = tool_args(exe, case, paths, h, opt, threads, extra)
+    runs = [run_once(args) for _ in range(repeat)]
     r = dict(runs[0])
     for k in TIME_KEYS:  # medians (or minima) of the timings and peak memory
         r[k] = (min if best else statistics.median)(x.get(k, float("nan")) for x in runs)
@@ -213,13 +221,8 @@ def refine_only(a, paths):
                 for name, exe in tools:
                     # refinement only: no optimisation; ours places circumcentres as CGAL does (no
                     # picked points, whose sliver rule CGAL does not have)
-                    args = pin + [exe, case, paths[case]] + ([paths["cad_features"]] if case == "cad" else []) + \
-                        criteria(case, h) + ["--opt", "none", "--seed", "1"] + \
-                        (["--sliver-angle", "0"] if name != "CGAL" else [])
-                    p = subprocess.run(args, capture_output=True, text=True, timeout=3600)
-                    if p.returncode != 0:
-                        sys.exit("failed (%d): %s\n%s" % (p.returncode, " ".join(args), p.stderr[-2000:]))
-                    r = json.loads(p.stdout.strip().splitlines()[-1])
+                    r = run_once(pin + tool_args(exe, case, paths, h, "none",
+                                                 extra=["--sliver-angle", "0"] if name != "CGAL" else []))
                     runs[name].append(r)
                     loads.append(os.getloadavg()[0])
                     print("  %s h=%g run %d: %d tets, refine CPU %.3f s (%.2f us/tet), load %.1f" % (

@@ -1393,29 +1393,19 @@ private:
     if (!conforming_ || (budgetHit_ && !finish_.completed) || stalled_)
       return;
     segments_->reindex();
-    bool encroached = false;
-    std::set<Tr::Vertex_handle> region;
-    if (segments_->removeEncroachersOfShortSubSegments(&region) > 0)
-    {
-      c3t3_->rescan_after_load_of_triangulation(); // the removals deleted cells of the complex
-      encroached = true;
-    }
-    else
-      encroached = segments_->countEncroached() > 0 ||
-        segments_->countMissingFromComplex([this](const Vec3& a, const Vec3& b) { return touchesMaterial(a, b); }) > 0;
-    if (options_.segmentRepairForTesting && segments_->size() > 0)
-    {
-      encroached = true;
-      for (int k : { 0, 1 })
-        region.insert(segments_->vertexOf(segments_->end(0, k)));
-    }
-    if (!encroached)
-      return;
-    // The round looks only around the broken sub-segments and the removals (the insertions'
+    // The round looks only around the removals and the broken sub-segments (the insertions'
     // stars follow): a scan of every element would also refine the cells the perturber left
     // above a tight radius-edge bound, which a run without repair keeps (at radius-edge 1.1 that
-    // doubled the mesh for 79 splits).
+    // doubled the mesh for 79 splits). Nothing to look at: nothing to repair.
+    std::set<Tr::Vertex_handle> region;
+    if (segments_->removeEncroachersOfShortSubSegments(&region) > 0)
+      c3t3_->rescan_after_load_of_triangulation(); // the removals deleted cells of the complex
     addVerticesAtSegmentWork(region);
+    if (options_.segmentRepairForTesting && segments_->size() > 0)
+      for (int k : { 0, 1 })
+        region.insert(segments_->vertexOf(segments_->end(0, k)));
+    if (region.empty())
+      return;
     tailRegion_.assign(region.begin(), region.end());
     const Counters& count = segments_->counters();
     const size_t before = count.splitsEncroached + count.splitsVetoed;

@@ -144,15 +144,6 @@ public:
   }
   bool encroached(int s) const { return encroacher(s) != Vertex_handle(); }
 
-  /// Number of sub-segments whose diametral ball holds a vertex.
-  size_t countEncroached() const
-  {
-    size_t n = 0;
-    for (size_t s = 0; s < segs_.subs.size(); ++s)
-      n += encroached(static_cast<int>(s));
-    return n;
-  }
-
   /// Sub-segment s is an edge of the triangulation (both its points have a vertex).
   bool isEdge(int s) const
   {
@@ -211,16 +202,6 @@ public:
   {
     const int a = segs_.subs[s][0], b = segs_.subs[s][1];
     return splittable(s) && !inComplex(s) && wanted(segs_.points[a], segs_.points[b]);
-  }
-
-  /// Number of splittable sub-segments that are no mesh edge where `wanted`.
-  template <class Wanted>
-  size_t countMissingFromComplex(const Wanted& wanted) const
-  {
-    size_t n = 0;
-    for (size_t s = 0; s < segs_.subs.size(); ++s)
-      n += missingFromComplex(static_cast<int>(s), wanted);
-    return n;
   }
 
   /// Finds the segment points' vertices anew (the exuder re-creates the vertices it pumps); a
