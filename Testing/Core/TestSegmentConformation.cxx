@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 using namespace omesh;
 
@@ -106,8 +107,9 @@ TEST(SegmentConformation, SmallAngleClustersShareTheirShells)
 
 // T1.1 below a right angle only: a polyline sampling an arc keeps its chords whole (no segment
 // point can lie in a neighbour's diametral ball across an angle of 90 degrees or more), while the
-// apex of a 60-degree corner and a vertex of three segments are still trimmed; nothing is left
-// encroached. (The paper's rule trims every vertex that ends two segments: each chord in three.)
+// apex of a 60-degree corner and the two segments of a three-segment vertex that meet below 90
+// degrees are still trimmed; nothing is left encroached. (The paper's rule trims every vertex that ends
+// two segments: each chord in three.)
 TEST(SegmentConformation, ChainVerticesAtRightAnglesOrMoreAreNotTrimmed)
 {
   FeatureSegments f;
@@ -122,7 +124,7 @@ TEST(SegmentConformation, ChainVerticesAtRightAnglesOrMoreAreNotTrimmed)
   f.points.push_back(end + 0.5 * Vec3{ c60 * back.x - s60 * back.y, s60 * back.x + c60 * back.y, 0.0 });
   f.segments.push_back({ arc, arc + 1 });
   f.points.push_back(f.points[0] + Vec3{ 0.0, -0.4, 0.0 }); // 14 and 15: three segments at point 0
-  f.points.push_back(f.points[0] + Vec3{ 0.3, 0.0, 0.3 });
+  f.points.push_back(f.points[0] + Vec3{ 0.3, -0.3, 0.3 }); // 55 degrees from 14, over 90 from the arc
   f.segments.push_back({ 0, 14 });
   f.segments.push_back({ 0, 15 });
   const std::vector<bool> trimmed = f.starVerticesBelowRightAngle();
@@ -145,4 +147,39 @@ TEST(SegmentConformation, ChainVerticesAtRightAnglesOrMoreAreNotTrimmed)
   EXPECT_GT(piecesOf(below, arc), 1);
   EXPECT_GT(piecesOf(below, arc + 1), 1);
   EXPECT_GT(piecesOf(below, arc + 2), 1);
+}
+
+// T1.1 at a junction: a segment leaving at 90 degrees or more from every other segment there is
+// not trimmed, and its length does not set the others' trims (the paper's l_min is the shortest
+// segment at the vertex: a short curve leaving a junction of found lines cut every other curve
+// there into short pieces, and the mesh graded down to them). Two segments at 60 degrees (lengths
+// 1 and 1.2) and a short one (0.15) leaving at 150 degrees from both: the two are trimmed at 1/3,
+// the short one stays whole, nothing is left encroached.
+TEST(SegmentConformation, ASegmentAtRightAnglesOrMoreToEveryOtherAtAJunctionIsNotTrimmedNorSetsTheTrims)
+{
+  FeatureSegments f;
+  auto at = [](double degrees, double length) {
+    const double r = degrees * M_PI / 180;
+    return length * Vec3{ std::cos(r), std::sin(r), 0.0 };
+  };
+  f.points = { Vec3{ 0, 0, 0 }, at(0, 1.0), at(60, 1.2), at(210, 0.15) };
+  f.segments = { { 0, 1 }, { 0, 2 }, { 0, 3 } };
+  std::vector<std::string> warnings;
+  const SegmentSet set = conformSegments(f, std::vector<double>(f.segments.size(), 0.0), 100000, warnings);
+  EXPECT_EQ(encroached(set), 0u);
+  auto shortestAtApex = [&](int input) {
+    double shortest = std::numeric_limits<double>::infinity();
+    int pieces = 0;
+    for (const auto& sub : set.subs)
+      if (sub[2] == input)
+      {
+        ++pieces;
+        if (sub[0] == 0 || sub[1] == 0)
+          shortest = std::min(shortest, norm(set.points[sub[1]] - set.points[sub[0]]));
+      }
+    return std::make_pair(pieces, shortest);
+  };
+  EXPECT_EQ(shortestAtApex(2).first, 1) << "the segment at 150 degrees from both others stays whole";
+  for (int input : { 0, 1 })
+    EXPECT_NEAR(shortestAtApex(input).second, 1.0 / 3.0, 1e-6) << "trimmed at l_min / 3 of the two, segment " << input;
 }
