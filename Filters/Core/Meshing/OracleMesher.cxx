@@ -1378,6 +1378,9 @@ private:
     }
     if (options_.exude)
       exudeKeepingSegments();
+    if (options_.perturb || options_.exude)
+      relabelled_ = relabelCellsAcrossBoundaries(
+        *c3t3_, oracle_, [this](int m) { return options_.criteria.of(m).facetDistance; });
     optTime_ = seconds(optStart);
     optCpu_ = threadCpu() - optCpuStart;
     deadline_.check("optimisation");
@@ -1647,6 +1650,7 @@ private:
     st["optimisation.perturbation_last_bound"] = perturbed_.lastBound;
     st["optimisation.exudation_steps"] = static_cast<double>(exuded_.steps);
     st["optimisation.exudation_cut_short"] = exuded_.cutShort;
+    st["optimisation.cells_relabelled_by_centroid"] = static_cast<double>(relabelled_);
     st["time.perturbation"] = perturbed_.seconds;
     st["time.exudation"] = exuded_.seconds;
     st["time.initialisation"] = initTime_;
@@ -1724,6 +1728,7 @@ private:
   double parallelCpu_ = 0.0, parallelBusiestCpu_ = 0.0; ///< of every refinement thread, of the busiest one
   double minBefore_ = 0.0, optLimit_ = 0.0;
   OptimiserRun perturbed_, exuded_;
+  size_t relabelled_ = 0; ///< cells the optimisers left across a boundary (relabelCellsAcrossBoundaries)
 };
 
 TetMesh meshOracleUnguarded(const HierarchicalOracle& oracle, const FeatureSegments& givenFeatures,
