@@ -75,6 +75,47 @@ TEST(FeatureResampling, ChordsWithinToleranceOfTheInputAndCornersKept)
   EXPECT_NO_THROW(f.validate(o, 3.0)); // throws on crossing or zero-length segments
 }
 
+// The chords between two corners come as few as the greedy sleeve makes them, but of even length:
+// a quarter circle sampled every 0.001 (arc 1.5708) and a straight tail of 1.03 at chords of at
+// most 0.25 took 7 and 5 chords, the tail's last one 0.03 long (the greedy sleeve's remainder,
+// which at a junction sets the trims of every line there); now each within 5 % of its chain's
+// arc length / chord count, every point still within the tolerance.
+TEST(FeatureResampling, ChordsBetweenCornersAreAsFewAsGreedyButEven)
+{
+  FeatureSegments f;
+  const double r = 1.0, step = 0.001;
+  const int arc = static_cast<int>(std::round(0.5 * M_PI * r / step));
+  for (int k = 0; k <= arc; ++k)
+    f.points.push_back({ r * std::cos(0.5 * M_PI * k / arc), r * std::sin(0.5 * M_PI * k / arc), 0.0 });
+  for (int k = 1; k <= 1030; ++k) // the tail leaves the arc's end at a right angle: a corner
+    f.points.push_back({ 0.0, r + step * k, 0.0 });
+  for (size_t k = 0; k + 1 < f.points.size(); ++k)
+    f.segments.push_back({ static_cast<int>(k), static_cast<int>(k + 1) });
+  const FeatureSegments input = f;
+  const double maxLength = 0.25, tolerance = 0.01;
+  resampleFeatureLines(f, maxLength, tolerance);
+  std::vector<double> onArc, onTail;
+  for (size_t s = 0; s < f.segments.size(); ++s)
+  {
+    EXPECT_LE(f.length(s), maxLength * (1 + 1e-12));
+    const Vec3 m = 0.5 * (f.points[f.segments[s][0]] + f.points[f.segments[s][1]]);
+    (m.y < r ? onArc : onTail).push_back(f.length(s));
+  }
+  ASSERT_EQ(onArc.size(), 7u) << "as few chords as the greedy sleeve";
+  ASSERT_EQ(onTail.size(), 5u);
+  for (double l : onArc)
+    EXPECT_NEAR(l, 2 * r * std::sin(0.25 * M_PI / 7), 0.05 * 0.5 * M_PI * r / 7);
+  for (double l : onTail)
+    EXPECT_NEAR(l, 1.03 / 5, 0.05 * 1.03 / 5);
+  for (const Vec3& p : input.points)
+  {
+    double nearest = 1e300;
+    for (const auto& s : f.segments)
+      nearest = std::min(nearest, distanceToSegment(p, f.points[s[0]], f.points[s[1]]));
+    EXPECT_LE(nearest, tolerance * (1 + 1e-12));
+  }
+}
+
 // A line that is already coarse stays as it is.
 TEST(FeatureResampling, CoarseLinesAreLeftAlone)
 {
