@@ -4,6 +4,7 @@
 #pragma once
 
 #include "MeshQuality.h"
+#include "MesherCriteria3.h"
 #include "MeshValidity.h"
 #include "OracleMeshDomain.h"
 #include "OracleMesher.h"
@@ -93,10 +94,10 @@ inline double shapeFloorRadius(const MaterialCriteria& c)
 /// (the material of its circumcentre, set by Mesh_3 before the criteria are asked).
 template <class Tr>
 class MaterialCellCriterion
-  : public CGAL::Mesh_3::Abstract_criterion<Tr, typename CGAL::Mesh_criteria_3<Tr>::Cell_criteria::Visitor>
+  : public CGAL::Mesh_3::Abstract_criterion<Tr, typename MesherCriteria<Tr>::Cell_criteria::Visitor>
 {
 protected:
-  using Visitor = typename CGAL::Mesh_criteria_3<Tr>::Cell_criteria::Visitor;
+  using Visitor = typename MesherCriteria<Tr>::Cell_criteria::Visitor;
   using Base = CGAL::Mesh_3::Abstract_criterion<Tr, Visitor>;
   using Quality = typename Base::Quality;
   using Is_bad = typename Base::Is_bad;
@@ -243,10 +244,10 @@ private:
 /// An interface facet takes the stricter bound of the materials on its two sides.
 template <class Tr>
 class MaterialFacetCriterion
-  : public CGAL::Mesh_3::Abstract_criterion<Tr, typename CGAL::Mesh_criteria_3<Tr>::Facet_criteria::Visitor>
+  : public CGAL::Mesh_3::Abstract_criterion<Tr, typename MesherCriteria<Tr>::Facet_criteria::Visitor>
 {
 protected:
-  using Visitor = typename CGAL::Mesh_criteria_3<Tr>::Facet_criteria::Visitor;
+  using Visitor = typename MesherCriteria<Tr>::Facet_criteria::Visitor;
   using Base = CGAL::Mesh_3::Abstract_criterion<Tr, Visitor>;
   using Quality = typename Base::Quality;
   using Is_bad = typename Base::Is_bad;
@@ -342,10 +343,10 @@ private:
 /// conforming one where refinement points are picked); `oracle` the label rule's
 /// (MaterialCellCriterion::labelQuality).
 template <class Tr>
-CGAL::Mesh_criteria_3<Tr> materialMeshCriteria(const MesherOptions& options,
-  const typename CGAL::Mesh_criteria_3<Tr>::Edge_criteria& edges, double sliverAngle, const HierarchicalOracle* oracle)
+MesherCriteria<Tr> materialMeshCriteria(const MesherOptions& options,
+  const typename MesherCriteria<Tr>::Edge_criteria& edges, double sliverAngle, const HierarchicalOracle* oracle)
 {
-  using Criteria = CGAL::Mesh_criteria_3<Tr>;
+  using Criteria = MesherCriteria<Tr>;
   typename Criteria::Facet_criteria facetCriteria(0.0, 0.0, 0.0, CGAL::FACET_VERTICES_ON_SURFACE);
   typename Criteria::Cell_criteria cellCriteria(0.0, 0.0);
   Criteria criteria(edges, facetCriteria, cellCriteria);
@@ -492,11 +493,11 @@ private:
 /// no criterion of its own to relax (a sub-segment is split when encroached, refused a point, or
 /// missing from the complex). `edges` is the run's (only feature protection reads it).
 template <class Tr>
-CGAL::Mesh_criteria_3<Tr> validityMeshCriteria(const MesherOptions& options,
-  const typename CGAL::Mesh_criteria_3<Tr>::Edge_criteria& edges, double sliverAngle, double runSliverAngle,
+MesherCriteria<Tr> validityMeshCriteria(const MesherOptions& options,
+  const typename MesherCriteria<Tr>::Edge_criteria& edges, double sliverAngle, double runSliverAngle,
   std::shared_ptr<const CriteriaRegion> region)
 {
-  using Criteria = CGAL::Mesh_criteria_3<Tr>;
+  using Criteria = MesherCriteria<Tr>;
   typename Criteria::Facet_criteria facetCriteria(0.0, 0.0, 0.0, CGAL::FACET_VERTICES_ON_SURFACE);
   typename Criteria::Cell_criteria cellCriteria(0.0, 0.0);
   Criteria criteria(edges, facetCriteria, cellCriteria);

@@ -5,6 +5,7 @@
 // and cell bases, so a complex can be copied from one to the other (ParallelRefinement.cxx, PackedComplex.h).
 #pragma once
 
+#include "MesherCriteria3.h"
 #include "OracleMeshDomain.h"
 
 #include <CGAL/Mesh_complex_3_in_triangulation_3.h>
@@ -179,6 +180,6 @@ struct MeshTriangulation3
   };
   using Tr = CGAL::Mesh_3_regular_triangulation_3_wrapper<GeomTraits, Tds>;
   using C3t3 = CGAL::Mesh_complex_3_in_triangulation_3<Tr, MeshDomain::Corner_index, MeshDomain::Curve_index>;
-  using Criteria = CGAL::Mesh_criteria_3<Tr>;
+  using Criteria = MesherCriteria<Tr>;
 };
 }
