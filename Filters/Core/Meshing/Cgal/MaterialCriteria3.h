@@ -347,6 +347,8 @@ MesherCriteria<Tr> materialMeshCriteria(const MesherOptions& options,
   const typename MesherCriteria<Tr>::Edge_criteria& edges, double sliverAngle, const HierarchicalOracle* oracle)
 {
   using Criteria = MesherCriteria<Tr>;
+  // no CGAL size, angle, distance or radius-edge criterion (bounds 0): the mesher's visitors
+  // (CellCriteriaVisitor, FacetCriteriaVisitor) keep CGAL's ball rules for the other criteria only
   typename Criteria::Facet_criteria facetCriteria(0.0, 0.0, 0.0, CGAL::FACET_VERTICES_ON_SURFACE);
   typename Criteria::Cell_criteria cellCriteria(0.0, 0.0);
   Criteria criteria(edges, facetCriteria, cellCriteria);
