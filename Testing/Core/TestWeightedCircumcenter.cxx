@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// The mesher's three-point weighted circumcentre (MeshTriangulation3.h, AccurateWeightedCircumcenter):
+// The mesher's three- and four-point weighted circumcentres (MeshTriangulation3.h, AccurateWeightedCircumcenter):
 // the same points as CGAL's robust construction, which it skips only where doubles show its predicate.
 #include "MeshTriangulation3.h"
 
@@ -55,4 +55,59 @@ TEST(WeightedCircumcenter, ThreePointsAreCgalsRobustOnes)
   expectSameAsCgal(thin, thinCertified);
   EXPECT_LT(thinCertified, 1000); // and leave the nearly flat ones to CGAL
   expectSameAsCgal(weighted, certified);
+}
+
+TEST(WeightedCircumcenter, FourPointsAreCgalsRobustOnes)
+{
+  std::mt19937 rng(13);
+  std::uniform_real_distribution<double> u(-50.0, 50.0), unit(0.0, 1.0), small(-1e-9, 1e-9);
+  auto point = [&] { return K::Point_3(u(rng), u(rng), u(rng)); };
+  std::vector<std::array<K::Point_3, 4>> shaped, flat;
+  for (int i = 0; i < 20000; ++i)
+  {
+    shaped.push_back({ point(), point(), point(), point() });
+    // nearly flat: s a hair off the plane of pqr (the cells the predicate is there for)
+    const K::Point_3 p = point(), q = point(), r = point();
+    const double a = unit(rng), b = unit(rng) * (1.0 - a);
+    flat.push_back({ p, q, r,
+      K::Point_3(p.x() + a * (q.x() - p.x()) + b * (r.x() - p.x()) + small(rng),
+        p.y() + a * (q.y() - p.y()) + b * (r.y() - p.y()) + small(rng),
+        p.z() + a * (q.z() - p.z()) + b * (r.z() - p.z()) + small(rng)) });
+  }
+  const AccurateWeightedCircumcenter mine{ K() };
+  const Robust cgal{ K() };
+  auto den = [](const std::array<K::Point_3, 4>& c) { // det(q - p, r - p, s - p), as CGAL computes it
+    double nx, ny, nz, d;
+    CGAL::determinants_for_circumcenterC3(c[0].x(), c[0].y(), c[0].z(), c[1].x(), c[1].y(), c[1].z(), c[2].x(),
+      c[2].y(), c[2].z(), c[3].x(), c[3].y(), c[3].z(), nx, ny, nz, d);
+    return d;
+  };
+  // cells are positively oriented (CGAL's precondition): swap two points where they are not
+  auto check = [&](std::vector<std::array<K::Point_3, 4>>& cells) {
+    int certified = 0;
+    for (auto& c : cells)
+    {
+      const CGAL::Orientation o = CGAL::orientation(c[0], c[1], c[2], c[3]);
+      if (o == CGAL::COPLANAR)
+        continue;
+      if (o == CGAL::NEGATIVE)
+        std::swap(c[0], c[1]);
+      const K::Weighted_point_3 p(c[0], 0.0), q(c[1], 0.0), r(c[2], 0.0), s(c[3], 0.0);
+      const K::Point_3 a = mine(p, q, r, s), b = cgal(p, q, r, s);
+      EXPECT_EQ(a.x(), b.x());
+      EXPECT_EQ(a.y(), b.y());
+      EXPECT_EQ(a.z(), b.z());
+      certified += AccurateWeightedCircumcenter::certainlyInsideCircumsphere(c[0], c[1], c[2], c[3], den(c), a);
+    }
+    return certified;
+  };
+  EXPECT_GT(check(shaped), 19000); // the doubles decide almost every cell
+  EXPECT_LT(check(flat), 1000);    // and leave the nearly flat ones to CGAL
+  // a negative orientation is never certified (CGAL's predicate would answer the other side)
+  const K::Point_3 p(0, 0, 0), q(1, 0, 0), r(0, 1, 0), s(0, 0, 1), centre(0.5, 0.5, 0.5);
+  ASSERT_EQ(CGAL::orientation(p, q, r, s), CGAL::POSITIVE);
+  EXPECT_TRUE(AccurateWeightedCircumcenter::certainlyInsideCircumsphere(p, q, r, s, den({ p, q, r, s }), centre));
+  EXPECT_FALSE(AccurateWeightedCircumcenter::certainlyInsideCircumsphere(q, p, r, s, den({ q, p, r, s }), centre));
+  // nor a point outside the sphere
+  EXPECT_FALSE(AccurateWeightedCircumcenter::certainlyInsideCircumsphere(p, q, r, s, den({ p, q, r, s }), K::Point_3(3, 3, 3)));
 }

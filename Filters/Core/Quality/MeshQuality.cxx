@@ -22,6 +22,20 @@ double smallestAltitude(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3&
   return twiceArea > 0 ? 6.0 * std::abs(signedVolume(a, b, c, d)) / twiceArea : 0.0;
 }
 
+namespace
+{
+/// Outward normal of face f of tetrahedron p (opposite vertex f), not normalised: the same
+/// values for minDihedralAngle and dihedralAnglesCertainlyAtLeast.
+inline Vec3 outwardFaceNormal(const Vec3 p[4], int f)
+{
+  const Vec3& u = p[(f + 1) % 4];
+  const Vec3& v = p[(f + 2) % 4];
+  const Vec3& w = p[(f + 3) % 4];
+  const Vec3 m = cross(v - u, w - u);
+  return dot(m, p[f] - u) > 0 ? -1.0 * m : m;
+}
+}
+
 double minDihedralAngle(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d)
 {
   const Vec3 p[4] = { a, b, c, d };
@@ -30,12 +44,7 @@ double minDihedralAngle(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3&
   Vec3 n[4];
   for (int f = 0; f < 4; ++f)
   {
-    const Vec3& u = p[(f + 1) % 4];
-    const Vec3& v = p[(f + 2) % 4];
-    const Vec3& w = p[(f + 3) % 4];
-    Vec3 m = cross(v - u, w - u);
-    if (dot(m, p[f] - u) > 0)
-      m = -1.0 * m;
+    const Vec3 m = outwardFaceNormal(p, f);
     const double l = norm(m);
     if (!(l > 0))
       return 0.0;
@@ -48,6 +57,36 @@ double minDihedralAngle(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3&
     for (int j = i + 1; j < 4; ++j)
       largest = std::max(largest, std::clamp(-dot(n[i], n[j]), -1.0, 1.0));
   return std::acos(largest) * 180.0 / M_PI;
+}
+
+bool dihedralAnglesCertainlyAtLeast(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, double cosBound)
+{
+  // An angle is below the bound where the cosine between two outward normals, -m_i.m_j / (|m_i|
+  // |m_j|), is above cosBound; certainly not where -m_i.m_j <= 0 or (m_i.m_j)^2 < k^2 |m_i|^2 |m_j|^2
+  // with k = cosBound - 1e-9 (relative rounding here and in minDihedralAngle: a few 1e-16).
+  // Strict comparisons: a flat face, an underflow or a NaN gives false.
+  const double k = cosBound - 1e-9;
+  if (!(k > 0.0))
+    return false;
+  const Vec3 p[4] = { a, b, c, d };
+  Vec3 m[4];
+  double sq[4];
+  for (int f = 0; f < 4; ++f)
+  {
+    m[f] = outwardFaceNormal(p, f);
+    sq[f] = dot(m[f], m[f]);
+    if (!(sq[f] > 0.0))
+      return false;
+  }
+  const double k2 = k * k;
+  for (int i = 0; i < 4; ++i)
+    for (int j = i + 1; j < 4; ++j)
+    {
+      const double mm = dot(m[i], m[j]);
+      if (!(mm >= 0.0 || mm * mm < k2 * (sq[i] * sq[j])))
+        return false;
+    }
+  return true;
 }
 
 Vec3 circumcenter(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d)

@@ -12,6 +12,13 @@ namespace omesh
 /// Smallest of the six dihedral angles of tetrahedron abcd, in degrees (0 for a flat one).
 double minDihedralAngle(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
 
+/// Whether every dihedral angle of abcd is certainly at least the angle whose cosine is
+/// `cosBound`, i.e. minDihedralAngle(a, b, c, d) is at least that angle in degrees: the same face
+/// normals, compared squared against the bound with a margin (1e-9 in the cosine) far beyond the
+/// rounding of minDihedralAngle's square roots, divisions and acos, which this skips. False when
+/// it cannot tell (near the bound, a flat face, cosBound <= 0): then ask minDihedralAngle.
+bool dihedralAnglesCertainlyAtLeast(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, double cosBound);
+
 /// Circumradius divided by the shortest edge (sqrt(6)/4 = 0.61 for the regular tetrahedron;
 /// infinite for a flat one).
 double radiusEdgeRatio(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);

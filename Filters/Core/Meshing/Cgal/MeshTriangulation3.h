@@ -5,6 +5,7 @@
 // and cell bases, so a complex can be copied from one to the other (ParallelRefinement.cxx, PackedComplex.h).
 #pragma once
 
+#include "MesherCriteria3.h"
 #include "OracleMeshDomain.h"
 
 #include <CGAL/Mesh_complex_3_in_triangulation_3.h>
@@ -37,8 +38,25 @@ struct AccurateWeightedCircumcenter : RobustTraits::Construct_weighted_circumcen
   K::Point_3 operator()(const K::Weighted_point_3& p, const K::Weighted_point_3& q, const K::Weighted_point_3& r,
     const K::Weighted_point_3& s, bool forceExact = false) const
   {
+    const bool unweighted = p.weight() == 0 && q.weight() == 0 && r.weight() == 0 && s.weight() == 0;
+    if (unweighted && !forceExact)
+    {
+      // CGAL computes this t and keeps it where its predicate (Side_of_oriented_sphere_3, ~200
+      // instructions a cell) shows t inside the cell's circumsphere; doubles show that for all
+      // but nearly flat cells (certainlyInsideCircumsphere): the same point, else CGAL decides
+      double nx, ny, nz, den;
+      CGAL::determinants_for_circumcenterC3(p.x(), p.y(), p.z(), q.x(), q.y(), q.z(), r.x(), r.y(), r.z(), s.x(),
+        s.y(), s.z(), nx, ny, nz, den);
+      if (den != 0.0)
+      {
+        const double inv = 1.0 / (2.0 * den);
+        const K::Point_3 t(p.x() + nx * inv, p.y() - ny * inv, p.z() + nz * inv);
+        if (certainlyInsideCircumsphere(p.point(), q.point(), r.point(), s.point(), den, t))
+          return t;
+      }
+    }
     const K::Point_3 c = Base::operator()(p, q, r, s, forceExact);
-    if (forceExact || (p.weight() == 0 && q.weight() == 0 && r.weight() == 0 && s.weight() == 0))
+    if (forceExact || unweighted)
       return c;
     double lo = std::numeric_limits<double>::infinity(), hi = -lo, scale = 0.0;
     for (const K::Weighted_point_3* w : { &p, &q, &r, &s })
@@ -102,6 +120,37 @@ struct AccurateWeightedCircumcenter : RobustTraits::Construct_weighted_circumcen
     const double bound = ((ea * ea + eb * eb) * (aa + bb) * (1.0 + tol) + xn * xn) / (nLow * nLow);
     return bound * (1.0 + 1e-12) <= xx * (1.0 - tol) / 16.0;
   }
+
+  /// True only where t lies strictly inside the circumsphere of pqrs (centre c) and pqrs is
+  /// positively oriented, shown in doubles with rounding bounded generously; `det` is det M (rows
+  /// a = q - p, b = r - p, d = s - p) as doubles compute it (CGAL's den). With x = t - p and
+  /// e = t - c, M e = (x.a - |a|^2 / 2, x.b - |b|^2 / 2, x.d - |d|^2 / 2), and |e| <= |M e| /
+  /// sigma_min(M) <= |M e| |M|_F^2 / (2 |det M|) (sigma_1 sigma_2 <= |M|_F^2 / 2); |e| <= |x| / 4
+  /// then gives a radius |x - e| >= 3 |e| > |e|. Every rounding error below is at most a few 1e-16
+  /// of L2 = |a|^2 + |b|^2 + |d|^2 + |x|^2 (of L2^1.5 for det M); 1e-14 covers them many times.
+  /// Nearly flat cells (det^2 < 1e-12 L2^3, where 1e-14 L2^1.5 would exceed 1e-8 det) are left to
+  /// the exact predicate, and so is a negative orientation (never a cell's). Unweighted cells only.
+  static bool certainlyInsideCircumsphere(const K::Point_3& p, const K::Point_3& q, const K::Point_3& r,
+    const K::Point_3& s, double det, const K::Point_3& t)
+  {
+    const double a[3] = { q.x() - p.x(), q.y() - p.y(), q.z() - p.z() };
+    const double b[3] = { r.x() - p.x(), r.y() - p.y(), r.z() - p.z() };
+    const double d[3] = { s.x() - p.x(), s.y() - p.y(), s.z() - p.z() };
+    const double x[3] = { t.x() - p.x(), t.y() - p.y(), t.z() - p.z() };
+    auto dot = [](const double* u, const double* v) { return u[0] * v[0] + u[1] * v[1] + u[2] * v[2]; };
+    const double aa = dot(a, a), bb = dot(b, b), dd = dot(d, d), xx = dot(x, x);
+    const double l2 = aa + bb + dd + xx;
+    constexpr double tol = 1e-14;
+    // (l2 within 1e+-50: no product below underflows or overflows, NaN and infinity excluded)
+    if (!(l2 >= 1e-50 && l2 <= 1e50 && det > 0.0 && det * det >= 1e-12 * (l2 * l2 * l2)))
+      return false;
+    const double ea = std::abs(dot(x, a) - 0.5 * aa) + tol * l2, eb = std::abs(dot(x, b) - 0.5 * bb) + tol * l2,
+                 ed = std::abs(dot(x, d) - 0.5 * dd) + tol * l2;
+    const double frobenius = (aa + bb + dd) * (1.0 + tol);
+    const double detLow = det * (1.0 - 1e-8);
+    const double bound = (ea * ea + eb * eb + ed * ed) * (1.0 + tol) * frobenius * frobenius / (4.0 * detLow * detLow);
+    return bound * (1.0 + 1e-12) <= xx * (1.0 - tol) / 16.0;
+  }
 };
 
 struct GeomTraits : RobustTraits
@@ -131,6 +180,6 @@ struct MeshTriangulation3
   };
   using Tr = CGAL::Mesh_3_regular_triangulation_3_wrapper<GeomTraits, Tds>;
   using C3t3 = CGAL::Mesh_complex_3_in_triangulation_3<Tr, MeshDomain::Corner_index, MeshDomain::Curve_index>;
-  using Criteria = CGAL::Mesh_criteria_3<Tr>;
+  using Criteria = MesherCriteria<Tr>;
 };
 }
