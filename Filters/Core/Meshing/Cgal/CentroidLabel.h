@@ -66,9 +66,12 @@ std::size_t relabelCellsAcrossBoundaries(
   std::vector<std::pair<Cell_handle, int>> relabel;
   for (auto c = c3t3.cells_in_complex_begin(); c != c3t3.cells_in_complex_end(); ++c)
   {
-    bool onInterfaces = true;
+    bool onInterfaces = true; // as the validity check counts them (no dimension: inside)
     for (int i = 0; i < 4 && onInterfaces; ++i)
-      onInterfaces = c3t3.in_dimension(c->vertex(i)) < 3;
+    {
+      const int dim = c3t3.in_dimension(c->vertex(i));
+      onInterfaces = dim >= 0 && dim < 3;
+    }
     if (!onInterfaces)
       continue;
     const Vec3 a = toVec(c->vertex(0)->point().point()), b = toVec(c->vertex(1)->point().point()),
