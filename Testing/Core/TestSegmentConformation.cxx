@@ -127,7 +127,12 @@ TEST(SegmentConformation, ChainVerticesAtRightAnglesOrMoreAreNotTrimmed)
   f.points.push_back(f.points[0] + Vec3{ 0.3, -0.3, 0.3 }); // 55 degrees from 14, over 90 from the arc
   f.segments.push_back({ 0, 14 });
   f.segments.push_back({ 0, 15 });
-  const std::vector<bool> trimmed = f.starVerticesBelowRightAngle();
+  std::vector<bool> trimmed(f.points.size(), false); // a vertex where some segment end is trimmed
+  const std::vector<std::array<bool, 2>> ends = f.endsBelowRightAngle();
+  for (size_t s = 0; s < f.segments.size(); ++s)
+    for (int side : { 0, 1 })
+      if (ends[s][side])
+        trimmed[f.segments[s][side]] = true;
   const double cornerAngle = angleAt(f.points[arc], f.points[arc - 1], f.points[arc + 1]);
   ASSERT_LT(cornerAngle, 90.0);
   EXPECT_TRUE(trimmed[0]);

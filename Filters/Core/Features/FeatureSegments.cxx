@@ -57,20 +57,21 @@ std::vector<bool> FeatureSegments::starVertices() const
   return star;
 }
 
-std::vector<bool> FeatureSegments::starVerticesBelowRightAngle() const
+std::vector<std::array<bool, 2>> FeatureSegments::endsBelowRightAngle() const
 {
+  std::vector<std::array<bool, 2>> below(segments.size(), { false, false });
   const auto inc = incidence();
-  std::vector<bool> star = starVertices();
-  for (size_t v = 0; v < points.size(); ++v)
-    if (inc[v].size() == 2)
-    {
-      const auto& s = segments[inc[v][0]];
-      const auto& t = segments[inc[v][1]];
-      const int p = s[0] == int(v) ? s[1] : s[0];
-      const int q = t[0] == int(v) ? t[1] : t[0];
-      star[v] = angleAt(points[v], points[p], points[q]) < 90.0;
-    }
-  return star;
+  for (size_t v = 0; v < inc.size(); ++v)
+    for (size_t i = 0; i < inc[v].size(); ++i)
+      for (size_t j = i + 1; j < inc[v].size(); ++j)
+      {
+        const auto& s = segments[inc[v][i]];
+        const auto& t = segments[inc[v][j]];
+        const int si = s[0] == int(v) ? 0 : 1, tj = t[0] == int(v) ? 0 : 1;
+        if (angleAt(points[v], points[s[1 - si]], points[t[1 - tj]]) < 90.0)
+          below[inc[v][i]][si] = below[inc[v][j]][tj] = true;
+      }
+  return below;
 }
 
 double FeatureSegments::smallestAngle() const

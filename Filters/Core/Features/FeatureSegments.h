@@ -53,10 +53,12 @@ struct FeatureSegments
 
   /// Points that end at least two segments (the paper's star vertices).
   std::vector<bool> starVertices() const;
-  /// The star vertices less those where exactly two segments meet at 90 degrees or more (a vertex
-  /// inside a polyline that samples a smooth curve): no point of either segment lies in the other's
-  /// diametral ball, so their splits cannot encroach each other there and T1.1's trim buys nothing.
-  std::vector<bool> starVerticesBelowRightAngle() const;
+  /// Per segment and end (segments[s][0], [1]): whether another segment at that end meets it at
+  /// less than 90 degrees. Only then can a point of another segment there lie in one of its
+  /// diametral balls near that end (across 90 degrees or more every point of the other lies beyond
+  /// the plane through the vertex normal to it, which bounds those balls), so only then does T1.1's
+  /// trim buy anything (a vertex inside a polyline that samples a smooth curve has none).
+  std::vector<std::array<bool, 2>> endsBelowRightAngle() const;
 
   /// Smallest angle (degrees) between two segments sharing a vertex; 180 if none share one.
   double smallestAngle() const;

@@ -131,12 +131,6 @@ void shareCrossings(const HierarchicalOracle& oracle, FeatureSegments& given, Fe
   given.segments = std::move(split);
 }
 
-/// Automatic curves that run along given lines (the tray's bottom rim, a sharp edge of the implant,
-/// is also where implant, bone and the cut meet) would be near-duplicate segments the segment level
-/// splits without end: those within `eps` of the given lines all along are dropped, and the ends of
-/// the kept ones that lie on a given line are moved onto it and become vertices of it (joined, not
-/// a T: the given line keeps its course, the automatic end moves by at most `eps`).
-/// Segments [0, firstAutomatic) are given. Returns the number dropped; firstAutomatic is updated.
 /// Whether chord a-b lies within eps of `segments` (of `points`) at its ends, its middle and its
 /// quarters: a curve found along a given line.
 bool runsAlong(const std::vector<std::array<int, 2>>& segments, const std::vector<Vec3>& points, const Vec3& a,
@@ -156,6 +150,12 @@ bool runsAlong(const FeatureSegments& lines, const Vec3& a, const Vec3& b, doubl
   return runsAlong(lines.segments, lines.points, a, b, eps);
 }
 
+/// Automatic curves that run along given lines (the tray's bottom rim, a sharp edge of the implant,
+/// is also where implant, bone and the cut meet) would be near-duplicate segments the segment level
+/// splits without end: those within `eps` of the given lines all along are dropped, and the ends of
+/// the kept ones that lie on a given line are moved onto it and become vertices of it (joined, not
+/// a T: the given line keeps its course, the automatic end moves by at most `eps`).
+/// Segments [0, firstAutomatic) are given. Returns the number dropped; firstAutomatic is updated.
 std::size_t dropAutomaticAlongGiven(FeatureSegments& f, std::size_t& firstAutomatic, double eps)
 {
   std::vector<std::array<int, 2>> given(f.segments.begin(), f.segments.begin() + static_cast<long>(firstAutomatic));

@@ -968,12 +968,11 @@ private:
     FeatureLine& line = result_.lines[bestLine];
     const int a = line.points[bestK], b = line.points[bestK + 1];
     int v = -1;
-    const bool nearA = norm(S.points[a] - x) <= norm(S.points[b] - x);
-    if (std::min(norm(S.points[a] - x), norm(S.points[b] - x)) <= h_ / 64 ||
-      (std::min(norm(S.points[a] - x), norm(S.points[b] - x)) <= 0.25 * norm(S.points[b] - S.points[a]) &&
-        turnsAt(line, nearA ? bestK : bestK + 1)))
+    const double da = norm(S.points[a] - x), db = norm(S.points[b] - x), closer = std::min(da, db);
+    if (closer <= h_ / 64 ||
+      (closer <= 0.25 * norm(S.points[b] - S.points[a]) && turnsAt(line, da <= db ? bestK : bestK + 1)))
     {
-      v = nearA ? a : b;
+      v = da <= db ? a : b;
       S.points[v] = x;
     }
     else

@@ -178,37 +178,16 @@ private:
 
 namespace
 {
-/// Per input segment and end: whether another segment at that end meets it at less than 90
-/// degrees. Only then can a point of another segment there lie in one of its diametral balls near
-/// that end (across 90 degrees or more every point of the other lies beyond the plane through the
-/// vertex normal to it, which bounds those balls), so only then does T1.1's trim buy anything.
-std::vector<std::array<bool, 2>> endsBelowRightAngle(const FeatureSegments& f)
-{
-  std::vector<std::array<bool, 2>> below(f.segments.size(), { false, false });
-  const auto inc = f.incidence();
-  for (size_t v = 0; v < inc.size(); ++v)
-    for (size_t i = 0; i < inc[v].size(); ++i)
-      for (size_t j = i + 1; j < inc[v].size(); ++j)
-      {
-        const auto& s = f.segments[inc[v][i]];
-        const auto& t = f.segments[inc[v][j]];
-        const int si = s[0] == int(v) ? 0 : 1, tj = t[0] == int(v) ? 0 : 1;
-        if (angleAt(f.points[v], f.points[s[1 - si]], f.points[t[1 - tj]]) < 90.0)
-          below[inc[v][i]][si] = below[inc[v][j]][tj] = true;
-      }
-  return below;
-}
-
 /// T1.1 on the input segments: every segment at a star vertex p_i gets a point at l_min,i / 3
 /// from p_i (scaled as the shells of its small-angle cluster), where l_min,i is the shortest of
 /// the segments trimmed there, but only a segment that meets another there at less than 90
-/// degrees (endsBelowRightAngle): every vertex of a polyline through a smooth curve (a found
+/// degrees (FeatureSegments::endsBelowRightAngle): every vertex of a polyline through a smooth curve (a found
 /// curve, a resampled rim) has none, and its trims cut each chord in three; at a junction a curve
 /// leaving at 90 degrees or more from every other one keeps its end whole, and a short such curve
 /// no longer sets the others' trims. Calls `check` at every segment.
 void trimAtStarVertices(SegmentSet& set, const FeatureSegments& f, const std::function<void()>& check)
 {
-  const std::vector<std::array<bool, 2>> trimmed = endsBelowRightAngle(f);
+  const std::vector<std::array<bool, 2>> trimmed = f.endsBelowRightAngle();
   std::vector<double> lmin(f.points.size(), std::numeric_limits<double>::infinity());
   for (size_t s = 0; s < f.segments.size(); ++s)
     for (int side = 0; side < 2; ++side)
