@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <map>
 #include <memory>
 
 using namespace omesh;
@@ -173,6 +174,53 @@ TEST(FeatureMerge, LinesCoincidingUpToRoundingBecomeOne)
   EXPECT_NEAR(totalLength(f), 7.0, 1e-12);
   EXPECT_NO_THROW(f.validate(ballOracle(), 0));
   EXPECT_FALSE(mergeFeatureSegments(f).changed()); // merged lines stay as they are
+}
+
+// A 16-gon's side edge computed with cos/sin crosses a box edge 4.4e-16 beside it (generated CAD
+// case 29: a cylinder's axis on the box's edge): exact predicates see two skew lines, no crossing.
+// Left so, the mesher split both near the place down to two vertices 4.4e-16 apart and flat
+// tetrahedra between them. Within rounding they cross: one shared point, four pieces.
+TEST(FeatureMerge, LinesCrossingUpToRoundingShareOnePoint)
+{
+  FeatureSegments f;
+  const double y = 2.0 + 2.0 * std::sin(M_PI); // 2.0000000000000004, as the generator computes it
+  ASSERT_GT(y, 2.0);
+  f.points = { { -2, 2, 2 }, { 2, 2, 2 }, { 0, y, 0 }, { 0, y, 4 }, { -2, 2, 0 } };
+  f.segments = { { 0, 1 }, { 2, 3 }, { 4, 0 } };
+  f.source = { 0, 1, 2 };
+  EXPECT_TRUE(f.crossingPairs().empty()); // exact predicates: skew
+  const FeatureMergeCounts counts = mergeFeatureSegments(f);
+  EXPECT_EQ(counts.crossings, 1u);
+  ASSERT_EQ(f.segments.size(), 5u);
+  EXPECT_TRUE(f.crossingPairs().empty());
+  // the four pieces of the two lines meet at one point, within rounding of both lines
+  std::map<int, int> uses;
+  for (const auto& s : f.segments)
+    for (int v : s)
+      ++uses[v];
+  int centre = -1;
+  for (const auto& [v, n] : uses)
+    if (n == 4)
+      centre = v;
+  ASSERT_GE(centre, 0);
+  EXPECT_LE(norm(f.points[centre] - Vec3{ 0, 2, 2 }), 1e-15);
+  // no two points within rounding of each other, no piece shorter than the lines' rounding
+  for (size_t i = 0; i < f.points.size(); ++i)
+    for (size_t j = i + 1; j < f.points.size(); ++j)
+      EXPECT_GT(norm(f.points[i] - f.points[j]), 1e-9) << i << " " << j;
+  EXPECT_NEAR(totalLength(f), 4.0 + 4.0 + 2.0, 1e-12);
+  // each piece keeps its source
+  ASSERT_EQ(f.source.size(), f.segments.size());
+  for (size_t s = 0; s < f.segments.size(); ++s)
+  {
+    const Vec3 a = f.points[f.segments[s][0]], b = f.points[f.segments[s][1]];
+    if (f.source[s] == 0)
+      EXPECT_NEAR(std::abs(a.z - 2) + std::abs(b.z - 2), 0.0, 1e-15) << f.describe(s);
+    if (f.source[s] == 1)
+      EXPECT_NEAR(std::abs(a.x) + std::abs(b.x), 0.0, 1e-15) << f.describe(s);
+  }
+  EXPECT_NO_THROW(f.validate(ballOracle(), 0));
+  EXPECT_FALSE(mergeFeatureSegments(f).changed());
 }
 
 TEST(FeatureMerge, AbsurdCoordinatesAreRefusedByValidate)

@@ -378,16 +378,78 @@ void keepUsedPoints(FeatureSegments& f, Pieces pieces)
 
 namespace
 {
+/// The parameters of the closest points of the lines through segments s (a0 + sa u) and t
+/// (b0 + tb w); false where they are parallel (|u x w| <= 1e-12 |u| |w|).
+bool closestParameters(const FeatureSegments& f, std::size_t s, std::size_t t, double& sa, double& tb)
+{
+  const auto& a = f.segments[s];
+  const auto& b = f.segments[t];
+  const Vec3 u = f.points[a[1]] - f.points[a[0]], w = f.points[b[1]] - f.points[b[0]];
+  const Vec3 r = f.points[a[0]] - f.points[b[0]];
+  const double uu = dot(u, u), uw = dot(u, w), ww = dot(w, w), ur = dot(u, r), wr = dot(w, r);
+  const double den = uu * ww - uw * uw; // |u x w|^2
+  if (!(den > 1e-24 * uu * ww))
+    return false;
+  sa = (uw * wr - ww * ur) / den;
+  tb = (uu * wr - uw * ur) / den;
+  return true;
+}
+
+/// Pairs of segments without a shared end that pass within `tolerance` of each other at a point
+/// inside both (farther than `tolerance` from every end), though exact predicates see no contact:
+/// two parts' edges that cross only up to rounding (a 16-gon's side edge 4.4e-16 off the box edge
+/// it crosses). Left alone, the mesher splits both near that place, each split point encroaching the
+/// other segment, down to two vertices 4e-16 apart and flat tetrahedra between them. (Near contacts
+/// at an end are splitAtPointsOnSegments'.)
+std::vector<std::pair<std::size_t, std::size_t>> nearCrossingPairs(const FeatureSegments& f, double tolerance)
+{
+  std::vector<std::pair<std::size_t, std::size_t>> pairs;
+  if (tolerance <= 0)
+    return pairs;
+  std::vector<Box> boxes;
+  boxes.reserve(f.segments.size());
+  for (std::size_t k = 0; k < f.segments.size(); ++k)
+  {
+    const Vec3 &a = f.points[f.segments[k][0]], &b = f.points[f.segments[k][1]];
+    double lo[3] = { std::min(a.x, b.x) - tolerance, std::min(a.y, b.y) - tolerance, std::min(a.z, b.z) - tolerance };
+    double hi[3] = { std::max(a.x, b.x) + tolerance, std::max(a.y, b.y) + tolerance, std::max(a.z, b.z) + tolerance };
+    boxes.emplace_back(lo, hi, k);
+  }
+  CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), [&](const Box& x, const Box& y) {
+    const std::size_t s = x.info(), t = y.info();
+    const auto& a = f.segments[s];
+    const auto& b = f.segments[t];
+    if (a[0] == b[0] || a[0] == b[1] || a[1] == b[0] || a[1] == b[1])
+      return;
+    double sa = 0, tb = 0;
+    if (!closestParameters(f, s, t, sa, tb))
+      return;
+    const double lu = f.length(s), lw = f.length(t);
+    if (!(sa * lu > tolerance && (1 - sa) * lu > tolerance && tb * lw > tolerance && (1 - tb) * lw > tolerance))
+      return;
+    const Vec3 p = f.points[a[0]] + sa * (f.points[a[1]] - f.points[a[0]]);
+    const Vec3 q = f.points[b[0]] + tb * (f.points[b[1]] - f.points[b[0]]);
+    if (norm(p - q) <= tolerance)
+      pairs.emplace_back(std::min(s, t), std::max(s, t));
+  });
+  return pairs;
+}
+
 /// 5. Segments that cross or touch at a point inside one of them split there, so that lines meet
 /// only at shared points: the sharp edges of two parts meeting face to face cross on the shared
 /// face (an X) or end on each other's edges (a T), and each part's vtkFeatureEdges knows nothing
 /// of the other. A T is split at the stem's end (exactly: the end lies on the bar, exact
 /// predicates); an X at a new point, the one nearest both lines. Pieces keep their segment's own
 /// edge size and source. Returns the number of pairs split. Parallel contacts (overlaps the
-/// merge left) are not touched: validate names them.
-std::size_t splitAtCrossings(FeatureSegments& f)
+/// merge left) are not touched: validate names them. Segments crossing within `tolerance`
+/// (nearCrossingPairs) are an X too.
+std::size_t splitAtCrossings(FeatureSegments& f, double tolerance)
 {
-  const std::vector<std::pair<std::size_t, std::size_t>> crossing = f.crossingPairs();
+  std::vector<std::pair<std::size_t, std::size_t>> crossing = f.crossingPairs();
+  const std::vector<std::pair<std::size_t, std::size_t>> near = nearCrossingPairs(f, tolerance);
+  crossing.insert(crossing.end(), near.begin(), near.end());
+  std::sort(crossing.begin(), crossing.end());
+  crossing.erase(std::unique(crossing.begin(), crossing.end()), crossing.end());
   if (crossing.empty())
     return 0;
   std::vector<std::vector<int>> inner(f.segments.size()); // points to split each segment at
@@ -411,11 +473,10 @@ std::size_t splitAtCrossings(FeatureSegments& f)
     if (!tee)
     {
       // the X's point: the closest points of the two lines, halfway
-      const Vec3 r = f.points[a[0]] - f.points[b[0]];
-      const double uu = dot(u, u), uw = dot(u, w), ww = dot(w, w), ur = dot(u, r), wr = dot(w, r);
-      const double den = uu * ww - uw * uw;
-      const double sa = std::clamp((uw * wr - ww * ur) / den, 0.0, 1.0);
-      const double tb = std::clamp((uu * wr - uw * ur) / den, 0.0, 1.0);
+      double sa = 0, tb = 0;
+      closestParameters(f, s, t, sa, tb);
+      sa = std::clamp(sa, 0.0, 1.0);
+      tb = std::clamp(tb, 0.0, 1.0);
       const Vec3 x = 0.5 * ((f.points[a[0]] + sa * u) + (f.points[b[0]] + tb * w));
       const int id = static_cast<int>(f.points.size());
       f.points.push_back(x);
@@ -451,9 +512,10 @@ FeatureMergeCounts mergeFeatureSegments(FeatureSegments& f)
       if (e && !(std::isfinite(*e) && *e >= 0))
         return counts;
   }
-  // after a split, again: an X point may repeat a point of a third line, pieces may overlap
+  // after a split, again: an X point may repeat a point of a third line, pieces may overlap (the
+  // merge steps always run after the last split)
   const double tolerance = samePlaceTolerance(f);
-  for (int round = 0; round < 3; ++round)
+  for (int round = 0;; ++round)
   {
     FeatureMergeCounts c;
     mergeRepeatedPoints(f, tolerance, c);
@@ -474,7 +536,9 @@ FeatureMergeCounts mergeFeatureSegments(FeatureSegments& f)
     if (c.withinRounding && !counts.withinRounding)
       counts.firstWithinRounding = c.firstWithinRounding;
     counts.withinRounding += c.withinRounding;
-    const std::size_t split = splitAtCrossings(f);
+    if (round == 3)
+      break;
+    const std::size_t split = splitAtCrossings(f, tolerance);
     counts.crossings += split;
     if (!split)
       break;
