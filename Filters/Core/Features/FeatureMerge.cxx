@@ -58,6 +58,14 @@ Box pointBox(const FeatureSegments& f, std::size_t i, double tolerance)
   return Box(lo, hi, i);
 }
 
+/// The bounding box of the segment ab grown by `pad` on every side, with `info`.
+Box segmentBox(const Vec3& a, const Vec3& b, std::size_t info, double pad = 0.0)
+{
+  double lo[3] = { std::min(a.x, b.x) - pad, std::min(a.y, b.y) - pad, std::min(a.z, b.z) - pad };
+  double hi[3] = { std::max(a.x, b.x) + pad, std::max(a.y, b.y) + pad, std::max(a.z, b.z) + pad };
+  return Box(lo, hi, info);
+}
+
 /// Each segment split at its `inner` points (in any order; repeats and points at its ends give no
 /// piece), the pieces in order along it with the segment's own edge size and source.
 void splitSegmentsAt(FeatureSegments& f, std::vector<std::vector<int>>& inner)
@@ -185,12 +193,7 @@ void splitAtPointsOnSegments(FeatureSegments& f, double tolerance, FeatureMergeC
     if (used[i])
       points.push_back(pointBox(f, i, tolerance));
   for (std::size_t k = 0; k < f.segments.size(); ++k)
-  {
-    const Vec3 &a = f.points[f.segments[k][0]], &b = f.points[f.segments[k][1]];
-    double lo[3] = { std::min(a.x, b.x), std::min(a.y, b.y), std::min(a.z, b.z) };
-    double hi[3] = { std::max(a.x, b.x), std::max(a.y, b.y), std::max(a.z, b.z) };
-    segments.emplace_back(lo, hi, k);
-  }
+    segments.push_back(segmentBox(f.points[f.segments[k][0]], f.points[f.segments[k][1]], k));
   std::vector<std::vector<int>> inner(f.segments.size()); // points to split each segment at
   CGAL::box_intersection_d(segments.begin(), segments.end(), points.begin(), points.end(),
     [&](const Box& sb, const Box& pb) {
@@ -253,13 +256,7 @@ UnionFind overlapGroups(const FeatureSegments& f, const std::vector<std::array<i
   std::vector<Box> boxes;
   boxes.reserve(unique.size());
   for (std::size_t s = 0; s < unique.size(); ++s)
-  {
-    const Vec3& a = f.points[unique[s][0]];
-    const Vec3& b = f.points[unique[s][1]];
-    double lo[3] = { std::min(a.x, b.x), std::min(a.y, b.y), std::min(a.z, b.z) };
-    double hi[3] = { std::max(a.x, b.x), std::max(a.y, b.y), std::max(a.z, b.z) };
-    boxes.emplace_back(lo, hi, s);
-  }
+    boxes.push_back(segmentBox(f.points[unique[s][0]], f.points[unique[s][1]], s));
   UnionFind groups(unique.size());
   overlaps.assign(unique.size(), false);
   auto check = [&](const Box& x, const Box& y) {
@@ -409,12 +406,7 @@ std::vector<std::pair<std::size_t, std::size_t>> nearCrossingPairs(const Feature
   std::vector<Box> boxes;
   boxes.reserve(f.segments.size());
   for (std::size_t k = 0; k < f.segments.size(); ++k)
-  {
-    const Vec3 &a = f.points[f.segments[k][0]], &b = f.points[f.segments[k][1]];
-    double lo[3] = { std::min(a.x, b.x) - tolerance, std::min(a.y, b.y) - tolerance, std::min(a.z, b.z) - tolerance };
-    double hi[3] = { std::max(a.x, b.x) + tolerance, std::max(a.y, b.y) + tolerance, std::max(a.z, b.z) + tolerance };
-    boxes.emplace_back(lo, hi, k);
-  }
+    boxes.push_back(segmentBox(f.points[f.segments[k][0]], f.points[f.segments[k][1]], k, tolerance));
   CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), [&](const Box& x, const Box& y) {
     const std::size_t s = x.info(), t = y.info();
     const auto& a = f.segments[s];
@@ -458,8 +450,8 @@ std::size_t splitAtCrossings(FeatureSegments& f, double tolerance)
   {
     const auto& a = f.segments[s];
     const auto& b = f.segments[t];
-    const Vec3 u = f.points[a[1]] - f.points[a[0]], w = f.points[b[1]] - f.points[b[0]];
-    if (!(norm(cross(u, w)) > 1e-12 * norm(u) * norm(w)))
+    double sa = 0, tb = 0;
+    if (!closestParameters(f, s, t, sa, tb))
       continue; // parallel: an overlap, not a crossing
     bool tee = false;
     for (const auto& [end, other, at] : { std::tuple{ a, b, t }, std::tuple{ b, a, s } })
@@ -473,11 +465,8 @@ std::size_t splitAtCrossings(FeatureSegments& f, double tolerance)
     if (!tee)
     {
       // the X's point: the closest points of the two lines, halfway
-      double sa = 0, tb = 0;
-      closestParameters(f, s, t, sa, tb);
-      sa = std::clamp(sa, 0.0, 1.0);
-      tb = std::clamp(tb, 0.0, 1.0);
-      const Vec3 x = 0.5 * ((f.points[a[0]] + sa * u) + (f.points[b[0]] + tb * w));
+      const Vec3 u = f.points[a[1]] - f.points[a[0]], w = f.points[b[1]] - f.points[b[0]];
+      const Vec3 x = 0.5 * ((f.points[a[0]] + std::clamp(sa, 0.0, 1.0) * u) + (f.points[b[0]] + std::clamp(tb, 0.0, 1.0) * w));
       const int id = static_cast<int>(f.points.size());
       f.points.push_back(x);
       inner[s].push_back(id);

@@ -12,7 +12,6 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
-#include <limits>
 #include <tuple>
 #include <vector>
 
@@ -42,6 +41,9 @@ public:
     , oracle_(oracle)
     , box_(box)
     , seed_(seed)
+    , coordinateNoise_(1e-30 *
+        std::max({ std::abs(box.min.x), std::abs(box.min.y), std::abs(box.min.z), std::abs(box.max.x),
+          std::abs(box.max.y), std::abs(box.max.z) }))
   {
   }
 
@@ -73,11 +75,8 @@ public:
   /// duplicate vertices).
   Vec3 onCoordinatePlanes(Vec3 p) const
   {
-    const double scale = std::max({ std::abs(box_.min.x), std::abs(box_.min.y), std::abs(box_.min.z),
-      std::abs(box_.max.x), std::abs(box_.max.y), std::abs(box_.max.z) });
-    const double noise = 1e-30 * scale;
     for (int i = 0; i < 3; ++i)
-      if (std::abs(p[i]) < noise)
+      if (std::abs(p[i]) < coordinateNoise_)
         p[i] = 0.0;
     return p;
   }
@@ -255,6 +254,7 @@ private:
   const HierarchicalOracle& oracle_;
   BoundingBox box_;
   unsigned seed_;
+  double coordinateNoise_; ///< onCoordinatePlanes: 1e-30 of the box's largest coordinate
   std::vector<Vec3> avoid_;
 };
 }
