@@ -12,6 +12,7 @@
 #include "InputError.h"
 #include "LabelMapDomain.h"
 #include "SphereDomain.h"
+#include "SurfaceDeviation.h"
 #include "SurfaceDomain.h"
 #include "TriangleSurface.h"
 
@@ -373,17 +374,20 @@ std::shared_ptr<omesh::Domain> OracleBuilder::BuildDomain(vtkDataObject* data, c
   const std::string who = describe(md, where);
   if (md.Kind == "Surface")
   {
-    // Parameters: allow self-intersections (0/1), inside test (0 closed, 1 winding number);
-    // absent in files written before they existed
+    // Parameters: allow self-intersections (0/1), inside test (0 closed, 1 winding number, 2
+    // automatic); absent in files written before they existed (then automatic)
     omesh::SurfaceOptions options;
     if (!md.Parameters.empty())
     {
       expectParameters(md, 2, who);
       options.allowSelfIntersections = md.Parameters[0] != 0;
-      if (md.Parameters[1] != 0 && md.Parameters[1] != 1)
-        throw InputError(who + ": surface inside test " + std::to_string(md.Parameters[1]) +
-          " is not 0 (closed) or 1 (winding number)");
-      options.insideTest = md.Parameters[1] == 1 ? omesh::InsideTest::WindingNumber : omesh::InsideTest::Closed;
+      const double test = md.Parameters[1];
+      if (test != 0 && test != 1 && test != 2)
+        throw InputError(who + ": surface inside test " + std::to_string(test) +
+          " is not 0 (closed), 1 (winding number) or 2 (automatic)");
+      options.insideTest = test == 0 ? omesh::InsideTest::Closed
+        : test == 1                  ? omesh::InsideTest::WindingNumber
+                                     : omesh::InsideTest::Automatic;
     }
     auto d = std::make_shared<omesh::SurfaceDomain>(
       ToTriangleSurface(vtkPolyData::SafeDownCast(data), who), md.MaterialId, who, options);
@@ -512,12 +516,23 @@ std::vector<std::string> OracleBuilder::HiddenDomainWarnings(const omesh::Hierar
   return warnings;
 }
 
-std::vector<std::string> OracleBuilder::DomainWarnings(const omesh::HierarchicalOracle& oracle)
+std::vector<std::string> OracleBuilder::SurfaceWarnings(const omesh::HierarchicalOracle& oracle, const omesh::TetMesh* mesh)
 {
   std::vector<std::string> warnings;
   for (const auto& d : oracle.domains())
     if (const auto* surface = dynamic_cast<const omesh::SurfaceDomain*>(d.get()))
-      warnings.insert(warnings.end(), surface->warnings().begin(), surface->warnings().end());
+      for (const std::string& w : surface->warnings())
+      {
+        const bool measured = mesh && !mesh->tets.empty() && surface->usesWindingNumber() && !surface->isCut();
+        warnings.push_back(
+          measured ? w + "; " + omesh::surfaceDeviation(*mesh, surface->materialId(), *surface).describe() : w);
+      }
+  return warnings;
+}
+
+std::vector<std::string> OracleBuilder::DomainWarnings(const omesh::HierarchicalOracle& oracle)
+{
+  std::vector<std::string> warnings = SurfaceWarnings(oracle);
   for (std::string& w : HiddenDomainWarnings(oracle))
     warnings.push_back(std::move(w));
   return warnings;

@@ -4,6 +4,7 @@
 #include "MeshCriteria.h"
 #include "OracleDomainMetadata.h"
 #include "OracleMeshFiltersModule.h"
+#include "TetMesh.h"
 
 #include <array>
 #include <map>
@@ -103,7 +104,11 @@ public:
   /// the mesh although their input is not empty: `tetsPerMaterial` counts the mesh's tetrahedra.
   static std::vector<std::string> VanishedMaterialWarnings(
     const omesh::HierarchicalOracle& oracle, const std::map<int, std::size_t>& tetsPerMaterial);
-  /// The domains' own warnings (the holes a winding-number surface closes), then
-  /// HiddenDomainWarnings.
+  /// The domains' own warnings (what a surface's inside test repaired), then HiddenDomainWarnings.
   static std::vector<std::string> DomainWarnings(const omesh::HierarchicalOracle& oracle);
+  /// The surface domains' own warnings (what their inside test repaired: holes, non-manifold
+  /// edges, intersecting triangles), each of a winding-number surface followed, given the mesh, by
+  /// how far its material's boundary and the input surface lie apart (SurfaceDeviation).
+  static std::vector<std::string> SurfaceWarnings(
+    const omesh::HierarchicalOracle& oracle, const omesh::TetMesh* mesh = nullptr);
 };

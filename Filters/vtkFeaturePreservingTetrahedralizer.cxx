@@ -369,7 +369,7 @@ void vtkFeaturePreservingTetrahedralizer::GatherInputs(vtkInformationVector** in
     run.notes.push_back(text + "; " + std::to_string(run.features.segments.size()) + " segments remain");
   }
 
-  for (const std::string& w : OracleBuilder::DomainWarnings(*run.oracle))
+  for (const std::string& w : OracleBuilder::HiddenDomainWarnings(*run.oracle))
     run.notes.push_back(w);
   run.inputNotes = OracleBuilder::InputPlacementWarnings(*run.oracle);
   // The merge rule of MeshCriteria.h: global < the domains' own < this filter's table.
@@ -474,6 +474,9 @@ void vtkFeaturePreservingTetrahedralizer::AssembleOutputs(MeshingRun& run, vtkIn
     ++tetsPerMaterial[m];
   for (const std::string& w : OracleBuilder::VanishedMaterialWarnings(*run.oracle, tetsPerMaterial))
     run.inputNotes.push_back(w);
+  // what the surfaces' inside tests repaired, measured on the mesh (--strict fails on these)
+  const std::vector<std::string> repairs = OracleBuilder::SurfaceWarnings(*run.oracle, &run.mesh);
+  run.inputNotes.insert(run.inputNotes.begin(), repairs.begin(), repairs.end());
   run.notes.insert(run.notes.end(), run.inputNotes.begin(), run.inputNotes.end());
   run.mesh.warnings.insert(run.mesh.warnings.begin(), run.notes.begin(), run.notes.end());
   for (const auto& w : run.mesh.warnings)

@@ -81,9 +81,9 @@ int vtkSurfaceDomain::RequestData(
         << " must be between 0 and 1 (a fraction of the bounding-box diagonal)";
       throw omesh::InputError(o.str());
     }
-    if (this->InsideTest != CLOSED && this->InsideTest != WINDING_NUMBER)
+    if (this->InsideTest != CLOSED && this->InsideTest != WINDING_NUMBER && this->InsideTest != AUTOMATIC)
       throw omesh::InputError(who + ": InsideTest " + std::to_string(this->InsideTest) +
-        " is not one of 0 (Closed) and 1 (WindingNumber)");
+        " is not one of 0 (Closed), 1 (WindingNumber) and 2 (Automatic)");
     if (input->GetNumberOfPoints() == 0)
       throw omesh::InputError(who + ": surface is empty (no points)");
     // Refuse NaN and absurd coordinates before any filter computes bounds or tolerances from them.
@@ -109,7 +109,11 @@ int vtkSurfaceDomain::RequestData(
     surface = merge->GetOutput();
     // Validate here, where the user connected the surface, not later inside the mesher.
     const omesh::TriangleSurface triangles = OracleBuilder::ToTriangleSurface(surface, who);
-    if (this->InsideTest == WINDING_NUMBER)
+    // Automatic: what the surface lacks is found once, where the oracle builds it (its warning
+    // reaches the mesher's input warnings); here only what no inside test can work with.
+    if (this->InsideTest == AUTOMATIC)
+      triangles.validateTriangles(who);
+    else if (this->InsideTest == WINDING_NUMBER)
     {
       triangles.validateTriangles(who);
       const std::vector<omesh::BorderLoop> loops = triangles.borderLoops();
@@ -119,7 +123,7 @@ int vtkSurfaceDomain::RequestData(
     }
     else
       triangles.validateClosed(who);
-    if (!this->AllowSelfIntersections)
+    if (this->InsideTest != AUTOMATIC && !this->AllowSelfIntersections)
       omesh::refuseSelfIntersections(triangles, who);
   }
   catch (const omesh::InputError& e)

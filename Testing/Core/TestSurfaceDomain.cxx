@@ -124,9 +124,11 @@ TEST(SurfaceDomain, OpenOrBrokenSurfacesAreRejectedNamingTheEdges)
 {
   TriangleSurface open = test::cube(0, 1);
   open.triangles.pop_back(); // one missing triangle: three open edges
+  SurfaceOptions closed;
+  closed.insideTest = InsideTest::Closed;
   try
   {
-    SurfaceDomain s(open, 1, "implant");
+    SurfaceDomain s(open, 1, "implant", closed);
     ADD_FAILURE() << "open surface accepted";
   }
   catch (const InputError& e)

@@ -56,6 +56,13 @@ std::string errorOf(const std::function<void()>& f)
   return "";
 }
 
+SurfaceOptions closedTest()
+{
+  SurfaceOptions o;
+  o.insideTest = InsideTest::Closed;
+  return o;
+}
+
 SurfaceOptions winding(bool allowSelfIntersections = false)
 {
   SurfaceOptions o;
@@ -76,7 +83,7 @@ TEST(SurfaceSelfIntersections, OverlappingCubesAreRefusedWithTheFirstPair)
     EXPECT_LT(a, 12); // one triangle of each cube
     EXPECT_GE(b, 12);
   }
-  const std::string e = errorOf([&] { SurfaceDomain d(s, 1, "implant"); });
+  const std::string e = errorOf([&] { SurfaceDomain d(s, 1, "implant", closedTest()); });
   EXPECT_NE(e.find("implant"), std::string::npos) << e;
   EXPECT_NE(e.find("intersects itself"), std::string::npos) << e;
   EXPECT_NE(e.find("triangle " + std::to_string(pairs[0].first) + " ("), std::string::npos) << e;
@@ -92,7 +99,7 @@ TEST(SurfaceSelfIntersections, OverlappingCubesAreRefusedWithTheFirstPair)
 TEST(SurfaceSelfIntersections, AllowedSelfIntersectionsAreMeshableWithEitherTest)
 {
   const TriangleSurface s = merged(test::cube(0, 2), test::cube(1, 3));
-  SurfaceOptions allow;
+  SurfaceOptions allow = closedTest();
   allow.allowSelfIntersections = true;
   SurfaceDomain parity(s, 1, "cubes", allow);
   EXPECT_EQ(parity.material({ 0.5, 0.5, 0.5 }), 1);
@@ -151,7 +158,7 @@ TEST(SurfaceHoles, ClosedTestRefusesAHoleNamingItsSizeAndPlace)
   EXPECT_NEAR(loops[0].centre.x, 0.0, 0.2);
   EXPECT_NEAR(loops[0].centre.y, 0.0, 0.2);
   EXPECT_GT(loops[0].centre.z, 9.0);
-  const std::string e = errorOf([&] { SurfaceDomain d(s, 1, "skull"); });
+  const std::string e = errorOf([&] { SurfaceDomain d(s, 1, "skull", closedTest()); });
   EXPECT_NE(e.find("skull"), std::string::npos) << e;
   EXPECT_NE(e.find("not closed"), std::string::npos) << e;
   EXPECT_NE(e.find("1 hole(s) (border loops)"), std::string::npos) << e;
@@ -288,4 +295,176 @@ TEST(SurfaceHoles, SphereWithAHoleMeshesToTheClosedSphereVolume)
   const TriangleSurface open = sphereWithHole(10.0, 4, 9.9);
   ASSERT_EQ(open.borderLoops().size(), 1u);
   EXPECT_NEAR(volumeOf(open, winding()), reference, 0.02 * reference);
+}
+
+namespace
+{
+/// Every triangle its own three points (an unwelded soup, as STL files are), moved at random by up
+/// to `jitter`.
+TriangleSurface soupOf(const TriangleSurface& s, double jitter, unsigned seed)
+{
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-jitter, jitter);
+  TriangleSurface soup;
+  for (const auto& t : s.triangles)
+  {
+    const int first = static_cast<int>(soup.points.size());
+    for (int v : t)
+      soup.points.push_back(s.points[v] + Vec3{ u(rng), u(rng), u(rng) });
+    soup.triangles.push_back({ first, first + 1, first + 2 });
+  }
+  return soup;
+}
+
+/// Fraction of `n` random points in the box around `a` where both domains answer alike.
+double agreement(const SurfaceDomain& a, const SurfaceDomain& b, int n, unsigned seed)
+{
+  const BoundingBox box = a.bounds();
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(0, 1);
+  int same = 0;
+  for (int i = 0; i < n; ++i)
+  {
+    const Vec3 p = box.min + Vec3{ u(rng) * box.size().x, u(rng) * box.size().y, u(rng) * box.size().z };
+    same += a.material(p) == b.material(p);
+  }
+  return static_cast<double>(same) / n;
+}
+}
+
+TEST(SurfaceAutomatic, CleanSurfacesKeepTheExactTestWithoutAWord)
+{
+  for (const TriangleSurface& s : { test::icosphere({ 0.3, -0.2, 0.1 }, 2.0, 3), test::lPrism(1.5, { 0.1, -2, 0.2 }), test::cube(-1, 1) })
+  {
+    SurfaceDomain automatic(s, 2, "part");
+    SurfaceDomain parity(s, 2, "part", closedTest());
+    EXPECT_FALSE(automatic.usesWindingNumber());
+    EXPECT_TRUE(automatic.warnings().empty());
+    EXPECT_EQ(agreement(automatic, parity, 4000, 3), 1.0);
+  }
+}
+
+TEST(SurfaceAutomatic, HolesAreClosedByTheWindingNumberWithTheirPlaceInAWarning)
+{
+  const TriangleSurface s = sphereWithHole(10.0, 4, 9.9);
+  SurfaceDomain d(s, 1, "skull");
+  EXPECT_TRUE(d.usesWindingNumber());
+  ASSERT_EQ(d.warnings().size(), 1u);
+  const std::string& w = d.warnings()[0];
+  EXPECT_NE(w.find("skull"), std::string::npos) << w;
+  EXPECT_NE(w.find("1 hole(s) (border loops)"), std::string::npos) << w;
+  EXPECT_NE(w.find("winding number"), std::string::npos) << w;
+  EXPECT_EQ(d.material({ 0, 0, 0 }), 1);
+  EXPECT_EQ(d.material({ 0, 0, 9.8 }), 1); // under the hole, inside the closed sphere's surface
+  EXPECT_EQ(d.material({ 0, 0, 10.5 }), kOutside);
+  EXPECT_EQ(d.material({ 11, 0, 0 }), kOutside);
+}
+
+TEST(SurfaceAutomatic, OverlappingShellsAreTheirUnionAndTheWarningNamesAPair)
+{
+  const TriangleSurface s = merged(test::cube(0, 2), test::cube(1, 3));
+  SurfaceDomain d(s, 1, "shells");
+  EXPECT_TRUE(d.usesWindingNumber());
+  ASSERT_EQ(d.warnings().size(), 1u);
+  const std::string& w = d.warnings()[0];
+  EXPECT_NE(w.find("pair(s) of intersecting triangles"), std::string::npos) << w;
+  const auto pairs = selfIntersections(s);
+  ASSERT_FALSE(pairs.empty());
+  EXPECT_NE(w.find("triangle " + std::to_string(pairs[0].first) + " ("), std::string::npos) << w;
+  for (const Vec3& p : { Vec3{ 0.5, 0.5, 0.5 }, Vec3{ 1.5, 1.5, 1.5 }, Vec3{ 2.5, 2.5, 2.5 } })
+    EXPECT_EQ(d.material(p), 1) << p.x;
+  EXPECT_EQ(d.material({ 0.5, 2.5, 0.5 }), kOutside);
+}
+
+TEST(SurfaceAutomatic, BoxesSharingAnEdgeAreNamedNonManifoldAndBothInside)
+{
+  // two unit cubes welded along the edge x = y = 1 (4 triangles on it)
+  TriangleSurface a = test::cube(0, 1), b = test::cube(0, 1);
+  for (Vec3& p : b.points)
+    p = p + Vec3{ 1, 1, 0 };
+  TriangleSurface s = merged(a, b);
+  // weld b's points onto a's where they coincide
+  for (auto& t : s.triangles)
+    for (int& v : t)
+      for (int u = 0; u < v; ++u)
+        if (s.points[u].x == s.points[v].x && s.points[u].y == s.points[v].y && s.points[u].z == s.points[v].z)
+        {
+          v = u;
+          break;
+        }
+  SurfaceDomain d(s, 1, "boxes");
+  ASSERT_EQ(d.warnings().size(), 1u);
+  EXPECT_NE(d.warnings()[0].find("non-manifold edge"), std::string::npos) << d.warnings()[0];
+  EXPECT_EQ(d.material({ 0.5, 0.5, 0.5 }), 1);
+  EXPECT_EQ(d.material({ 1.5, 1.5, 0.5 }), 1);
+  EXPECT_EQ(d.material({ 1.5, 0.5, 0.5 }), kOutside);
+  EXPECT_EQ(d.material({ 0.5, 1.5, 0.5 }), kOutside);
+}
+
+TEST(SurfaceAutomatic, UnweldedSoupsAreMeshedAsTheSolidTheyTrace)
+{
+  // beyond any weld: every triangle alone, its corners moved by 1e-6 of the radius; orientation
+  // as given (outward), and with the whole soup given inside out (turned: the same solid)
+  const TriangleSurface sphere = test::icosphere({ 0, 0, 0 }, 5.0, 3);
+  SurfaceDomain reference(sphere, 1, "sphere", closedTest());
+  for (bool inward : { false, true })
+  {
+    TriangleSurface soup = soupOf(sphere, 5e-6, 11);
+    if (inward)
+      for (auto& t : soup.triangles)
+        std::swap(t[1], t[2]);
+    SurfaceDomain d(soup, 1, "soup");
+    EXPECT_TRUE(d.usesWindingNumber());
+    ASSERT_EQ(d.warnings().size(), 1u);
+    EXPECT_GT(agreement(d, reference, 4000, 5), 0.999) << inward;
+  }
+}
+
+TEST(SurfaceAutomatic, SurfacesThatEncloseNoVolumeAreRefusedSayingSo)
+{
+  TriangleSurface patch;
+  patch.points = { { 0, 0, 0 }, { 1, 0, 0 }, { 1, 1, 0 }, { 0, 1, 0 } };
+  patch.triangles = { { 0, 1, 2 }, { 0, 2, 3 } };
+  for (bool flip : { false, true })
+  {
+    if (flip)
+      for (auto& t : patch.triangles)
+        std::swap(t[1], t[2]);
+    const std::string e = errorOf([&] { SurfaceDomain d(patch, 1, "plate"); });
+    EXPECT_NE(e.find("plate: surface encloses no volume"), std::string::npos) << e;
+    EXPECT_NE(errorOf([&] { SurfaceDomain d(patch, 1, "plate", winding()); }).find("encloses no volume"), std::string::npos);
+  }
+  // a bowl (a hemisphere) does enclose a volume: the winding number closes it
+  EXPECT_NO_THROW(SurfaceDomain(sphereWithHole(3.0, 3, 0.0), 1, "bowl"));
+}
+
+TEST(SurfaceAutomatic, GridAnswersAreTheExactWindingNumbers)
+{
+  // the grid's answers (carried from cell to cell with the gradient bound) against the winding
+  // number itself, at random points and at points just off the triangles
+  const std::vector<TriangleSurface> surfaces{ sphereWithHole(10.0, 4, 9.0), merged(test::cube(0, 2), test::cube(1, 3)),
+    soupOf(test::icosphere({ 0, 0, 0 }, 5.0, 3), 5e-6, 2), merged(sphereWithHole(10.0, 3, 9.8), test::icosphere({ 0, 0, 0 }, 5.0, 3)) };
+  std::mt19937 rng(23);
+  for (size_t s = 0; s < surfaces.size(); ++s)
+  {
+    SurfaceDomain d(surfaces[s], 1, "dirty");
+    ASSERT_TRUE(d.usesWindingNumber());
+    const BoundingBox b = d.bounds();
+    std::uniform_real_distribution<double> u(0, 1), small(-1e-3, 1e-3);
+    int inside = 0;
+    for (int n = 0; n < 20000; ++n)
+    {
+      Vec3 p = b.min + Vec3{ u(rng) * b.size().x, u(rng) * b.size().y, u(rng) * b.size().z };
+      if (n % 2)
+      {
+        const auto& t = surfaces[s].triangles[rng() % surfaces[s].triangles.size()];
+        p = (1.0 / 3.0) * (surfaces[s].points[t[0]] + surfaces[s].points[t[1]] + surfaces[s].points[t[2]]) +
+          Vec3{ small(rng), small(rng), small(rng) };
+      }
+      const bool exact = d.containsExact(p);
+      ASSERT_EQ(d.material(p) == 1, exact) << s << ": " << p.x << " " << p.y << " " << p.z;
+      inside += exact;
+    }
+    EXPECT_GT(inside, 2000) << s;
+  }
 }

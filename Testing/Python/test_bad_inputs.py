@@ -16,6 +16,8 @@ import time
 import unittest
 
 import oraclemesh as om
+from oraclemesh import fieldkeys
+from oraclemesh.fielddata import strings
 from vtkmodules.vtkCommonCore import vtkIntArray, vtkPoints
 from vtkmodules.vtkCommonDataModel import vtkCellArray, vtkImageData, vtkPolyData
 from vtkmodules.vtkFiltersSources import vtkCubeSource, vtkSphereSource
@@ -364,6 +366,21 @@ def case_surface_with_hole(tmp, **domain):
     return ["mesh", surface_scene(tmp, "holed", path, **domain), "-o", os.path.join(tmp, "holed.vtu")]
 
 
+def case_open_patch(tmp):
+    """A lone square (two triangles): nothing inside whatever the inside test."""
+    pts = vtkPoints()
+    for p in ((0, 0, 0), (4, 0, 0), (4, 4, 0), (0, 4, 0)):
+        pts.InsertNextPoint(*p)
+    cells = vtkCellArray()
+    cells.InsertNextCell(3, [0, 1, 2])
+    cells.InsertNextCell(3, [0, 2, 3])
+    pd = vtkPolyData()
+    pd.SetPoints(pts)
+    pd.SetPolys(cells)
+    path = write_vtp(os.path.join(tmp, "patch.vtp"), pd)
+    return ["mesh", surface_scene(tmp, "patch", path), "-o", os.path.join(tmp, "patch.vtu")]
+
+
 def case_tiny_facets(tmp):
     """Facet size 1e-9 ran for hours (3 GB with the default budget): ends at --time-limit."""
     # a budget the clock reaches first, small enough for the memory check on any machine (below)
@@ -411,11 +428,21 @@ CLI_CASES = {
     "unwelded triangle soup accepted": (case_unwelded_surface, 0, ["wrote"]),
     "overlapping feature segments merged": (case_overlapping_features, 0, ["warning", "merged", "duplicate"]),
     "hidden domain warned": (case_hidden_domain, 0, ["warning", "'hidden ball'", "hidden"]),
-    "self-intersecting surface": (case_self_intersecting, 2,
-                                  ["'part'", "intersects itself", "first: triangle", "allow_self_intersections"]),
+    "self-intersecting surface, closed test": (lambda tmp: case_self_intersecting(tmp, inside_test="closed"), 2,
+                                               ["'part'", "intersects itself", "first: triangle",
+                                                "allow_self_intersections"]),
+    "self-intersecting surface, automatic": (case_self_intersecting, 0,
+                                             ["warning", "'part'", "intersecting triangles", "first: triangle",
+                                              "winding number", "wrote"]),
+    "self-intersecting surface, automatic, strict": (lambda tmp: case_self_intersecting(tmp) + ["--strict"], 3,
+                                                     ["intersecting triangles", "--strict"]),
     "self-intersecting surface allowed": (lambda tmp: case_self_intersecting(tmp, allow_self_intersections=True),
                                           0, ["wrote"]),
-    "surface with a hole": (case_surface_with_hole, 2, ["'part'", "not closed", "1 hole(s)", "length", "winding"]),
+    "surface with a hole, closed test": (lambda tmp: case_surface_with_hole(tmp, inside_test="closed"), 2,
+                                         ["'part'", "not closed", "1 hole(s)", "length", "winding"]),
+    "surface with a hole, automatic": (case_surface_with_hole, 0, ["warning", "'part'", "1 hole(s)", "length",
+                                                                   "winding number", "wrote"]),
+    "open patch encloses no volume": (case_open_patch, 2, ["'part'", "encloses no volume", "open patch"]),
     "surface with a hole, winding number": (lambda tmp: case_surface_with_hole(tmp, inside_test="winding_number"),
                                             0, ["warning", "'part'", "1 hole(s)", "wrote"]),
     "unknown inside test": (lambda tmp: case_surface_with_hole(tmp, inside_test="parity"), 2,
@@ -588,6 +615,7 @@ class PythonApi(unittest.TestCase):
         """AllowSelfIntersections and InsideTest on vtkSurfaceDomain reach the oracle (a mesh)."""
         cubes = om.vtkSurfaceDomain()
         cubes.SetInputData(overlapping_cubes())
+        cubes.SetInsideTestToClosed()
         self.assertRefused(cubes, "intersects itself", "first: triangle")
         cubes.AllowSelfIntersectionsOn()
         cubes.SetInsideTestToWindingNumber()
@@ -595,11 +623,20 @@ class PythonApi(unittest.TestCase):
         self.assertGreater(grid.GetNumberOfCells(), 0)
         holed = om.vtkSurfaceDomain()
         holed.SetInputData(sphere_with_hole())
+        holed.SetInsideTestToClosed()
         self.assertRefused(holed, "not closed", "1 hole(s)")
         holed.SetInsideTestToWindingNumber()
         mesher = self.mesher(self.oracle(holed), cell=1.0)
         grid = om.update(mesher)
         self.assertGreater(grid.GetNumberOfCells(), 0)
+        # the default, automatic, meshes both and says what it repaired in the input warnings
+        for domain, words in ((cubes, "intersecting triangles"), (holed, "1 hole(s)")):
+            domain.SetInsideTestToAutomatic()
+            domain.AllowSelfIntersectionsOff()
+            grid = om.update(self.mesher(self.oracle(domain), cell=1.0))
+            self.assertGreater(grid.GetNumberOfCells(), 0)
+            warnings = strings(grid.GetFieldData(), fieldkeys.INPUT_WARNINGS)
+            self.assertTrue(any(words in w and "winding number" in w for w in warnings), warnings)
 
     def test_sampler_memory_and_abort(self):
         sampler = om.vtkOracleSampler()

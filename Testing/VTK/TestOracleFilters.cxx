@@ -437,6 +437,7 @@ TEST(OracleFilters, BadInputGivesClearErrors)
   vtkNew<vtkSurfaceDomain> openDomain;
   openDomain->SetInputData(open);
   openDomain->SetMaterialName("implant");
+  openDomain->SetInsideTestToClosed(); // the default, automatic, takes it
   expectError(openDomain, "vtkSurfaceDomain 'implant': surface is not closed: 3 open edge(s)");
 
   vtkNew<vtkCubeSource> cube; // quads, each face with its own 4 corners: triangulated and welded

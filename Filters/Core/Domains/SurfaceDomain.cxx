@@ -5,6 +5,7 @@
 #include "InputError.h"
 #include "OrientedTriangles.h"
 #include "SelfIntersections.h"
+#include "SurfaceDefects.h"
 #include "WindingNumber.h"
 
 #include <CGAL/AABB_face_graph_triangle_primitive.h>
@@ -26,6 +27,8 @@
 #include <deque>
 #include <numeric>
 #include <optional>
+#include <sstream>
+#include <unordered_map>
 
 namespace omesh
 {
@@ -85,6 +88,19 @@ struct SurfaceDomain::Impl
   // (written before referenceSide, which is stored with release)
   std::unique_ptr<std::atomic<int8_t>[]> referenceOrientation;
   double cellEps = 0.0; // the cells' enlargement when their triangles were listed
+  // The winding number on the same grid: w at every cell's reference point within a known error,
+  // and a bound of |grad w| over the cell. Off the surface |grad w| is bounded by the border alone
+  // (WindingNumber::gradientBound; 0 for closed pieces), and w changes by +-1 where a segment
+  // crosses a triangle. So w(p) = w(reference) + the signed crossings of the segment between them
+  // (+1 entering a triangle from its front), within the reference's error plus the bound times the
+  // segment's length; found for all cells at once by a breadth-first walk over face neighbours
+  // (buildWindingGrid), evaluated exactly where the error would grow too large or a crossing is
+  // degenerate.
+  std::vector<double> windingAtReference;
+  std::vector<float> windingError, windingSlope;
+  /// Signed crossings of segment from-to with the triangles of cells c (and d, unless it is c);
+  /// nothing when an end lies on a triangle's plane or the segment passes through an edge.
+  std::optional<int> signedCrossings(const Point& from, const Point& to, size_t c, size_t d) const;
 
   bool exact(const Vec3& p) const
   {
@@ -94,6 +110,15 @@ struct SurfaceDomain::Impl
   }
   /// Where the winding number passes 1/2 between the triangle hits of segment ab (across holes).
   void windingCrossings(const Vec3& a, const Vec3& b, std::vector<double>& ts, size_t firstHit) const;
+  /// w at parameter t of a segment, within `error`.
+  struct Sample
+  {
+    double t = 0.0, w = 0.0, error = 0.0;
+  };
+  /// The passes of w through 1/2 on the piece [lo.t, hi.t] of ab, where no triangle crosses it:
+  /// none where the gradient bound rules them out, else halves (three times at most) and bisects a
+  /// change of side.
+  void passes(const Vec3& a, const Vec3& b, double length, Sample lo, Sample hi, int depth, std::vector<double>& ts) const;
   size_t cellIndex(int i, int j, int k) const
   {
     return static_cast<size_t>(i) + static_cast<size_t>(n[0]) * (static_cast<size_t>(j) + static_cast<size_t>(n[1]) * k);
@@ -111,6 +136,24 @@ struct SurfaceDomain::Impl
   std::optional<bool> crossesOddly(const Point& from, const Point& to, size_t c, bool toIsReference = false) const;
   /// The side of the cell's reference point (kReferenceUnusable where no query could use it).
   uint8_t findReferenceSide(int i, int j, int k) const;
+  /// The winding number at p, evaluated (`error` 0).
+  double evaluate(const Vec3& p, double& error) const
+  {
+    error = 0.0;
+    return (*winding)(p);
+  }
+  /// The winding number at p from its cell's data, within `error` (0 where it evaluated it).
+  double windingEstimate(const Vec3& p, double& error) const;
+  /// w(p) > 1/2: from the estimate where its error allows, else evaluated.
+  bool windingInside(const Vec3& p) const;
+  BoundingBox cellBox(int i, int j, int k, double grow) const
+  {
+    BoundingBox b;
+    b.add(Vec3{ origin.x + i * cell.x - grow, origin.y + j * cell.y - grow, origin.z + k * cell.z - grow });
+    b.add(Vec3{ origin.x + (i + 1) * cell.x + grow, origin.y + (j + 1) * cell.y + grow, origin.z + (k + 1) * cell.z + grow });
+    return b;
+  }
+  void buildWindingGrid(size_t numTriangles);
   void buildGrid(size_t numTriangles);
   void sizeGrid(size_t numTriangles);
   void markBoundaryCells();
@@ -194,6 +237,132 @@ std::optional<bool> SurfaceDomain::Impl::localSide(const Vec3& p, int i, int j, 
   if (!odd)
     return std::nullopt;
   return (reference == kReferenceInside) != *odd;
+}
+
+std::optional<int> SurfaceDomain::Impl::signedCrossings(const Point& from, const Point& to, size_t c, size_t d) const
+{
+  int count = 0;
+  for (int pass = 0; pass < (d == c ? 1 : 2); ++pass)
+  {
+    const size_t cellOf = pass == 0 ? c : d;
+    for (uint32_t t = cellFirst[cellOf]; t < cellFirst[cellOf + 1]; ++t)
+    {
+      const uint32_t id = cellTriangles[t];
+      if (pass == 1 && std::find(cellTriangles.begin() + cellFirst[c], cellTriangles.begin() + cellFirst[c + 1], id) !=
+            cellTriangles.begin() + cellFirst[c + 1])
+        continue; // listed in both cells: counted once
+      const auto& [a, b, e] = triangles[id];
+      const CGAL::Orientation of = CGAL::orientation(a, b, e, from);
+      const CGAL::Orientation ot = CGAL::orientation(a, b, e, to);
+      if (of == CGAL::COPLANAR || ot == CGAL::COPLANAR)
+        return std::nullopt;
+      if (of == ot)
+        continue;
+      const CGAL::Orientation e0 = CGAL::orientation(from, to, a, b);
+      const CGAL::Orientation e1 = CGAL::orientation(from, to, b, e);
+      const CGAL::Orientation e2 = CGAL::orientation(from, to, e, a);
+      if (e0 == CGAL::COPLANAR || e1 == CGAL::COPLANAR || e2 == CGAL::COPLANAR)
+        return std::nullopt; // through an edge or a vertex
+      if (e0 == e1 && e1 == e2)
+        count += of == CGAL::POSITIVE ? 1 : -1; // from the front to the back: entering
+    }
+  }
+  return count;
+}
+
+double SurfaceDomain::Impl::windingEstimate(const Vec3& p, double& error) const
+{
+  const int i = std::clamp(static_cast<int>((p.x - origin.x) * invCell.x), 0, n[0] - 1);
+  const int j = std::clamp(static_cast<int>((p.y - origin.y) * invCell.y), 0, n[1] - 1);
+  const int k = std::clamp(static_cast<int>((p.z - origin.z) * invCell.z), 0, n[2] - 1);
+  // the segment to the reference point must stay in the (enlarged) cell whose triangles are listed
+  const Vec3 lo{ origin.x + i * cell.x, origin.y + j * cell.y, origin.z + k * cell.z };
+  for (int a = 0; a < 3; ++a)
+    if (!(p[a] >= lo[a] - 0.5 * cellEps && p[a] <= lo[a] + cell[a] + 0.5 * cellEps))
+    {
+      return evaluate(p, error);
+    }
+  const size_t c = cellIndex(i, j, k);
+  const Vec3 r = referencePoint(i, j, k);
+  double w = windingAtReference[c];
+  if (state[c] == kCellBoundary)
+  {
+    const std::optional<int> crossed = signedCrossings(toCgal(r), toCgal(p), c, c);
+    if (!crossed)
+      return evaluate(p, error);
+    w += *crossed;
+  }
+  error = windingError[c] + windingSlope[c] * norm(p - r);
+  return w;
+}
+
+bool SurfaceDomain::Impl::windingInside(const Vec3& p) const
+{
+  double error = 0.0;
+  const double w = windingEstimate(p, error);
+  if (std::abs(w - 0.5) > error)
+    return w > 0.5;
+  return (*winding)(p) > 0.5;
+}
+
+void SurfaceDomain::Impl::buildWindingGrid(size_t numTriangles)
+{
+  sizeGrid(numTriangles);
+  markBoundaryCells();
+  const size_t cells = state.size();
+  windingAtReference.assign(cells, 0.0);
+  windingError.assign(cells, std::numeric_limits<float>::infinity());
+  windingSlope.assign(cells, 0.0f);
+  if (winding->hasBorder())
+    for (int k = 0; k < n[2]; ++k)
+      for (int j = 0; j < n[1]; ++j)
+        for (int i = 0; i < n[0]; ++i)
+          windingSlope[cellIndex(i, j, k)] = static_cast<float>(winding->gradientBound(cellBox(i, j, k, cellEps)));
+  // Walk from cell 0, carrying w across faces; an evaluation restarts the error where it would pass
+  // kMaxError and come within kMaxError of 1/2 (near holes), or at a degenerate crossing.
+  constexpr float kMaxError = 0.2f;
+  std::vector<char> seen(cells, 0);
+  std::deque<size_t> queue{ 0 };
+  seen[0] = 1;
+  double error0 = 0.0;
+  windingAtReference[0] = evaluate(referencePoint(0, 0, 0), error0);
+  windingError[0] = static_cast<float>(error0);
+  while (!queue.empty())
+  {
+    const size_t c = queue.front();
+    queue.pop_front();
+    const int ci = static_cast<int>(c % n[0]);
+    const int cj = static_cast<int>((c / n[0]) % n[1]);
+    const int ck = static_cast<int>(c / (static_cast<size_t>(n[0]) * n[1]));
+    const Vec3 from = referencePoint(ci, cj, ck);
+    const int nb[6][3] = { { ci - 1, cj, ck }, { ci + 1, cj, ck }, { ci, cj - 1, ck }, { ci, cj + 1, ck },
+      { ci, cj, ck - 1 }, { ci, cj, ck + 1 } };
+    for (const auto& q : nb)
+    {
+      if (q[0] < 0 || q[1] < 0 || q[2] < 0 || q[0] >= n[0] || q[1] >= n[1] || q[2] >= n[2])
+        continue;
+      const size_t d = cellIndex(q[0], q[1], q[2]);
+      if (seen[d])
+        continue;
+      seen[d] = 1;
+      queue.push_back(d);
+      const Vec3 to = referencePoint(q[0], q[1], q[2]);
+      const float error = windingError[c] + std::max(windingSlope[c], windingSlope[d]) * static_cast<float>(norm(to - from));
+      const std::optional<int> crossed = signedCrossings(toCgal(from), toCgal(to), c, d);
+      // the error may grow while it cannot take w across 1/2 (far from holes w stays near 0 or 1)
+      if (crossed && error <= std::max(kMaxError, static_cast<float>(std::abs(windingAtReference[c] + *crossed - 0.5)) - kMaxError))
+      {
+        windingAtReference[d] = windingAtReference[c] + *crossed;
+        windingError[d] = error;
+      }
+      else
+      {
+        double evaluated = 0.0;
+        windingAtReference[d] = evaluate(to, evaluated);
+        windingError[d] = static_cast<float>(evaluated);
+      }
+    }
+  }
 }
 
 void SurfaceDomain::Impl::buildGrid(size_t numTriangles)
@@ -322,11 +491,14 @@ void SurfaceDomain::Impl::classifyFreeCells()
 namespace
 {
 /// Orients every connected component of an oriented soup for the winding number:
-/// orient_polygon_soup makes each component consistent but picks its side at random. A component
-/// is turned to bound a positive volume, then flipped again if it lies inside an odd number of
-/// other components (the inner wall of a hollow part bounds a cavity: its triangles face inward).
-/// Nesting is tested for up to 64 components (beyond, all face outward).
-void orientComponentsForWinding(TriangleSurface& soup)
+/// orient_polygon_soup makes each component consistent but picks its side at random. A closed
+/// component is turned to bound a positive volume, then flipped again if it lies inside an odd
+/// number of other components (the inner wall of a hollow part bounds a cavity: its triangles face
+/// inward). An open one (a patch, a piece of an unwelded soup, down to a lone triangle) bounds no
+/// volume to go by: it takes the side most of its area had in the input (`input`, whose triangle i
+/// is soup's triangle i), then all open pieces together the side that bounds a positive volume
+/// (pieces of one solid stay consistent, a soup given inside out is turned). Nesting is tested for up to 64 components (beyond, all face outward).
+void orientComponentsForWinding(TriangleSurface& soup, const TriangleSurface& input)
 {
   const std::vector<Vec3>& points = soup.points;
   std::vector<std::array<int, 3>>& polygons = soup.triangles;
@@ -344,21 +516,55 @@ void orientComponentsForWinding(TriangleSurface& soup)
   for (const auto& poly : polygons)
     for (std::size_t v : poly)
       boxes[find(poly[0])].add(points[v]);
-  std::vector<double> volume(points.size(), 0.0);
-  for (const auto& poly : polygons)
+  // a component is open when one of its edges is used once
+  std::vector<char> open(points.size(), 0);
   {
+    std::unordered_map<uint64_t, int> edgeUse;
+    edgeUse.reserve(polygons.size() * 2);
+    auto key = [](int a, int b) { return (static_cast<uint64_t>(std::min(a, b)) << 32) | static_cast<uint64_t>(std::max(a, b)); };
+    for (const auto& poly : polygons)
+      for (int e = 0; e < 3; ++e)
+        ++edgeUse[key(poly[e], poly[(e + 1) % 3])];
+    for (const auto& poly : polygons)
+      for (int e = 0; e < 3; ++e)
+        if (edgeUse[key(poly[e], poly[(e + 1) % 3])] == 1)
+          open[find(poly[0])] = 1;
+  }
+  std::vector<double> volume(points.size(), 0.0), agreement(points.size(), 0.0);
+  for (std::size_t t = 0; t < polygons.size(); ++t)
+  {
+    const auto& poly = polygons[t];
     const std::size_t root = find(poly[0]);
     const Vec3 c = 0.5 * (boxes[root].min + boxes[root].max);
     auto at = [&](std::size_t k) {
       const Vec3& q = points[poly[k]];
       return Vec3{ q.x - c.x, q.y - c.y, q.z - c.z };
     };
-    for (std::size_t k = 1; k + 1 < poly.size(); ++k)
-      volume[root] += dot(at(0), cross(at(k), at(k + 1)));
+    volume[root] += dot(at(0), cross(at(1), at(2)));
+    const auto& given = input.triangles[t];
+    const Vec3& a = input.points[given[0]];
+    agreement[root] += dot(cross(points[poly[1]] - points[poly[0]], points[poly[2]] - points[poly[0]]),
+      cross(input.points[given[1]] - a, input.points[given[2]] - a));
   }
   for (auto& poly : polygons)
-    if (volume[find(poly[0])] < 0)
+  {
+    const std::size_t root = find(poly[0]);
+    if (open[root] ? agreement[root] < 0 : volume[root] < 0)
       std::reverse(poly.begin(), poly.end());
+  }
+  // the open pieces together take the side that bounds a positive volume (a soup given inside out)
+  BoundingBox all;
+  for (const Vec3& p : points)
+    all.add(p);
+  const Vec3 centre = 0.5 * (all.min + all.max);
+  double openVolume = 0.0;
+  for (const auto& poly : polygons)
+    if (open[find(poly[0])])
+      openVolume += dot(points[poly[0]] - centre, cross(points[poly[1]] - centre, points[poly[2]] - centre));
+  if (openVolume < 0)
+    for (auto& poly : polygons)
+      if (open[find(poly[0])])
+        std::reverse(poly.begin(), poly.end());
 
   // nesting: component d lies inside component c if c's winding number at a vertex of d is > 1/2
   std::vector<std::size_t> roots;
@@ -396,8 +602,38 @@ void orientComponentsForWinding(TriangleSurface& soup)
         ++depth[d];
   }
   for (auto& poly : polygons)
-    if (depth[componentOf[find(poly[0])]] % 2 == 1)
+    if (depth[componentOf[find(poly[0])]] % 2 == 1 && !open[find(poly[0])])
       std::reverse(poly.begin(), poly.end());
+}
+
+/// Throws InputError naming `who` when the winding number exceeds 1/2 nowhere near the surface: a
+/// lone open patch or a plane encloses nothing (its winding number only approaches 1/2 on the side
+/// its triangles face away from). Probes just off both sides of up to 4096 triangles (a thousandth
+/// of the triangle's size away, where the triangle itself adds almost 1/2).
+void refuseIfNoVolume(const WindingNumber& w, const TriangleSurface& soup, const std::string& who)
+{
+  const size_t step = std::max<size_t>(1, soup.triangles.size() / 4096);
+  double highest = -1e300;
+  for (size_t t = 0; t < soup.triangles.size(); t += step)
+  {
+    const auto& tri = soup.triangles[t];
+    const Vec3 &a = soup.points[tri[0]], &b = soup.points[tri[1]], &c = soup.points[tri[2]];
+    const Vec3 n = cross(b - a, c - a);
+    const double area2 = norm(n);
+    if (!(area2 > 0))
+      continue;
+    const Vec3 offset = (1e-3 * std::sqrt(0.5 * area2) / area2) * n;
+    const Vec3 centre = (1.0 / 3.0) * (a + b + c);
+    highest = std::max({ highest, w(centre + offset), w(centre - offset) });
+    if (highest > 0.51)
+      return;
+  }
+  std::ostringstream o;
+  o << who << ": surface encloses no volume: the generalized winding number stays at or below " << std::max(highest, 0.0)
+    << " next to its " << soup.triangles.size()
+    << " triangle(s) (inside needs above 1/2): an open patch or a plane, not the boundary of a solid"
+       " (give a cutting plane as an implicit plane domain, a patch as feature lines or a closed surface)";
+  throw InputError(o.str());
 }
 }
 
@@ -410,39 +646,72 @@ void SurfaceDomain::Impl::windingCrossings(const Vec3& a, const Vec3& b, std::ve
     return;
   ts.push_back(t0);
   ts.push_back(t1);
-  // between two triangle hits the winding number is continuous: sample, bisect every change
+  // between two triangle hits the winding number is continuous: look for where it passes 1/2
   std::vector<double> ends{ t0, t1 };
   for (size_t i = firstHit; i < ts.size(); ++i)
     if (ts[i] > t0 && ts[i] < t1)
       ends.push_back(ts[i]);
   std::sort(ends.begin(), ends.end());
-  constexpr int kSamples = 8;
-  auto inside = [&](double t) { return exact(lerp(a, b, t)); };
+  const double length = norm(d);
   for (size_t e = 0; e + 1 < ends.size(); ++e)
   {
     const double lo = ends[e], hi = ends[e + 1];
     if (!(hi > lo))
       continue;
-    double previousT = lo + 1e-3 * (hi - lo);
-    bool previous = inside(previousT);
-    for (int s = 1; s <= kSamples; ++s)
-    {
-      const double t = s == kSamples ? hi - 1e-3 * (hi - lo) : lo + (hi - lo) * s / kSamples;
-      const bool now = inside(t);
-      if (now != previous)
-      {
-        double x = previousT, y = t;
-        while (y - x > 1e-12 * (1.0 + std::abs(y)))
-        {
-          const double mid = 0.5 * (x + y);
-          (inside(mid) == previous ? x : y) = mid;
-        }
-        ts.push_back(y);
-      }
-      previous = now;
-      previousT = t;
-    }
+    Sample from{ lo + 1e-3 * (hi - lo) }, to{ hi - 1e-3 * (hi - lo) };
+    from.w = windingEstimate(lerp(a, b, from.t), from.error);
+    to.w = windingEstimate(lerp(a, b, to.t), to.error);
+    passes(a, b, length, from, to, 0, ts);
   }
+}
+
+void SurfaceDomain::Impl::passes(const Vec3& a, const Vec3& b, double length, Sample lo, Sample hi, int depth,
+  std::vector<double>& ts) const
+{
+  constexpr int kMaxDepth = 3; // 8 pieces where the bound cannot rule a pass out
+  // w changes by at most L |dt| along the piece: no pass when both ends lie certainly on one side
+  // and |w - 1/2| at the ends adds up to more than that
+  auto certain = [](const Sample& s) { return std::abs(s.w - 0.5) - s.error; };
+  auto sharpen = [&](Sample& s) {
+    if (s.error > 0)
+      s.w = evaluate(lerp(a, b, s.t), s.error);
+  };
+  for (int round = 0; round < 2; ++round)
+  {
+    if (certain(lo) > 0 && certain(hi) > 0 && (lo.w > 0.5) == (hi.w > 0.5))
+    {
+      BoundingBox piece;
+      piece.add(lerp(a, b, lo.t));
+      piece.add(lerp(a, b, hi.t));
+      if (certain(lo) + certain(hi) > winding->gradientBound(piece) * (hi.t - lo.t) * length)
+        return;
+    }
+    if (lo.error == 0 && hi.error == 0)
+      break;
+    sharpen(lo); // the grid's estimates could not decide: evaluations
+    sharpen(hi);
+  }
+  if (depth < kMaxDepth)
+  {
+    Sample mid{ 0.5 * (lo.t + hi.t) };
+    mid.w = evaluate(lerp(a, b, mid.t), mid.error);
+    passes(a, b, length, lo, mid, depth + 1, ts);
+    passes(a, b, length, mid, hi, depth + 1, ts);
+    return;
+  }
+  auto side = [&](const Sample& s) {
+    return std::abs(s.w - 0.5) > s.error ? s.w > 0.5 : (*winding)(lerp(a, b, s.t)) > 0.5;
+  };
+  const bool insideLo = side(lo);
+  if (insideLo == side(hi))
+    return;
+  double x = lo.t, y = hi.t;
+  while (y - x > 1e-12 * (1.0 + std::abs(y)))
+  {
+    const double mid = 0.5 * (x + y);
+    (((*winding)(lerp(a, b, mid)) > 0.5) == insideLo ? x : y) = mid;
+  }
+  ts.push_back(y);
 }
 
 SurfaceDomain::SurfaceDomain(
@@ -453,8 +722,17 @@ SurfaceDomain::SurfaceDomain(
 {
   setName(name);
   checkMaterialId(materialId, name);
-  const bool winding = options.insideTest == InsideTest::WindingNumber;
-  if (winding)
+  bool winding = options.insideTest == InsideTest::WindingNumber;
+  if (options.insideTest == InsideTest::Automatic)
+  {
+    surface.validateTriangles(name);
+    const SurfaceDefects defects = findSurfaceDefects(surface);
+    winding = !defects.none();
+    if (winding)
+      warnings_.push_back(name + ": surface does not bound a volume by itself: " + defects.describe(surface) +
+        "; inside is where the generalized winding number exceeds 1/2 (holes closed smoothly, overlaps inside)");
+  }
+  else if (winding)
   {
     surface.validateTriangles(name);
     const std::vector<BorderLoop> loops = surface.borderLoops();
@@ -464,7 +742,7 @@ SurfaceDomain::SurfaceDomain(
   }
   else
     surface.validateClosed(name);
-  if (!options.allowSelfIntersections)
+  if (options.insideTest != InsideTest::Automatic && !options.allowSelfIntersections)
     refuseSelfIntersections(surface, name);
 
   // Ray parity ignores orientation, but a halfedge mesh needs a consistent one; non-manifold
@@ -473,7 +751,7 @@ SurfaceDomain::SurfaceDomain(
   if (!oriented.halfedgeMesh)
     throw InputError(name + ": surface cannot be oriented consistently (is it self-intersecting or non-orientable?)");
   if (winding)
-    orientComponentsForWinding(oriented.surface);
+    orientComponentsForWinding(oriented.surface, surface);
   PMP::polygon_soup_to_polygon_mesh(oriented.surface.points, oriented.surface.triangles, impl_->mesh,
     CGAL::parameters::point_map(boost::make_function_property_map<Vec3>(&toCgal)));
 
@@ -500,14 +778,39 @@ SurfaceDomain::SurfaceDomain(
   impl_->tree->accelerate_distance_queries();
   // A closed surface that does not intersect itself (checked above) has winding number 1 exactly
   // where ray parity says inside: the fast test with the grid gives the same answers.
-  const bool closed = winding && surface.borderLoops().empty();
-  if (winding && !(closed && !options.allowSelfIntersections))
+  const bool parityAgrees = options.insideTest == InsideTest::WindingNumber && !options.allowSelfIntersections &&
+    surface.borderLoops().empty();
+  if (winding && !parityAgrees)
   {
     impl_->winding = std::make_unique<WindingNumber>(oriented.surface.points, oriented.surface.triangles);
-    return; // no grid: across a hole, cells no triangle touches are not all on one side
+    refuseIfNoVolume(*impl_->winding, oriented.surface, name);
+    impl_->buildWindingGrid(surface.triangles.size());
+    return;
   }
   impl_->side = std::make_unique<SideOf>(*impl_->tree);
   impl_->buildGrid(surface.triangles.size());
+}
+
+bool SurfaceDomain::usesWindingNumber() const
+{
+  return impl_->winding != nullptr;
+}
+
+double SurfaceDomain::distanceToSurface(const Vec3& p) const
+{
+  return std::sqrt(impl_->tree->squared_distance(toCgal(p)));
+}
+
+std::vector<Vec3> SurfaceDomain::surfacePoints() const
+{
+  std::vector<Vec3> out;
+  out.reserve(impl_->mesh.number_of_vertices());
+  for (auto v : impl_->mesh.vertices())
+  {
+    const Point& p = impl_->mesh.point(v);
+    out.push_back({ p.x(), p.y(), p.z() });
+  }
+  return out;
 }
 
 SurfaceDomain::~SurfaceDomain() = default;
@@ -517,11 +820,11 @@ int SurfaceDomain::material(const Vec3& p) const
   const Impl& m = *impl_;
   if (!m.box.contains(p)) // also rejects NaN
     return kOutside;
-  if (m.winding)
-    return m.exact(p) ? materialId_ : kOutside;
   const int i = std::min(static_cast<int>((p.x - m.origin.x) * m.invCell.x), m.n[0] - 1);
   const int j = std::min(static_cast<int>((p.y - m.origin.y) * m.invCell.y), m.n[1] - 1);
   const int k = std::min(static_cast<int>((p.z - m.origin.z) * m.invCell.z), m.n[2] - 1);
+  if (m.winding)
+    return m.windingInside(p) ? materialId_ : kOutside;
   const uint8_t s = m.state[m.cellIndex(i, j, k)];
   if (s == kCellBoundary)
   {

@@ -17,14 +17,18 @@ enum class InsideTest
   Closed,
   /// Generalized winding number above 1/2 (fTetWild's test): surfaces with holes and borders are
   /// accepted, the holes closed smoothly; only points in the surface's bounding box can be inside.
-  WindingNumber
+  WindingNumber,
+  /// Closed where the surface has no defect (closed, manifold edges, orientable, no
+  /// self-intersections: the exact test), else WindingNumber with a warning naming the defects.
+  Automatic
 };
 
 struct SurfaceOptions
 {
-  /// Accept a surface that intersects itself (the inside test then decides where it overlaps).
+  /// With Closed or WindingNumber: accept a surface that intersects itself (the inside test then
+  /// decides where it overlaps). Automatic accepts it anyway (with the winding number).
   bool allowSelfIntersections = false;
-  InsideTest insideTest = InsideTest::Closed;
+  InsideTest insideTest = InsideTest::Automatic;
 };
 
 /// The region bounded by a closed triangle surface, one material. Inside tests are exact (CGAL's
@@ -36,17 +40,24 @@ struct SurfaceOptions
 class SurfaceDomain : public Domain
 {
 public:
-  /// Validates (TriangleSurface::validateClosed, or validateTriangles for the winding number),
-  /// refuses self-intersections (unless allowed) and builds the search structures; throws
+  /// Validates (TriangleSurface::validateClosed, or validateTriangles for the winding number and
+  /// the automatic test), refuses self-intersections (unless allowed or automatic) and surfaces
+  /// that enclose no volume (a lone open patch, a plane), and builds the search structures; throws
   /// InputError naming `name`.
   SurfaceDomain(const TriangleSurface& surface, int materialId, const std::string& name = "Surface",
     const SurfaceOptions& options = {});
   ~SurfaceDomain() override;
 
-  /// What the user should know but that does not stop meshing: the holes the winding number
-  /// closes (number of border loops, their lengths and centres).
+  /// What the user should know but that does not stop meshing: the defects the winding number
+  /// repairs (holes with their lengths and centres, non-manifold edges, intersecting triangles).
   const std::vector<std::string>& warnings() const { return warnings_; }
   const SurfaceOptions& options() const { return options_; }
+  /// Whether inside is decided by the winding number (asked for, or chosen by Automatic).
+  bool usesWindingNumber() const;
+  /// Distance from p to the nearest input triangle (AABB tree).
+  double distanceToSurface(const Vec3& p) const;
+  /// The input surface's points (as oriented: non-manifold vertices appear once per fan).
+  std::vector<Vec3> surfacePoints() const;
 
   int material(const Vec3& p) const override;
   void crossings(const Vec3& a, const Vec3& b, std::vector<double>& ts) const override;

@@ -146,27 +146,29 @@ std::vector<std::pair<int, int>> selfIntersections(const TriangleSurface& surfac
   return pairs;
 }
 
+std::string describeTriangle(const TriangleSurface& surface, int t)
+{
+  std::ostringstream o;
+  o << "triangle " << t << " (";
+  for (int k = 0; k < 3; ++k)
+  {
+    const Vec3& p = surface.points[surface.triangles[t][k]];
+    o << (k ? ", " : "") << "(" << p.x << ", " << p.y << ", " << p.z << ")";
+  }
+  o << ")";
+  return o.str();
+}
+
 void refuseSelfIntersections(const TriangleSurface& surface, const std::string& who)
 {
   constexpr size_t kLimit = 1000;
   const auto pairs = selfIntersections(surface, kLimit);
   if (pairs.empty())
     return;
-  auto describe = [&](int t) {
-    std::ostringstream o;
-    o << "triangle " << t << " (";
-    for (int k = 0; k < 3; ++k)
-    {
-      const Vec3& p = surface.points[surface.triangles[t][k]];
-      o << (k ? ", " : "") << "(" << p.x << ", " << p.y << ", " << p.z << ")";
-    }
-    o << ")";
-    return o.str();
-  };
   std::ostringstream msg;
   msg << who << ": surface intersects itself: " << pairs.size() << (pairs.size() >= kLimit ? " or more" : "")
-      << " pair(s) of triangles intersect; first: " << describe(pairs[0].first) << " and "
-      << describe(pairs[0].second)
+      << " pair(s) of triangles intersect; first: " << describeTriangle(surface, pairs[0].first) << " and "
+      << describeTriangle(surface, pairs[0].second)
       << " (allow_self_intersections accepts it: where the surface overlaps itself the inside test decides)";
   throw InputError(msg.str());
 }

@@ -16,6 +16,9 @@ namespace omesh
 /// a corner) are not reported. Stops after `limit` pairs. Needs valid indices (validateTriangles).
 std::vector<std::pair<int, int>> selfIntersections(const TriangleSurface& surface, size_t limit = 1000);
 
+/// "triangle 4 ((0, 0, 0), (1, 0, 0), (0, 1, 0))": a triangle of `surface` by its id and corners.
+std::string describeTriangle(const TriangleSurface& surface, int t);
+
 /// Throws InputError naming `who` when the surface intersects itself: the number of intersecting
 /// pairs and the first pair's triangle ids and corner coordinates.
 void refuseSelfIntersections(const TriangleSurface& surface, const std::string& who);

@@ -3,10 +3,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 
 namespace omesh
 {
+
 namespace
 {
 constexpr int kLeafSize = 8;
@@ -38,6 +40,53 @@ WindingNumber::WindingNumber(const std::vector<Vec3>& points, const std::vector<
   build(0, static_cast<int>(triangles_.size()));
   const Vec3 size = nodes_[0].box.size();
   margin_ = 1e-9 * norm(size);
+  // the border in at most 64 groups of neighbouring edges (sorted along a grid's cells, z-major)
+  const Node& root = nodes_[0];
+  std::vector<std::array<int, 2>> edges(borders_.begin() + root.borderFirst, borders_.begin() + root.borderFirst + root.borderCount);
+  if (edges.empty())
+    return;
+  const int cells = 8;
+  auto cellOf = [&](const std::array<int, 2>& e) {
+    const Vec3 m = 0.5 * (points_[e[0]] + points_[e[1]]);
+    int key = 0;
+    for (int a = 2; a >= 0; --a)
+    {
+      const double f = size[a] > 0 ? (m[a] - root.box.min[a]) / size[a] : 0.0;
+      key = key * cells + std::clamp(static_cast<int>(f * cells), 0, cells - 1);
+    }
+    return key;
+  };
+  std::stable_sort(edges.begin(), edges.end(), [&](const auto& x, const auto& y) { return cellOf(x) < cellOf(y); });
+  const size_t group = std::max<size_t>(8, (edges.size() + 63) / 64);
+  for (size_t first = 0; first < edges.size(); first += group)
+  {
+    BorderCluster c;
+    for (size_t e = first; e < std::min(edges.size(), first + group); ++e)
+    {
+      c.box.add(points_[edges[e][0]]);
+      c.box.add(points_[edges[e][1]]);
+      c.length += norm(points_[edges[e][1]] - points_[edges[e][0]]);
+    }
+    clusters_.push_back(c);
+  }
+}
+
+double WindingNumber::gradientBound(const BoundingBox& region) const
+{
+  double bound = 0.0;
+  for (const BorderCluster& c : clusters_)
+  {
+    double d2 = 0.0;
+    for (int a = 0; a < 3; ++a)
+    {
+      const double gap = std::max({ c.box.min[a] - region.max[a], region.min[a] - c.box.max[a], 0.0 });
+      d2 += gap * gap;
+    }
+    if (!(d2 > 0.0))
+      return std::numeric_limits<double>::infinity();
+    bound += c.length / d2;
+  }
+  return bound / (4.0 * M_PI);
 }
 
 int WindingNumber::build(int first, int count)

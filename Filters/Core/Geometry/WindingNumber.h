@@ -33,6 +33,14 @@ public:
 
   bool hasBorder() const { return !nodes_.empty() && nodes_[0].borderCount > 0; }
 
+  /// An upper bound of |grad w| over `region` away from the triangles: off the surface the
+  /// gradient of a solid angle is a line integral over the surface's border alone (Biot-Savart), so
+  /// |grad w(x)| <= sum over border edges of length / (4 pi dist(x, edge)^2). Summed over clusters
+  /// of border edges by box distance; infinite where a cluster's box meets the region, 0 for a
+  /// closed surface. Between two points joined by a segment that crosses no triangle, w changes by
+  /// at most this bound times their distance.
+  double gradientBound(const BoundingBox& region) const;
+
 private:
   struct Node
   {
@@ -50,5 +58,11 @@ private:
   std::vector<std::array<int, 2>> borders_;
   std::vector<Node> nodes_;
   double margin_ = 0.0;
+  struct BorderCluster
+  {
+    BoundingBox box;
+    double length = 0.0;
+  };
+  std::vector<BorderCluster> clusters_; ///< the root's border edges in spatial groups
 };
 }

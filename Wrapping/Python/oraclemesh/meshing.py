@@ -60,7 +60,8 @@ def mesher_for(scene, strategy=None, element_order=None, features=None, threads=
         parts = []
         for index in features["from_surface"]:
             edges = vtkFeatureEdges()
-            edges.SetInputConnection(scene.domains[index].GetInputConnection(0, 0))
+            # the domain's output: triangulated and welded (an unwelded box has no sharp edges)
+            edges.SetInputConnection(scene.domains[index].GetOutputPort())
             edges.BoundaryEdgesOff()
             edges.NonManifoldEdgesOff()
             edges.ManifoldEdgesOff()

@@ -522,11 +522,14 @@ def build_scene(description, base_dir=".", source="scene"):
                 domain = vtkSurfaceDomain()
                 domain.SetMaterialId(material)
                 domain.SetMaterialName(name)
-                inside_test = spec.get("inside_test", "closed")
-                if inside_test not in ("closed", "winding_number"):
-                    problems.add(f"{where}.inside_test", f"must be 'closed' or 'winding_number', got {inside_test!r}")
-                elif inside_test == "winding_number":
-                    domain.SetInsideTestToWindingNumber()
+                inside_test = spec.get("inside_test", "automatic")
+                tests = {"automatic": domain.SetInsideTestToAutomatic, "closed": domain.SetInsideTestToClosed,
+                         "winding_number": domain.SetInsideTestToWindingNumber}
+                if inside_test not in tests:
+                    problems.add(f"{where}.inside_test",
+                                 f"must be 'automatic', 'closed' or 'winding_number', got {inside_test!r}")
+                else:
+                    tests[inside_test]()
                 allow = spec.get("allow_self_intersections", False)
                 if not isinstance(allow, bool):
                     problems.add(f"{where}.allow_self_intersections", f"must be true or false, got {allow!r}")
