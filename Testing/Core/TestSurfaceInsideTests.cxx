@@ -468,3 +468,37 @@ TEST(SurfaceAutomatic, GridAnswersAreTheExactWindingNumbers)
     EXPECT_GT(inside, 2000) << s;
   }
 }
+
+TEST(SurfaceHoles, GradientBoundHoldsOffTheSurface)
+{
+  // finite differences of w over short steps that cross no triangle stay within the bound over the
+  // step's box; a closed surface has none
+  const TriangleSurface s = sphereWithHole(10.0, 4, 6.0);
+  const WindingNumber w(s.points, s.triangles);
+  std::mt19937 rng(41);
+  std::uniform_real_distribution<double> u(-12, 12), step(-0.05, 0.05);
+  int checked = 0;
+  for (int n = 0; n < 4000; ++n)
+  {
+    const Vec3 x{ u(rng), u(rng), u(rng) };
+    const Vec3 y = x + Vec3{ step(rng), step(rng), step(rng) };
+    if (std::abs(norm(x) - 10.0) < 0.2 || std::abs(norm(y) - 10.0) < 0.2)
+      continue; // the step might cross the sphere
+    BoundingBox box;
+    box.add(x);
+    box.add(y);
+    const double bound = w.gradientBound(box);
+    ASSERT_GE(bound, 0.0);
+    if (std::isfinite(bound))
+    {
+      ASSERT_LE(std::abs(w(x) - w(y)), bound * norm(y - x) + 1e-12) << x.x << " " << x.y << " " << x.z;
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 3000);
+  const TriangleSurface closed = test::icosphere({ 0, 0, 0 }, 10.0, 3);
+  BoundingBox near;
+  near.add({ 9.5, 0, 0 });
+  near.add({ 9.6, 0.1, 0.1 });
+  EXPECT_EQ(WindingNumber(closed.points, closed.triangles).gradientBound(near), 0.0);
+}

@@ -61,7 +61,9 @@ WindingNumber::WindingNumber(const std::vector<Vec3>& points, const std::vector<
   for (size_t first = 0; first < edges.size(); first += group)
   {
     BorderCluster c;
-    for (size_t e = first; e < std::min(edges.size(), first + group); ++e)
+    c.first = static_cast<int>(first);
+    c.count = static_cast<int>(std::min(edges.size(), first + group) - first);
+    for (size_t e = first; e < first + c.count; ++e)
     {
       c.box.add(points_[edges[e][0]]);
       c.box.add(points_[edges[e][1]]);
@@ -69,6 +71,7 @@ WindingNumber::WindingNumber(const std::vector<Vec3>& points, const std::vector<
     }
     clusters_.push_back(c);
   }
+  clusterEdges_ = std::move(edges);
 }
 
 double WindingNumber::gradientBound(const BoundingBox& region) const
@@ -82,9 +85,24 @@ double WindingNumber::gradientBound(const BoundingBox& region) const
       const double gap = std::max({ c.box.min[a] - region.max[a], region.min[a] - c.box.max[a], 0.0 });
       d2 += gap * gap;
     }
-    if (!(d2 > 0.0))
-      return std::numeric_limits<double>::infinity();
-    bound += c.length / d2;
+    if (d2 > dot(c.box.size(), c.box.size()))
+    {
+      bound += c.length / d2; // far: the cluster as a whole
+      continue;
+    }
+    // near: edge by edge, from the region's centre less its half diagonal
+    const Vec3 centre = 0.5 * (region.min + region.max);
+    const double reach = 0.5 * norm(region.size());
+    for (int e = c.first; e < c.first + c.count; ++e)
+    {
+      const Vec3& a = points_[clusterEdges_[e][0]];
+      const Vec3 ab = points_[clusterEdges_[e][1]] - a;
+      const double along = std::clamp(dot(centre - a, ab) / std::max(dot(ab, ab), 1e-300), 0.0, 1.0);
+      const double gap = norm(centre - (a + along * ab)) - reach;
+      if (!(gap > 0.0))
+        return std::numeric_limits<double>::infinity();
+      bound += norm(ab) / (gap * gap);
+    }
   }
   return bound / (4.0 * M_PI);
 }

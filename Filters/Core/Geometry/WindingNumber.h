@@ -36,8 +36,8 @@ public:
   /// An upper bound of |grad w| over `region` away from the triangles: off the surface the
   /// gradient of a solid angle is a line integral over the surface's border alone (Biot-Savart), so
   /// |grad w(x)| <= sum over border edges of length / (4 pi dist(x, edge)^2). Summed over clusters
-  /// of border edges by box distance; infinite where a cluster's box meets the region, 0 for a
-  /// closed surface. Between two points joined by a segment that crosses no triangle, w changes by
+  /// of border edges by box distance, edge by edge for clusters near the region; infinite where an
+  /// edge may meet the region, 0 for a closed surface. Between two points joined by a segment that crosses no triangle, w changes by
   /// at most this bound times their distance.
   double gradientBound(const BoundingBox& region) const;
 
@@ -62,7 +62,9 @@ private:
   {
     BoundingBox box;
     double length = 0.0;
+    int first = 0, count = 0; ///< its edges in clusterEdges_
   };
-  std::vector<BorderCluster> clusters_; ///< the root's border edges in spatial groups
+  std::vector<BorderCluster> clusters_;             ///< the root's border edges in spatial groups
+  std::vector<std::array<int, 2>> clusterEdges_;    ///< those edges, cluster by cluster
 };
 }
