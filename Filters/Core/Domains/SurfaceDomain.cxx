@@ -60,6 +60,27 @@ enum ReferenceSide : uint8_t
   kReferenceUnusable = 3 // on the surface or on a triangle's plane: the cell's queries go to the exact test
 };
 
+/// How segment from-to crosses triangle abc, its ends on sides `of` and `ot` of the triangle's
+/// plane: +1 from the front (where (b - a) x (c - a) points) to the back, -1 the other way, 0 not at
+/// all; nothing where an end lies on the plane (on the triangle, its edge, or beside it) or the
+/// segment passes through an edge or a vertex.
+std::optional<int> crossing(const Point& a, const Point& b, const Point& c, const Point& from, const Point& to,
+  CGAL::Orientation of, CGAL::Orientation ot)
+{
+  if (of == CGAL::COPLANAR || ot == CGAL::COPLANAR)
+    return std::nullopt;
+  if (of == ot)
+    return 0;
+  const CGAL::Orientation e0 = CGAL::orientation(from, to, a, b);
+  const CGAL::Orientation e1 = CGAL::orientation(from, to, b, c);
+  const CGAL::Orientation e2 = CGAL::orientation(from, to, c, a);
+  if (e0 == CGAL::COPLANAR || e1 == CGAL::COPLANAR || e2 == CGAL::COPLANAR)
+    return std::nullopt;
+  if (e0 != e1 || e1 != e2)
+    return 0;
+  return of == CGAL::POSITIVE ? 1 : -1;
+}
+
 /// Where in its cell the reference point lies (fractions of the cell): off the centre, so that the
 /// faces of an axis-aligned part seldom hold it.
 constexpr double kReferenceOffset[3] = { 0.4637, 0.5183, 0.4821 };
@@ -170,17 +191,10 @@ std::optional<bool> SurfaceDomain::Impl::crossesOddly(const Point& from, const P
     const CGAL::Orientation ot = toIsReference
       ? static_cast<CGAL::Orientation>(referenceOrientation[t].load(std::memory_order_relaxed))
       : CGAL::orientation(a, b, d, to);
-    if (of == CGAL::COPLANAR || ot == CGAL::COPLANAR)
-      return std::nullopt; // an end on the triangle's plane: on it, on its edge, or beside it
-    if (of == ot)
-      continue;
-    const CGAL::Orientation e0 = CGAL::orientation(from, to, a, b);
-    const CGAL::Orientation e1 = CGAL::orientation(from, to, b, d);
-    const CGAL::Orientation e2 = CGAL::orientation(from, to, d, a);
-    if (e0 == CGAL::COPLANAR || e1 == CGAL::COPLANAR || e2 == CGAL::COPLANAR)
-      return std::nullopt; // through an edge or a vertex
-    if (e0 == e1 && e1 == e2)
-      odd = !odd;
+    const std::optional<int> crossed = crossing(a, b, d, from, to, of, ot);
+    if (!crossed)
+      return std::nullopt;
+    odd ^= *crossed != 0;
   }
   return odd;
 }
@@ -252,19 +266,11 @@ std::optional<int> SurfaceDomain::Impl::signedCrossings(const Point& from, const
             cellTriangles.begin() + cellFirst[c + 1])
         continue; // listed in both cells: counted once
       const auto& [a, b, e] = triangles[id];
-      const CGAL::Orientation of = CGAL::orientation(a, b, e, from);
-      const CGAL::Orientation ot = CGAL::orientation(a, b, e, to);
-      if (of == CGAL::COPLANAR || ot == CGAL::COPLANAR)
+      const std::optional<int> crossed =
+        crossing(a, b, e, from, to, CGAL::orientation(a, b, e, from), CGAL::orientation(a, b, e, to));
+      if (!crossed)
         return std::nullopt;
-      if (of == ot)
-        continue;
-      const CGAL::Orientation e0 = CGAL::orientation(from, to, a, b);
-      const CGAL::Orientation e1 = CGAL::orientation(from, to, b, e);
-      const CGAL::Orientation e2 = CGAL::orientation(from, to, e, a);
-      if (e0 == CGAL::COPLANAR || e1 == CGAL::COPLANAR || e2 == CGAL::COPLANAR)
-        return std::nullopt; // through an edge or a vertex
-      if (e0 == e1 && e1 == e2)
-        count += of == CGAL::POSITIVE ? 1 : -1; // from the front to the back: entering
+      count += *crossed;
     }
   }
   return count;
