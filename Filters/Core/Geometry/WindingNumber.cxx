@@ -85,9 +85,11 @@ double WindingNumber::gradientBound(const BoundingBox& region) const
       const double gap = std::max({ c.box.min[a] - region.max[a], region.min[a] - c.box.max[a], 0.0 });
       d2 += gap * gap;
     }
-    if (d2 > dot(c.box.size(), c.box.size()))
+    if (!(d2 > 0.0))
+      return std::numeric_limits<double>::infinity();
+    if (d2 > dot(c.box.size(), c.box.size()) || c.count > 32)
     {
-      bound += c.length / d2; // far: the cluster as a whole
+      bound += c.length / d2; // far (or many edges, as a soup's): the cluster as a whole
       continue;
     }
     // near: edge by edge, from the region's centre less its half diagonal
