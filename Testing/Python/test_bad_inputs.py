@@ -443,6 +443,8 @@ CLI_CASES = {
     "surface with a hole, automatic": (case_surface_with_hole, 0, ["warning", "'part'", "1 hole(s)", "length",
                                                                    "winding number", "wrote"]),
     "open patch encloses no volume": (case_open_patch, 2, ["'part'", "encloses no volume", "open patch"]),
+    "merge tolerance out of range": (lambda tmp: case_surface_with_hole(tmp, merge_tolerance=2), 2,
+                                     ["$.domains[0].merge_tolerance", "between 0 and 1"]),
     "surface with a hole, winding number": (lambda tmp: case_surface_with_hole(tmp, inside_test="winding_number"),
                                             0, ["warning", "'part'", "1 hole(s)", "wrote"]),
     "unknown inside test": (lambda tmp: case_surface_with_hole(tmp, inside_test="parity"), 2,

@@ -40,7 +40,10 @@ std::string SurfaceDefects::describe(const TriangleSurface& surface) const
 {
   std::vector<std::string> parts;
   if (!holes.empty())
-    parts.push_back(TriangleSurface::describeHoles(holes));
+    parts.push_back(TriangleSurface::describeHoles(holes) +
+      (2 * borderEdges > 3 * surface.triangles.size()
+          ? " (most edges are on a border: pieces not welded? a larger merge tolerance welds them)"
+          : ""));
   if (nonManifoldEdges > 0)
     parts.push_back(std::to_string(nonManifoldEdges) + " non-manifold edge(s) (used by more than two triangles)");
   if (!intersectingPairs.empty())

@@ -39,7 +39,7 @@ from .readers import SPACES, label_map_frame, label_map_reader, surface_frame, s
 DOMAIN_TYPES = ("surface", "labelmap", "sphere", "plane", "box", "cylinder")
 COMMON_KEYS = {"name", "type", "material", "cut", "criteria", "comment"}
 DOMAIN_KEYS = {
-    "surface": {"file", "inside_test", "allow_self_intersections"},
+    "surface": {"file", "inside_test", "allow_self_intersections", "merge_tolerance"},
     "labelmap": {"file", "array", "association", "background", "label_names", "interpolation"},
     "sphere": {"center", "radius"},
     "plane": {"origin", "normal"},
@@ -530,6 +530,13 @@ def build_scene(description, base_dir=".", source="scene"):
                                  f"must be 'automatic', 'closed' or 'winding_number', got {inside_test!r}")
                 else:
                     tests[inside_test]()
+                merge = _number(problems, spec, where, "merge_tolerance", required=False)
+                if merge is not None:
+                    if not 0 <= merge <= 1:
+                        problems.add(f"{where}.merge_tolerance",
+                                     f"must be between 0 and 1 (a fraction of the bounding-box diagonal), got {merge!r}")
+                    else:
+                        domain.SetMergeTolerance(merge)
                 allow = spec.get("allow_self_intersections", False)
                 if not isinstance(allow, bool):
                     problems.add(f"{where}.allow_self_intersections", f"must be true or false, got {allow!r}")
