@@ -137,7 +137,7 @@ struct SurfaceDomain::Impl
     double t = 0.0, w = 0.0, error = 0.0;
   };
   /// The passes of w through 1/2 on the piece [lo.t, hi.t] of ab, where no triangle crosses it:
-  /// none where the gradient bound rules them out, else halves (three times at most) and bisects a
+  /// none where the gradient bound rules them out, else halves (twice at most) and bisects a
   /// change of side.
   void passes(const Vec3& a, const Vec3& b, double length, Sample lo, Sample hi, int depth, std::vector<double>& ts) const;
   size_t cellIndex(int i, int j, int k) const
@@ -674,7 +674,7 @@ void SurfaceDomain::Impl::windingCrossings(const Vec3& a, const Vec3& b, std::ve
 void SurfaceDomain::Impl::passes(const Vec3& a, const Vec3& b, double length, Sample lo, Sample hi, int depth,
   std::vector<double>& ts) const
 {
-  constexpr int kMaxDepth = 3; // 8 pieces where the bound cannot rule a pass out
+  constexpr int kMaxDepth = 2; // 4 pieces where the bound cannot rule a pass out
   // w changes by at most L |dt| along the piece: no pass when both ends lie certainly on one side
   // and |w - 1/2| at the ends adds up to more than that
   auto certain = [](const Sample& s) { return std::abs(s.w - 0.5) - s.error; };
