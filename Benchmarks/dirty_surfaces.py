@@ -285,8 +285,9 @@ def dihedral_range(pts, conn):
     lo, hi = 180.0, 0.0
     faces = ((1, 2, 3), (0, 2, 3), (0, 1, 3), (0, 1, 2))
     normals = []
-    for a, b, c in faces:
+    for opposite, (a, b, c) in enumerate(faces):
         n = np.cross(p[:, b] - p[:, a], p[:, c] - p[:, a])
+        n *= -np.sign(np.einsum("ij,ij->i", n, p[:, opposite] - p[:, a]))[:, None]  # outward
         normals.append(n / np.linalg.norm(n, axis=1)[:, None])
     for i in range(4):
         for j in range(i + 1, 4):
