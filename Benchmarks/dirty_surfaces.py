@@ -305,11 +305,10 @@ def volume(pts, conn):
 def boundary_distances(grid, surface_path):
     """(largest distance from the mesh's boundary vertices to the input surface, largest distance
     from the input's vertices to the mesh's boundary), by VTK's cell locators."""
-    from vtkmodules.vtkCommonCore import mutable, reference
+    from vtkmodules.vtkCommonCore import reference
     from vtkmodules.vtkCommonDataModel import vtkGenericCell, vtkStaticCellLocator
     from vtkmodules.vtkFiltersCore import vtkTriangleFilter
     from vtkmodules.vtkFiltersGeometry import vtkDataSetSurfaceFilter
-    from vtkmodules.vtkIOGeometry import vtkSTLReader  # noqa: F401
     from vtkmodules.vtkIOPLY import vtkPLYReader
     from vtkmodules.vtkIOXML import vtkXMLPolyDataReader
 
@@ -325,15 +324,19 @@ def boundary_distances(grid, surface_path):
     boundary = skin.GetOutput()
 
     def farthest(points_of, onto):
+        """Largest distance from the points of `points_of`'s cells (not the unused ones a damaged
+        file keeps where its holes are) to the cells of `onto`."""
+        from vtkmodules.util.numpy_support import vtk_to_numpy
+
+        used = np.unique(vtk_to_numpy(points_of.GetPolys().GetConnectivityArray()))
         loc = vtkStaticCellLocator()
         loc.SetDataSet(onto)
         loc.BuildLocator()
         cell, cid, sub, d2 = vtkGenericCell(), reference(0), reference(0), reference(0.0)
         closest = [0.0, 0.0, 0.0]
         worst = 0.0
-        n = points_of.GetNumberOfPoints()
-        for i in range(0, n, max(1, n // 20000)):
-            loc.FindClosestPoint(points_of.GetPoint(i), closest, cell, cid, sub, d2)
+        for i in used[::max(1, len(used) // 20000)]:
+            loc.FindClosestPoint(points_of.GetPoint(int(i)), closest, cell, cid, sub, d2)
             worst = max(worst, float(d2) ** 0.5)
         return worst
 

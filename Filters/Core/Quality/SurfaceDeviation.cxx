@@ -6,7 +6,10 @@
 #include <CGAL/AABB_triangle_primitive.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <unordered_map>
 #include <sstream>
 
 namespace omesh
@@ -19,6 +22,15 @@ using Primitive = CGAL::AABB_triangle_primitive<K, std::vector<Triangle>::const_
 using Tree = CGAL::AABB_tree<CGAL::AABB_traits<K, Primitive>>;
 
 K::Point_3 toCgal(const Vec3& p) { return { p.x, p.y, p.z }; }
+
+struct FaceHash
+{
+  size_t operator()(const std::array<int, 3>& f) const
+  {
+    return std::hash<uint64_t>()((static_cast<uint64_t>(f[0]) * 0x9E3779B97F4A7C15ull) ^
+      (static_cast<uint64_t>(f[1]) << 21) ^ static_cast<uint64_t>(f[2]));
+  }
+};
 }
 
 std::string SurfaceDeviation::describe() const
@@ -33,16 +45,29 @@ std::string SurfaceDeviation::describe() const
 SurfaceDeviation surfaceDeviation(const TetMesh& mesh, int material, const SurfaceDomain& surface)
 {
   SurfaceDeviation d;
+  // the material's boundary from its tetrahedra: their faces that no other tetrahedron of the
+  // material shares (what a user's viewer shows, whatever the mesher's own interface list holds)
+  std::unordered_map<std::array<int, 3>, int, FaceHash> faces; // sorted corners -> times seen
+  for (size_t t = 0; t < mesh.tets.size(); ++t)
+  {
+    if (mesh.tetMaterial[t] != material)
+      continue;
+    const auto& tet = mesh.tets[t];
+    for (int i = 0; i < 4; ++i)
+    {
+      std::array<int, 3> f{ tet[(i + 1) & 3], tet[(i + 2) & 3], tet[(i + 3) & 3] };
+      std::sort(f.begin(), f.end());
+      ++faces[f];
+    }
+  }
   std::vector<Triangle> boundary;
   std::vector<char> onBoundary(mesh.points.size(), 0);
-  for (size_t t = 0; t < mesh.interfaceTriangles.size(); ++t)
+  for (const auto& [f, times] : faces)
   {
-    const auto& sides = mesh.interfaceMaterials[t];
-    if ((sides[0] == material) == (sides[1] == material))
+    if (times != 1)
       continue;
-    const auto& tri = mesh.interfaceTriangles[t];
-    boundary.emplace_back(toCgal(mesh.points[tri[0]]), toCgal(mesh.points[tri[1]]), toCgal(mesh.points[tri[2]]));
-    for (int v : tri)
+    boundary.emplace_back(toCgal(mesh.points[f[0]]), toCgal(mesh.points[f[1]]), toCgal(mesh.points[f[2]]));
+    for (int v : f)
       onBoundary[v] = 1;
   }
   d.boundaryTriangles = boundary.size();

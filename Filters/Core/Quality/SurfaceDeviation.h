@@ -12,7 +12,7 @@ namespace omesh
 /// one-sided Hausdorff distances, at the vertices (of the boundary, of the input surface).
 struct SurfaceDeviation
 {
-  size_t boundaryTriangles = 0; ///< the material's interface triangles (with others or the outside)
+  size_t boundaryTriangles = 0; ///< faces of the material's tetrahedra that no other of them shares
   double meshToInput = 0.0;     ///< largest distance of a boundary vertex from the input surface
   Vec3 meshToInputAt;           ///< that vertex
   double inputToMesh = 0.0;     ///< largest distance of an input vertex from the boundary
@@ -23,7 +23,8 @@ struct SurfaceDeviation
   std::string describe() const;
 };
 
-/// The deviation between `material`'s boundary in `mesh` (its interface triangles) and `surface`.
+/// The deviation between `material`'s boundary in `mesh` (the faces of its tetrahedra that no
+/// other of them shares) and `surface`.
 /// Where other domains take over part of the surface, the input lies farther from the boundary
 /// there. Zero distances when the material has no boundary.
 SurfaceDeviation surfaceDeviation(const TetMesh& mesh, int material, const SurfaceDomain& surface);
