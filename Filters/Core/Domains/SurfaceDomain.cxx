@@ -174,6 +174,18 @@ struct SurfaceDomain::Impl
     b.add(Vec3{ origin.x + (i + 1) * cell.x + grow, origin.y + (j + 1) * cell.y + grow, origin.z + (k + 1) * cell.z + grow });
     return b;
   }
+  /// Calls f(d, q) for each face neighbour d (grid coordinates q) of cell c inside the grid.
+  template <class F>
+  void forEachFaceNeighbour(size_t c, F&& f) const
+  {
+    const int i = static_cast<int>(c % n[0]);
+    const int j = static_cast<int>((c / n[0]) % n[1]);
+    const int k = static_cast<int>(c / (static_cast<size_t>(n[0]) * n[1]));
+    const int nb[6][3] = { { i - 1, j, k }, { i + 1, j, k }, { i, j - 1, k }, { i, j + 1, k }, { i, j, k - 1 }, { i, j, k + 1 } };
+    for (const auto& q : nb)
+      if (q[0] >= 0 && q[1] >= 0 && q[2] >= 0 && q[0] < n[0] && q[1] < n[1] && q[2] < n[2])
+        f(cellIndex(q[0], q[1], q[2]), q);
+  }
   void buildWindingGrid(size_t numTriangles);
   void buildGrid(size_t numTriangles);
   void sizeGrid(size_t numTriangles);
@@ -337,19 +349,11 @@ void SurfaceDomain::Impl::buildWindingGrid(size_t numTriangles)
   {
     const size_t c = queue.front();
     queue.pop_front();
-    const int ci = static_cast<int>(c % n[0]);
-    const int cj = static_cast<int>((c / n[0]) % n[1]);
-    const int ck = static_cast<int>(c / (static_cast<size_t>(n[0]) * n[1]));
-    const Vec3 from = referencePoint(ci, cj, ck);
-    const int nb[6][3] = { { ci - 1, cj, ck }, { ci + 1, cj, ck }, { ci, cj - 1, ck }, { ci, cj + 1, ck },
-      { ci, cj, ck - 1 }, { ci, cj, ck + 1 } };
-    for (const auto& q : nb)
-    {
-      if (q[0] < 0 || q[1] < 0 || q[2] < 0 || q[0] >= n[0] || q[1] >= n[1] || q[2] >= n[2])
-        continue;
-      const size_t d = cellIndex(q[0], q[1], q[2]);
+    const Vec3 from = referencePoint(static_cast<int>(c % n[0]), static_cast<int>((c / n[0]) % n[1]),
+      static_cast<int>(c / (static_cast<size_t>(n[0]) * n[1])));
+    forEachFaceNeighbour(c, [&](size_t d, const int* q) {
       if (seen[d])
-        continue;
+        return;
       seen[d] = 1;
       queue.push_back(d);
       const Vec3 to = referencePoint(q[0], q[1], q[2]);
@@ -367,7 +371,7 @@ void SurfaceDomain::Impl::buildWindingGrid(size_t numTriangles)
         windingAtReference[d] = evaluate(to, evaluated);
         windingError[d] = static_cast<float>(evaluated);
       }
-    }
+    });
   }
 }
 
@@ -474,22 +478,14 @@ void SurfaceDomain::Impl::classifyFreeCells()
     {
       const size_t c = queue.front();
       queue.pop_front();
-      const int ci = static_cast<int>(c % n[0]);
-      const int cj = static_cast<int>((c / n[0]) % n[1]);
-      const int ck = static_cast<int>(c / (static_cast<size_t>(n[0]) * n[1]));
-      const int nb[6][3] = { { ci - 1, cj, ck }, { ci + 1, cj, ck }, { ci, cj - 1, ck }, { ci, cj + 1, ck },
-        { ci, cj, ck - 1 }, { ci, cj, ck + 1 } };
-      for (const auto& q : nb)
-      {
-        if (q[0] < 0 || q[1] < 0 || q[2] < 0 || q[0] >= n[0] || q[1] >= n[1] || q[2] >= n[2])
-          continue;
-        uint8_t& s = state[cellIndex(q[0], q[1], q[2])];
+      forEachFaceNeighbour(c, [&](size_t d, const int*) {
+        uint8_t& s = state[d];
         if (s == kCellUnknown)
         {
           s = value;
-          queue.push_back(cellIndex(q[0], q[1], q[2]));
+          queue.push_back(d);
         }
-      }
+      });
     }
   }
 }
