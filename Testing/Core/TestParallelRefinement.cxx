@@ -223,7 +223,10 @@ TEST(ParallelRefinement, ConformingKeepsTheFeatureLinesAndTheSequentialGuarantee
   opt.threads = 2;
   const TetMesh par = meshOracle(o, edges, {}, opt);
   EXPECT_EQ(stat(par, "refinement_threads"), 2.0);
-  EXPECT_TRUE(par.warnings.empty()) << warnings(par);
+  // nothing to warn about but, in some thread schedules (about 1 run in 10 under the sanitizers),
+  // an exudation undone because it would have lowered the smallest angle (asserted below)
+  for (const std::string& w : par.warnings)
+    EXPECT_EQ(w.rfind("exudation undone: it would have lowered", 0), 0u) << warnings(par);
   // the guard refused points (hundreds in every run seen) and the sequential round took them
   EXPECT_GT(stat(par, "parallel_conforming.elements_left_to_sequential_tail"), 0.0);
   EXPECT_EQ(stat(par, "parallel_conforming.sequential_tail_ran"), 1.0);
