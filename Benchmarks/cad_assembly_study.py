@@ -16,7 +16,7 @@ the parts and of the housing against their exact volumes, the warnings, wall tim
 Needs PYTHONPATH=<build>/lib/python3.11/site-packages and the `oraclemesh` command (ORACLEMESH_COMMAND,
 else `python3 -m oraclemesh`). --check (the ctest version) exits 1 unless every mesh is made, has no
 validity defect, keeps 100 % of its feature lines, has no tetrahedron below the sliver angle (1
-degree: what refinement guarantees, README "Meshing: guarantees and limits"; the optimisers never
+degree: what refinement guarantees, docs/REFERENCE.md, "Meshing: guarantees and limits"; the optimisers never
 lower the minimum), no warning about its inputs (the parts are well placed), and every material's
 volume within its tolerance (see volume_tolerance).
 """

@@ -7,8 +7,8 @@
 
 class vtkFieldData;
 
-/// The description of one oracle domain, carried as field data on the domain's dataset (see the
-/// README, "Domain format"). Writing then reading gives back the same values.
+/// The description of one oracle domain, carried as field data on the domain's dataset (see
+/// docs/REFERENCE.md, "Domain format"). Writing then reading gives back the same values.
 struct OracleDomainMetadata
 {
   static constexpr int kFormatVersion = 1;

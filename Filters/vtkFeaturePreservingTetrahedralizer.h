@@ -244,7 +244,7 @@ public:
   /// The partial mesh is then finished for validity (feature-line pieces as mesh edges, surface
   /// facets' vertices on the surface, no tetrahedron below SliverAngle, at least 1 degree), with
   /// at most max(10 % of this, 500) vertices more; a warning names what is left if that is not
-  /// enough (README, "Time limit").
+  /// enough (docs/REFERENCE.md, "Time limit").
   vtkSetMacro(MaximumNumberOfVertices, vtkIdType); // >= 0
   vtkGetMacro(MaximumNumberOfVertices, vtkIdType);
   ///@}

@@ -6,7 +6,7 @@
  * Input: vtkPolyData of polygons bounding a volume. Polygons, quads and strips are triangulated
  * (vtkTriangleFilter) and points closer than MergeTolerance x the bounding-box diagonal are merged
  * (unwelded corners, as STL and many exporters write them). Output: the triangulated, merged
- * surface, with the domain description in its field data (README, "Domain format"); its sharp
+ * surface, with the domain description in its field data (docs/REFERENCE.md, "Domain format"); its sharp
  * edges are what vtkFeatureEdges should be given (the input's unwelded corners have none).
  *
  * InsideTest Automatic (default) meshes what it is given: a closed, manifold surface free of

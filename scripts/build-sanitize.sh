@@ -13,7 +13,7 @@ launcher=()
 command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
 # Options after the script go to CMake (and configure again): -DORACLEMESH_FUZZ=ON adds libFuzzer's
 # coverage instrumentation, the fuzz executables and the 'fuzz' target (slower tests: the CI's
-# folder leaves it off; fuzz in a folder of its own, see the README).
+# folder leaves it off; fuzz in a folder of its own, see docs/REFERENCE.md).
 if [ ! -f "$build/CMakeCache.txt" ] || [ $# -gt 0 ]; then
   # -O1 with line tables: symbolized reports, and the Mesh_3 translation unit compiles in about
   # the time of the release build's

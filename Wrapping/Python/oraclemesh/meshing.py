@@ -274,7 +274,7 @@ def mesh(scene, strategy=None, progress=None, base_dir=None, updater=update, ele
     `progress`, if given, is called with the mesher's progress (0..1); `updater` runs the mesher
     (default errors.update; the command line passes one that signals can abort). `threads` overrides
     the scene's "threads": 1 = sequential (the same seed gives the same mesh), N > 1 = the refinement
-    on N threads (0 = every core; the mesh then differs from run to run, see the README). Bad scenes
+    on N threads (0 = every core; the mesh then differs from run to run, see docs/REFERENCE.md). Bad scenes
     and failed meshing raise OracleMeshError naming the problem; failed meshing raises MeshingError, whose
     ``statistics`` hold the figures so far (after the scene's "time_limit": vertices, tetrahedra,
     time.elapsed, time_limit)."""
