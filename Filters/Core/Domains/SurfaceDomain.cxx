@@ -725,10 +725,12 @@ SurfaceDomain::SurfaceDomain(
   setName(name);
   checkMaterialId(materialId, name);
   bool winding = options.insideTest == InsideTest::WindingNumber;
+  std::optional<OrientedTriangles> oriented; // one orientation for the defects and the structures
   if (options.insideTest == InsideTest::Automatic)
   {
     surface.validateTriangles(name);
-    const SurfaceDefects defects = findSurfaceDefects(surface);
+    oriented = orientTriangles(surface);
+    const SurfaceDefects defects = findSurfaceDefects(surface, *oriented);
     winding = !defects.none();
     if (winding)
       warnings_.push_back(name + ": surface does not bound a volume by itself: " + defects.describe(surface) +
@@ -749,12 +751,13 @@ SurfaceDomain::SurfaceDomain(
 
   // Ray parity ignores orientation, but a halfedge mesh needs a consistent one; non-manifold
   // vertices get duplicated here, which the parity test does not mind.
-  OrientedTriangles oriented = orientTriangles(surface);
-  if (!oriented.halfedgeMesh)
+  if (!oriented)
+    oriented = orientTriangles(surface);
+  if (!oriented->halfedgeMesh)
     throw InputError(name + ": surface cannot be oriented consistently (is it self-intersecting or non-orientable?)");
   if (winding)
-    orientComponentsForWinding(oriented.surface, surface);
-  PMP::polygon_soup_to_polygon_mesh(oriented.surface.points, oriented.surface.triangles, impl_->mesh,
+    orientComponentsForWinding(oriented->surface, surface);
+  PMP::polygon_soup_to_polygon_mesh(oriented->surface.points, oriented->surface.triangles, impl_->mesh,
     CGAL::parameters::point_map(boost::make_function_property_map<Vec3>(&toCgal)));
 
   for (const auto& p : surface.points)
@@ -784,8 +787,8 @@ SurfaceDomain::SurfaceDomain(
     surface.borderLoops().empty();
   if (winding && !parityAgrees)
   {
-    impl_->winding = std::make_unique<WindingNumber>(oriented.surface.points, oriented.surface.triangles);
-    refuseIfNoVolume(*impl_->winding, oriented.surface, name);
+    impl_->winding = std::make_unique<WindingNumber>(oriented->surface.points, oriented->surface.triangles);
+    refuseIfNoVolume(*impl_->winding, oriented->surface, name);
     impl_->buildWindingGrid(surface.triangles.size());
     return;
   }

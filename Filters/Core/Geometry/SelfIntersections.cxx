@@ -73,7 +73,12 @@ std::vector<std::pair<int, int>> selfIntersections(const TriangleSurface& surfac
 {
   // A halfedge mesh needs one orientation per edge; this duplicates non-manifold vertices (and
   // keeps the triangles in their order: face i is triangle i).
-  const OrientedTriangles oriented = orientTriangles(surface);
+  return selfIntersections(surface, orientTriangles(surface), limit);
+}
+
+std::vector<std::pair<int, int>> selfIntersections(
+  const TriangleSurface& surface, const OrientedTriangles& oriented, size_t limit)
+{
   std::vector<std::pair<int, int>> pairs;
   if (!oriented.halfedgeMesh)
   {

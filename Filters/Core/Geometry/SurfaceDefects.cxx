@@ -1,7 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "SurfaceDefects.h"
 
-#include "OrientedTriangles.h"
 #include "SelfIntersections.h"
 
 #include <algorithm>
@@ -11,7 +10,7 @@
 
 namespace omesh
 {
-SurfaceDefects findSurfaceDefects(const TriangleSurface& surface, size_t pairLimit)
+SurfaceDefects findSurfaceDefects(const TriangleSurface& surface, const OrientedTriangles& oriented, size_t pairLimit)
 {
   SurfaceDefects d;
   std::unordered_map<uint64_t, int> edgeUse;
@@ -30,8 +29,8 @@ SurfaceDefects findSurfaceDefects(const TriangleSurface& surface, size_t pairLim
   }
   if (d.borderEdges > 0)
     d.holes = surface.borderLoops();
-  d.orientable = orientTriangles(surface).halfedgeMesh;
-  d.intersectingPairs = selfIntersections(surface, pairLimit);
+  d.orientable = oriented.halfedgeMesh;
+  d.intersectingPairs = selfIntersections(surface, oriented, pairLimit);
   d.moreIntersections = d.intersectingPairs.size() >= pairLimit;
   return d;
 }

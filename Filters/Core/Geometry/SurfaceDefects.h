@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 
+#include "OrientedTriangles.h"
 #include "TriangleSurface.h"
 
 #include <cstddef>
@@ -33,7 +34,8 @@ struct SurfaceDefects
   std::string describe(const TriangleSurface& surface) const;
 };
 
-/// Finds the defects of `surface` (valid indices: TriangleSurface::validateTriangles), listing at
-/// most `pairLimit` intersecting pairs.
-SurfaceDefects findSurfaceDefects(const TriangleSurface& surface, size_t pairLimit = 1000);
+/// Finds the defects of `surface` (valid indices: TriangleSurface::validateTriangles; `oriented` =
+/// orientTriangles(surface)), listing at most `pairLimit` intersecting pairs.
+SurfaceDefects findSurfaceDefects(
+  const TriangleSurface& surface, const OrientedTriangles& oriented, size_t pairLimit = 1000);
 }
