@@ -242,7 +242,20 @@ omesh::FeatureSegments OracleBuilder::ToFeatureSegments(vtkPolyData* lines, std:
   if (ownerArray && ownerArray->GetNumberOfComponents() != 1)
     throw InputError(who + ": cell array " + omesh::keys::EDGES_OF_DOMAIN + " has " +
       std::to_string(ownerArray->GetNumberOfComponents()) + " components (one input index per line is needed)");
+  // every point index checked before anything reads a point: a cell may name one past the end
+  const vtkIdType pointCount = lines->GetNumberOfPoints();
   auto it = vtk::TakeSmartPointer(lines->GetLines()->NewIterator());
+  for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell())
+  {
+    vtkIdType n;
+    const vtkIdType* ids;
+    it->GetCurrentCell(n, ids);
+    for (vtkIdType k = 0; k < n; ++k)
+      if (ids[k] < 0 || ids[k] >= pointCount)
+        throw InputError(who + ": line " + std::to_string(it->GetCurrentCellId()) + " names point " +
+          std::to_string(ids[k]) + ", but the lines have " + std::to_string(pointCount) +
+          " points (indices 0 to " + std::to_string(pointCount - 1) + "): a broken file or filter output");
+  }
   for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell())
   {
     vtkIdType n;
@@ -419,11 +432,49 @@ omesh::CriteriaLevel OracleBuilder::DomainCriteria(
     const OracleDomainMetadata md = ReadDomain(blocks[i], "domain " + std::to_string(i));
     const omesh::MeshCriteria c = omesh::MeshCriteria::fromVtk(md.Criteria);
     const std::string source = "domain '" + md.Name + "'";
-    c.checkFinite("criteria of " + source);
+    c.check("criteria of " + source);
     for (int m : domain.materials())
       out.add(m, c, source);
   }
   return out;
+}
+
+std::vector<std::string> OracleBuilder::UnknownMaterialWarnings(
+  vtkDataObject* data, const omesh::HierarchicalOracle& oracle, const std::vector<int>& criteriaMaterials)
+{
+  auto listed = [](const std::vector<int>& values) {
+    std::string text;
+    for (size_t i = 0; i < values.size() && i < 20; ++i)
+      text += (i ? ", " : "") + std::to_string(values[i]);
+    return values.size() > 20 ? text + ", ..." : text.empty() ? std::string("none") : text;
+  };
+  std::vector<std::string> warnings;
+  std::vector<vtkDataObject*> blocks; // in BuildOracle's order: block i is domain i
+  if (auto* mb = vtkMultiBlockDataSet::SafeDownCast(data))
+    for (unsigned int i = 0; i < mb->GetNumberOfBlocks(); ++i)
+      blocks.push_back(mb->GetBlock(i));
+  else
+    blocks.push_back(data);
+  for (size_t i = 0; i < blocks.size() && i < oracle.domains().size(); ++i)
+  {
+    const omesh::Domain& domain = *oracle.domains()[i];
+    if (std::string(domain.kind()) != "LabelMap")
+      continue;
+    const OracleDomainMetadata md = ReadDomain(blocks[i], "domain " + std::to_string(i));
+    const std::vector<int> labels = domain.materials();
+    for (size_t k = 0; k < md.LabelValues.size(); ++k)
+      if (!std::binary_search(labels.begin(), labels.end(), md.LabelValues[k]))
+        warnings.push_back("label map " + domain.name() + ": a name is given to label " +
+          std::to_string(md.LabelValues[k]) + " ('" + md.LabelNames[k] + "'), which its image does not have" +
+          (md.LabelValues[k] == md.BackgroundLabel ? " (it is the background)" : "") + " (its labels: " +
+          listed(labels) + ")");
+  }
+  const std::vector<int> materials = oracle.materials();
+  for (int m : criteriaMaterials)
+    if (!std::binary_search(materials.begin(), materials.end(), m))
+      warnings.push_back("criteria are given for material " + std::to_string(m) +
+        ", which no domain has (the domains' materials: " + listed(materials) + ")");
+  return warnings;
 }
 
 void OracleBuilder::CheckCoordinates(vtkPoints* points, const std::string& who, const std::string& what)

@@ -104,6 +104,11 @@ public:
   /// the mesh although their input is not empty: `tetsPerMaterial` counts the mesh's tetrahedra.
   static std::vector<std::string> VanishedMaterialWarnings(
     const omesh::HierarchicalOracle& oracle, const std::map<int, std::size_t>& tetsPerMaterial);
+  /// Warnings for names and criteria given to materials no domain has: a label map's label names
+  /// (read from the domains in `data`, BuildOracle's input) for labels its image lacks, and
+  /// `criteriaMaterials` (the per-material table's ids) that no domain of `oracle` gives.
+  static std::vector<std::string> UnknownMaterialWarnings(
+    vtkDataObject* data, const omesh::HierarchicalOracle& oracle, const std::vector<int>& criteriaMaterials);
   /// The domains' own warnings (what a surface's inside test repaired), then HiddenDomainWarnings.
   static std::vector<std::string> DomainWarnings(const omesh::HierarchicalOracle& oracle);
   /// The surface domains' own warnings (what their inside test repaired: holes, non-manifold

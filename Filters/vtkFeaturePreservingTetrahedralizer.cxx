@@ -43,16 +43,16 @@ vtkStandardNewMacro(vtkFeaturePreservingTetrahedralizer);
 
 namespace
 {
-const char* const kCriteriaNames[6] = { "FacetAngle", "FacetSize", "FacetDistance", "CellSize",
-  "CellRadiusEdgeRatio", "EdgeSize" };
-
-/// Refuses, before any meshing, a mesh that the criteria (capped by the vertex budget) make too big
-/// for the memory available: an error naming the sizes, not std::bad_alloc or the OOM killer later.
-void checkMeshMemory(
+/// Refuses, before any meshing, criteria the run cannot meet (beyond the vertex budget or the time
+/// limit: MeshSizeEstimate.h) and a mesh too big for the memory available: errors naming the sizes,
+/// not hours of refinement, std::bad_alloc or the OOM killer later. Returns the estimate's vertices.
+double checkMeshSize(
   const omesh::HierarchicalOracle& oracle, const omesh::FeatureSegments& features, const omesh::MesherOptions& options)
 {
-  const double asked = omesh::estimateMeshVertices(oracle, options.criteria, features);
+  const omesh::MeshSizeEstimate estimate = omesh::estimateMeshSize(oracle, options.criteria, features);
+  const double asked = estimate.total();
   const double budget = options.maximumNumberOfVertices ? static_cast<double>(options.maximumNumberOfVertices) : asked;
+  omesh::checkMeshSize(estimate, static_cast<double>(options.maximumNumberOfVertices), omesh::effectiveTimeLimit(options));
   std::ostringstream what;
   what << "a mesh of about " << std::min(asked, budget) << " vertices (the criteria ask for about " << asked
        << (budget < asked ? ", MaximumNumberOfVertices caps it)" : ")");
@@ -65,6 +65,26 @@ void checkMeshMemory(
   {
     throw omesh::InputError(std::string(e.what()) + ": coarsen the criteria or lower MaximumNumberOfVertices");
   }
+  return asked;
+}
+
+/// The error of a run that ends with no tetrahedron: what removed everything, from what the run
+/// found on the way (hidden or cut domains, criteria larger than the domain, the budget), else the
+/// likely causes.
+std::string emptyMeshMessage(const std::vector<std::string>& notes, const std::vector<std::string>& inputNotes,
+  const std::vector<std::string>& meshWarnings)
+{
+  std::string text = "no tetrahedra: the mesh is empty";
+  std::vector<std::string> causes(notes.begin(), notes.end());
+  causes.insert(causes.end(), inputNotes.begin(), inputNotes.end());
+  causes.insert(causes.end(), meshWarnings.begin(), meshWarnings.end());
+  if (causes.empty())
+    return text + " (every material is cut away, outside the other domains, or smaller than the mesh size: "
+                  "check the cuts' sides and the criteria against the inputs' size)";
+  text += "; what the run found:";
+  for (size_t i = 0; i < causes.size(); ++i)
+    text += (i ? "; " : " ") + causes[i];
+  return text;
 }
 
 /// Throws when a property lies outside [low, high] (or is NaN), naming it.
@@ -76,19 +96,6 @@ void checkRange(const char* property, double value, double low, double high, con
   o << "vtkFeaturePreservingTetrahedralizer: " << property << " " << value << " is out of range (" << low << " to "
     << high << meaning << ")";
   throw omesh::InputError(o.str());
-}
-
-/// Throws when one of six criteria is NaN or infinite, naming it and `where`.
-void checkCriteria(const std::array<double, 6>& c, const std::string& where)
-{
-  for (int k = 0; k < 6; ++k)
-    if (!std::isfinite(c[k]))
-    {
-      std::ostringstream o;
-      o << where << ": " << kCriteriaNames[k] << " is " << c[k]
-        << " (a number is needed: <= 0 means no bound; in per-material criteria < 0 keeps the global value)";
-      throw omesh::InputError(o.str());
-    }
 }
 }
 
@@ -285,11 +292,16 @@ void vtkFeaturePreservingTetrahedralizer::CheckProperties() const
   checkRange("ExudationStepsPerCell", this->ExudationStepsPerCell, 0.0, 1e6, "; 0 = no budget");
   checkRange("OptimisationTimeLimit", this->OptimisationTimeLimit, -1.0, 1e9, " seconds; 0 = none, -1 = CGAL's");
   checkRange("TimeLimit", this->TimeLimit, -1.0, 1e9, " seconds; 0 = automatic, -1 = none");
-  checkCriteria({ this->FacetAngle, this->FacetSize, this->FacetDistance, this->CellSize,
-                  this->CellRadiusEdgeRatio, this->EdgeSize },
-    "vtkFeaturePreservingTetrahedralizer");
+  omesh::MeshCriteria::fromVtk(this->GlobalCriteria()).check("vtkFeaturePreservingTetrahedralizer");
   for (const auto& [m, c] : this->MaterialCriteria)
-    checkCriteria(c, "vtkFeaturePreservingTetrahedralizer: material criteria for material " + std::to_string(m));
+    omesh::MeshCriteria::fromVtk(c).check(
+      "vtkFeaturePreservingTetrahedralizer: material criteria for material " + std::to_string(m));
+}
+
+std::array<double, 6> vtkFeaturePreservingTetrahedralizer::GlobalCriteria() const
+{
+  return { this->FacetAngle, this->FacetSize, this->FacetDistance, this->CellSize, this->CellRadiusEdgeRatio,
+    this->EdgeSize };
 }
 
 void vtkFeaturePreservingTetrahedralizer::SetUpOptions(MeshingRun& run)
@@ -377,10 +389,15 @@ void vtkFeaturePreservingTetrahedralizer::GatherInputs(vtkInformationVector** in
   omesh::CriteriaLevel tableLevel;
   for (const auto& [m, c] : this->MaterialCriteria)
     tableLevel.add(m, omesh::MeshCriteria::fromVtk(c), "the per-material table");
-  run.options.criteria = omesh::mergeCriteria(omesh::MeshCriteria{ this->FacetAngle, this->FacetSize,
-                                                this->FacetDistance, this->CellSize, this->CellRadiusEdgeRatio,
-                                                this->EdgeSize },
-    { &domainLevel, &tableLevel });
+  run.options.criteria = omesh::mergeCriteria(omesh::MeshCriteria::fromVtk(this->GlobalCriteria()), { &domainLevel, &tableLevel });
+  // slips that would mesh silently: names and criteria of materials no input has, sizes in other units
+  std::vector<int> tableMaterials;
+  for (const auto& entry : this->MaterialCriteria)
+    tableMaterials.push_back(entry.first);
+  for (std::string& w : OracleBuilder::UnknownMaterialWarnings(oracleData, *run.oracle, tableMaterials))
+    run.inputNotes.push_back(std::move(w));
+  for (std::string& w : omesh::criteriaScaleWarnings(*run.oracle, run.options.criteria))
+    run.inputNotes.push_back(std::move(w));
   this->SelectFeatures(run);
   if (seeds)
     OracleBuilder::CheckCoordinates(seeds->GetPoints(), "seed points (input port 2)", "");
@@ -455,8 +472,11 @@ void vtkFeaturePreservingTetrahedralizer::SelectFeatures(MeshingRun& run)
 
 void vtkFeaturePreservingTetrahedralizer::MeshInputs(MeshingRun& run)
 {
-  checkMeshMemory(*run.oracle, run.features, run.options);
+  const double asked = checkMeshSize(*run.oracle, run.features, run.options);
   run.mesh = omesh::meshOracle(*run.oracle, run.features, run.seedPoints, run.options);
+  run.mesh.statistics["estimated_vertices"] = asked;
+  if (run.mesh.tets.empty())
+    throw omesh::InputError(emptyMeshMessage(run.notes, run.inputNotes, run.mesh.warnings));
   if (run.options.elementOrder == 2)
   {
     const auto started = std::chrono::steady_clock::now();

@@ -106,7 +106,7 @@ public:
   ///@}
 
   ///@{
-  /// Global criteria (0 = no bound). FacetAngle: lower bound of surface triangle angles (degrees,
+  /// Global criteria (0 = no bound, -1 = the default; other negative values are refused). FacetAngle: lower bound of surface triangle angles (degrees,
   /// default 25). FacetSize: upper bound of the surface Delaunay ball radius. FacetDistance: upper
   /// bound of the distance between a surface triangle and the surface. CellSize: upper bound of the
   /// tetrahedron circumradius. CellRadiusEdgeRatio: upper bound of circumradius / shortest edge
@@ -128,8 +128,8 @@ public:
 
   ///@{
   /// Per-material overrides, in the order facet angle, facet size, facet distance, cell size,
-  /// cell radius-edge ratio, edge size; a negative value is "not set" (the domain's or the global
-  /// value counts); 0 is "no bound".
+  /// cell radius-edge ratio, edge size; -1 is "not set" (the domain's or the global value counts);
+  /// 0 is "no bound"; other negative values are refused.
   void SetMaterialCriteria(int materialId, double facetAngle, double facetSize, double facetDistance,
     double cellSize, double cellRadiusEdgeRatio, double edgeSize);
   void RemoveMaterialCriteria(int materialId);
@@ -264,7 +264,8 @@ public:
   /// Wall-clock seconds for the whole run (every phase): reaching it fails the update with an
   /// error naming the phase and how far it got (vertices, tetrahedra, seconds); the output then
   /// holds no cells, only those statistics (StatisticNames/StatisticValues). 0 = automatic (the
-  /// default: 60 s + 5 ms per vertex of MaximumNumberOfVertices, none when that is 0), -1 = none.
+  /// default: 10 minutes), -1 = none. Criteria that cannot be met within it, or within 10 times
+  /// MaximumNumberOfVertices, are refused before meshing with the numbers (checkMeshSize).
   vtkSetMacro(TimeLimit, double); // -1 to 1e9
   vtkGetMacro(TimeLimit, double);
   ///@}
@@ -310,6 +311,8 @@ private:
   // RequestData in three steps: input gathering, the core call, output assembly.
   struct MeshingRun; // the core's inputs, options and mesh (core types: defined in the .cxx)
   void CheckProperties() const;
+  /// The global criteria as the properties spell them (-1: the default; other negatives refused).
+  std::array<double, 6> GlobalCriteria() const;
   void SetUpOptions(MeshingRun& run);
   void GatherInputs(vtkInformationVector** inputVector, MeshingRun& run);
   // (of GatherInputs) the given lines clipped to the oracle's domain (owners: EdgesOfDomain per

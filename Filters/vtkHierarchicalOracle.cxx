@@ -6,6 +6,7 @@
 
 #include <vtkAlgorithm.h>
 #include <vtkDataObject.h>
+#include <vtkDataSet.h>
 #include <vtkFieldData.h>
 #include <vtkInformation.h>
 #include <vtkInformationVector.h>
@@ -50,6 +51,13 @@ int vtkHierarchicalOracle::RequestData(
           producer->IsA("vtkSphereDomain") || producer->IsA("vtkImplicitDomain")))
         throw omesh::InputError(where + ": its " + producer->GetClassName() +
           " produced no domain; that filter's own error says why");
+      // an empty output without the domain description: the filter before failed (in ParaView a
+      // pass-through filter sits between, so the producer above is not the domain filter)
+      auto* set = vtkDataSet::SafeDownCast(in);
+      if (in && !in->GetFieldData()->GetAbstractArray("OracleMesh_Kind") && set && set->GetNumberOfPoints() == 0 &&
+        set->GetNumberOfCells() == 0)
+        throw omesh::InputError(where + " is empty: the filter before it failed or produced nothing (its own "
+                                        "error, reported first, says why)");
       const OracleDomainMetadata md = OracleBuilder::ReadDomain(in, where);
       vtkSmartPointer<vtkDataObject> block = vtk::TakeSmartPointer(in->NewInstance());
       block->ShallowCopy(in);

@@ -70,7 +70,7 @@ public:
 
   ///@{
   /// Optional mesh criteria for every label of this map, as on
-  /// vtkFeaturePreservingTetrahedralizer; negative (the default) = use the tetrahedralizer's.
+  /// vtkFeaturePreservingTetrahedralizer; -1 (the default) = use the tetrahedralizer's; other negative values are refused.
   /// The tetrahedralizer's SetMaterialCriteria overrides these; where two domains give one
   /// material different values, the update of the tetrahedralizer fails naming both (MeshCriteria.h).
   vtkSetMacro(FacetAngle, double);

@@ -21,6 +21,7 @@
 
 #include <cmath>
 #include <map>
+#include <sstream>
 
 vtkStandardNewMacro(vtkOracleSampler);
 
@@ -69,6 +70,16 @@ void checkProperties(const int* dims, const double* b)
   for (int i = 0; i < 6; ++i)
     if (!std::isfinite(b[i]) || std::abs(b[i]) > OracleBuilder::LargestCoordinate)
       throw omesh::InputError("vtkOracleSampler: Bounds must be finite and at most 1e15 in magnitude");
+  // the default (0, -1) on every axis means "the oracle's bounds"; any other min > max is a slip
+  const bool unset = b[0] == 0 && b[1] == -1 && b[2] == 0 && b[3] == -1 && b[4] == 0 && b[5] == -1;
+  for (int axis = 0; axis < 3 && !unset; ++axis)
+    if (b[2 * axis] > b[2 * axis + 1])
+    {
+      std::ostringstream o;
+      o << "vtkOracleSampler: Bounds are inverted on " << "xyz"[axis] << ": " << b[2 * axis] << " > "
+        << b[2 * axis + 1] << " (give xmin xmax ymin ymax zmin zmax, or 0 -1 0 -1 0 -1 for the oracle's bounds)";
+      throw omesh::InputError(o.str());
+    }
 }
 
 /// Field data MaterialIds and MaterialVolume: each material's sample count times the volume of a cell.
@@ -109,7 +120,7 @@ int vtkOracleSampler::RequestData(
     oracle = OracleBuilder::BuildOracle(input);
     for (const std::string& w : OracleBuilder::DomainWarnings(*oracle))
       vtkWarningMacro(<< w);
-    if (b[0] <= b[1] && b[2] <= b[3] && b[4] <= b[5])
+    if (b[0] <= b[1] && b[2] <= b[3] && b[4] <= b[5]) // else the default: the oracle's bounds
     {
       box.add({ b[0], b[2], b[4] });
       box.add({ b[1], b[3], b[5] });

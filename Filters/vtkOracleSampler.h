@@ -30,8 +30,8 @@ public:
   ///@}
 
   ///@{
-  /// Sampled region (xmin, xmax, ymin, ymax, zmin, zmax). Default (empty, min > max): the oracle's
-  /// bounding box, i.e. the union of its non-cut domains.
+  /// Sampled region (xmin, xmax, ymin, ymax, zmin, zmax). Default (0, -1, 0, -1, 0, -1): the oracle's
+  /// bounding box, i.e. the union of its non-cut domains; any other min > max is refused.
   vtkSetVector6Macro(Bounds, double);
   vtkGetVector6Macro(Bounds, double);
   ///@}

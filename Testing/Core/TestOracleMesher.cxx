@@ -1005,13 +1005,14 @@ TEST(OracleMesherTimeLimit, FeatureProtectionAtOneDegree)
   expectTimeLimit(thin, opt, "feature protection (protecting balls)");
 }
 
-TEST(OracleMesherTimeLimit, AutomaticFromTheVertexBudget)
+TEST(OracleMesherTimeLimit, AutomaticIsMinutesWhateverTheBudget)
 {
   MesherOptions opt;
   EXPECT_EQ(opt.timeLimit, 0.0); // automatic
-  EXPECT_DOUBLE_EQ(effectiveTimeLimit(opt), kTimeLimitBase + kTimeLimitPerVertex * 2e6);
-  opt.maximumNumberOfVertices = 0; // unlimited, as asked: no limit either
-  EXPECT_EQ(effectiveTimeLimit(opt), 0.0);
+  EXPECT_EQ(effectiveTimeLimit(opt), kDefaultTimeLimit);
+  EXPECT_LE(kDefaultTimeLimit, 600.0); // a person waits minutes
+  opt.maximumNumberOfVertices = 0; // an unlimited budget is still bounded in time
+  EXPECT_EQ(effectiveTimeLimit(opt), kDefaultTimeLimit);
   opt.timeLimit = 5;
   EXPECT_EQ(effectiveTimeLimit(opt), 5.0);
   opt.timeLimit = -1;

@@ -382,10 +382,48 @@ def case_open_patch(tmp):
 
 
 def case_tiny_facets(tmp):
-    """Facet size 1e-9 ran for hours (3 GB with the default budget): ends at --time-limit."""
-    # a budget the clock reaches first, small enough for the memory check on any machine (below)
-    tiny = dict(MESH, criteria=dict(MESH["criteria"], facet_size=1e-9), maximum_number_of_vertices=500000)
-    return ["mesh", scene(tmp, "tiny_facets", mesh=tiny), "-o", os.path.join(tmp, "t.vtu"), "--time-limit", 2]
+    """Facet size 1e-9 ran for hours (3 GB with the default budget): refused before meshing, with the
+    estimate and the factor to coarsen by."""
+    tiny = dict(MESH, criteria=dict(MESH["criteria"], facet_size=1e-9))
+    return ["mesh", scene(tmp, "tiny_facets", mesh=tiny), "-o", os.path.join(tmp, "t.vtu")]
+
+
+def case_tiny_facet_distance(tmp):
+    """Facet distance 1e-9 (which the size estimate does not see): ends at --time-limit."""
+    tiny = dict(MESH, criteria=dict(MESH["criteria"], facet_distance=1e-9), maximum_number_of_vertices=500000)
+    return ["mesh", scene(tmp, "tiny_distance", mesh=tiny), "-o", os.path.join(tmp, "t.vtu"), "--time-limit", 2]
+
+
+def criteria_case(name, outputs=None, **criteria):
+    """A scene with these global criteria (and mesh keys, e.g. time_limit), written to `outputs`."""
+    def make(tmp):
+        mesh = dict(MESH, criteria=dict(MESH["criteria"], **criteria.pop("criteria", {})), **criteria)
+        path = scene(tmp, name, mesh=mesh)
+        return ["mesh", path] + sum((["-o", os.path.join(tmp, o)] for o in outputs or [name + ".vtu"]), []) + ["--strict"]
+    return make
+
+
+def case_everything_cut(tmp):
+    """A cut that removes every material: an error naming the scene and the cut, no files."""
+    cut = {"name": "everything", "type": "plane", "origin": [0, 0, 100], "normal": [0, 0, 1], "cut": True}
+    path = scene(tmp, "all_cut", domains=[cut, BALL, BLOCK])
+    return ["mesh", path, "-o", os.path.join(tmp, "cut.vtu"), "-o", os.path.join(tmp, "cut.inp")]
+
+
+def case_metres(tmp):
+    """A part in metres (a ball of radius 0.02) with criteria in millimetres: warned, --strict fails."""
+    ball = {"name": "ball", "type": "sphere", "center": [0, 0, 0], "radius": 0.02, "material": 1}
+    mesh = dict(MESH, criteria={"cell_size": 2, "facet_size": 2, "facet_distance": 0.1})
+    return ["mesh", scene(tmp, "metres", domains=[ball], mesh=mesh), "-o", os.path.join(tmp, "m.vtu"), "--strict"]
+
+
+def case_unknown_label(tmp):
+    """label_names and criteria for labels the image lacks: warned by name, --strict fails."""
+    labels = write_vti(os.path.join(tmp, "labels.vti"), label_image())  # label 1 only
+    tissue = {"name": "tissue", "type": "labelmap", "file": labels, "array": "labels",
+              "label_names": {"1": "bone", "7": "no such tissue"}}
+    mesh = dict(MESH, materials={"9": {"cell_size": 1}})
+    return ["mesh", scene(tmp, "labels", domains=[tissue], mesh=mesh), "-o", os.path.join(tmp, "l.vtu"), "--strict"]
 
 
 def case_dense_features(tmp):
@@ -449,13 +487,35 @@ CLI_CASES = {
                                             0, ["warning", "'part'", "1 hole(s)", "wrote"]),
     "unknown inside test": (lambda tmp: case_surface_with_hole(tmp, inside_test="parity"), 2,
                             ["$.domains[0].inside_test", "winding_number"]),
-    "facet size 1e-9 ends at the time limit": (case_tiny_facets, 3, ["time limit of 2 s reached in", "vertices",
-                                                                      "partial statistics", "time.elapsed"]),
+    "facet size 1e-9 refused up front": (case_tiny_facets, 2, ["tiny_facets.json", "the criteria ask for about",
+                                                                "vertex budget", "facet_size about", "times larger",
+                                                                "maximum_number_of_vertices"]),
+    "facet distance 1e-9 ends at the time limit": (case_tiny_facet_distance, 3, ["time limit of 2 s reached in",
+                                                                                "vertices", "partial statistics",
+                                                                                "time.elapsed"]),
+    "negative cell size": (criteria_case("negative", criteria={"cell_size": -2}), 2,
+                           ["$.mesh.criteria.cell_size", ">= 0", "-1: not set", "-2"]),
+    "null and -1 criteria are unset": (criteria_case("unset", criteria={"cell_size": None, "facet_size": -1}), 0,
+                                       ["wrote"]),
+    "criteria larger than the part": (criteria_case("huge", criteria={"cell_size": 1000, "facet_size": 1000}), 3,
+                                      ["cell_size 1000", "facet_size 1000", "larger than the whole domain",
+                                       "units slip", "--strict"]),
+    "criteria in metres on a part in millimetres": (criteria_case("small", criteria={"facet_size": 0.001},
+                                                                  maximum_number_of_vertices=2000000), 2,
+                                                    ["the criteria ask for about", "facet_size about"]),
+    "part in metres, criteria in millimetres": (case_metres, 3, ["cell_size 2", "larger than the whole domain",
+                                                                 "0.06928", "units slip", "--strict"]),
+    "labels and materials the image lacks": (case_unknown_label, 3, ["label 7", "'no such tissue'",
+                                                                     "does not have", "material 9",
+                                                                     "no domain has", "--strict"]),
+    "everything cut away": (case_everything_cut, 2, ["all_cut.json", "no tetrahedra", "'everything'", "hidden"]),
     "dense feature lines end at the time limit": (case_dense_features, 3, ["time limit of 2 s reached in",
                                                                             "partial statistics"]),
+    # within 10x the budget, no time limit: the memory check refuses it (a budget of 2e9 vertices)
     "mesh too big for the memory": (lambda tmp: ["mesh", scene(tmp, "huge", mesh=dict(
-        MESH, criteria=dict(MESH["criteria"], facet_size=1e-9), maximum_number_of_vertices=2000000000)), "-o",
-        os.path.join(tmp, "h.vtu")], 2, ["a mesh of about", "would need", "available", "coarsen the criteria"]),
+        MESH, criteria=dict(MESH["criteria"], facet_size=2e-4), maximum_number_of_vertices=2000000000,
+        time_limit=-1)), "-o", os.path.join(tmp, "h.vtu")], 2, ["a mesh of about", "would need", "available",
+                                                             "coarsen the criteria"]),
     "time limit out of range": (lambda tmp: ["mesh", scene(tmp, "bad_limit", mesh=dict(MESH, time_limit=-3)),
                                              "-o", os.path.join(tmp, "o.vtu")], 2, ["$.mesh.time_limit", "-3"]),
 }
@@ -651,7 +711,7 @@ class PythonApi(unittest.TestCase):
 
     def test_time_limit_is_an_error_with_the_figures_so_far(self):
         mesher = self.mesher(self.oracle(self.ball()), cell=1.0)
-        mesher.SetFacetSize(1e-9)
+        mesher.SetFacetDistance(1e-9)  # the size estimate does not see it: not refused up front
         mesher.SetMaximumNumberOfVertices(500000)  # the clock comes first; fits the memory check anywhere
         mesher.SetTimeLimit(1)
         error = self.assertRefused(mesher, "meshing failed", "time limit of 1 s reached in", error=om.MeshingError)

@@ -66,8 +66,8 @@ class FeatureLinesFilter(unittest.TestCase):
 
 class FeaturesOption(unittest.TestCase):
     def test_the_default_comes_from_the_cxx(self):
-        self.assertEqual(mesh_defaults()["features"], FEATURE_SOURCES[om.vtkFeaturePreservingTetrahedralizer().GetFeatures()])
-        self.assertEqual(mesh_defaults()["features"], "Given")  # the meshes of before (FeatureSelection.h)
+        self.assertEqual(mesh_defaults()["features"]["use"], FEATURE_SOURCES[om.vtkFeaturePreservingTetrahedralizer().GetFeatures()])
+        self.assertEqual(mesh_defaults()["features"]["use"], "Given")  # the meshes of before (FeatureSelection.h)
 
     def test_automatic_features_are_mesh_edges_and_given_alone_has_none(self):
         automatic = om.mesh(rim_scene(features="Automatic"))
@@ -255,9 +255,9 @@ class CreaseAngleOption(unittest.TestCase):
         return count
 
     def test_the_default_is_the_cxx_one_at_every_door(self):
-        self.assertEqual(mesh_defaults()["feature_angle"], om.vtkFeaturePreservingTetrahedralizer().GetCreaseAngle())
-        self.assertEqual(mesh_defaults()["feature_angle"], om.vtkOracleFeatureLines().GetCreaseAngle())
-        self.assertEqual(mesh_defaults()["feature_angle"], 60.0)  # the meshes of before (vtkFeatureEdges' angle)
+        self.assertEqual(mesh_defaults()["features"]["feature_angle"], om.vtkFeaturePreservingTetrahedralizer().GetCreaseAngle())
+        self.assertEqual(mesh_defaults()["features"]["feature_angle"], om.vtkOracleFeatureLines().GetCreaseAngle())
+        self.assertEqual(mesh_defaults()["features"]["feature_angle"], 60.0)  # the meshes of before (vtkFeatureEdges' angle)
 
     def test_the_scene_angle_selects_the_chamfer_edges(self):
         default = self.kept_lines(self.scene())

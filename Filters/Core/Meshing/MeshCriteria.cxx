@@ -58,19 +58,20 @@ MeshCriteria MeshCriteria::fromVtk(const std::array<double, kCount>& v)
 {
   MeshCriteria c;
   for (int k = 0; k < kCount; ++k)
-    if (!(v[k] < 0)) // NaN and infinities are kept so that checkFinite names them
+    if (v[k] != kUnset)
       c[k] = v[k];
   return c;
 }
 
-void MeshCriteria::checkFinite(const std::string& who) const
+void MeshCriteria::check(const std::string& who) const
 {
   for (int k = 0; k < kCount; ++k)
-    if ((*this)[k] && !std::isfinite(*(*this)[k]))
+    if (const std::optional<double>& v = (*this)[k]; v && (!std::isfinite(*v) || *v < 0))
     {
       std::ostringstream o;
-      o << who << ": " << propertyNames()[k] << " is " << *(*this)[k]
-        << " (a number is needed: 0 means no bound; leave it unset to inherit)";
+      o << who << ": " << propertyNames()[k] << " (" << sceneKeys()[k] << ") is " << *v
+        << (std::isfinite(*v) ? ": it cannot be negative" : "")
+        << " (0 means no bound; -1 or leaving it out means not set: the less specific level's value counts)";
       throw InputError(o.str());
     }
 }
@@ -136,9 +137,9 @@ MaterialCriteria mergeCriteria(const MeshCriteria& global, const std::vector<con
 
 void checkCriteria(const MaterialCriteria& c, std::vector<std::string>& warnings)
 {
-  c.global.checkFinite("global criteria");
+  c.global.check("global criteria");
   for (const auto& [material, m] : c.perMaterial)
-    m.checkFinite("criteria of material " + std::to_string(material));
+    m.check("criteria of material " + std::to_string(material));
   // A material's termination warnings only where its value is its own (not the global one again).
   const MeshCriteria::Values g = c.globalValues();
   auto check = [&](const MeshCriteria::Values& m, const std::string& who, const MeshCriteria::Values* global) {

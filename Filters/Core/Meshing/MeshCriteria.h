@@ -10,8 +10,9 @@
 namespace omesh
 {
 /// Delaunay-refinement criteria (paper section 2 / CGAL Mesh_3): the one criteria type of every
-/// level (defaults, global, per domain, per material). A value <= 0 means "no bound"; an empty
-/// field (std::nullopt) means "not set here": the next less specific level's value counts.
+/// level (defaults, global, per domain, per material). A value of 0 means "no bound"; an empty
+/// field (std::nullopt) means "not set here": the next less specific level's value counts. Negative
+/// values are errors (check()): a typed "-2" must not pass as "no bound".
 ///
 /// The merge rule (MaterialCriteria::of): defaults < global < per domain < per material, the
 /// more specific value wins. "Per domain" are a domain's own criteria, which apply to each material
@@ -58,10 +59,13 @@ struct MeshCriteria
   };
   Values values() const;
 
-  /// From six numbers as the VTK layer spells them: negative (or NaN) = not set.
+  /// The VTK layer's spelling of "not set".
+  static constexpr double kUnset = -1.0;
+  /// From six numbers as the VTK layer spells them: exactly kUnset = not set; every other value is
+  /// kept (a NaN or another negative one then fails check(), which names it).
   static MeshCriteria fromVtk(const std::array<double, kCount>& v);
-  /// Throws InputError when a set field is NaN or infinite, naming it and `who`.
-  void checkFinite(const std::string& who) const;
+  /// Throws InputError when a set field is NaN, infinite or negative, naming it and `who`.
+  void check(const std::string& who) const;
 };
 
 /// Global criteria plus per-material ones, merged by the rule above.

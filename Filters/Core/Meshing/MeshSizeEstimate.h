@@ -7,6 +7,9 @@
 #include "FeatureSegments.h"
 #include "MeshCriteria.h"
 
+#include <string>
+#include <vector>
+
 namespace omesh
 {
 class HierarchicalOracle;
@@ -23,6 +26,42 @@ constexpr double kBytesPerMeshVertex = 4096.0;
 /// memory from one of 10^12 vertices. Criteria that are unset count as 1/20 of the diagonal.
 double estimateMeshVertices(const HierarchicalOracle& oracle, const MaterialCriteria& criteria,
   const FeatureSegments& features);
+
+/// The same estimate in its three parts, for messages that say which criterion asks for the most.
+struct MeshSizeEstimate
+{
+  double volume = 0.0;   ///< the materials' volumes at their cell sizes
+  double surfaces = 0.0; ///< the interfaces' areas at their facet sizes
+  double lines = 0.0;    ///< the feature lines' lengths at their edge sizes
+  double total() const { return volume + surfaces + lines; }
+};
+MeshSizeEstimate estimateMeshSize(const HierarchicalOracle& oracle, const MaterialCriteria& criteria,
+  const FeatureSegments& features);
+
+/// Criteria asking for more than this times the vertex budget are refused (checkMeshSize): the
+/// estimate is rough (within a factor of about 2-3 of the meshes measured), so a run that ends a
+/// little above its budget still runs, and stops there with a warning.
+constexpr double kBudgetRefusalFactor = 10.0;
+/// The fastest rate any run reaches, seconds per vertex (refinement, optimisation and output; about
+/// 5x faster than the fastest measured, 46 us per vertex on a box): a run whose estimate at this rate exceeds its time limit
+/// cannot finish within it.
+constexpr double kFastestSecondsPerVertex = 1e-5;
+
+/// Refuses (InputError), before any meshing, criteria that the run cannot meet: an estimate of more
+/// than kBudgetRefusalFactor x `budget` vertices (0 = no budget), or more vertices than `timeLimit`
+/// seconds (0 = none) allow at kFastestSecondsPerVertex. The message gives the numbers, the part that
+/// asks the most, and the fixes (the criteria to coarsen, by how much; the budget or limit to raise).
+void checkMeshSize(const MeshSizeEstimate& estimate, double budget, double timeLimit);
+
+/// A size criterion of one material cannot be what was meant when it is larger than the whole domain
+/// (the diagonal of the oracle's bounds) or this many times smaller than it (metres against
+/// millimetres is 1000x).
+constexpr double kUnitsSlipRatio = 1000.0;
+
+/// Warnings naming each size criterion (FacetSize, CellSize, EdgeSize; FacetDistance only when
+/// larger than the domain) that is larger than the whole domain or kUnitsSlipRatio times smaller
+/// than it, with both numbers: a units slip, or a typo, that would otherwise mesh silently.
+std::vector<std::string> criteriaScaleWarnings(const HierarchicalOracle& oracle, const MaterialCriteria& criteria);
 
 /// The volume part alone (each material's volume over its cell size cubed): what the mesher's
 /// progress expects of refinement.

@@ -71,9 +71,7 @@ double effectiveTimeLimit(const MesherOptions& options)
 {
   if (options.timeLimit != 0)
     return options.timeLimit > 0 ? options.timeLimit : 0.0;
-  return options.maximumNumberOfVertices
-    ? kTimeLimitBase + kTimeLimitPerVertex * static_cast<double>(options.maximumNumberOfVertices)
-    : 0.0;
+  return kDefaultTimeLimit;
 }
 
 const char* toString(FeatureStrategy s)

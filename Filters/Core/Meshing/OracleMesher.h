@@ -116,8 +116,9 @@ struct MesherOptions
   /// refinement, optimisation, validation): reaching it throws TimeLimitReached (a failure naming the
   /// phase, with the statistics so far), for inputs whose criteria no budget of vertices bounds
   /// (refinement steps that insert nothing, optimiser steps on huge vertex stars).
-  /// 0 = automatic: kTimeLimitBase + kTimeLimitPerVertex x maximumNumberOfVertices (10,060 s, 2.8 h, at
-  /// the default budget; none with an unlimited budget); < 0 = none. See effectiveTimeLimit().
+  /// 0 = automatic: kDefaultTimeLimit (10 minutes), whatever the budget; < 0 = none. See
+  /// effectiveTimeLimit(). Criteria that could not be met within it are refused before meshing
+  /// (checkMeshSize in MeshSizeEstimate.h).
   double timeLimit = 0.0;
   /// Called during the work with a fraction in [0, 1] and the phase name; return false to abort
   /// (the call then throws MeshingAborted). Called from the calling thread.
@@ -138,10 +139,9 @@ constexpr double kPickingSliverRadiusEdgeLoose = 1.3;
 /// The picking sliver angle a run with `options` gets, in degrees (0 = off).
 double effectivePickingSliverAngle(const MesherOptions& options);
 
-/// The automatic time limit (MesherOptions::timeLimit 0): seconds, plus seconds per vertex of the
-/// budget. A generous multiple of the slowest rate measured (see the README's "Time limit").
-constexpr double kTimeLimitBase = 60.0;
-constexpr double kTimeLimitPerVertex = 0.005;
+/// The automatic time limit (MesherOptions::timeLimit 0), seconds: a person waits minutes, not
+/// hours; a run that needs longer is asked for (the limit raised) and is then bounded by that.
+constexpr double kDefaultTimeLimit = 600.0;
 
 /// The time limit a run with `options` gets, in seconds (0 = none).
 double effectiveTimeLimit(const MesherOptions& options);

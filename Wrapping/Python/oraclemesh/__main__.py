@@ -23,7 +23,7 @@ import time
 
 from .atomic import write_text
 from .defaults import mesh_defaults
-from .errors import MeshingError, OracleMeshError, update
+from .errors import MeshingError, OracleMeshError, scene_spelling, update
 from . import fieldkeys
 from .meshing import mesh
 from .progress import ProgressPrinter
@@ -43,6 +43,7 @@ class _Signals:
     def __init__(self):
         self.received = None
         self.running = []
+        self.warnings = []
 
     def install(self):
         for number in (signal.SIGINT, signal.SIGTERM):
@@ -60,11 +61,12 @@ class _Signals:
         raise Interrupted(self.received)
 
     def update(self, algorithm):
-        """om.update(algorithm), abortable by the signals: the filter reports progress to Python."""
+        """om.update(algorithm), abortable by the signals: the filter reports progress to Python. Its
+        warnings are kept in `warnings` (the report prints the mesher's)."""
         tag = algorithm.AddObserver("ProgressEvent", lambda *unused: None)
         self.running.append(algorithm)
         try:
-            output = update(algorithm)
+            output = update(algorithm, warnings=self.warnings)
         finally:
             self.running.remove(algorithm)
             algorithm.RemoveObserver(tag)
@@ -92,8 +94,8 @@ def check_output_path(path, what="output"):
 
 
 def _publish(lines, report_path):
-    """Prints a report and, when asked, saves it."""
-    report = "\n".join(lines)
+    """Prints a report and, when asked, saves it (property names as the scene files spell them)."""
+    report = scene_spelling("\n".join(lines))
     print(report)
     if report_path:
         write_text(report_path, report + "\n")
@@ -209,9 +211,17 @@ def _mesh(args):
             check_output_path(path, what)
     progress = ProgressPrinter(sys.stderr, machine=args.progress_lines) if args.progress or args.progress_lines else None
     with _VtkMessages() as messages:
-        result = mesh(scene, args.strategy, progress, updater=SIGNALS.update, element_order=args.order,
-                      features=args.features, threads=args.threads)
+        try:
+            result = mesh(scene, args.strategy, progress, updater=SIGNALS.update, element_order=args.order,
+                          features=args.features, threads=args.threads)
+        except OracleMeshError as e:  # the scene's name in front: a batch log names the case
+            if args.scene not in str(e):
+                e.args = (f"{args.scene}: {e}",)
+            raise
         messages.known = result.warnings
+    for text in SIGNALS.warnings:  # those of filters other than the mesher, which the report lacks
+        if text not in result.warnings:
+            print(f"oraclemesh: warning: {scene_spelling(text)}", file=sys.stderr)
     started = time.perf_counter()
     written = result.save(*outputs)
     lines = result.report.split("\n")
@@ -259,7 +269,7 @@ def _strict_status(args, q, what, input_warnings=()):
         status = 3
     if args.strict and input_warnings:
         print(f"oraclemesh: error: {where}: {len(input_warnings)} warning(s) about the inputs (--strict): "
-              + "; ".join(input_warnings), file=sys.stderr)
+              + scene_spelling("; ".join(input_warnings)), file=sys.stderr)
         status = 3
     return status
 
@@ -272,7 +282,8 @@ def _report(args):
             check_output_path(path, what)
     grid = read_mesh(args.mesh)
     lines, q = report_lines(grid, f"Mesh {args.mesh}", source=args.mesh)
-    png = None if args.no_png else (args.png or os.path.splitext(args.mesh)[0] + "_dihedral.png")
+    stem, ext = os.path.splitext(args.mesh)  # out.vtu -> out_vtu_dihedral.png: one picture per format
+    png = None if args.no_png else (args.png or f"{stem}_{ext[1:].lower()}_dihedral.png")
     if png:
         from .report import material_names
 
@@ -338,7 +349,7 @@ def main(argv=None):
     p.add_argument("--features", choices=FEATURE_SOURCES,
                    help="which feature lines are kept: given (the scene's), found where the inputs meet (cut "
                         "rims, entry curves, triple lines), or both (default: the scene's mesh.features.use, "
-                        f"else {mesh_defaults()['features']})")
+                        f"else {mesh_defaults()['features']['use']})")
     p.add_argument("--report", help="also write the quality report to this text file")
     p.add_argument("--histogram", help="save the dihedral-angle histogram to this PNG")
     p.add_argument("--section", help="save a cross-section of the mesh to this PNG (the plane through its "
@@ -360,7 +371,8 @@ def main(argv=None):
     p.set_defaults(run=_mesh)
     p = sub.add_parser("report", help="quality report of a mesh written by 'mesh' (.vtu .inp .msh .mesh): table and histogram")
     p.add_argument("mesh", help="tetrahedral mesh written by 'mesh' (.vtu, .inp, .msh or .mesh)")
-    p.add_argument("--png", help="histogram picture (default: MESH without its extension + _dihedral.png)")
+    p.add_argument("--png", help="histogram picture (default: MESH's name with its format, out.inp -> "
+                                 "out_inp_dihedral.png)")
     p.add_argument("--no-png", action="store_true", help="do not save the histogram picture")
     p.add_argument("--report", help="also write the report to this text file")
     p.add_argument("--strict", action="store_true",
@@ -406,12 +418,12 @@ def main(argv=None):
         if e.statistics:
             print("partial statistics: " + ", ".join(f"{k} {v:g}" for k, v in sorted(e.statistics.items())),
                   file=sys.stderr)
-        print(f"oraclemesh: error: {e}", file=sys.stderr)
+        print(f"oraclemesh: error: {scene_spelling(str(e))}", file=sys.stderr)
         return 3
     except OracleMeshError as e:
         if SIGNALS.received:
             return _interrupted()
-        print(f"oraclemesh: error: {e}", file=sys.stderr)
+        print(f"oraclemesh: error: {scene_spelling(str(e))}", file=sys.stderr)
         return 2
     except MemoryError:
         print("oraclemesh: error: out of memory", file=sys.stderr)

@@ -6,6 +6,8 @@ getters; a domain's Cut from a fresh domain object). Nothing here repeats a numb
     >>> from oraclemesh.defaults import mesh_defaults
     >>> mesh_defaults()["criteria"]["facet_angle"]
     25.0
+    >>> mesh_defaults()["features"]["use"]
+    'Given'
 
 The scene loader, ``oraclemesh.mesh``, the command line and the pvpython helpers leave a key out of
 the filter when the scene leaves it out, so the filter's default applies; these functions say what
@@ -36,6 +38,8 @@ MESH_PROPERTIES = {
     "element_order": "ElementOrder", "threads": "Threads",
 }
 BOOLEAN_PROPERTIES = {"Perturb", "Exude", "ResampleFeatureLines"}
+# MESH_PROPERTIES keys that a scene spells inside "mesh.features" ("resample")
+SCENE_FEATURE_PROPERTIES = {"resample_feature_lines"}
 
 
 @functools.lru_cache(maxsize=None)
@@ -43,20 +47,25 @@ def _mesh_defaults():
     from . import vtkFeaturePreservingTetrahedralizer
 
     fresh = vtkFeaturePreservingTetrahedralizer()
-    out = {"strategy": STRATEGIES[fresh.GetFeatureStrategy()], "features": FEATURE_SOURCES[fresh.GetFeatures()],
-           "feature_angle": fresh.GetCreaseAngle(),
-           "criteria": {key: float(getattr(fresh, "Get" + prop)()) for key, prop in CRITERIA_KEYS.items()}}
+    out = {"strategy": STRATEGIES[fresh.GetFeatureStrategy()],
+           "criteria": {key: float(getattr(fresh, "Get" + prop)()) for key, prop in CRITERIA_KEYS.items()},
+           "features": {"use": FEATURE_SOURCES[fresh.GetFeatures()], "feature_angle": fresh.GetCreaseAngle(),
+                        "resample": bool(fresh.GetResampleFeatureLines())}}
     for key, prop in MESH_PROPERTIES.items():
+        if key in SCENE_FEATURE_PROPERTIES:
+            continue
         value = getattr(fresh, "Get" + prop)()
         out[key] = bool(value) if prop in BOOLEAN_PROPERTIES else value
     return out
 
 
 def mesh_defaults():
-    """{scene "mesh" key: default}: "strategy", "features" (which lines are kept: the scene's
-    "mesh.features.use"), "feature_angle" (the scene's "mesh.features.feature_angle": the sharp
-    edges of a surface and the creases Automatic finds), "criteria" {criterion: value} and every key of
-    MESH_PROPERTIES, as a fresh vtkFeaturePreservingTetrahedralizer has them."""
+    """The defaults in the shape of a scene's "mesh" block, as a fresh
+    vtkFeaturePreservingTetrahedralizer has them: "strategy", "criteria" {criterion: value},
+    "features" {"use" (which lines are kept), "feature_angle" (a surface's sharp edges and the
+    creases Automatic finds), "resample" (without "from_surface"; with it the scene's default is
+    true)} and every other key of MESH_PROPERTIES ("seed", "time_limit", ...). A scene whose "mesh"
+    block is this dict meshes as one that leaves every key out."""
     import copy
 
     return copy.deepcopy(_mesh_defaults())

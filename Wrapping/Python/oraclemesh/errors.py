@@ -2,6 +2,7 @@
 """VTK reports filter errors through vtkErrorMacro (an ErrorEvent and a line on stderr) and a
 failed update; Python users want an exception. ``update`` gives them one."""
 import re
+import sys
 
 from vtkmodules.util.misc import calldata_type
 from vtkmodules.util.vtkConstants import VTK_STRING
@@ -44,6 +45,29 @@ def _clean(text):
     return re.sub(r" ?\(0x[0-9a-fA-F]+\)", "", text)
 
 
+def scene_spelling(text):
+    """A message of the VTK classes with their property names ("InsideTest WindingNumber",
+    "CellSize", "MaximumNumberOfVertices") in the scene files' spelling ("inside_test":
+    "winding_number", cell_size, maximum_number_of_vertices): what a scene's author types."""
+    from .defaults import CRITERIA_KEYS, MESH_PROPERTIES
+
+    for phrase, key in _PHRASES:
+        text = text.replace(phrase, key)
+    names = {prop: key for key, prop in list(CRITERIA_KEYS.items()) + list(MESH_PROPERTIES.items())}
+    names.update(_DOMAIN_PROPERTIES)
+    return re.sub(r"\b(" + "|".join(sorted(names, key=len, reverse=True)) + r")\b",
+                  lambda m: names[m.group(1)], text)
+
+
+# VTK spellings with a value, and domain properties, as the scene spells them
+_PHRASES = (("InsideTest WindingNumber", '"inside_test": "winding_number"'),
+            ("InsideTest Closed", '"inside_test": "closed"'),
+            ("InsideTest Automatic", '"inside_test": "automatic"'))
+_DOMAIN_PROPERTIES = {"InsideTest": "inside_test", "AllowSelfIntersections": "allow_self_intersections",
+                      "MergeTolerance": "merge_tolerance", "CreaseAngle": "feature_angle",
+                      "BackgroundLabel": "background"}
+
+
 def _named(obj, message):
     """A reader's message with its file name in front, when the reader did not name it."""
     get = getattr(obj, "GetFileName", None)
@@ -69,18 +93,25 @@ def _statistics(output):
     return dict(labelled(output.GetFieldData(), fieldkeys.STATISTIC_VALUES)) if output is not None else {}
 
 
-def update(algorithm, port=0):
+def update(algorithm, port=0, warnings=None):
     """Update ``algorithm`` and return its output data object on ``port``.
 
     Raises OracleMeshError with the first error message of the algorithm or of anything upstream
     (all messages are in the exception's ``messages`` attribute); MeshingError when the input was
     accepted but meshing failed or was aborted. A failed update without a message (a wrong data type
-    on a port, a port left unconnected) raises too: never an empty output as success."""
-    messages, executive_messages = [], []
+    on a port, a port left unconnected) raises too: never an empty output as success.
+
+    The pipeline's warnings go to the list `warnings` when given, else to stderr as
+    "oraclemesh: warning: ...": either way without VTK's source line and object address."""
+    messages, executive_messages, warned = [], [], []
 
     @calldata_type(VTK_STRING)
     def on_error(obj, event, calldata):
         messages.append(_named(obj, _clean(calldata)))
+
+    @calldata_type(VTK_STRING)
+    def on_warning(obj, event, calldata):
+        warned.append(_clean(calldata))
 
     @calldata_type(VTK_STRING)
     def on_executive_error(obj, event, calldata):
@@ -89,6 +120,7 @@ def update(algorithm, port=0):
     observed = []
     for alg in _pipeline(algorithm):
         observed.append((alg, alg.AddObserver("ErrorEvent", on_error)))
+        observed.append((alg, alg.AddObserver("WarningEvent", on_warning)))
         executive = alg.GetExecutive()
         observed.append((executive, executive.AddObserver("ErrorEvent", on_executive_error)))
     try:
@@ -96,6 +128,11 @@ def update(algorithm, port=0):
     finally:
         for alg, tag in observed:
             alg.RemoveObserver(tag)
+        if warnings is not None:
+            warnings.extend(warned)
+        else:
+            for text in warned:
+                print(f"oraclemesh: warning: {text}", file=sys.stderr)
     if messages:
         error = _error_for(messages[0])
         error.messages = messages

@@ -143,6 +143,24 @@ def _from_meshio(path, ext):
     return _grid(mesh.points[:, :3], cells, material, names)
 
 
+def _refuse_surfaces(grid, path):
+    """OracleMeshError saying what a .vtu of triangles is (the boundary and interface sets that
+    'oraclemesh mesh' writes beside a mesh as <name>_surfaces.vtu) and which file to report on."""
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    from vtkmodules.vtkCommonDataModel import VTK_QUADRATIC_TRIANGLE, VTK_TRIANGLE
+
+    if grid.GetNumberOfCells() == 0:
+        return
+    types = set(vtk_to_numpy(grid.GetCellTypesArray()).tolist())
+    if types <= {VTK_TRIANGLE, VTK_QUADRATIC_TRIANGLE}:
+        base = os.path.basename(path)
+        mesh = base[:-len("_surfaces.vtu")] + ".vtu" if base.endswith("_surfaces.vtu") else None
+        raise OracleMeshError(
+            f"{path}: holds {grid.GetNumberOfCells()} triangles, no tetrahedra: "
+            + ("the boundary and interface sets that 'oraclemesh mesh' writes beside a mesh; "
+               f"report on the mesh itself, {mesh}" if mesh else "a surface, not a tetrahedral mesh"))
+
+
 def read_mesh(path):
     """Reads a mesh written by ``oraclemesh mesh`` (.vtu, .inp, .msh or .mesh) into a tetrahedral
     vtkUnstructuredGrid with cell data Material and MinDihedralAngle; OracleMeshError naming the file
@@ -166,6 +184,7 @@ def read_mesh(path):
             grid = update(reader)
         except OracleMeshError as e:
             raise OracleMeshError(f"{path}: not a readable .vtu file ({e})") from None
+        _refuse_surfaces(grid, path)
     else:
         try:
             import meshio  # noqa: F401

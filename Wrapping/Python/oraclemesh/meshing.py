@@ -9,6 +9,7 @@
     grid = result.grid                   # the vtkUnstructuredGrid
 """
 import os
+import sys
 import time
 
 from .defaults import CRITERIA_KEYS, FEATURE_SOURCES, MESH_PROPERTIES, domain_criteria_unset, mesh_defaults
@@ -230,7 +231,8 @@ class MeshResult:
     def save(self, *paths):
         """Writes the mesh to each path, the format by extension (.vtu, .inp, .msh, .mesh; see
         writers.py), with its boundary and interface sets; returns the files written (a .vtu also
-        writes ``<name>_surfaces.vtu``). Raises OracleMeshError naming a path that fails."""
+        writes ``<name>_surfaces.vtu``). Raises OracleMeshError naming a path that fails, after removing
+        the files this call wrote before it."""
         from .writers import MESH_FORMATS, write_mesh
 
         for path in paths:  # refuse a bad name before writing anything
@@ -238,8 +240,16 @@ class MeshResult:
             if ext not in MESH_FORMATS:
                 raise OracleMeshError(f"{path}: unknown mesh format '{ext}' (use one of {', '.join(MESH_FORMATS)})")
         written = []
-        for path in paths:
-            written += write_mesh(self.grid, os.fspath(path), self.material_names, self._mesh_arrays())
+        try:
+            for path in paths:
+                written += write_mesh(self.grid, os.fspath(path), self.material_names, self._mesh_arrays())
+        except BaseException:
+            for done in written:  # all the files or none: no set half written
+                try:
+                    os.remove(done)
+                except OSError:
+                    pass
+            raise
         return written
 
     def _mesh_arrays(self):
@@ -285,11 +295,15 @@ def mesh(scene, strategy=None, progress=None, base_dir=None, updater=update, ele
     mesher = mesher_for(scene, strategy, element_order, features, threads, feature_angle)
     if progress is not None:
         mesher.AddObserver("ProgressEvent", lambda algorithm, event: progress(algorithm.GetProgress()))
-    grid = updater(mesher)
+    collected = []  # the mesher's warnings are the result's (its report): printed only when others
+    grid = update(mesher, warnings=collected) if updater is update else updater(mesher)
     add_input_warnings(grid, scene.input_warnings())
     segments = mesher.GetOutputDataObject(2)
     describe(grid, scene.material_names(), segments.GetNumberOfCells() if segments is not None else 0)
     strategy = strategy or scene.mesh.get("strategy", mesh_defaults()["strategy"])
     seconds = time.perf_counter() - started
-    return MeshResult(grid, scene, strategy, seconds,
-                      f"Mesh of {scene.source} ({seconds:.1f} s, strategy {strategy})")
+    result = MeshResult(grid, scene, strategy, seconds, f"Mesh of {scene.source} ({seconds:.1f} s, strategy {strategy})")
+    for text in collected:
+        if text not in result.warnings:
+            print(f"oraclemesh: warning: {text}", file=sys.stderr)
+    return result

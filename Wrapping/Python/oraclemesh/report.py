@@ -211,9 +211,10 @@ def section(grid, axis=None, source="mesh"):
     p = points[cells]
     corners, valid = [], []
     for i, j in ((0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)):
-        t = (d[:, i] / (d[:, i] - d[:, j]))[:, None]
+        crosses = (d[:, i] > 0) != (d[:, j] > 0)  # only these edges have a corner (others: no division)
+        t = np.divide(d[:, i], d[:, i] - d[:, j], out=np.zeros(len(d)), where=crosses)[:, None]
         corners.append(p[:, i] + t * (p[:, j] - p[:, i]))
-        valid.append((d[:, i] > 0) != (d[:, j] > 0))
+        valid.append(crosses)
     corners, valid = np.stack(corners, axis=1), np.stack(valid, axis=1)  # [n, 6, 3], [n, 6]
     plane = [a for a in range(3) if a != axis]
     corners = corners[:, :, plane]

@@ -242,8 +242,12 @@ def _criteria(problems, value, path):
         if key not in CRITERIA_KEYS:
             problems.add(f"{path}.{key}", f"unknown criterion (use {', '.join(CRITERIA_KEYS)})")
             continue
+        if value[key] is None or (value[key] == -1 and not isinstance(value[key], bool)):
+            continue  # not set: the less specific level's value counts (MeshCriteria.h)
         number = _number(problems, value, path, key)
-        if number is not None:
+        if number is not None and number < 0:
+            problems.add(f"{path}.{key}", f"must be >= 0 (0: no bound; null or -1: not set), got {value[key]!r}")
+        elif number is not None:
             out[key] = number
     return out
 
@@ -288,10 +292,11 @@ def _feature_files(problems, value, scene):
                 problems.add(f"{where}.file", f"must be a file name, got {file!r}")
                 continue
             edge_size = None
-            if "edge_size" in item:
+            if item.get("edge_size") is not None and item["edge_size"] != -1:
                 edge_size = _number(problems, item, where, "edge_size")
                 if edge_size is not None and edge_size < 0:
-                    problems.add(f"{where}.edge_size", f"must be a number >= 0 (0: no bound), got {item['edge_size']!r}")
+                    problems.add(f"{where}.edge_size",
+                                 f"must be a number >= 0 (0: no bound; null or -1: not set), got {item['edge_size']!r}")
                     edge_size = None
             out.append((scene.path(file), edge_size))
         else:
