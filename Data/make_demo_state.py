@@ -67,8 +67,9 @@ def build_pipeline(scene_file, file_prefix=None):
             proxies[d["file"]] = readers[name] = reader
         if kind == "surface":
             domain = pv.SurfaceDomain(Input=reader)
-            if d.get("inside_test", "closed") == "winding_number":
-                domain.InsideTest = "Winding Number"
+            if "inside_test" in d:  # else the filter's default (automatic)
+                domain.InsideTest = {"automatic": "Automatic", "closed": "Closed",
+                                     "winding_number": "Winding Number"}[d["inside_test"]]
             domain.AllowSelfIntersections = int(bool(d.get("allow_self_intersections", False)))
         elif kind == "labelmap":
             domain = pv.LabelMapDomain(Input=reader)

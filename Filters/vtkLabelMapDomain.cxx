@@ -71,6 +71,24 @@ int vtkLabelMapDomain::RequestInformation(
   vtkInformation* inInfo = inputVector[0]->GetInformationObject(0);
   if (!inInfo || !inInfo->Has(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()))
     return 1; // not an image: RequestData says so
+  // Before the reader allocates the image (a failed information pass stops the update before any
+  // RequestData; a failed update-extent pass does not): a header claiming 1e15 voxels aborted
+  // ParaView in its reader's allocation. 7 bytes a voxel: one read, and this filter's own 6.
+  const int* e = inInfo->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT());
+  const double voxels =
+    static_cast<double>(e[1] - e[0] + 1) * static_cast<double>(e[3] - e[2] + 1) * static_cast<double>(e[5] - e[4] + 1);
+  try
+  {
+    OracleBuilder::CheckMemory(std::string("vtkLabelMapDomain '") + (this->DomainName ? this->DomainName : "") + "'",
+      "its input image of " + std::to_string(e[1] - e[0] + 1) + " x " + std::to_string(e[3] - e[2] + 1) + " x " +
+        std::to_string(e[5] - e[4] + 1) + " voxels (refused before it is read)",
+      voxels, 7.0);
+  }
+  catch (const omesh::InputError& error)
+  {
+    vtkErrorMacro(<< error.what());
+    return 0;
+  }
   return this->Superclass::RequestInformation(request, inputVector, outputVector);
 }
 

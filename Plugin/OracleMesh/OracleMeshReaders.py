@@ -41,6 +41,13 @@ def _readers():
     return readers
 
 
+def _errors():
+    """oraclemesh.errors (found as _readers() finds the package)."""
+    _readers()
+    from oraclemesh import errors
+    return errors
+
+
 class OracleMeshLabelMapReader(VTKPythonAlgorithmBase):
     """A label map placed as `oraclemesh mesh` places it: vtkImageData with origin, spacing and
     direction in the scene's frame (Space)."""
@@ -83,8 +90,8 @@ class OracleMeshLabelMapReader(VTKPythonAlgorithmBase):
 
         try:
             reader = self._get_reader()
-            if not reader.UpdateInformation() and reader.GetErrorCode():
-                raise RuntimeError(f"{self._filename}: cannot be read")
+            # the reader's own first error, named (not VTK's "Failure when calling ProcessRequest")
+            _errors().update_information(reader, warnings=[])
         except Exception as e:  # OracleMeshError names the file and the problem
             self._reader = None
             return self._fail(e)
@@ -99,11 +106,9 @@ class OracleMeshLabelMapReader(VTKPythonAlgorithmBase):
         from vtkmodules.vtkCommonDataModel import vtkImageData
 
         try:
-            reader = self._get_reader()
-            reader.Update()
+            image = _errors().update(self._get_reader(), warnings=[])
         except Exception as e:
             return self._fail(e)
-        image = reader.GetOutputDataObject(0)
         if image is None or image.GetNumberOfPoints() == 0:
             return self._fail(f"{self._filename}: no image read")
         vtkImageData.GetData(outInfo).ShallowCopy(image)

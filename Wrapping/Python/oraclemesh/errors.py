@@ -93,6 +93,12 @@ def _statistics(output):
     return dict(labelled(output.GetFieldData(), fieldkeys.STATISTIC_VALUES)) if output is not None else {}
 
 
+def update_information(algorithm, port=0, warnings=None):
+    """As update(), for the pipeline's information pass only (a reader's header: extent, origin,
+    spacing), without reading the data; returns nothing."""
+    _run(algorithm, port, warnings, information=True)
+
+
 def update(algorithm, port=0, warnings=None):
     """Update ``algorithm`` and return its output data object on ``port``.
 
@@ -103,6 +109,10 @@ def update(algorithm, port=0, warnings=None):
 
     The pipeline's warnings go to the list `warnings` when given, else to stderr as
     "oraclemesh: warning: ...": either way without VTK's source line and object address."""
+    return _run(algorithm, port, warnings, information=False)
+
+
+def _run(algorithm, port, warnings, information):
     messages, executive_messages, warned = [], [], []
 
     @calldata_type(VTK_STRING)
@@ -124,7 +134,8 @@ def update(algorithm, port=0, warnings=None):
         executive = alg.GetExecutive()
         observed.append((executive, executive.AddObserver("ErrorEvent", on_executive_error)))
     try:
-        ok = algorithm.GetExecutive().Update(port)  # vtkAlgorithm.Update() returns nothing
+        executive = algorithm.GetExecutive()  # vtkAlgorithm.Update() returns nothing
+        ok = executive.UpdateInformation() if information else executive.Update(port)
     finally:
         for alg, tag in observed:
             alg.RemoveObserver(tag)
@@ -144,4 +155,4 @@ def update(algorithm, port=0, warnings=None):
             executive_messages[0] if executive_messages else f"{algorithm.GetClassName()} failed to update")
         error.messages = executive_messages
         raise error
-    return algorithm.GetOutputDataObject(port)
+    return None if information else algorithm.GetOutputDataObject(port)
