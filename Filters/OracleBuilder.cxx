@@ -414,15 +414,25 @@ std::shared_ptr<omesh::Domain> OracleBuilder::BuildDomain(vtkDataObject* data, c
   return d;
 }
 
-omesh::CriteriaLevel OracleBuilder::DomainCriteria(
-  vtkDataObject* data, const omesh::HierarchicalOracle& oracle)
+namespace
 {
-  std::vector<vtkDataObject*> blocks; // in BuildOracle's order: block i is domain i
+/// The domains' datasets in BuildOracle's order: block i is domain i.
+std::vector<vtkDataObject*> domainBlocks(vtkDataObject* data)
+{
+  std::vector<vtkDataObject*> blocks;
   if (auto* mb = vtkMultiBlockDataSet::SafeDownCast(data))
     for (unsigned int i = 0; i < mb->GetNumberOfBlocks(); ++i)
       blocks.push_back(mb->GetBlock(i));
   else
     blocks.push_back(data);
+  return blocks;
+}
+}
+
+omesh::CriteriaLevel OracleBuilder::DomainCriteria(
+  vtkDataObject* data, const omesh::HierarchicalOracle& oracle)
+{
+  const std::vector<vtkDataObject*> blocks = domainBlocks(data);
   omesh::CriteriaLevel out;
   for (size_t i = 0; i < blocks.size() && i < oracle.domains().size(); ++i)
   {
@@ -449,12 +459,7 @@ std::vector<std::string> OracleBuilder::UnknownMaterialWarnings(
     return values.size() > 20 ? text + ", ..." : text.empty() ? std::string("none") : text;
   };
   std::vector<std::string> warnings;
-  std::vector<vtkDataObject*> blocks; // in BuildOracle's order: block i is domain i
-  if (auto* mb = vtkMultiBlockDataSet::SafeDownCast(data))
-    for (unsigned int i = 0; i < mb->GetNumberOfBlocks(); ++i)
-      blocks.push_back(mb->GetBlock(i));
-  else
-    blocks.push_back(data);
+  const std::vector<vtkDataObject*> blocks = domainBlocks(data);
   for (size_t i = 0; i < blocks.size() && i < oracle.domains().size(); ++i)
   {
     const omesh::Domain& domain = *oracle.domains()[i];

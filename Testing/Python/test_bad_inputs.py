@@ -505,7 +505,8 @@ CLI_CASES = {
                                                                   maximum_number_of_vertices=2000000), 2,
                                                     ["the criteria ask for about", "facet_size about"]),
     "part in metres, criteria in millimetres": (case_metres, 3, ["cell_size 2", "larger than the whole domain",
-                                                                 "0.06928", "units slip", "--strict"]),
+                                                                 "0.06928", "units slip", "--strict",
+                                                                 "e-05"]),  # the volume, not 0.0
     "labels and materials the image lacks": (case_unknown_label, 3, ["label 7", "'no such tissue'",
                                                                      "does not have", "material 9",
                                                                      "no domain has", "--strict"]),

@@ -104,6 +104,8 @@ def _publish(lines, report_path):
 def _sample(args):
     from vtkmodules.vtkIOXML import vtkXMLImageDataWriter
 
+    from .report import volume_text
+
     from . import vtkOracleSampler
 
     started = time.perf_counter()
@@ -128,8 +130,8 @@ def _sample(args):
              f"{'material':>8}  {'name':<18} {'volume [mm^3]':>14} {'share':>7}"]
     for i in range(ids.GetNumberOfTuples()):
         m, v = ids.GetValue(i), volumes.GetValue(i)
-        lines.append(f"{m:>8}  {names.get(m, '?'):<18} {v:>14.1f} {100 * v / total:>6.1f}%")
-    lines.append(f"{'all':>8}  {'':<18} {total:>14.1f}")
+        lines.append(f"{m:>8}  {names.get(m, '?'):<18} {volume_text(v):>14} {100 * v / total:>6.1f}%")
+    lines.append(f"{'all':>8}  {'':<18} {volume_text(total):>14}")
     if args.output:
         lines.append(f"wrote {args.output} (point array '{fieldkeys.MATERIAL}', -1 outside): open it in ParaView")
     _publish(lines, args.report)
@@ -360,7 +362,8 @@ def main(argv=None):
     p.add_argument("--time-limit", type=float, metavar="SECONDS",
                    help="wall-clock seconds for the meshing, every phase (the scene's mesh.time_limit); reaching "
                         "it is a failure (exit 3) naming the phase, with the figures so far and no mesh written. "
-                        "0 = automatic (the default: from the vertex budget), -1 = none")
+                        "0 = automatic (the default: 10 minutes), -1 = none; criteria that cannot be met within it are "
+                        "refused before meshing")
     p.add_argument("--progress", action="store_true", help="show the mesher's progress on stderr")
     p.add_argument("--progress-lines", action="store_true", help=argparse.SUPPRESS)
     p.add_argument("--summary", help=argparse.SUPPRESS)  # JSON of the figures batch puts in its CSV

@@ -78,6 +78,12 @@ def validity_line(counts):
     return f"validity: {int(counts[fieldkeys.VALIDITY_DEFECTS])} DEFECTS: {found}; shortest/median edge {shortest:.2g}"
 
 
+def volume_text(volume):
+    """A volume for the tables: one decimal, or four significant digits below 100 (a part in metres
+    printed as 0.0 mm^3 hid the units slip)."""
+    return f"{volume:.1f}" if volume == 0 or abs(volume) >= 100 else f"{volume:.4g}"
+
+
 def quality(grid, source="mesh"):
     """Per-material quality of a tetrahedral mesh: {"materials": {id: {"tets", "volume",
     "min_dihedral", "mean_min_dihedral"}}, "tets", "vertices" (corners), "nodes" (with the mid-edge
@@ -125,9 +131,9 @@ def report_lines(grid, title, names=None, source="mesh", recheck=True):
              + (f", {q['nodes']} nodes" if q["order"] == 2 else ""),
              f"{'material':>8}  {'name':<18} {'tets':>9} {'volume [mm^3]':>14} {'min dihedral':>13} {'mean min':>9}"]
     for m, row in q["materials"].items():
-        lines.append(f"{m:>8}  {names.get(m, '?'):<18} {row['tets']:>9} {row['volume']:>14.1f} "
+        lines.append(f"{m:>8}  {names.get(m, '?'):<18} {row['tets']:>9} {volume_text(row['volume']):>14} "
                      f"{row['min_dihedral']:>12.2f}° {row['mean_min_dihedral']:>8.1f}°")
-    lines.append(f"{'all':>8}  {'':<18} {q['tets']:>9} {q['volume']:>14.1f} {q['min_dihedral']:>12.2f}° "
+    lines.append(f"{'all':>8}  {'':<18} {q['tets']:>9} {volume_text(q['volume']):>14} {q['min_dihedral']:>12.2f}° "
                  f"{q['angles'].mean():>8.1f}°")
     hist, edges = np.histogram(q["angles"], bins=TEXT_BINS)
     lines.append("minimal dihedral angle per tetrahedron: "
