@@ -1347,3 +1347,31 @@ TEST(OracleMesher, ResamplingKeepsASmallPolygonalCylinder)
   EXPECT_NEAR(materialVolumes(m).at(5), exact, facetDistance * area);
   EXPECT_EQ(m.statistics.at("validity.defects"), 0.0);
 }
+
+// Thousands of feature segments far shorter than the mesh size, not resampled (a noisy surface's
+// sharp edges): a warning naming them and the fix; resampled, none.
+TEST(OracleMesher, DenseFeatureLinesAreNamedWhenNotResampled)
+{
+  HierarchicalOracle o;
+  o.add(std::make_shared<SphereDomain>(Vec3{ 0, 0, 0 }, 1.0, 1));
+  FeatureSegments dense;
+  constexpr int n = 1200;
+  for (int i = 0; i <= n; ++i)
+    dense.points.push_back({ -0.5 + static_cast<double>(i) / n, 0.0, 0.0 });
+  for (int i = 0; i < n; ++i)
+    dense.segments.push_back({ i, i + 1 });
+  MesherOptions opt = options(FeatureStrategy::Conforming, 0.4);
+  opt.maximumNumberOfVertices = 3000; // the warning is the point, not the mesh
+  opt.perturb = opt.exude = false;
+  auto dense_warning = [](const TetMesh& m) {
+    for (const std::string& w : m.warnings)
+      if (w.find("feature lines: 1200 segments of median length") != std::string::npos)
+        return w;
+    return std::string();
+  };
+  const std::string w = dense_warning(meshOracle(o, dense, {}, opt));
+  EXPECT_NE(w.find("times shorter than the mesh size"), std::string::npos) << w;
+  EXPECT_NE(w.find("ResampleFeatureLines"), std::string::npos) << w;
+  opt.resampleFeatureLines = true;
+  EXPECT_EQ(dense_warning(meshOracle(o, dense, {}, opt)), "");
+}

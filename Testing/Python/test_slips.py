@@ -171,6 +171,87 @@ class Files(unittest.TestCase):
         self.assertFalse(os.path.exists(os.path.join(self.tmp.name, "first_surfaces.vtu")))
 
 
+def noisy_box(path, seed=7):
+    """A scanned CAD part: a 20 x 10 x 8 box of 12,288 triangles with seeded noise of 0.03 mm, whose
+    sharp edges at 5 degrees are thousands of short segments."""
+    import numpy as np
+    from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
+    from vtkmodules.vtkFiltersCore import vtkCleanPolyData, vtkTriangleFilter
+    from vtkmodules.vtkFiltersModeling import vtkLinearSubdivisionFilter
+    from vtkmodules.vtkFiltersSources import vtkCubeSource
+    from vtkmodules.vtkIOXML import vtkXMLPolyDataWriter
+
+    cube = vtkCubeSource()
+    cube.SetXLength(20)
+    cube.SetYLength(10)
+    cube.SetZLength(8)
+    triangles = vtkTriangleFilter()
+    triangles.SetInputConnection(cube.GetOutputPort())
+    welded = vtkCleanPolyData()
+    welded.SetInputConnection(triangles.GetOutputPort())
+    finer = vtkLinearSubdivisionFilter()
+    finer.SetInputConnection(welded.GetOutputPort())
+    finer.SetNumberOfSubdivisions(5)
+    finer.Update()
+    surface = finer.GetOutput()
+    points = vtk_to_numpy(surface.GetPoints().GetData()).copy()
+    points += np.random.default_rng(seed).normal(scale=0.03, size=points.shape)
+    surface.GetPoints().SetData(numpy_to_vtk(points, deep=True))
+    writer = vtkXMLPolyDataWriter()
+    writer.SetFileName(path)
+    writer.SetInputData(surface)
+    writer.Write()
+    return path
+
+
+class DenseFeatureLines(unittest.TestCase):
+    """A noisy CAD part whose sharp edges at 5 degrees are ~12,000 short segments: not resampled, it
+    ends at the time limit with a message naming the dense lines and the fix; resampled (the
+    default for a surface's sharp edges), it meshes in seconds."""
+
+    @classmethod
+    def setUpClass(cls):
+        cls.tmp = tempfile.TemporaryDirectory()
+        part = noisy_box(os.path.join(cls.tmp.name, "part.vtp"))
+        cls.scene = {"domains": [{"name": "part", "type": "surface", "file": part, "material": 1}],
+                     "mesh": {"criteria": {"cell_size": 2, "facet_size": 2, "facet_distance": 0.2},
+                              "features": {"from_surface": "part", "feature_angle": 5}}}
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.tmp.cleanup()
+
+    def write(self, name, **features):
+        scene = json.loads(json.dumps(self.scene))
+        scene["mesh"]["features"].update(features)
+        path = os.path.join(self.tmp.name, name + ".json")
+        with open(path, "w") as f:
+            json.dump(scene, f)
+        return path
+
+    def test_unresampled_ends_within_the_limit_naming_the_dense_lines(self):
+        import time
+
+        started = time.monotonic()
+        result = run("mesh", self.write("dense", resample=False), "-o", os.path.join(self.tmp.name, "d.vtu"),
+                     "--time-limit", 5)
+        elapsed = time.monotonic() - started
+        self.assertEqual(result.returncode, 3, result.stderr)
+        self.assertIn("time limit of 5 s reached in", result.stderr)
+        self.assertIn("the feature lines are dense", result.stderr)
+        self.assertIn("features.resample", result.stderr)  # the scene's spelling of the fix
+        self.assertLess(elapsed, 5 + 25)  # the limit, plus Python's start and the surface's checks
+        self.assertFalse(os.path.exists(os.path.join(self.tmp.name, "d.vtu")))
+
+    def test_resampled_meshes_with_every_line_kept(self):
+        out = os.path.join(self.tmp.name, "r.vtu")
+        result = run("mesh", self.write("resampled"), "-o", out, "--time-limit", 120)
+        self.assertEqual(result.returncode, 0, result.stderr)
+        self.assertIn("feature lines simplified", result.stdout)
+        self.assertIn("feature lines present as mesh edges: 100.0%", result.stdout)
+        self.assertIn("validity: no defects", result.stdout)
+
+
 @unittest.skipUnless(PVPYTHON and PLUGIN, "pvpython or the plugin not given")
 class PvPython(unittest.TestCase):
     """What a pvpython user sees."""

@@ -37,6 +37,13 @@ void MeshingDeadline::fail(const char* phase) const
     }
   o << " so far; the criteria ask for more than the time allows: loosen them, or raise the time limit "
        "(a partial mesh: set a vertex budget, which ends refinement reproducibly)";
+  // dense feature lines (a noisy surface's sharp edges) are the usual cause when their points are
+  // a large share of the vertices
+  const auto points = st.find("feature_points"), vertices = st.find("vertices");
+  if (points != st.end() && vertices != st.end() && points->second * 3 > vertices->second && points->second > 1000)
+    o << "; the feature lines are dense (" << static_cast<long long>(points->second)
+      << " of the points so far lie on them): resample them (ResampleFeatureLines) or raise the feature angle "
+         "that found them";
   throw TimeLimitReached(o.str(), phase, std::move(st));
 }
 }

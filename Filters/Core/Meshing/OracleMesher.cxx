@@ -627,16 +627,52 @@ namespace
 /// The feature lines simplified and resampled as MesherOptions::resampleFeatureLines asks
 /// (simplifyFeatureNetwork: chords up to the edge size, else the facet size, else 1/40 of the
 /// diagonal, within half the smallest facet distance), or nothing when it does not.
+/// The chord length of the resampling: the edge size, else the facet size, else 1/40 of the diagonal.
+double resamplingLength(const MesherOptions& options, const BoundingBox& inner)
+{
+  const MeshCriteria::Values g = options.criteria.globalValues();
+  return g.edgeSize > 0 ? g.edgeSize : g.facetSize > 0 ? g.facetSize : norm(inner.size()) / 40.0;
+}
+
+/// Feature lines given as many segments far shorter than the mesh size (a noisy surface's sharp
+/// edges at a small feature angle) and not resampled: every point stays a mesh vertex and the mesh
+/// grades down to them (on a 12,288-triangle noisy box at 5 degrees, 11,845 segments: 310,000
+/// vertices in 60 s, against 1.8 s resampled). A warning naming the numbers and the fix.
+std::optional<std::string> denseFeatureLinesWarning(
+  const FeatureSegments& given, const MesherOptions& options, const BoundingBox& inner)
+{
+  constexpr size_t kManySegments = 1000;
+  constexpr double kShorter = 10.0;
+  if (options.resampleFeatureLines || given.segments.size() < kManySegments)
+    return std::nullopt;
+  std::vector<double> lengths(given.segments.size());
+  for (size_t s = 0; s < lengths.size(); ++s)
+    lengths[s] = given.length(s);
+  std::nth_element(lengths.begin(), lengths.begin() + lengths.size() / 2, lengths.end());
+  const double median = lengths[lengths.size() / 2], h = resamplingLength(options, inner);
+  if (!(median * kShorter < h))
+    return std::nullopt;
+  std::ostringstream o;
+  o.precision(3);
+  o << "feature lines: " << given.segments.size() << " segments of median length " << median << ", " << h / median
+    << " times shorter than the mesh size " << h
+    << ": each of their points stays a mesh vertex and the mesh grades down to them (slow, and small "
+       "elements); resample them to chords of about that size (ResampleFeatureLines), or raise the feature angle "
+       "that found them";
+  return o.str();
+}
+
 std::optional<FeatureSegments> resampledFeatures(const FeatureSegments& given, const MesherOptions& options,
   const HierarchicalOracle& oracle, const BoundingBox& inner, std::vector<std::string>& warnings,
   FeatureNetworkReport& report)
 {
+  if (const auto dense = denseFeatureLinesWarning(given, options, inner))
+    warnings.push_back(*dense);
   if (!options.resampleFeatureLines || given.empty())
     return std::nullopt;
-  const MeshCriteria::Values g = options.criteria.globalValues();
   const double distance = options.criteria.finestFacetDistance();
   FeatureNetworkTolerances tolerances;
-  tolerances.edgeLength = g.edgeSize > 0 ? g.edgeSize : g.facetSize > 0 ? g.facetSize : norm(inner.size()) / 40.0;
+  tolerances.edgeLength = resamplingLength(options, inner);
   // a line with a finer edge size of its own (or of its materials) keeps its detail: h is the finest
   if (!given.edgeSizes.empty() || hasMaterialEdgeSizes(options.criteria))
     for (double e : resolveFeatureEdgeSizes(given, options.criteria, oracle))

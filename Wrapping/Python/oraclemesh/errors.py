@@ -64,8 +64,8 @@ _PHRASES = (("InsideTest WindingNumber", '"inside_test": "winding_number"'),
             ("InsideTest Closed", '"inside_test": "closed"'),
             ("InsideTest Automatic", '"inside_test": "automatic"'))
 _DOMAIN_PROPERTIES = {"InsideTest": "inside_test", "AllowSelfIntersections": "allow_self_intersections",
-                      "MergeTolerance": "merge_tolerance", "CreaseAngle": "feature_angle",
-                      "BackgroundLabel": "background"}
+                      "MergeTolerance": "merge_tolerance", "CreaseAngle": "features.feature_angle",
+                      "ResampleFeatureLines": "features.resample", "BackgroundLabel": "background"}
 
 
 def _named(obj, message):
