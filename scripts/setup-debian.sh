@@ -17,8 +17,8 @@ PKGS=(
   libgtest-dev googletest python3-numpy xvfb xauth
   # tests: the sanitizer build (ASan + UBSan) and the libFuzzer harnesses; llvm-14 symbolizes reports
   clang libclang-rt-14-dev llvm-14
-  # tests: gmsh's own reader checks the .msh files (gmsh -check)
-  gmsh
+  # tests: gmsh's own reader checks the .msh files (gmsh -check); CalculiX solves the .inp files
+  gmsh calculix-ccx
   # command line: finite-element mesh formats (meshio) and the report's histogram picture
   python3-meshio python3-matplotlib
   # batch on a Dask cluster (--scheduler, --workers)

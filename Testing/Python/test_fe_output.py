@@ -281,6 +281,75 @@ def _two_tetrahedra(materials):
     return grid
 
 
+class CalculiX(unittest.TestCase):
+    """The Abaqus files run as written in CalculiX (Debian's calculix-ccx, which reads Abaqus decks
+    and takes at most 20 characters per number): an implant ball in a bone block, linear and
+    10-node, the materials on the element sets, the bottom clamped through a node set, a pressure
+    on the block's exterior *SURFACE. Both orders solve and agree on the top's displacement."""
+
+    SCENE = {"domains": [{"name": "implant", "type": "sphere", "center": [0, 0, 0], "radius": 2, "material": 2},
+                         {"name": "bone", "type": "box", "bounds": [-5, 5, -5, 5, -5, 5], "material": 1}],
+             "mesh": {"criteria": {"cell_size": 2, "facet_size": 2, "facet_distance": 0.2}, "seed": 1}}
+
+    @classmethod
+    def setUpClass(cls):
+        cls.tmp = tempfile.TemporaryDirectory()
+        cls.files = {}
+        for order in (1, 2):
+            cls.files[order] = os.path.join(cls.tmp.name, f"mesh{order}.inp")
+            om.mesh(cls.SCENE, element_order=order).save(cls.files[order])
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.tmp.cleanup()
+
+    def test_every_number_fits_twenty_characters(self):
+        for path in self.files.values():
+            with open(path) as f:
+                text = f.read()
+            nodes = text.split("*NODE\n", 1)[1].split("*", 1)[0]
+            widths = [len(field.strip()) for line in nodes.splitlines() for field in line.split(",")]
+            self.assertGreater(len(widths), 100)
+            self.assertLessEqual(max(widths), 20, path)
+
+    def solve(self, order):
+        """The top-centre node's displacement (ux, uy, uz) from ccx on a deck that includes the mesh."""
+        import meshio
+
+        points = meshio.read(self.files[order]).points
+        z = points[:, 2]
+        bottom = np.flatnonzero(np.abs(z - z.min()) < 1e-9) + 1
+        probe = int(np.argmin(np.linalg.norm(points - [0, 0, z.max()], axis=1))) + 1
+        job = f"job{order}"
+        lines = [f"*INCLUDE, INPUT={os.path.basename(self.files[order])}", "*NSET, NSET=PROBE", str(probe),
+                 "*NSET, NSET=BOTTOM"]
+        lines += [",".join(map(str, bottom[i:i + 8])) for i in range(0, len(bottom), 8)]
+        lines += ["*MATERIAL, NAME=CANCELLOUS", "*ELASTIC", "1000., 0.3", "*MATERIAL, NAME=TITANIUM", "*ELASTIC",
+                  "110000., 0.3", "*SOLID SECTION, ELSET=BONE, MATERIAL=CANCELLOUS",
+                  "*SOLID SECTION, ELSET=IMPLANT, MATERIAL=TITANIUM", "*BOUNDARY", "BOTTOM, 1, 3, 0.",
+                  "*STEP", "*STATIC", "*DSLOAD", "BONE__EXTERIOR, P, 10.", "*NODE PRINT, NSET=PROBE", "U",
+                  "*END STEP"]
+        with open(os.path.join(self.tmp.name, job + ".inp"), "w") as f:
+            f.write("\n".join(lines) + "\n")
+        result = subprocess.run([self.ccx, job], cwd=self.tmp.name, capture_output=True, encoding="utf-8",
+                                errors="replace", env=dict(os.environ, OMP_NUM_THREADS="1"), timeout=600)
+        output = result.stdout + result.stderr
+        self.assertEqual(result.returncode, 0, output[-2000:])
+        self.assertNotIn("*ERROR", output)
+        with open(os.path.join(self.tmp.name, job + ".dat")) as f:
+            rows = [line.split() for line in f if line.split() and line.split()[0] == str(probe)]
+        self.assertEqual(len(rows), 1, output[-2000:])
+        return np.array([float(v) for v in rows[0][1:4]])
+
+    def test_both_orders_solve_and_agree(self):
+        self.ccx = shutil.which("ccx")
+        self.assertIsNotNone(self.ccx, "ccx is not installed (scripts/setup-debian.sh installs calculix-ccx)")
+        linear, quadratic = self.solve(1), self.solve(2)
+        self.assertLess(linear[2], 0)  # the pressure on the exterior pushes the top down
+        self.assertLess(quadratic[2], 0)
+        self.assertLess(abs(linear[2] - quadratic[2]), 0.05 * abs(quadratic[2]), (linear, quadratic))
+
+
 class Writers(unittest.TestCase):
     def setUp(self):
         self.tmp = tempfile.TemporaryDirectory()
@@ -339,7 +408,7 @@ class Writers(unittest.TestCase):
             before = f.read()
         original = meshio.abaqus.write
 
-        def interrupted(filename, mesh):
+        def interrupted(filename, mesh, **options):
             with open(filename, "w") as f:
                 f.write("*HEADING\nhalf a fi")
             raise KeyboardInterrupt  # as if the run were stopped while writing

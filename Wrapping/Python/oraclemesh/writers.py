@@ -220,6 +220,9 @@ def _plain_c3d10(path):
         f.write(text.replace("*ELEMENT, TYPE=C3D10MH\n", "*ELEMENT, TYPE=C3D10\n", 1))
 
 
+ABAQUS_FLOAT_FORMAT = ".12e"
+
+
 def _write_inp(path, arrays):
     import meshio
     import numpy as np
@@ -231,7 +234,9 @@ def _write_inp(path, arrays):
     kind = "tetra10" if arrays.quadratic else "tetra"
     mesh = meshio.Mesh(arrays.points, [(kind, arrays.nodes)], cell_sets=cell_sets, point_sets=point_sets)
     with atomic_output(path) as temporary:
-        meshio.abaqus.write(temporary, mesh)
+        # 13 significant digits: 19 characters at most; CalculiX's reader takes 20 per number
+        # (meshio's default, 17 digits, is 23 and stops it: "*ERROR reading *NODE")
+        meshio.abaqus.write(temporary, mesh, float_fmt=ABAQUS_FLOAT_FORMAT)
         if arrays.quadratic:
             _plain_c3d10(temporary)
         with open(temporary, "a", encoding="utf-8") as f:
