@@ -59,6 +59,8 @@ void TetMeshOutput::AddTetrahedra(
   material->SetName(omesh::keys::MATERIAL);
   vtkNew<vtkDoubleArray> dihedral;
   dihedral->SetName(omesh::keys::MIN_DIHEDRAL_ANGLE);
+  vtkNew<vtkDoubleArray> largest;
+  largest->SetName(omesh::keys::MAX_DIHEDRAL_ANGLE);
   vtkNew<vtkDoubleArray> ratio;
   ratio->SetName(omesh::keys::RADIUS_EDGE_RATIO);
   const auto& P = mesh.points;
@@ -73,6 +75,7 @@ void TetMeshOutput::AddTetrahedra(
     tets->InsertNextCell(nodes, ids);
     material->InsertNextValue(mesh.tetMaterial[t]);
     dihedral->InsertNextValue(omesh::minDihedralAngle(P[k[0]], P[k[1]], P[k[2]], P[k[3]]));
+    largest->InsertNextValue(omesh::maxDihedralAngle(P[k[0]], P[k[1]], P[k[2]], P[k[3]]));
     ratio->InsertNextValue(omesh::radiusEdgeRatio(P[k[0]], P[k[1]], P[k[2]], P[k[3]]));
   }
   grid->SetCells(quadratic ? VTK_QUADRATIC_TETRA : VTK_TETRA, tets);
@@ -88,6 +91,7 @@ void TetMeshOutput::AddTetrahedra(
   grid->GetCellData()->AddArray(material);
   grid->GetCellData()->SetScalars(material);
   grid->GetCellData()->AddArray(dihedral);
+  grid->GetCellData()->AddArray(largest);
   grid->GetCellData()->AddArray(ratio);
 }
 

@@ -19,7 +19,7 @@ class TetMeshOutput
 {
 public:
   /// Port 0: tetrahedra positively oriented (10-node ones when `quadratic` is given), cell arrays
-  /// Material, MinDihedralAngle, RadiusEdgeRatio (and Defects when validated), point array
+  /// Material, MinDihedralAngle, MaxDihedralAngle, RadiusEdgeRatio (and Defects when validated), point array
   /// Dimension, field data: statistics, warnings and `inputWarnings` (the ones --strict refuses).
   static void FillGrid(vtkUnstructuredGrid* grid, const omesh::TetMesh& mesh, const omesh::QuadraticTetMesh* quadratic,
     const std::vector<std::string>& inputWarnings);

@@ -29,7 +29,7 @@
  * higher-priority domains hide completely is reported as a warning. An abort (AbortExecute) or a
  * failure ends the update with an error and an empty output, never an empty mesh as success.
  *
- * Outputs: port 0, vtkUnstructuredGrid of tetrahedra (4 nodes, or 10 with ElementOrder 2) with cell data Material, MinDihedralAngle
+ * Outputs: port 0, vtkUnstructuredGrid of tetrahedra (4 nodes, or 10 with ElementOrder 2) with cell data Material, MinDihedralAngle, MaxDihedralAngle
  * (degrees) and RadiusEdgeRatio, point data Dimension (0 corner, 1 segment, 2 interface,
  * 3 volume), field data StatisticNames/StatisticValues and Warnings; port 1, the interface
  * triangles with cell data Materials (2 components: the materials on the two sides, -1 outside);

@@ -49,3 +49,15 @@ TEST(MeshQuality, DihedralCertificateNeverContradictsTheAngle)
   EXPECT_GT(clearlyAbove, 2000);
   EXPECT_GE(certified, clearlyAbove);
 }
+
+TEST(MeshQuality, MaxDihedralAngleOfKnownTetrahedra)
+{
+  using namespace omesh;
+  const Vec3 o{ 0, 0, 0 }, x{ 1, 0, 0 }, y{ 0, 1, 0 }, z{ 0, 0, 1 };
+  EXPECT_NEAR(maxDihedralAngle(o, x, y, z), 90.0, 1e-9); // the trirectangular corner
+  const Vec3 a{ 1, 1, 1 }, b{ 1, -1, -1 }, c{ -1, 1, -1 }, d{ -1, -1, 1 };
+  EXPECT_NEAR(maxDihedralAngle(a, b, c, d), std::acos(1.0 / 3.0) * 180.0 / M_PI, 1e-9); // regular: 70.53
+  EXPECT_NEAR(maxDihedralAngle(a, b, c, d), minDihedralAngle(a, b, c, d), 1e-9);
+  EXPECT_GT(maxDihedralAngle(o, x, { 1, 1, 0.01 }, y), 179.0); // a sliver: four nearly coplanar corners
+  EXPECT_NEAR(maxDihedralAngle(o, x, y, { 1, 1, 0 }), 180.0, 1e-9); // flat
+}

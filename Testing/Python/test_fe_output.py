@@ -231,7 +231,7 @@ class SurfaceSetsInEveryFormat(unittest.TestCase):
         for ext, path in self.files.items():
             result = run("report", path, "--no-png")
             self.assertEqual(result.returncode, 0, f"{path}: {result.stderr}")
-            rows[ext] = sorted([p[0], " ".join(p[1:-4]), p[-4]] for p in  # material, name, tets, ...
+            rows[ext] = sorted([p[0], " ".join(p[1:-8]), p[-8]] for p in  # material, name, tets, 7 more columns
                                (line.split() for line in result.stdout.splitlines() if re.match(r"\s+\d+\s", line)))
             self.assertIn("validity: no defects", result.stdout)
         counts = collections.Counter(self.material.tolist())

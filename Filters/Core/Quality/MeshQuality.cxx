@@ -59,6 +59,25 @@ double minDihedralAngle(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3&
   return std::acos(largest) * 180.0 / M_PI;
 }
 
+double maxDihedralAngle(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d)
+{
+  const Vec3 p[4] = { a, b, c, d };
+  Vec3 n[4];
+  for (int f = 0; f < 4; ++f)
+  {
+    const Vec3 m = outwardFaceNormal(p, f);
+    const double l = norm(m);
+    if (!(l > 0))
+      return 180.0;
+    n[f] = (1.0 / l) * m;
+  }
+  double smallest = 1.0; // the largest angle has the smallest cosine
+  for (int i = 0; i < 4; ++i)
+    for (int j = i + 1; j < 4; ++j)
+      smallest = std::min(smallest, std::clamp(-dot(n[i], n[j]), -1.0, 1.0));
+  return std::acos(smallest) * 180.0 / M_PI;
+}
+
 bool dihedralAnglesCertainlyAtLeast(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, double cosBound)
 {
   // An angle is below the bound where the cosine between two outward normals, -m_i.m_j / (|m_i|

@@ -12,6 +12,10 @@ namespace omesh
 /// Smallest of the six dihedral angles of tetrahedron abcd, in degrees (0 for a flat one).
 double minDihedralAngle(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
 
+/// Largest of the six dihedral angles of tetrahedron abcd, in degrees (180 for a flat one): near
+/// 180 degrees spoils gradients and stresses as much as small angles spoil the conditioning.
+double maxDihedralAngle(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
+
 /// Whether every dihedral angle of abcd is certainly at least the angle whose cosine is
 /// `cosBound`, i.e. minDihedralAngle(a, b, c, d) is at least that angle in degrees: the same face
 /// normals, compared squared against the bound with a margin (1e-9 in the cosine) far beyond the

@@ -231,7 +231,7 @@ def _mesh(args):
     lines.append("boundary and interface sets (triangles): "
                  + ", ".join(f"{name} ({int(sets.select(i).sum())})" for i, name in enumerate(sets.names)))
     lines.append(f"wrote {', '.join(written)} ({time.perf_counter() - started:.1f} s)"
-                 + (" (.vtu: cell data Material, MinDihedralAngle, RadiusEdgeRatio; open it in ParaView)"
+                 + (" (.vtu: cell data Material, MinDihedralAngle, MaxDihedralAngle, RadiusEdgeRatio; open it in ParaView)"
                     if any(o.lower().endswith(".vtu") for o in outputs) else ""))
     q = result.quality
     histogram = args.histogram or scene.outputs.get("histogram")
@@ -260,12 +260,35 @@ def _mesh(args):
     return status
 
 
+def dihedral_window(text):
+    """--strict's optional MIN,MAX [degrees] as a (min, max) pair; argparse's type."""
+    try:
+        low, high = (float(v) for v in text.split(","))
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r}: give the dihedral window as MIN,MAX in degrees, e.g. 15,155") \
+            from None
+    if not 0 <= low < high <= 180:
+        raise argparse.ArgumentTypeError(f"{text!r}: need 0 <= MIN < MAX <= 180 degrees")
+    return low, high
+
+
 def _strict_status(args, q, what, input_warnings=()):
     """3 when --strict and the mesh has validity defects or warnings about its inputs (frames or
-    units that do not match, materials or labels without a tetrahedron; the report lists them), else 0."""
+    units that do not match, materials or labels without a tetrahedron; the report lists them), or,
+    with --strict MIN,MAX, a dihedral angle outside that window; else 0."""
     defects = int(q["validity"][fieldkeys.VALIDITY_DEFECTS])
     where = ', '.join(what) if isinstance(what, list) else what
     status = 0
+    if isinstance(args.strict, tuple):
+        low, high = args.strict
+        shape = q["shape"]
+        outside = (shape["min_dihedral"] < low) | (shape["max_dihedral"] > high)
+        if outside.any():
+            print(f"oraclemesh: error: {where}: {int(outside.sum())} of {q['tets']} tetrahedra have a dihedral angle "
+                  f"outside [{low:g}, {high:g}]° (smallest {shape['min_dihedral'].min():.2f}°, largest "
+                  f"{shape['max_dihedral'].max():.2f}°; the report's worst tetrahedra say where) (--strict)",
+                  file=sys.stderr)
+            status = 3
     if args.strict and defects:
         print(f"oraclemesh: error: {where}: {defects} validity defects (--strict)", file=sys.stderr)
         status = 3
@@ -367,10 +390,11 @@ def main(argv=None):
     p.add_argument("--progress", action="store_true", help="show the mesher's progress on stderr")
     p.add_argument("--progress-lines", action="store_true", help=argparse.SUPPRESS)
     p.add_argument("--summary", help=argparse.SUPPRESS)  # JSON of the figures batch puts in its CSV
-    p.add_argument("--strict", action="store_true",
+    p.add_argument("--strict", nargs="?", const=True, default=False, type=dihedral_window, metavar="MIN,MAX",
                    help="exit with status 3 when the mesh has validity defects or warnings about the inputs "
-                        "(frames or units that do not match, materials or labels without a tetrahedron); "
-                        "the files are still written")
+                        "(frames or units that do not match, materials or labels without a tetrahedron), and "
+                        "with MIN,MAX (e.g. --strict 15,155) when a dihedral angle lies outside that window "
+                        "[degrees]; the files are still written")
     p.set_defaults(run=_mesh)
     p = sub.add_parser("report", help="quality report of a mesh written by 'mesh' (.vtu .inp .msh .mesh): table and histogram")
     p.add_argument("mesh", help="tetrahedral mesh written by 'mesh' (.vtu, .inp, .msh or .mesh)")
@@ -378,8 +402,9 @@ def main(argv=None):
                                  "out_inp_dihedral.png)")
     p.add_argument("--no-png", action="store_true", help="do not save the histogram picture")
     p.add_argument("--report", help="also write the report to this text file")
-    p.add_argument("--strict", action="store_true",
-                   help="exit with status 3 when the mesh has validity defects or warnings about its inputs")
+    p.add_argument("--strict", nargs="?", const=True, default=False, type=dihedral_window, metavar="MIN,MAX",
+                   help="exit with status 3 when the mesh has validity defects or warnings about its inputs, and "
+                        "with MIN,MAX (e.g. --strict 15,155) when a dihedral angle lies outside that window")
     p.set_defaults(run=_report)
     p = sub.add_parser("batch", help="mesh many cases (scenes, or a study's scenes x parameter sweeps), each in "
                                      "its own process, locally or on Dask, with a summary CSV; resumable")

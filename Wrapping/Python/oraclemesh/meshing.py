@@ -206,7 +206,7 @@ def as_scene(scene, base_dir=None):
 class MeshResult:
     """A meshed scene.
 
-    ``grid``: the vtkUnstructuredGrid (cell data Material, MinDihedralAngle, RadiusEdgeRatio,
+    ``grid``: the vtkUnstructuredGrid (cell data Material, MinDihedralAngle, MaxDihedralAngle, RadiusEdgeRatio,
     Defects; field data: statistics, warnings, material names); ``scene``; ``material_names``
     {id: name}; ``strategy``; ``seconds`` (meshing time); ``statistics`` {name: value} (the mesher's:
     volumes, validity counts, timings, ...); ``quality`` (per-material table, see report.quality);

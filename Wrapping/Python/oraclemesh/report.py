@@ -6,11 +6,17 @@ histogram as text and as a PNG (matplotlib, Agg: no display needed)."""
 from .errors import OracleMeshError
 from .fielddata import labelled, strings
 from .meshfiles import read_mesh  # noqa: F401  (the report's reader; kept here for its users)
+from .shape import shape_measures
 from .writers import element_nodes, tetrahedra
 from . import fieldkeys
 
-# Text histogram bins [degrees]: a tetrahedron's minimal dihedral angle is at most 70.53 degrees.
+# Text histogram bins [degrees]: a tetrahedron's minimal dihedral angle is at most 70.53 degrees,
+# its maximal one at least that; finite-element checks look at 15 and 155 (and 160, 170).
 TEXT_BINS = (0, 5, 10, 20, 30, 40, 50, 60, 90)
+MAX_TEXT_BINS = (60, 90, 120, 150, 155, 160, 170, 180)
+# shape.shape_measures keys in the report's table: the worst is the largest for max_dihedral, else the smallest
+SHAPE_KEYS = ("max_dihedral", "radius_ratio", "mean_ratio", "edge_ratio")
+WORST_SHOWN = 5
 
 
 def _strings(array):
@@ -86,8 +92,10 @@ def volume_text(volume):
 
 def quality(grid, source="mesh"):
     """Per-material quality of a tetrahedral mesh: {"materials": {id: {"tets", "volume",
-    "min_dihedral", "mean_min_dihedral"}}, "tets", "vertices" (corners), "nodes" (with the mid-edge
-    ones), "volume", "min_dihedral", "angles" (per-tet minimal dihedral angles, of the corners),
+    "min_dihedral", "mean_min_dihedral", "worst_max_dihedral", "worst_radius_ratio", "worst_mean_ratio",
+    "worst_edge_ratio"}}, "tets", "vertices" (corners), "nodes" (with the mid-edge ones), "volume",
+    "min_dihedral", "max_dihedral", "angles" (per-tet minimal dihedral angles, of the corners),
+    "shape" (shape.shape_measures of every tetrahedron), "centroids",
     "material" (per-tet material), "order" (1 or 2) and for 10-node tetrahedra "min_jacobian_ratio"
     (quadratic.jacobian_ratios)}.
     Volumes come from the geometry (curved for 10-node tetrahedra), so any tetrahedral .vtu with
@@ -107,14 +115,18 @@ def quality(grid, source="mesh"):
     quadratic = nodes.shape[1] == 10
     volumes = curved_volumes(points, nodes) if quadratic else \
         np.abs(np.einsum("ij,ij->i", p[:, 1] - p[:, 0], np.cross(p[:, 2] - p[:, 0], p[:, 3] - p[:, 0]))) / 6
+    shape = shape_measures(points, cells)  # from the corners: independent of the mesher's arrays
     materials = {}
     for m in sorted(set(material.tolist())):
         sel = material == m
         materials[m] = {"tets": int(sel.sum()), "volume": float(volumes[sel].sum()),
-                        "min_dihedral": float(angles[sel].min()), "mean_min_dihedral": float(angles[sel].mean())}
+                        "min_dihedral": float(angles[sel].min()), "mean_min_dihedral": float(angles[sel].mean()),
+                        **{f"worst_{key}": float(shape[key][sel].max() if key == "max_dihedral" else
+                                                 shape[key][sel].min()) for key in SHAPE_KEYS}}
     q = {"materials": materials, "tets": int(len(cells)), "vertices": int(len(np.unique(cells))) if quadratic else int(grid.GetNumberOfPoints()),
          "nodes": int(grid.GetNumberOfPoints()), "volume": float(volumes.sum()), "min_dihedral": float(angles.min()),
-         "angles": angles, "material": material, "order": 2 if quadratic else 1}
+         "max_dihedral": float(shape["max_dihedral"].max()), "angles": angles, "shape": shape,
+         "centroids": p.mean(axis=1), "material": material, "order": 2 if quadratic else 1}
     if quadratic:
         q["min_jacobian_ratio"] = float(jacobian_ratios(points, nodes).min())
     return q
@@ -129,15 +141,25 @@ def report_lines(grid, title, names=None, source="mesh", recheck=True):
     stats = statistics(grid)
     lines = [f"{title}: {q['tets']} {'10-node ' if q['order'] == 2 else ''}tetrahedra, {q['vertices']} vertices"
              + (f", {q['nodes']} nodes" if q["order"] == 2 else ""),
-             f"{'material':>8}  {'name':<18} {'tets':>9} {'volume [mm^3]':>14} {'min dihedral':>13} {'mean min':>9}"]
+             f"{'material':>8}  {'name':<18} {'tets':>9} {'volume [mm^3]':>14} {'min dihedral':>13} {'mean min':>9} "
+             f"{'max dihedral':>13} {'radius ratio':>13} {'mean ratio':>11} {'edge ratio':>11}"]
+    shape = q["shape"]
     for m, row in q["materials"].items():
         lines.append(f"{m:>8}  {names.get(m, '?'):<18} {row['tets']:>9} {volume_text(row['volume']):>14} "
-                     f"{row['min_dihedral']:>12.2f}° {row['mean_min_dihedral']:>8.1f}°")
+                     f"{row['min_dihedral']:>12.2f}° {row['mean_min_dihedral']:>8.1f}° " + _shape_columns(row))
     lines.append(f"{'all':>8}  {'':<18} {q['tets']:>9} {volume_text(q['volume']):>14} {q['min_dihedral']:>12.2f}° "
-                 f"{q['angles'].mean():>8.1f}°")
+                 f"{q['angles'].mean():>8.1f}° " + _shape_columns(
+                     {f"worst_{key}": (shape[key].max() if key == "max_dihedral" else shape[key].min())
+                      for key in SHAPE_KEYS}))
+    lines.append("(max dihedral and the ratios are the worst tetrahedron's; the ratios are 1 for the regular "
+                 "tetrahedron: radius ratio 3 r / R, mean ratio, shortest / longest edge)")
     hist, edges = np.histogram(q["angles"], bins=TEXT_BINS)
     lines.append("minimal dihedral angle per tetrahedron: "
                  + ", ".join(f"{int(a)}-{int(b)}°: {n}" for a, b, n in zip(edges, edges[1:], hist)))
+    hist, edges = np.histogram(q["shape"]["max_dihedral"], bins=MAX_TEXT_BINS)
+    lines.append("maximal dihedral angle per tetrahedron: "
+                 + ", ".join(f"{int(a)}-{int(b)}°: {n}" for a, b, n in zip(edges, edges[1:], hist)))
+    lines += shape_lines(q)
     segments = grid.GetFieldData().GetArray("FeatureSegments")
     if segments is not None and segments.GetValue(0) == 0:
         lines.append("feature lines: none given")
@@ -167,28 +189,56 @@ def report_lines(grid, title, names=None, source="mesh", recheck=True):
     return lines, q
 
 
-def save_histogram(q, png_path, names=None, title=None):
-    """Saves the histogram of the per-tetrahedron minimal dihedral angles, stacked by material, as PNG."""
+def worst_tetrahedra(q, key, count=WORST_SHOWN):
+    """Indices of the `count` worst tetrahedra by shape measure `key` (largest max_dihedral, else
+    smallest), worst first."""
     import numpy as np
+
+    values = q["shape"][key]
+    order = np.argsort(-values if key == "max_dihedral" else values, kind="stable")
+    return order[:count]
+
+
+def _shape_columns(row):
+    return (f"{row['worst_max_dihedral']:>12.2f}° {row['worst_radius_ratio']:>13.3f} {row['worst_mean_ratio']:>11.3f} "
+            f"{row['worst_edge_ratio']:>11.3f}")
+
+
+def shape_lines(q):
+    """The worst tetrahedra by smallest and by largest dihedral angle, with where they are."""
+    shape, lines = q["shape"], []
+    for key, words in (("min_dihedral", "smallest"), ("max_dihedral", "largest")):
+        items = [f"{shape[key][t]:.2f}° in #{t} (material {int(q['material'][t])}) at "
+                 f"({', '.join(f'{x:.4g}' for x in q['centroids'][t])})" for t in worst_tetrahedra(q, key)]
+        lines.append(f"worst tetrahedra by {words} dihedral angle: " + "; ".join(items))
+    return lines
+
+
+def save_histogram(q, png_path, names=None, title=None):
+    """Saves the histograms of the per-tetrahedron minimal and maximal dihedral angles, stacked by
+    material, side by side as PNG."""
+    import numpy as np
+    from matplotlib import colormaps
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
     names = names or {}
-    figure = Figure(figsize=(8, 4.5), dpi=100)
+    figure = Figure(figsize=(11, 4.5), dpi=100)
     FigureCanvasAgg(figure)
-    axes = figure.add_subplot()
+    smallest, largest = figure.subplots(1, 2)
     ids = list(q["materials"])
     # the colours of the rendered mesh (render.py: ParaView's "Brewer Qualitative Set1", in id order)
-    from matplotlib import colormaps
     set1 = colormaps["Set1"].colors
-    axes.hist([q["angles"][q["material"] == m] for m in ids], bins=np.arange(0, 72, 1.0), stacked=True,
-              color=[set1[i % len(set1)] for i in range(len(ids))],
-              label=[f"{m}: {names[m]}" if m in names else str(m) for m in ids])
-    axes.set_xlabel("minimal dihedral angle of the tetrahedron [°]")
-    axes.set_ylabel("tetrahedra")
-    axes.set_xlim(0, 72)
-    axes.set_title(title or "Dihedral angles")
-    axes.legend(title=fieldkeys.MATERIAL)
+    colours = [set1[i % len(set1)] for i in range(len(ids))]
+    labels = [f"{m}: {names[m]}" if m in names else str(m) for m in ids]
+    for axes, values, bins, words in ((smallest, q["angles"], np.arange(0, 72, 1.0), "minimal"),
+                                      (largest, q["shape"]["max_dihedral"], np.arange(60, 181, 2.0), "maximal")):
+        axes.hist([values[q["material"] == m] for m in ids], bins=bins, stacked=True, color=colours, label=labels)
+        axes.set_xlabel(f"{words} dihedral angle of the tetrahedron [°]")
+        axes.set_ylabel("tetrahedra")
+        axes.set_xlim(bins[0], bins[-1])
+    smallest.legend(title=fieldkeys.MATERIAL)
+    figure.suptitle(title or "Dihedral angles")
     figure.tight_layout()
     from .atomic import atomic_output
 

@@ -1,0 +1,101 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""The report a solver's user reads (issue 34 item 3): per material the worst tetrahedron's largest
+dihedral angle, radius ratio, mean ratio and edge ratio, a histogram of the largest angles, the worst
+tetrahedra with where they are, the MaxDihedralAngle cell array beside MinDihedralAngle, and
+--strict MIN,MAX failing on a dihedral angle outside the window. The measures are checked on
+tetrahedra whose values are known in closed form."""
+import math
+import os
+import subprocess
+import sys
+import tempfile
+import unittest
+
+import numpy as np
+
+import oraclemesh as om
+from oraclemesh.report import read_mesh
+from oraclemesh.shape import shape_measures
+from oraclemesh.writers import tetrahedra
+
+COMMAND = os.environ.get("ORACLEMESH_COMMAND")
+SCENE = {"domains": [{"name": "implant", "type": "sphere", "center": [0, 0, 0], "radius": 2, "material": 2},
+                     {"name": "bone", "type": "box", "bounds": [-5, 5, -5, 5, -5, 5], "material": 1}],
+         "mesh": {"criteria": {"cell_size": 2, "facet_size": 2, "facet_distance": 0.2}, "seed": 1}}
+
+
+def run(*args):
+    prefix = [COMMAND] if COMMAND else [sys.executable, "-m", "oraclemesh"]
+    return subprocess.run(prefix + [str(a) for a in args], capture_output=True, text=True, timeout=300)
+
+
+class ShapeMeasures(unittest.TestCase):
+    def test_known_tetrahedra(self):
+        regular = [[1, 1, 1], [1, -1, -1], [-1, 1, -1], [-1, -1, 1]]
+        corner = [[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]]
+        flat = [[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]]
+        s = shape_measures(np.array(regular + corner + flat, float), np.arange(12).reshape(3, 4))
+        dihedral = math.degrees(math.acos(1 / 3))  # 70.53
+        np.testing.assert_allclose(s["min_dihedral"], [dihedral, math.degrees(math.atan(math.sqrt(2))), 0], atol=1e-9)
+        np.testing.assert_allclose(s["max_dihedral"], [dihedral, 90, 180], atol=1e-9)
+        # the trirectangular corner: r = 1 / (3 + sqrt 3), R = sqrt(3) / 2; mean ratio 12 (1/2)^(2/3) / 9
+        np.testing.assert_allclose(s["radius_ratio"], [1, 3 / (3 + math.sqrt(3)) / (math.sqrt(3) / 2), 0], atol=1e-9)
+        np.testing.assert_allclose(s["mean_ratio"], [1, 12 * 0.5 ** (2 / 3) / 9, 0], atol=1e-9)
+        np.testing.assert_allclose(s["edge_ratio"], [1, 1 / math.sqrt(2), 1 / math.sqrt(2)], atol=1e-9)
+
+
+class Report(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.tmp = tempfile.TemporaryDirectory()
+        cls.result = om.mesh(SCENE)
+        cls.vtu = os.path.join(cls.tmp.name, "mesh.vtu")
+        cls.result.save(cls.vtu)
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.tmp.cleanup()
+
+    def test_the_vtu_carries_the_largest_angle_as_the_geometry_gives_it(self):
+        from vtkmodules.util.numpy_support import vtk_to_numpy
+
+        grid = read_mesh(self.vtu)
+        largest = vtk_to_numpy(grid.GetCellData().GetArray("MaxDihedralAngle"))
+        smallest = vtk_to_numpy(grid.GetCellData().GetArray("MinDihedralAngle"))
+        points, cells, _ = tetrahedra(grid)
+        shape = shape_measures(points, cells)
+        np.testing.assert_allclose(largest, shape["max_dihedral"], atol=1e-6)
+        np.testing.assert_allclose(smallest, shape["min_dihedral"], atol=1e-6)
+        self.assertTrue((largest > 70.52).all() and (largest < 180).all())
+
+    def test_the_report_names_the_worst_tetrahedra_and_where_they_are(self):
+        q, report = self.result.quality, self.result.report
+        self.assertIn("maximal dihedral angle per tetrahedron: 60-90°:", report)
+        self.assertIn("(max dihedral and the ratios are the worst tetrahedron's", report)
+        shape = q["shape"]
+        worst = int(np.argmax(shape["max_dihedral"]))
+        centre = q["centroids"][worst]
+        line = next(text for text in report.splitlines() if text.startswith("worst tetrahedra by largest"))
+        self.assertIn(f"{shape['max_dihedral'][worst]:.2f}° in #{worst} (material {int(q['material'][worst])}) at "
+                      f"({', '.join(f'{x:.4g}' for x in centre)})", line.split(";")[0])
+        self.assertEqual(line.count(" in #"), 5)
+        for m, row in q["materials"].items():
+            self.assertAlmostEqual(row["worst_max_dihedral"], shape["max_dihedral"][q["material"] == m].max())
+            self.assertGreater(row["worst_radius_ratio"], 0)
+            self.assertLessEqual(row["worst_mean_ratio"], 1)
+
+    def test_strict_takes_a_dihedral_window(self):
+        q = self.result.quality
+        low, high = q["min_dihedral"], q["max_dihedral"]
+        tight = run("report", self.vtu, "--no-png", "--strict", f"{low + 0.5:.3f},{high - 0.5:.3f}")
+        self.assertEqual(tight.returncode, 3, tight.stderr)
+        self.assertIn("tetrahedra have a dihedral angle outside", tight.stderr)
+        wide = run("report", self.vtu, "--no-png", "--strict", f"{low - 0.5:.3f},{high + 0.5:.3f}")
+        self.assertEqual(wide.returncode, 0, wide.stderr)
+        bad = run("report", self.vtu, "--no-png", "--strict", "155,15")
+        self.assertEqual(bad.returncode, 2)
+        self.assertIn("need 0 <= MIN < MAX <= 180", bad.stderr)
+
+
+if __name__ == "__main__":
+    unittest.main()
