@@ -292,12 +292,18 @@ with open(path, "wb") as f:
     f.write(b"not xml at all")
 surface = pv.SurfaceDomain(Input=pv.XMLPolyDataReader(FileName=path))
 oracle = pv.HierarchicalOracle(Input=[surface])
-servermanager.Fetch(oracle)
+mesher = pv.FeaturePreservingTetrahedralizer(Input=oracle)
+oracle.UpdatePipeline()  # ParaView updates each filter on its own (Apply, Fetch)
+mesher.UpdatePipeline()
 """
         output = self.pvpython(script).stderr
         self.assertIn("Error parsing", output)  # the reader's own error comes first
-        self.assertNotIn("is not an OracleMesh domain", output)  # the misleading follow-up is gone
+        self.assertLess(output.index("Error parsing"), output.index("is empty"))
+        # the follow-ups say that something before failed, not something misleading
+        self.assertNotIn("is not an OracleMesh domain", output)
+        self.assertNotIn("the oracle has no domains", output)
         self.assertIn("is empty: the filter before it failed or produced nothing", output)
+        self.assertIn("the oracle is empty: vtkHierarchicalOracle or a filter before it failed", output)
 
     def test_the_label_map_reader_names_the_file_and_the_problem(self):
         script = """
