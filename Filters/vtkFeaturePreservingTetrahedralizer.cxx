@@ -52,7 +52,8 @@ double checkMeshSize(
   const omesh::MeshSizeEstimate estimate = omesh::estimateMeshSize(oracle, options.criteria, features);
   const double asked = estimate.total();
   const double budget = options.maximumNumberOfVertices ? static_cast<double>(options.maximumNumberOfVertices) : asked;
-  omesh::checkMeshSize(estimate, static_cast<double>(options.maximumNumberOfVertices), omesh::effectiveTimeLimit(options));
+  omesh::checkMeshSize(
+    estimate, static_cast<double>(options.maximumNumberOfVertices), omesh::effectiveTimeLimit(options));
   std::ostringstream what;
   what << "a mesh of about " << std::min(asked, budget) << " vertices (the criteria ask for about " << asked
        << (budget < asked ? ", MaximumNumberOfVertices caps it)" : ")");
@@ -389,7 +390,8 @@ void vtkFeaturePreservingTetrahedralizer::GatherInputs(vtkInformationVector** in
   omesh::CriteriaLevel tableLevel;
   for (const auto& [m, c] : this->MaterialCriteria)
     tableLevel.add(m, omesh::MeshCriteria::fromVtk(c), "the per-material table");
-  run.options.criteria = omesh::mergeCriteria(omesh::MeshCriteria::fromVtk(this->GlobalCriteria()), { &domainLevel, &tableLevel });
+  run.options.criteria =
+    omesh::mergeCriteria(omesh::MeshCriteria::fromVtk(this->GlobalCriteria()), { &domainLevel, &tableLevel });
   // slips that would mesh silently: names and criteria of materials no input has, sizes in other units
   std::vector<int> tableMaterials;
   for (const auto& entry : this->MaterialCriteria)
