@@ -72,8 +72,8 @@ int vtkLabelMapDomain::RequestInformation(
   if (!inInfo || !inInfo->Has(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()))
     return 1; // not an image: RequestData says so
   // Before the reader allocates the image (a failed information pass stops the update before any
-  // RequestData; a failed update-extent pass does not): a header claiming 1e15 voxels aborted
-  // ParaView in its reader's allocation. 7 bytes a voxel: one read, and this filter's own 6.
+  // RequestData; a failed update-extent pass does not): VTK's readers abort the process when an
+  // allocation fails. 7 bytes a voxel: one read, and this filter's own 6.
   const int* e = inInfo->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT());
   const double voxels =
     static_cast<double>(e[1] - e[0] + 1) * static_cast<double>(e[3] - e[2] + 1) * static_cast<double>(e[5] - e[4] + 1);

@@ -39,12 +39,12 @@ MeshSizeEstimate estimateMeshSize(const HierarchicalOracle& oracle, const Materi
   const FeatureSegments& features);
 
 /// Criteria asking for more than this times the vertex budget are refused (checkMeshSize): the
-/// estimate is rough (0.1-6 times the vertices of the meshes measured: it does not see curvature),
-/// so a run that ends a little above its budget still runs, and stops there with a warning.
+/// estimate is rough (it does not see curvature; docs/journal/2026-12-02-slips.md), so a run that
+/// ends a little above its budget still runs, and stops there with a warning.
 constexpr double kBudgetRefusalFactor = 10.0;
-/// The fastest rate any run reaches, seconds per vertex (refinement, optimisation and output; about
-/// 5x faster than the fastest whole call measured, 46 us per vertex on a box): a run whose estimate
-/// at this rate exceeds its time limit cannot finish within it.
+/// A rate no run reaches, seconds per vertex of the whole call (several times faster than the
+/// fastest measured): a run whose estimate at this rate exceeds its time limit cannot finish
+/// within it.
 constexpr double kFastestSecondsPerVertex = 1e-5;
 
 /// Refuses (InputError), before any meshing, criteria that the run cannot meet: an estimate of more

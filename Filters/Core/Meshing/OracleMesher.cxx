@@ -636,8 +636,8 @@ double resamplingLength(const MesherOptions& options, const BoundingBox& inner)
 
 /// Feature lines given as many segments far shorter than the mesh size (a noisy surface's sharp
 /// edges at a small feature angle) and not resampled: every point stays a mesh vertex and the mesh
-/// grades down to them (on a 12,288-triangle noisy box at 5 degrees, 11,845 segments: 310,000
-/// vertices in 60 s, against 1.8 s resampled). A warning naming the numbers and the fix.
+/// grades down to them, which costs orders of magnitude more than resampled lines (figures in
+/// docs/journal/2026-12-02-slips.md). A warning naming the numbers and the fix.
 std::optional<std::string> denseFeatureLinesWarning(
   const FeatureSegments& given, const MesherOptions& options, const BoundingBox& inner)
 {

@@ -85,8 +85,8 @@ def validity_line(counts):
 
 
 def volume_text(volume):
-    """A volume for the tables: one decimal, or four significant digits below 100 (a part in metres
-    printed as 0.0 mm^3 hid the units slip)."""
+    """A volume for the tables: one decimal, or four significant digits below 100 (so that a part in
+    metres does not read as 0.0 mm^3)."""
     return f"{volume:.1f}" if volume == 0 or abs(volume) >= 100 else f"{volume:.4g}"
 
 

@@ -234,8 +234,8 @@ def _write_inp(path, arrays):
     kind = "tetra10" if arrays.quadratic else "tetra"
     mesh = meshio.Mesh(arrays.points, [(kind, arrays.nodes)], cell_sets=cell_sets, point_sets=point_sets)
     with atomic_output(path) as temporary:
-        # 13 significant digits: 19 characters at most; CalculiX's reader takes 20 per number
-        # (meshio's default, 17 digits, is 23 and stops it: "*ERROR reading *NODE")
+        # 13 significant digits: 19 characters at most; CalculiX's reader takes 20 per number and
+        # stops at longer ones ("*ERROR reading *NODE")
         meshio.abaqus.write(temporary, mesh, float_fmt=ABAQUS_FLOAT_FORMAT)
         if arrays.quadratic:
             _plain_c3d10(temporary)
