@@ -105,15 +105,18 @@ class Study(unittest.TestCase):
                 self.assertTrue(is_png(os.path.join(folder, "section.png")))
                 with open(os.path.join(folder, "report.txt")) as f:
                     self.assertIn("validity: no defects", f.read())
-                # the columns are the mesh's: per material tets, volume, min dihedral
+                # the columns are the mesh's: per material tets, volume, min and max dihedral
                 grid = read_vtu(os.path.join(folder, "mesh.vtu"))
                 material = vtk_to_numpy(grid.GetCellData().GetArray("Material"))
                 angles = vtk_to_numpy(grid.GetCellData().GetArray("MinDihedralAngle"))
+                largest = vtk_to_numpy(grid.GetCellData().GetArray("MaxDihedralAngle"))
                 self.assertEqual(int(row["tets"]), grid.GetNumberOfCells())
                 self.assertEqual(int(row["validity_defects"]), 0)
+                self.assertAlmostEqual(float(row["max_dihedral"]), largest.max(), places=2)
                 for m in (1, 2):
                     self.assertEqual(int(row[f"tets_{m}"]), int((material == m).sum()))
                     self.assertAlmostEqual(float(row[f"min_dihedral_{m}"]), angles[material == m].min(), places=2)
+                    self.assertAlmostEqual(float(row[f"max_dihedral_{m}"]), largest[material == m].max(), places=2)
                 q = quality(grid)
                 for m in (1, 2):
                     self.assertAlmostEqual(float(row[f"volume_{m}"]), q["materials"][m]["volume"], places=4)

@@ -246,12 +246,14 @@ def _mesh(args):
     if args.summary:
         stats = statistics(result.grid)
         summary = {"tets": q["tets"], "vertices": q["vertices"], "min_dihedral": q["min_dihedral"],
+                   "max_dihedral": q["max_dihedral"],
                    fieldkeys.FEATURE_COVERAGE: stats.get(fieldkeys.FEATURE_COVERAGE) if scene.mesh.get("features") else None,
                    "seconds": result.seconds, "outputs": outputs,
                    "validity_defects": q["validity"][fieldkeys.VALIDITY_DEFECTS],
                    "validity": {key: int(q["validity"][key]) for key, _ in VALIDITY_ITEMS if key in q["validity"]},
                    "materials": {str(m): {"tets": row["tets"], "volume": row["volume"],
-                                          "min_dihedral": row["min_dihedral"]}
+                                          "min_dihedral": row["min_dihedral"],
+                                          "max_dihedral": row["worst_max_dihedral"]}
                                  for m, row in q["materials"].items()},
                    "material_names": {str(m): n for m, n in result.material_names.items()},
                    "reference_volumes": {str(m): v for m, v in scene.reference_volumes.items()},

@@ -37,10 +37,11 @@ VALIDITY_COLUMNS = ("duplicate_vertices", "micro_tetrahedra", "flat_tetrahedra",
                     "non_manifold_faces", "bad_vertex_indices", "material_mismatches", "missing_segment_pieces",
                     "unused_vertices")
 HEAD_COLUMNS = ("case", "scene")
-MESH_COLUMNS = ("status", "tets", "vertices", "min_dihedral", fieldkeys.FEATURE_COVERAGE, "validity_defects") \
+MESH_COLUMNS = ("status", "tets", "vertices", "min_dihedral", "max_dihedral", fieldkeys.FEATURE_COVERAGE,
+                "validity_defects") \
     + VALIDITY_COLUMNS
 TAIL_COLUMNS = ("seconds", "outputs", "error")
-MATERIAL_COLUMNS = ("tets", "volume", "volume_error", "min_dihedral")  # per material: tets_<id>, ...
+MATERIAL_COLUMNS = ("tets", "volume", "volume_error", "min_dihedral", "max_dihedral")  # per material: tets_<id>, ...
 
 
 def _stems(scenes):
@@ -217,13 +218,19 @@ def _row_head(case):
     return {"case": case["id"], "scene": case["scene"], **{k: _cell(v) for k, v in case["params"].items()}}
 
 
+def _angle(value):
+    """An angle for the CSV; empty when the summary has none (a case meshed before the column)."""
+    return "" if value is None else f"{value:.3f}"
+
+
 def _summary_row(case, summary, files):
     """The CSV row of a case meshed: totals, validity counts, per material tets, volume, volume error
-    (when the scene gives a reference volume: (mesh - reference) / reference) and min dihedral."""
+    (when the scene gives a reference volume: (mesh - reference) / reference), min and max dihedral."""
     coverage = summary.get(fieldkeys.FEATURE_COVERAGE)
     validity = summary.get("validity", {})
     row = dict(status="ok", tets=summary["tets"], vertices=summary["vertices"],
                min_dihedral=f"{summary['min_dihedral']:.3f}",
+               max_dihedral=_angle(summary.get("max_dihedral")),
                feature_coverage="" if coverage is None else f"{coverage:.4f}",
                validity_defects=int(summary.get("validity_defects", 0)))
     for name in VALIDITY_COLUMNS:
@@ -236,6 +243,7 @@ def _summary_row(case, summary, files):
         if m in references:
             row[f"volume_error_{m}"] = f"{(values['volume'] - references[m]) / references[m]:.6f}"
         row[f"min_dihedral_{m}"] = f"{values['min_dihedral']:.3f}"
+        row[f"max_dihedral_{m}"] = _angle(values.get("max_dihedral"))
     picture = [files[k] for k in ("histogram", "section") if case["pictures"]]
     row["outputs"] = ";".join(os.path.relpath(p, case["outdir"]) for p in files["outputs"] + picture)
     row["error"] = ""
