@@ -36,46 +36,46 @@ inline Vec3 outwardFaceNormal(const Vec3 p[4], int f)
 }
 }
 
-double minDihedralAngle(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d)
+namespace
+{
+/// The cosines of the six dihedral angles of abcd (pi minus the angle between the outward normals
+/// of the two faces at an edge); false for a tetrahedron with a degenerate face.
+bool dihedralCosines(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, double cosines[6])
 {
   const Vec3 p[4] = { a, b, c, d };
-  // Outward face normals; the dihedral angle at an edge is pi minus the angle between the normals
-  // of its two faces.
   Vec3 n[4];
   for (int f = 0; f < 4; ++f)
   {
     const Vec3 m = outwardFaceNormal(p, f);
     const double l = norm(m);
     if (!(l > 0))
-      return 0.0;
+      return false;
     n[f] = (1.0 / l) * m;
   }
-  // the smallest angle has the largest cosine: one acos instead of six (acos is monotonic, so the
-  // result is the same to the bit)
-  double largest = -1.0;
+  int k = 0;
   for (int i = 0; i < 4; ++i)
     for (int j = i + 1; j < 4; ++j)
-      largest = std::max(largest, std::clamp(-dot(n[i], n[j]), -1.0, 1.0));
-  return std::acos(largest) * 180.0 / M_PI;
+      cosines[k++] = std::clamp(-dot(n[i], n[j]), -1.0, 1.0);
+  return true;
+}
+}
+
+double minDihedralAngle(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d)
+{
+  double cosines[6];
+  if (!dihedralCosines(a, b, c, d, cosines))
+    return 0.0;
+  // the smallest angle has the largest cosine: one acos instead of six (acos is monotonic, so the
+  // result is the same to the bit)
+  return std::acos(*std::max_element(cosines, cosines + 6)) * 180.0 / M_PI;
 }
 
 double maxDihedralAngle(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d)
 {
-  const Vec3 p[4] = { a, b, c, d };
-  Vec3 n[4];
-  for (int f = 0; f < 4; ++f)
-  {
-    const Vec3 m = outwardFaceNormal(p, f);
-    const double l = norm(m);
-    if (!(l > 0))
-      return 180.0;
-    n[f] = (1.0 / l) * m;
-  }
-  double smallest = 1.0; // the largest angle has the smallest cosine
-  for (int i = 0; i < 4; ++i)
-    for (int j = i + 1; j < 4; ++j)
-      smallest = std::min(smallest, std::clamp(-dot(n[i], n[j]), -1.0, 1.0));
-  return std::acos(smallest) * 180.0 / M_PI;
+  double cosines[6];
+  if (!dihedralCosines(a, b, c, d, cosines))
+    return 180.0;
+  return std::acos(*std::min_element(cosines, cosines + 6)) * 180.0 / M_PI;
 }
 
 bool dihedralAnglesCertainlyAtLeast(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, double cosBound)
