@@ -617,7 +617,7 @@ std::shared_ptr<omesh::HierarchicalOracle> OracleBuilder::BuildOracle(vtkDataObj
     // vtkHierarchicalOracle stamps a format version on what it makes: an empty output without it
     // is a failed update upstream (ParaView runs each filter's update on its own)
     auto* mb = vtkMultiBlockDataSet::SafeDownCast(data);
-    if (mb && !mb->GetFieldData()->GetAbstractArray("OracleMesh_FormatVersion"))
+    if (mb && !mb->GetFieldData()->GetAbstractArray(OracleDomainMetadata::VersionArray))
       throw InputError("the oracle is empty: vtkHierarchicalOracle or a filter before it failed (its error, "
                        "reported first, says why; without one, no domain is connected)");
     throw InputError("the oracle has no domains: connect at least one domain to vtkHierarchicalOracle");

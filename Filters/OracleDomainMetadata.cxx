@@ -13,7 +13,7 @@
 
 namespace
 {
-const char* const kKind = "OracleMesh_Kind";
+const char* const kKind = OracleDomainMetadata::KindArray;
 const char* const kName = "OracleMesh_Name";
 const char* const kCut = "OracleMesh_Cut";
 const char* const kMaterialId = "OracleMesh_MaterialId";
@@ -27,7 +27,7 @@ const char* const kInterpolation = "OracleMesh_LabelInterpolation";
 const char* const kCriteria = "OracleMesh_Criteria";
 const char* const kLabelValues = "OracleMesh_LabelValues";
 const char* const kLabelNames = "OracleMesh_LabelNames";
-const char* const kVersion = "OracleMesh_FormatVersion";
+const char* const kVersion = OracleDomainMetadata::VersionArray;
 
 void putString(vtkFieldData* fd, const char* key, const std::string& v)
 {

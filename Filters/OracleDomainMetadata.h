@@ -12,6 +12,10 @@ class vtkFieldData;
 struct OracleDomainMetadata
 {
   static constexpr int kFormatVersion = 1;
+  /// Field-data array names: the kind, on every domain's dataset; the format version, on every
+  /// domain's dataset and on what vtkHierarchicalOracle makes (an output without it is no oracle's).
+  static constexpr const char* KindArray = "OracleMesh_Kind";
+  static constexpr const char* VersionArray = "OracleMesh_FormatVersion";
 
   std::string Kind; ///< Surface, LabelMap, Sphere, Plane, Box, Cylinder
   std::string Name;

@@ -46,7 +46,7 @@ int vtkHierarchicalOracle::RequestData(
       vtkDataObject* in = vtkDataObject::GetData(inputVector[0], i);
       const std::string where = "vtkHierarchicalOracle input " + std::to_string(i);
       vtkAlgorithm* producer = this->GetInputAlgorithm(0, i);
-      if (in && !in->GetFieldData()->GetAbstractArray("OracleMesh_Kind") && producer &&
+      if (in && !in->GetFieldData()->GetAbstractArray(OracleDomainMetadata::KindArray) && producer &&
         (producer->IsA("vtkSurfaceDomain") || producer->IsA("vtkLabelMapDomain") ||
           producer->IsA("vtkSphereDomain") || producer->IsA("vtkImplicitDomain")))
         throw omesh::InputError(where + ": its " + producer->GetClassName() +
@@ -54,7 +54,7 @@ int vtkHierarchicalOracle::RequestData(
       // an empty output without the domain description: the filter before failed (in ParaView a
       // pass-through filter sits between, so the producer above is not the domain filter)
       auto* set = vtkDataSet::SafeDownCast(in);
-      if (in && !in->GetFieldData()->GetAbstractArray("OracleMesh_Kind") && set && set->GetNumberOfPoints() == 0 &&
+      if (in && !in->GetFieldData()->GetAbstractArray(OracleDomainMetadata::KindArray) && set && set->GetNumberOfPoints() == 0 &&
         set->GetNumberOfCells() == 0)
         throw omesh::InputError(where + " is empty: the filter before it failed or produced nothing (its own "
                                         "error, reported first, says why)");
@@ -73,7 +73,7 @@ int vtkHierarchicalOracle::RequestData(
     return 0;
   }
   vtkNew<vtkIntArray> version;
-  version->SetName("OracleMesh_FormatVersion");
+  version->SetName(OracleDomainMetadata::VersionArray);
   version->InsertNextValue(OracleDomainMetadata::kFormatVersion);
   output->GetFieldData()->AddArray(version);
   return 1;

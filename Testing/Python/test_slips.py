@@ -159,6 +159,12 @@ class Files(unittest.TestCase):
         self.assertEqual(self.mesh_run.stdout.count("domain 1 'small' is hidden"), 1, self.mesh_run.stdout)
         self.assertNotIn("0x", self.mesh_run.stdout + self.mesh_run.stderr)
 
+    def test_sample_prints_the_domains_warnings_once_without_addresses(self):
+        result = run("sample", self.scene, "--dims", 16, 16, 16)
+        self.assertEqual(result.returncode, 0, result.stderr)
+        self.assertEqual(result.stderr.count("oraclemesh: warning: domain 1 'small' is hidden"), 1, result.stderr)
+        self.assertNotIn("0x", result.stderr)
+
     def test_no_set_of_files_half_written(self):
         result = om.mesh(self.scene)
         blocker = os.path.join(self.tmp.name, "blocker")

@@ -624,9 +624,6 @@ TetMesh toTetMesh(const C3t3& c3t3, const HierarchicalOracle& oracle, const std:
 
 namespace
 {
-/// The feature lines simplified and resampled as MesherOptions::resampleFeatureLines asks
-/// (simplifyFeatureNetwork: chords up to the edge size, else the facet size, else 1/40 of the
-/// diagonal, within half the smallest facet distance), or nothing when it does not.
 /// The chord length of the resampling: the edge size, else the facet size, else 1/40 of the diagonal.
 double resamplingLength(const MesherOptions& options, const BoundingBox& inner)
 {
@@ -662,12 +659,13 @@ std::optional<std::string> denseFeatureLinesWarning(
   return o.str();
 }
 
+/// The feature lines simplified and resampled as MesherOptions::resampleFeatureLines asks
+/// (simplifyFeatureNetwork: chords up to the edge size, else the facet size, else 1/40 of the
+/// diagonal, within half the smallest facet distance), or nothing when it does not.
 std::optional<FeatureSegments> resampledFeatures(const FeatureSegments& given, const MesherOptions& options,
   const HierarchicalOracle& oracle, const BoundingBox& inner, std::vector<std::string>& warnings,
   FeatureNetworkReport& report)
 {
-  if (const auto dense = denseFeatureLinesWarning(given, options, inner))
-    warnings.push_back(*dense);
   if (!options.resampleFeatureLines || given.empty())
     return std::nullopt;
   const double distance = options.criteria.finestFacetDistance();
@@ -774,6 +772,8 @@ private:
   {
     inner_ = oracle_.bounds(); // throws for an empty or unbounded oracle
     given_.checkEdgeSizes();   // named on the lines as given, before resampling moves them
+    if (const auto dense = denseFeatureLinesWarning(given_, options_, inner_))
+      warnings_.push_back(*dense);
     resampled_ = resampledFeatures(given_, options_, oracle_, inner_, warnings_, network_);
     features_ = resampled_ ? &*resampled_ : &given_;
     deadline_.check("feature-line resampling");

@@ -43,7 +43,6 @@ class _Signals:
     def __init__(self):
         self.received = None
         self.running = []
-        self.warnings = []
 
     def install(self):
         for number in (signal.SIGINT, signal.SIGTERM):
@@ -60,13 +59,13 @@ class _Signals:
             return
         raise Interrupted(self.received)
 
-    def update(self, algorithm):
-        """om.update(algorithm), abortable by the signals: the filter reports progress to Python. Its
-        warnings are kept in `warnings` (the report prints the mesher's)."""
+    def update(self, algorithm, warnings=None):
+        """om.update(algorithm, warnings=...), abortable by the signals: the filter reports progress
+        to Python."""
         tag = algorithm.AddObserver("ProgressEvent", lambda *unused: None)
         self.running.append(algorithm)
         try:
-            output = update(algorithm, warnings=self.warnings)
+            output = update(algorithm, warnings=warnings)
         finally:
             self.running.remove(algorithm)
             algorithm.RemoveObserver(tag)
@@ -221,9 +220,6 @@ def _mesh(args):
                 e.args = (f"{args.scene}: {e}",)
             raise
         messages.known = result.warnings
-    for text in SIGNALS.warnings:  # those of filters other than the mesher, which the report lacks
-        if text not in result.warnings:
-            print(f"oraclemesh: warning: {scene_spelling(text)}", file=sys.stderr)
     started = time.perf_counter()
     written = result.save(*outputs)
     lines = result.report.split("\n")

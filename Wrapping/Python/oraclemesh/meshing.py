@@ -14,7 +14,7 @@ import time
 
 from .defaults import CRITERIA_KEYS, FEATURE_SOURCES, MESH_PROPERTIES, domain_criteria_unset, mesh_defaults
 from .fielddata import add_material_names
-from .errors import OracleMeshError, update
+from .errors import OracleMeshError, scene_spelling, update
 from .scene import Scene, build_scene, load_scene
 from . import fieldkeys
 
@@ -282,7 +282,8 @@ def mesh(scene, strategy=None, progress=None, base_dir=None, updater=update, ele
     scene's "mesh.features.use", else Given); `feature_angle` the scene's "mesh.features.feature_angle"
     (degrees, default 60: a surface's sharp edges and the creases Automatic finds; 180 = none);
     `progress`, if given, is called with the mesher's progress (0..1); `updater` runs the mesher
-    (default errors.update; the command line passes one that signals can abort). `threads` overrides
+    (default errors.update, called with a `warnings` list; the command line passes one that signals can
+    abort). `threads` overrides
     the scene's "threads": 1 = sequential (the same seed gives the same mesh), N > 1 = the refinement
     on N threads (0 = every core; the mesh then differs from run to run, see docs/REFERENCE.md). Bad scenes
     and failed meshing raise OracleMeshError naming the problem; failed meshing raises MeshingError, whose
@@ -296,14 +297,14 @@ def mesh(scene, strategy=None, progress=None, base_dir=None, updater=update, ele
     if progress is not None:
         mesher.AddObserver("ProgressEvent", lambda algorithm, event: progress(algorithm.GetProgress()))
     collected = []  # the mesher's warnings are the result's (its report): printed only when others
-    grid = update(mesher, warnings=collected) if updater is update else updater(mesher)
+    grid = updater(mesher, warnings=collected)
     add_input_warnings(grid, scene.input_warnings())
     segments = mesher.GetOutputDataObject(2)
     describe(grid, scene.material_names(), segments.GetNumberOfCells() if segments is not None else 0)
     strategy = strategy or scene.mesh.get("strategy", mesh_defaults()["strategy"])
     seconds = time.perf_counter() - started
     result = MeshResult(grid, scene, strategy, seconds, f"Mesh of {scene.source} ({seconds:.1f} s, strategy {strategy})")
-    for text in collected:
+    for text in collected:  # those of the filters before the mesher, which the report lacks
         if text not in result.warnings:
-            print(f"oraclemesh: warning: {text}", file=sys.stderr)
+            print(f"oraclemesh: warning: {scene_spelling(text)}", file=sys.stderr)
     return result

@@ -90,11 +90,19 @@ def volume_text(volume):
     return f"{volume:.1f}" if volume == 0 or abs(volume) >= 100 else f"{volume:.4g}"
 
 
+def _worst(shape, selected):
+    """{"worst_<key>": value} over the tetrahedra `selected` for SHAPE_KEYS (the largest
+    max_dihedral, else the smallest)."""
+    return {f"worst_{key}": float(shape[key][selected].max() if key == "max_dihedral" else shape[key][selected].min())
+            for key in SHAPE_KEYS}
+
+
 def quality(grid, source="mesh"):
     """Per-material quality of a tetrahedral mesh: {"materials": {id: {"tets", "volume",
     "min_dihedral", "mean_min_dihedral", "worst_max_dihedral", "worst_radius_ratio", "worst_mean_ratio",
     "worst_edge_ratio"}}, "tets", "vertices" (corners), "nodes" (with the mid-edge ones), "volume",
-    "min_dihedral", "max_dihedral", "angles" (per-tet minimal dihedral angles, of the corners),
+    "min_dihedral", "max_dihedral", "worst" (the worst_* values of the whole mesh), "angles" (per-tet
+    minimal dihedral angles, of the corners),
     "shape" (shape.shape_measures of every tetrahedron), "centroids",
     "material" (per-tet material), "order" (1 or 2) and for 10-node tetrahedra "min_jacobian_ratio"
     (quadratic.jacobian_ratios)}.
@@ -121,11 +129,11 @@ def quality(grid, source="mesh"):
         sel = material == m
         materials[m] = {"tets": int(sel.sum()), "volume": float(volumes[sel].sum()),
                         "min_dihedral": float(angles[sel].min()), "mean_min_dihedral": float(angles[sel].mean()),
-                        **{f"worst_{key}": float(shape[key][sel].max() if key == "max_dihedral" else
-                                                 shape[key][sel].min()) for key in SHAPE_KEYS}}
+                        **_worst(shape, sel)}
+    worst = _worst(shape, slice(None))
     q = {"materials": materials, "tets": int(len(cells)), "vertices": int(len(np.unique(cells))) if quadratic else int(grid.GetNumberOfPoints()),
          "nodes": int(grid.GetNumberOfPoints()), "volume": float(volumes.sum()), "min_dihedral": float(angles.min()),
-         "max_dihedral": float(shape["max_dihedral"].max()), "angles": angles, "shape": shape,
+         "max_dihedral": worst["worst_max_dihedral"], "worst": worst, "angles": angles, "shape": shape,
          "centroids": p.mean(axis=1), "material": material, "order": 2 if quadratic else 1}
     if quadratic:
         q["min_jacobian_ratio"] = float(jacobian_ratios(points, nodes).min())
@@ -143,22 +151,18 @@ def report_lines(grid, title, names=None, source="mesh", recheck=True):
              + (f", {q['nodes']} nodes" if q["order"] == 2 else ""),
              f"{'material':>8}  {'name':<18} {'tets':>9} {'volume [mm^3]':>14} {'min dihedral':>13} {'mean min':>9} "
              f"{'max dihedral':>13} {'radius ratio':>13} {'mean ratio':>11} {'edge ratio':>11}"]
-    shape = q["shape"]
     for m, row in q["materials"].items():
         lines.append(f"{m:>8}  {names.get(m, '?'):<18} {row['tets']:>9} {volume_text(row['volume']):>14} "
                      f"{row['min_dihedral']:>12.2f}° {row['mean_min_dihedral']:>8.1f}° " + _shape_columns(row))
     lines.append(f"{'all':>8}  {'':<18} {q['tets']:>9} {volume_text(q['volume']):>14} {q['min_dihedral']:>12.2f}° "
-                 f"{q['angles'].mean():>8.1f}° " + _shape_columns(
-                     {f"worst_{key}": (shape[key].max() if key == "max_dihedral" else shape[key].min())
-                      for key in SHAPE_KEYS}))
+                 f"{q['angles'].mean():>8.1f}° " + _shape_columns(q["worst"]))
     lines.append("(max dihedral and the ratios are the worst tetrahedron's; the ratios are 1 for the regular "
                  "tetrahedron: radius ratio 3 r / R, mean ratio, shortest / longest edge)")
-    hist, edges = np.histogram(q["angles"], bins=TEXT_BINS)
-    lines.append("minimal dihedral angle per tetrahedron: "
-                 + ", ".join(f"{int(a)}-{int(b)}°: {n}" for a, b, n in zip(edges, edges[1:], hist)))
-    hist, edges = np.histogram(q["shape"]["max_dihedral"], bins=MAX_TEXT_BINS)
-    lines.append("maximal dihedral angle per tetrahedron: "
-                 + ", ".join(f"{int(a)}-{int(b)}°: {n}" for a, b, n in zip(edges, edges[1:], hist)))
+    for words, values, bins in (("minimal", q["angles"], TEXT_BINS),
+                                ("maximal", q["shape"]["max_dihedral"], MAX_TEXT_BINS)):
+        hist, edges = np.histogram(values, bins=bins)
+        lines.append(f"{words} dihedral angle per tetrahedron: "
+                     + ", ".join(f"{int(a)}-{int(b)}°: {n}" for a, b, n in zip(edges, edges[1:], hist)))
     lines += shape_lines(q)
     segments = grid.GetFieldData().GetArray("FeatureSegments")
     if segments is not None and segments.GetValue(0) == 0:
