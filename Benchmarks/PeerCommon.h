@@ -108,17 +108,21 @@ inline omesh::FeatureSegments readSegments(const std::string& path)
 /// The command line both programs take:
 ///   <labels|surface|cad> <input> [features] [--cell-size x] [--facet-size x] [--facet-distance x]
 ///   [--facet-angle x] [--radius-edge x] [--edge-size x] [--opt default|none|limit:T] [--seed n]
-///   [--threads n] [--sliver-angle degrees]
+///   [--threads n] [--sliver-angle degrees] [--interpolation nearest|trilinear|smooth] [--write path]
 /// --opt: default = the tool's own default optimisation; none = refinement only; limit:T = perturb
 /// and exude each limited to T seconds and nothing else (no step budgets); previous (OracleMesh
 /// only) = its defaults before issue 12's optimisation policy. --threads (OracleMesh only): the
 /// refinement's threads (MesherOptions::threads). --sliver-angle (OracleMesh only): the Conforming
-/// strategy's picked-point angle (MesherOptions::pickingSliverAngle).
+/// strategy's picked-point angle (MesherOptions::pickingSliverAngle). --interpolation (OracleMesh
+/// only, labels): the label map's LabelInterpolation (default trilinear, as CGAL's). --write: the
+/// mesh as points, tetrahedra and materials (writeMesh) for measures the JSON line lacks.
 struct Args
 {
   std::string kind, input, features;
   double cellSize = 0, facetSize = 0, facetDistance = 0, facetAngle = 25, radiusEdge = 3, edgeSize = 0;
   std::string opt = "default";
+  std::string interpolation = "trilinear";
+  std::string write;
   double limit = 0;
   unsigned seed = 1;
   int threads = 1;
@@ -146,6 +150,8 @@ inline Args parseArgs(int argc, char* argv[])
     else if (s == "--seed") a.seed = static_cast<unsigned>(std::stoul(value()));
     else if (s == "--threads") a.threads = std::stoi(value());
     else if (s == "--sliver-angle") a.sliverAngle = std::stod(value());
+    else if (s == "--interpolation") a.interpolation = value();
+    else if (s == "--write") a.write = value();
     else if (s == "--opt")
     {
       a.opt = value();
@@ -198,6 +204,31 @@ inline double peakRssBytes()
   return u.ru_maxrss * 1024.0;
 }
 
+/// Writes "OMTETS <points> <tets>\n", then the points (3 doubles each), the tetrahedra (4 int32
+/// each) and their materials (int32 each), little-endian as this machine writes them.
+inline void writeMesh(const std::string& path, const omesh::TetMesh& mesh)
+{
+  std::ofstream out(path, std::ios::binary);
+  out << "OMTETS " << mesh.points.size() << " " << mesh.tets.size() << "\n";
+  for (const auto& p : mesh.points)
+  {
+    const double c[3] = { p.x, p.y, p.z };
+    out.write(reinterpret_cast<const char*>(c), sizeof c);
+  }
+  for (const auto& t : mesh.tets)
+  {
+    const int32_t c[4] = { t[0], t[1], t[2], t[3] };
+    out.write(reinterpret_cast<const char*>(c), sizeof c);
+  }
+  for (size_t i = 0; i < mesh.tets.size(); ++i)
+  {
+    const int32_t m = i < mesh.tetMaterial.size() ? mesh.tetMaterial[i] : 1;
+    out.write(reinterpret_cast<const char*>(&m), sizeof m);
+  }
+  if (!out)
+    throw std::runtime_error(path + ": cannot write the mesh");
+}
+
 /// Prints one JSON line with the figures, computed the same way for both tools from `mesh`.
 /// `peakRss` is taken by the caller when the mesh is complete (before these checks).
 inline void report(const char* tool, const Args& a, const omesh::TetMesh& mesh, double initSeconds,
@@ -231,6 +262,8 @@ inline void report(const char* tool, const Args& a, const omesh::TetMesh& mesh, 
     << ", \"duplicates\": " << v.duplicateVertices << ", \"flat\": " << v.flatTetrahedra
     << ", \"micro\": " << v.microTetrahedra << ", \"inverted\": " << v.invertedTetrahedra
     << ", \"non_manifold\": " << v.nonManifoldFaces << ", \"coverage\": " << coverage << extra << "}";
+  if (!a.write.empty())
+    writeMesh(a.write, mesh);
   std::printf("%s\n", o.str().c_str());
   std::fflush(stdout);
 }

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // The OracleMesh side of the peer benchmark (peer_benchmark.py): the core API (no VTK, no Python),
 // the same kind of process as PeerCgal, on the same inputs and criteria.
-//   labels  -> LabelMapDomain (Trilinear, as CGAL's labelled image domain)
+//   labels  -> LabelMapDomain (Trilinear, as CGAL's labelled image domain; --interpolation)
 //   surface -> SurfaceDomain
 //   cad     -> SurfaceDomain + the given feature segments (Conforming)
 // Strategy Conforming (the default), the mesher's default sliver rules. --opt default = the
@@ -35,7 +35,9 @@ int main(int argc, char* argv[])
         { 1, 0, 0, 0, 1, 0, 0, 0, 1 });
       oracle.add(std::make_shared<omesh::LabelMapDomain>(
         std::array<int, 3>{ im.dims[0], im.dims[1], im.dims[2] }, labels, toVoxel, 0, "labels",
-        omesh::LabelInterpolation::Trilinear));
+        a.interpolation == "smooth"  ? omesh::LabelInterpolation::Smooth
+          : a.interpolation == "nearest" ? omesh::LabelInterpolation::Nearest
+                                         : omesh::LabelInterpolation::Trilinear));
     }
     else
     {

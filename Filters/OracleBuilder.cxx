@@ -374,7 +374,9 @@ std::shared_ptr<omesh::LabelMapDomain> OracleBuilder::ToLabelMap(
     ? omesh::LabelMapDomain::cellCenteredWorldToVoxel(o, s, direction)
     : omesh::LabelMapDomain::pointCenteredWorldToVoxel(o, s, direction);
   auto lm = std::make_shared<omesh::LabelMapDomain>(dims, labels, worldToVoxel, md.BackgroundLabel, who,
-    md.TrilinearLabels ? omesh::LabelInterpolation::Trilinear : omesh::LabelInterpolation::Nearest);
+    md.LabelInterpolation == "Smooth"      ? omesh::LabelInterpolation::Smooth
+      : md.LabelInterpolation == "Trilinear" ? omesh::LabelInterpolation::Trilinear
+                                             : omesh::LabelInterpolation::Nearest);
   lm->setCut(md.Cut);
   if (lm->materials().empty())
     throw InputError(who + ": label map holds only the background label " + std::to_string(md.BackgroundLabel));

@@ -98,7 +98,7 @@ void OracleDomainMetadata::WriteTo(vtkFieldData* fd) const
     putString(fd, kLabelArray, LabelArray);
     putString(fd, kLabelAssociation, CellLabels ? "Cell" : "Point");
     putInts(fd, kBackground, { BackgroundLabel });
-    putString(fd, kInterpolation, TrilinearLabels ? "Trilinear" : "Nearest");
+    putString(fd, kInterpolation, LabelInterpolation);
     putInts(fd, kLabelValues, LabelValues);
     vtkNew<vtkStringArray> names;
     names->SetName(kLabelNames);
@@ -142,10 +142,11 @@ bool OracleDomainMetadata::ReadFrom(vtkFieldData* fd, OracleDomainMetadata& out)
     if (!bg.empty())
       out.BackgroundLabel = bg[0];
     const std::string interpolation = getString(fd, kInterpolation);
-    if (!interpolation.empty() && interpolation != "Nearest" && interpolation != "Trilinear")
+    if (!interpolation.empty() && interpolation != "Nearest" && interpolation != "Trilinear" &&
+      interpolation != "Smooth")
       throw omesh::InputError("domain '" + out.Name + "': " + kInterpolation + " is '" + interpolation +
-        "'; expected Nearest or Trilinear");
-    out.TrilinearLabels = interpolation == "Trilinear";
+        "'; expected Nearest, Trilinear or Smooth");
+    out.LabelInterpolation = interpolation.empty() ? "Nearest" : interpolation;
     out.LabelValues = getInts(fd, kLabelValues);
     if (auto* names = vtkStringArray::SafeDownCast(fd->GetAbstractArray(kLabelNames)))
     {

@@ -35,7 +35,9 @@ struct OracleDomainMetadata
   /// Optional criteria for this domain's material(s): facet angle, facet size, facet distance,
   /// cell size, cell radius-edge ratio, edge size; negative = not set.
   std::array<double, 6> Criteria{ -1, -1, -1, -1, -1, -1 };
-  bool TrilinearLabels = false; ///< LabelMap: trilinear label interpolation (absent = nearest voxel)
+  /// LabelMap: how labels are read between voxel centres: "Nearest", "Trilinear" or "Smooth"
+  /// (absent = Nearest).
+  std::string LabelInterpolation = "Nearest";
   std::vector<int> LabelValues; ///< labels that have a name, aligned with LabelNames
   std::vector<std::string> LabelNames;
 

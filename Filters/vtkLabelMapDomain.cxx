@@ -183,7 +183,7 @@ int vtkLabelMapDomain::RequestData(
   md.Name = name;
   md.Cut = this->Cut;
   md.BackgroundLabel = this->BackgroundLabel;
-  md.TrilinearLabels = this->Interpolation == TRILINEAR;
+  md.LabelInterpolation = this->Interpolation == SMOOTH ? "Smooth" : this->Interpolation == TRILINEAR ? "Trilinear" : "Nearest";
   md.Criteria = { this->FacetAngle, this->FacetSize, this->FacetDistance, this->CellSize,
     this->CellRadiusEdgeRatio, this->EdgeSize };
   int association = vtkDataObject::FIELD_ASSOCIATION_POINTS;
@@ -217,9 +217,9 @@ int vtkLabelMapDomain::RequestData(
   }
   try
   {
-    if (this->Interpolation != NEAREST && this->Interpolation != TRILINEAR)
+    if (this->Interpolation != NEAREST && this->Interpolation != TRILINEAR && this->Interpolation != SMOOTH)
       throw omesh::InputError(who + ": Interpolation " + std::to_string(this->Interpolation) +
-        " is not 0 (Nearest) or 1 (Trilinear)");
+        " is not 0 (Nearest), 1 (Trilinear) or 2 (Smooth)");
     if (!array)
       throw omesh::InputError(noLabelArray(this->GetInputArrayInformation(0), input, who));
     if (md.LabelArray.empty())
@@ -240,7 +240,8 @@ void vtkLabelMapDomain::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "BackgroundLabel: " << this->BackgroundLabel << "\n";
-  os << indent << "Interpolation: " << (this->Interpolation == TRILINEAR ? "Trilinear" : "Nearest") << "\n";
+  os << indent << "Interpolation: "
+     << (this->Interpolation == SMOOTH ? "Smooth" : this->Interpolation == TRILINEAR ? "Trilinear" : "Nearest") << "\n";
   os << indent << "Cut: " << this->Cut << "\n";
   os << indent << "DomainName: " << (this->DomainName ? this->DomainName : "(none)") << "\n";
   for (const auto& [label, name] : this->LabelNames)

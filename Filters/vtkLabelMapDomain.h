@@ -36,8 +36,9 @@ public:
 
   enum InterpolationModes
   {
-    NEAREST = 0,  ///< each voxel owns its box: material boundaries are voxel staircases
-    TRILINEAR = 1 ///< the label with the largest trilinear indicator (as CGAL's image domains): smooth boundaries
+    NEAREST = 0,   ///< each voxel owns its box: material boundaries are voxel staircases
+    TRILINEAR = 1, ///< the label with the largest trilinear indicator (as CGAL's image domains)
+    SMOOTH = 2     ///< trilinear with voxel weights fitted to smooth boundaries below the voxel size
   };
   ///@{
   /// How labels are read between voxel centres. Default TRILINEAR: staircase boundaries force
@@ -46,6 +47,7 @@ public:
   vtkGetMacro(Interpolation, int);
   void SetInterpolationToNearest() { this->SetInterpolation(NEAREST); }
   void SetInterpolationToTrilinear() { this->SetInterpolation(TRILINEAR); }
+  void SetInterpolationToSmooth() { this->SetInterpolation(SMOOTH); }
   ///@}
 
   ///@{

@@ -4,6 +4,7 @@
 #include "BoundingBox.h"
 
 #include "InputError.h"
+#include "LabelSmoothing.h"
 #include "TrilinearCubic.h"
 
 #include <algorithm>
@@ -72,7 +73,8 @@ AffineMap LabelMapDomain::cellCenteredWorldToVoxel(
 }
 
 LabelMapDomain::LabelMapDomain(const std::array<int, 3>& dims, const std::vector<int>& labels,
-  const AffineMap& worldToVoxel, int backgroundLabel, const std::string& name, LabelInterpolation interpolation)
+  const AffineMap& worldToVoxel, int backgroundLabel, const std::string& name, LabelInterpolation interpolation,
+  const LabelSmoothingOptions& smoothing)
   : dims_(dims)
   , worldToVoxel_(worldToVoxel)
   , interpolation_(interpolation)
@@ -126,8 +128,16 @@ LabelMapDomain::LabelMapDomain(const std::array<int, 3>& dims, const std::vector
     }
     index_[v] = it->second;
   }
-  if (interpolation_ == LabelInterpolation::Trilinear)
-    buildClearance();
+  if (interpolation_ == LabelInterpolation::Nearest)
+    return;
+  buildClearance();
+  if (interpolation_ == LabelInterpolation::Smooth)
+  {
+    std::array<double, 3> spacing{}; // the voxel axes' lengths in world units
+    for (int c = 0; c < 3; ++c)
+      spacing[c] = std::sqrt(r[c] * r[c] + r[4 + c] * r[4 + c] + r[8 + c] * r[8 + c]);
+    weights_ = labelInterfaceWeights(dims_, index_, static_cast<int>(indexMaterial_.size()), spacing, smoothing);
+  }
 }
 
 void LabelMapDomain::buildClearance()
@@ -190,7 +200,7 @@ void LabelMapDomain::buildClearance()
 bool LabelMapDomain::firstChange(const Vec3& a, const Vec3& b, ShownChange& shown, std::vector<double>& ts,
   bool& candidatesShown) const
 {
-  if (interpolation_ != LabelInterpolation::Trilinear)
+  if (interpolation_ == LabelInterpolation::Nearest)
   {
     candidatesShown = firstCrossings(a, b, ts, 1);
     return false;
@@ -262,7 +272,7 @@ bool LabelMapDomain::firstCrossings(const Vec3& a, const Vec3& b, std::vector<do
     return false;
   ts.push_back(t0);
   ts.push_back(t1);
-  if (interpolation_ == LabelInterpolation::Trilinear)
+  if (interpolation_ != LabelInterpolation::Nearest)
     return trilinearCrossings(ua, d, t0, t1, changes, ts) && t0 == 0.0 && t1 == 1.0; // both ends in the grid
   // Voxel faces crossed inside the grid; keep those where the label actually changes.
   std::vector<double> faces{ t0 };
@@ -302,6 +312,7 @@ struct Corners
 {
   int lo[3] = { std::numeric_limits<int>::min(), 0, 0 };
   uint16_t idx[8] = {};
+  float w[8] = { 1, 1, 1, 1, 1, 1, 1, 1 }; ///< the corners' interface weights (Smooth; else 1)
   bool uniform = false;
   // the distinct labels in order of first appearance, and each corner's place among them (a mixed
   // cell's, once distinctLabels has run: the lead's cubic needs only idx)
@@ -339,7 +350,8 @@ inline size_t clearanceOffset(const std::array<size_t, 3>& stride, const int lo[
     stride[2] * static_cast<size_t>(lo[2] + 2);
 }
 
-inline void loadCorners(const std::array<int, 3>& dims, const uint16_t* index, const int lo[3], Corners& k)
+inline void loadCorners(
+  const std::array<int, 3>& dims, const uint16_t* index, const float* weights, const int lo[3], Corners& k)
 {
   size_t off[3][2];
   size_t stride = 1;
@@ -353,6 +365,9 @@ inline void loadCorners(const std::array<int, 3>& dims, const uint16_t* index, c
   for (int c = 0; c < 8; ++c)
     k.idx[c] = index[off[0][c & 1] + off[1][(c >> 1) & 1] + off[2][(c >> 2) & 1]];
   k.uniform = std::all_of(k.idx + 1, k.idx + 8, [&](uint16_t i) { return i == k.idx[0]; });
+  if (weights && !k.uniform) // a uniform cell's weights never matter
+    for (int c = 0; c < 8; ++c)
+      k.w[c] = weights[off[0][c & 1] + off[1][(c >> 1) & 1] + off[2][(c >> 2) & 1]];
   k.slotted = false;
 }
 
@@ -381,7 +396,7 @@ inline void labelWeights(const Corners& k, const double f[3], double sums[8])
   for (int s = 0; s < 8; ++s) // all 8, not distinctCount: a fixed size needs no memset call
     sums[s] = 0.0;
   for (int c = 0; c < 8; ++c)
-    sums[k.slot[c]] += (((c & 1) ? f[0] : g[0]) * ((c & 2) ? f[1] : g[1])) * ((c & 4) ? f[2] : g[2]);
+    sums[k.slot[c]] += ((((c & 1) ? f[0] : g[0]) * ((c & 2) ? f[1] : g[1])) * ((c & 4) ? f[2] : g[2])) * k.w[c];
 }
 
 /// Compact label index with the largest of a mixed cell's summed weights; ties go to the smaller index.
@@ -430,7 +445,7 @@ uint16_t LabelMapDomain::trilinearIndex(const Vec3& u) const
   if (clearance_[clearanceOffset(clearanceStride_, lo)] != 0)
     return index_[lowerCorner(dims_, lo)]; // all 8 corners carry one label
   Corners k;
-  loadCorners(dims_, index_.data(), lo, k);
+  loadCorners(dims_, index_.data(), weights_.empty() ? nullptr : weights_.data(), lo, k);
   distinctLabels(k);
   return pickLabel(k, f);
 }
@@ -443,10 +458,11 @@ namespace
 class TrilinearWalk
 {
 public:
-  TrilinearWalk(const std::array<int, 3>& dims, const uint16_t* index, const uint8_t* clearance,
+  TrilinearWalk(const std::array<int, 3>& dims, const uint16_t* index, const float* weights, const uint8_t* clearance,
     const std::array<size_t, 3>& clearanceStride, const Vec3& ua, const Vec3& d)
     : dims_(dims)
     , index_(index)
+    , weights_(weights)
     , clearance_(clearance)
     , clearanceStride_(clearanceStride)
     , ua_(ua)
@@ -469,7 +485,7 @@ public:
     int lo[3];
     cellAt(t, lo, f);
     if (!sameCell(lo, cache_.lo))
-      loadCorners(dims_, index_, lo, cache_);
+      loadCorners(dims_, index_, weights_, lo, cache_);
     distinctLabels(cache_); // for the weights of its labels
   }
 
@@ -494,7 +510,7 @@ public:
   bool leadOnPiece(double a, double b, const int cell[3], uint16_t label, double lead[4])
   {
     if (!sameCell(cell, cache_.lo))
-      loadCorners(dims_, index_, cell, cache_);
+      loadCorners(dims_, index_, weights_, cell, cache_);
     const Corners& k = cache_;
     double fa[3], fb[3]; // (in a cell at the grid's border the clamped corners repeat along the
     for (int end = 0; end < 2; ++end) // outer axis: the fractions there do not matter)
@@ -513,7 +529,7 @@ public:
     {
       const uint16_t i = k.idx[c];
       const bool own = i == label;
-      v[c] = own ? 1.0 : -1.0;
+      v[c] = own ? k.w[c] : -k.w[c];
       has = has || own;
       if (!own && other_ == label)
         other_ = i;
@@ -631,6 +647,7 @@ private:
 
   const std::array<int, 3>& dims_;
   const uint16_t* index_;
+  const float* weights_; ///< interface weights per voxel (Smooth), or null
   const uint8_t* clearance_;
   const std::array<size_t, 3>& clearanceStride_;
   Vec3 ua_, d_;
@@ -769,7 +786,8 @@ bool LabelMapDomain::trilinearCrossings(const Vec3& ua, const Vec3& d, double t0
   // Most pieces lie in a cell whose 8 corners all carry the label the walk is in (one load of
   // clearance_ says so; nothing can change there), most of those deep inside a cube of such
   // cells, which the walk jumps over to the plane where it leaves the cube.
-  TrilinearWalk walk(dims_, index_.data(), clearance_.data(), clearanceStride_, ua, d);
+  TrilinearWalk walk(dims_, index_.data(), weights_.empty() ? nullptr : weights_.data(), clearance_.data(),
+    clearanceStride_, ua, d);
   bool noChange = false;
   uint16_t previous = walk.labelAtStart(t0, t1, noChange);
   if (report)
@@ -868,7 +886,7 @@ void LabelMapDomain::bendPlanes(const Vec3& a, const Vec3& b, std::vector<BendPl
 {
   const Vec3 ua = worldToVoxel_.apply(a), ub = worldToVoxel_.apply(b);
   // trilinear: the interpolation cells between voxel centres (at i + 0.5) meet there
-  const double offset = interpolation_ == LabelInterpolation::Trilinear ? 0.5 : 0.0;
+  const double offset = interpolation_ != LabelInterpolation::Nearest ? 0.5 : 0.0;
   const auto& m = worldToVoxel_.rows();
   for (int axis = 0; axis < 3; ++axis)
   {

@@ -1,0 +1,288 @@
+#!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""How close a label map's meshed interfaces come to the true surfaces the voxels were sampled from.
+
+Binary and nested label maps of analytic shapes (a label per voxel centre: inside or not), with
+fixed seeds for their placement: spheres of radius 4.5 to 10 voxels, a tilted cube, a shell 1.5
+voxels thick around a core, and nested spheres on a CT-like grid of 0.5 x 0.5 x 1.25. Each is
+meshed by OracleMesh with each label interpolation (PeerOracleMesh --interpolation) and by stock
+CGAL 5.5's labelled image domain (PeerCgal, a small program of ours), same image, same criteria,
+same seed. Per run:
+
+  dist mean / max   distance of the interface vertices (on a face between two materials or on the
+                    boundary) to the nearest true surface, in voxels (the geometric mean spacing)
+  vol err           largest relative error of a material's volume against the exact one
+  voxel err         the same for the voxel count (what the voxels alone give)
+  lost / pieces     labels with no tetrahedra / connected pieces of each material (face-adjacent)
+  tets, min/max dihedral, seconds (the whole call)
+
+    cmake --build build --target PeerCgal PeerOracleMesh
+    python3 Benchmarks/label_fidelity.py --cgal build/bin/PeerCgal --oraclemesh build/bin/PeerOracleMesh \\
+        --work build/label_fidelity [--cases sphere_r4.5 shell_1.5 ...]
+    python3 Benchmarks/label_fidelity.py --oraclemesh build/bin/PeerOracleMesh --work DIR --check
+
+--check (ctest Python.label_fidelity): three cases, OracleMesh only, asserts the Smooth aims:
+mean distance <= 0.08 voxel, max <= 0.35, every material's volume closer to exact than the voxel
+count and within 3 % on the shell, every label kept, each material one piece, a valid mesh with
+no more tetrahedra than Trilinear's at equal criteria (+2 %), min dihedral angle within 1 degree of
+Trilinear's.
+"""
+import argparse
+import json
+import math
+import os
+import subprocess
+import sys
+import time
+
+import numpy as np
+
+INTERPOLATIONS = ("nearest", "trilinear", "smooth")
+CHECK_CASES = ("sphere_r4.5", "tilted_box", "shell_1.5")
+
+
+def rotation(rng):
+    """A random rotation (QR of a Gaussian matrix, signs fixed)."""
+    q, r = np.linalg.qr(rng.normal(size=(3, 3)))
+    q = q * np.sign(np.diag(r))
+    if np.linalg.det(q) < 0:
+        q[:, 0] = -q[:, 0]
+    return q
+
+
+class Sphere:
+    def __init__(self, centre, radius):
+        self.c, self.r = np.asarray(centre, float), float(radius)
+
+    def sdf(self, p):
+        return np.linalg.norm(p - self.c, axis=1) - self.r
+
+    def volume(self):
+        return 4.0 / 3.0 * math.pi * self.r ** 3
+
+
+class Box:
+    def __init__(self, centre, half, rot):
+        self.c, self.h, self.rot = np.asarray(centre, float), float(half), rot
+
+    def sdf(self, p):
+        q = np.abs((p - self.c) @ self.rot) - self.h
+        outside = np.linalg.norm(np.maximum(q, 0.0), axis=1)
+        return outside + np.minimum(q.max(axis=1), 0.0)
+
+    def volume(self):
+        return (2.0 * self.h) ** 3
+
+
+def make_case(name):
+    """(dims, spacing, shapes: [(label, shape)] innermost first, exact volume per label)."""
+    rng = np.random.default_rng(sum(map(ord, name)))  # a fixed seed per case
+    jitter = lambda: rng.uniform(-0.5, 0.5, 3)
+    if name == "sphere_r4.5":
+        dims, h = (16, 16, 16), (1.0, 1.0, 1.0)
+        shapes = [(1, Sphere(np.array([7.5, 7.5, 7.5]) + jitter(), 4.5))]
+    elif name == "sphere_r10":
+        dims, h = (28, 28, 28), (1.0, 1.0, 1.0)
+        shapes = [(1, Sphere(np.array([13.5, 13.5, 13.5]) + jitter(), 10.0))]
+    elif name == "nested":
+        dims, h = (28, 28, 28), (1.0, 1.0, 1.0)
+        c = np.array([13.5, 13.5, 13.5]) + jitter()
+        shapes = [(2, Sphere(c + rng.uniform(-1.5, 1.5, 3), 5.0)), (1, Sphere(c, 10.0))]
+    elif name == "tilted_box":
+        dims, h = (26, 26, 26), (1.0, 1.0, 1.0)
+        shapes = [(1, Box(np.array([12.5, 12.5, 12.5]) + jitter(), 6.0, rotation(rng)))]
+    elif name == "shell_1.5":
+        dims, h = (26, 26, 26), (1.0, 1.0, 1.0)
+        c = np.array([12.5, 12.5, 12.5]) + jitter()
+        shapes = [(2, Sphere(c, 7.0)), (1, Sphere(c, 8.5))]
+    elif name == "ct_aniso":
+        dims, h = (36, 36, 16), (0.5, 0.5, 1.25)
+        c = np.array([8.75, 8.75, 9.375]) + 0.5 * jitter()
+        shapes = [(2, Sphere(c + rng.uniform(-1, 1, 3), 3.0)), (1, Sphere(c, 6.5))]
+    else:
+        raise SystemExit(f"unknown case {name!r}")
+    return dims, np.array(h), shapes
+
+
+CASES = ("sphere_r4.5", "sphere_r10", "nested", "tilted_box", "shell_1.5", "ct_aniso")
+
+
+def label_image(dims, h, shapes):
+    """Labels at the voxel centres (origin 0, point-centred: centre i at i * h), x fastest."""
+    z, y, x = np.meshgrid(*(np.arange(n) for n in dims[::-1]), indexing="ij")
+    p = np.stack([x.ravel() * h[0], y.ravel() * h[1], z.ravel() * h[2]], axis=1)
+    labels = np.zeros(len(p), np.uint8)
+    for label, shape in reversed(shapes):  # outermost first, the inner ones on top
+        labels[shape.sdf(p) < 0.0] = label
+    return labels
+
+
+def exact_volumes(shapes):
+    """Exact volume per label (nested shapes: the outer minus the inner)."""
+    out, inner = {}, 0.0
+    for label, shape in shapes:
+        out[label] = shape.volume() - inner
+        inner = shape.volume()
+    return out
+
+
+def write_labels(path, dims, h, labels):
+    with open(path, "wb") as f:
+        f.write(("OMLABELS %d %d %d %r %r %r 0 0 0\n" % (*dims, *h)).encode())
+        f.write(labels.tobytes())
+
+
+def read_mesh(path):
+    with open(path, "rb") as f:
+        magic, n_points, n_tets = f.readline().split()
+        n_points, n_tets = int(n_points), int(n_tets)
+        points = np.frombuffer(f.read(24 * n_points), np.float64).reshape(-1, 3)
+        tets = np.frombuffer(f.read(16 * n_tets), np.int32).reshape(-1, 4)
+        materials = np.frombuffer(f.read(4 * n_tets), np.int32)
+    return points, tets, materials
+
+
+def tet_volumes(points, tets):
+    a, b, c, d = (points[tets[:, i]] for i in range(4))
+    return np.abs(np.einsum("ij,ij->i", np.cross(b - a, c - a), d - a)) / 6.0
+
+
+def faces_of(tets):
+    faces = np.concatenate([tets[:, [1, 2, 3]], tets[:, [0, 2, 3]], tets[:, [0, 1, 3]], tets[:, [0, 1, 2]]])
+    faces.sort(axis=1)
+    owner = np.tile(np.arange(len(tets)), 4)
+    _, inverse, counts = np.unique(faces, axis=0, return_inverse=True, return_counts=True)
+    return faces, owner, inverse.ravel(), counts
+
+
+def measure(points, tets, materials, shapes, unit):
+    faces, owner, inverse, counts = faces_of(tets)
+    # per unique face: the materials of its (one or two) tetrahedra
+    first = np.full(counts.size, -1)
+    second = np.full(counts.size, -1)
+    order = np.argsort(inverse, kind="stable")
+    inv_sorted = inverse[order]
+    starts = np.r_[0, np.flatnonzero(np.diff(inv_sorted)) + 1]
+    first[inv_sorted[starts]] = materials[owner[order[starts]]]
+    has_two = counts[inv_sorted[starts]] == 2
+    second[inv_sorted[starts[has_two]]] = materials[owner[order[starts[has_two] + 1]]]
+    interface = (counts == 1) | (first != second)
+    face_rows = faces[order[starts]]
+    vertices = np.unique(face_rows[interface].ravel())
+    p = points[vertices]
+    dist = np.min(np.abs(np.stack([s.sdf(p) for _, s in shapes])), axis=0) / unit
+    # connected pieces per material (tetrahedra sharing a face of the same material)
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+    pair = has_two & (first[inv_sorted[starts]] == second[inv_sorted[starts]])
+    a = owner[order[starts[pair]]]
+    b = owner[order[starts[pair] + 1]]
+    graph = coo_matrix((np.ones(len(a)), (a, b)), shape=(len(tets), len(tets)))
+    _, component = connected_components(graph, directed=False)
+    pieces = {int(m): int(np.unique(component[materials == m]).size) for m in np.unique(materials)}
+    volumes = {}
+    vol = tet_volumes(points, tets)
+    for m in np.unique(materials):
+        volumes[int(m)] = float(vol[materials == m].sum())
+    return {"dist_mean": float(dist.mean()) if dist.size else float("nan"),
+            "dist_max": float(dist.max()) if dist.size else float("nan"),
+            "interface_vertices": int(vertices.size), "pieces": pieces, "volumes": volumes}
+
+
+def run(tool, exe, image, mesh_path, interpolation, criteria, seed):
+    cmd = [exe, "labels", image, "--write", mesh_path, "--seed", str(seed), "--opt", "default"]
+    for key, value in criteria.items():
+        cmd += ["--" + key.replace("_", "-"), repr(value)]
+    if tool == "oraclemesh":
+        cmd += ["--interpolation", interpolation]
+    t0 = time.time()
+    out = subprocess.run(cmd, capture_output=True, text=True)
+    if out.returncode != 0:
+        raise SystemExit(f"{' '.join(cmd)} failed:\n{out.stderr}")
+    record = json.loads(out.stdout.strip().splitlines()[-1])
+    record["wall"] = time.time() - t0
+    return record
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--oraclemesh", required=True, help="PeerOracleMesh")
+    ap.add_argument("--cgal", help="PeerCgal (stock CGAL 5.5); without it, OracleMesh only")
+    ap.add_argument("--work", required=True)
+    ap.add_argument("--cases", nargs="+", default=None)
+    ap.add_argument("--interpolations", nargs="+", default=list(INTERPOLATIONS), choices=INTERPOLATIONS)
+    ap.add_argument("--check", action="store_true", help="three cases, assert the Smooth aims")
+    ap.add_argument("--seed", type=int, default=1)
+    args = ap.parse_args()
+    cases = args.cases or (list(CHECK_CASES) if args.check else list(CASES))
+    interpolations = ["trilinear", "smooth"] if args.check else args.interpolations
+    os.makedirs(args.work, exist_ok=True)
+    rows, failures = [], []
+    for name in cases:
+        dims, h, shapes = make_case(name)
+        labels = label_image(dims, h, shapes)
+        image = os.path.join(args.work, name + ".oml")
+        write_labels(image, dims, h, labels)
+        unit = float(np.prod(h)) ** (1.0 / 3.0)
+        exact = exact_volumes(shapes)
+        voxel = {lab: float(np.count_nonzero(labels == lab)) * float(np.prod(h)) for lab in exact}
+        voxel_err = max(abs(voxel[m] - exact[m]) / exact[m] for m in exact)
+        criteria = {"facet_angle": 25, "facet_size": 1.0 * unit, "facet_distance": 0.03 * unit,
+                    "cell_size": 2.0 * unit, "radius_edge": 3}
+        runs = [("oraclemesh", i) for i in interpolations]
+        if args.cgal and not args.check:
+            runs.append(("cgal", "trilinear"))
+        results = {}
+        for tool, interpolation in runs:
+            mesh_path = os.path.join(args.work, f"{name}_{tool}_{interpolation}.omtets")
+            exe = args.cgal if tool == "cgal" else args.oraclemesh
+            record = run(tool, exe, image, mesh_path, interpolation, criteria, args.seed)
+            points, tets, materials = read_mesh(mesh_path)
+            m = measure(points, tets, materials, shapes, unit)
+            errors = {lab: (m["volumes"].get(lab, 0.0) - exact[lab]) / exact[lab] for lab in exact}
+            row = {"case": name, "tool": "CGAL 5.5" if tool == "cgal" else "OracleMesh " + interpolation,
+                   "interpolation": interpolation, **m, "volume_errors": errors,
+                   "vol_err": max(abs(e) for e in errors.values()), "voxel_err": voxel_err,
+                   "lost": sorted(set(exact) - set(m["volumes"])), "tets": record["tets"],
+                   "min_dihedral": record["min_dihedral"], "defects": record["defects"], "seconds": record["call"]}
+            rows.append(row)
+            results[(tool, interpolation)] = row
+        if args.check:
+            s, t = results[("oraclemesh", "smooth")], results[("oraclemesh", "trilinear")]
+            def need(ok, what):
+                if not ok:
+                    failures.append(f"{name}: {what}")
+            need(s["dist_mean"] <= 0.08, f"mean distance {s['dist_mean']:.3f} voxel > 0.08")
+            need(s["dist_max"] <= 0.35, f"max distance {s['dist_max']:.3f} voxel > 0.35")
+            need(not s["lost"], f"labels lost: {s['lost']}")
+            need(all(v == 1 for v in s["pieces"].values()), f"pieces per material {s['pieces']}")
+            for lab in exact:
+                need(abs(s["volume_errors"][lab]) < abs(voxel[lab] - exact[lab]) / exact[lab] or
+                     abs(s["volume_errors"][lab]) < 0.005,
+                     f"material {lab}: volume error {s['volume_errors'][lab]:+.2%} not below the voxel count's "
+                     f"{(voxel[lab] - exact[lab]) / exact[lab]:+.2%}")
+            if name.startswith("shell"):
+                need(abs(s["volume_errors"][1]) <= 0.03, f"shell volume {s['volume_errors'][1]:+.2%} beyond 3 %")
+            need(s["defects"] == 0, f"{s['defects']} defects")
+            need(s["tets"] <= 1.02 * t["tets"], f"{s['tets']} tetrahedra > Trilinear's {t['tets']} + 2 %")
+            need(s["min_dihedral"] >= t["min_dihedral"] - 1.0,
+                 f"min dihedral {s['min_dihedral']:.2f} below Trilinear's {t['min_dihedral']:.2f} - 1")
+
+    print("| case | tool | dist mean | dist max | vol err | voxel err | lost | pieces | tets | min dih | s |")
+    print("|---|---|---:|---:|---:|---:|---|---|---:|---:|---:|")
+    for r in rows:
+        pieces = ",".join(f"{m}:{n}" for m, n in sorted(r["pieces"].items()))
+        print(f"| {r['case']} | {r['tool']} | {r['dist_mean']:.3f} | {r['dist_max']:.3f} | {r['vol_err']:.2%} | "
+              f"{r['voxel_err']:.2%} | {r['lost'] or '-'} | {pieces} | {r['tets']} | {r['min_dihedral']:.1f} | "
+              f"{r['seconds']:.2f} |")
+    with open(os.path.join(args.work, "results.jsonl"), "w") as f:
+        for r in rows:
+            f.write(json.dumps(r, default=str) + "\n")
+    if failures:
+        print("\nFAILED:\n  " + "\n  ".join(failures))
+        return 1
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,483 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "LabelSmoothing.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+// How the weights are found, per label L (in a box around L's boundary):
+//  1. psi = the signed distance between voxel centres of L and the others (Felzenszwalb and
+//     Huttenlocher's exact transform), less half a voxel: a staircase's distance function.
+//  2. Rounds of: psi <- G * psi - (var / 2) Lap (G * psi), then psi set to +delta / -delta at the
+//     voxel centres where it took the wrong sign. The filter (a Gaussian with its second-order
+//     error taken out: local quadratic regression's equivalent kernel) keeps every quadratic and
+//     every biharmonic function, a sphere's or a plane's distance among them, and damps the
+//     staircase. The sign constraint keeps the zero set between the voxel centres the labels
+//     allow. Then one curvature step, psi <- psi - beta h^2 Lap psi: the distance to the nearest
+//     centre of the other side is shorter from a surface's concave side than from its convex
+//     side (more centres lie near), which moves a staircase distance's zero set by about
+//     beta h^2 times the mean curvature towards the convex side.
+//  3. Each voxel edge between two labels gets the crossing of the two labels' psi along it, each
+//     weighted by how deep its label reaches there within the filter's reach (near a thin part
+//     of L, the filter mixes both of its sides: the other label tells better), and log w is the
+//     least-squares fit of log(w_a / w_b) = log(t / (1 - t)) over these edges, held to the
+//     voxel's own psi.
+namespace omesh
+{
+namespace
+{
+constexpr double kFar = 1e30; // "no seed" in the distance transform
+
+/// d[p] = min over seeds q (f[q] < kFar) of f[q] + w (p - q)^2, for p, q in [0, n): the lower
+/// envelope of parabolas (Felzenszwalb and Huttenlocher 2012). v, z: scratch of n and n + 1.
+void distanceTransform1D(const double* f, double* d, int n, double w, int* v, double* z)
+{
+  int k = -1;
+  auto meet = [&](int p, int q) { return ((f[q] + w * q * q) - (f[p] + w * p * p)) / (2.0 * w * (q - p)); };
+  for (int q = 0; q < n; ++q)
+  {
+    if (f[q] >= kFar)
+      continue;
+    double s = -std::numeric_limits<double>::infinity();
+    while (k >= 0 && (s = meet(v[k], q)) <= z[k])
+      --k;
+    if (k < 0)
+      s = -std::numeric_limits<double>::infinity();
+    ++k;
+    v[k] = q;
+    z[k] = s;
+    z[k + 1] = std::numeric_limits<double>::infinity();
+  }
+  if (k < 0)
+  {
+    std::fill(d, d + n, kFar);
+    return;
+  }
+  k = 0;
+  for (int q = 0; q < n; ++q)
+  {
+    while (z[k + 1] < q)
+      ++k;
+    d[q] = w * (q - v[k]) * (q - v[k]) + f[v[k]];
+  }
+}
+
+/// A box of voxels [lo, hi) and its dense arrays' strides.
+struct Box
+{
+  std::array<int, 3> lo{}, hi{};
+  std::array<int, 3> n{};
+  std::array<size_t, 3> stride{};
+  size_t size = 0;
+
+  void finish()
+  {
+    for (int a = 0; a < 3; ++a)
+      n[a] = hi[a] - lo[a];
+    stride = { 1, static_cast<size_t>(n[0]), static_cast<size_t>(n[0]) * n[1] };
+    size = stride[2] * n[2];
+  }
+  bool contains(const int p[3]) const
+  {
+    return p[0] >= lo[0] && p[0] < hi[0] && p[1] >= lo[1] && p[1] < hi[1] && p[2] >= lo[2] && p[2] < hi[2];
+  }
+  size_t offset(const int p[3]) const
+  {
+    return static_cast<size_t>(p[0] - lo[0]) + stride[1] * (p[1] - lo[1]) + stride[2] * (p[2] - lo[2]);
+  }
+};
+
+/// Calls fn(line start, stride, length) for every line of `box` along `axis`.
+template <class Fn>
+void forEachLine(const Box& box, int axis, Fn&& fn)
+{
+  const int a1 = (axis + 1) % 3, a2 = (axis + 2) % 3;
+  for (int j = 0; j < box.n[a2]; ++j)
+    for (int i = 0; i < box.n[a1]; ++i)
+      fn(box.stride[a1] * i + box.stride[a2] * j, box.stride[axis], box.n[axis]);
+}
+
+/// The squared distance from every voxel centre of the box to the nearest seed's, in world units.
+void squaredDistances(const Box& box, const std::vector<uint8_t>& seed, const std::array<double, 3>& h,
+  std::vector<double>& out)
+{
+  out.resize(box.size);
+  for (size_t i = 0; i < box.size; ++i)
+    out[i] = seed[i] ? 0.0 : kFar;
+  const int longest = std::max({ box.n[0], box.n[1], box.n[2] });
+  std::vector<double> f(longest), d(longest), z(longest + 1);
+  std::vector<int> v(longest);
+  for (int axis = 0; axis < 3; ++axis)
+    forEachLine(box, axis, [&](size_t start, size_t stride, int n) {
+      for (int q = 0; q < n; ++q)
+        f[q] = out[start + stride * q];
+      distanceTransform1D(f.data(), d.data(), n, h[axis] * h[axis], v.data(), z.data());
+      for (int q = 0; q < n; ++q)
+        out[start + stride * q] = std::min(d[q], kFar);
+    });
+}
+
+/// One filter round: psi <- G * psi - sum_a (var_a / 2) D_aa (G * psi) (indices clamped at the
+/// box's faces), then the sign constraint at the voxel centres.
+class QuadraticPreservingFilter
+{
+public:
+  QuadraticPreservingFilter(double sigma, const std::array<double, 3>& h)
+    : h_(h)
+  {
+    for (int a = 0; a < 3; ++a)
+    {
+      const int r = std::max(1, static_cast<int>(std::ceil(3.0 * sigma / h[a])));
+      std::vector<double>& k = kernel_[a];
+      k.resize(2 * r + 1);
+      double sum = 0.0, moment = 0.0;
+      for (int i = -r; i <= r; ++i)
+        sum += (k[i + r] = std::exp(-0.5 * (i * h[a]) * (i * h[a]) / (sigma * sigma)));
+      for (int i = -r; i <= r; ++i)
+        moment += (k[i + r] /= sum) * (i * h[a]) * (i * h[a]);
+      halfVariance_[a] = 0.5 * moment; // the sampled kernel's own variance: quadratics exactly
+    }
+  }
+
+  void apply(const Box& box, std::vector<double>& psi, std::vector<double>& tmp) const
+  {
+    tmp.resize(box.size);
+    const int longest = std::max({ box.n[0], box.n[1], box.n[2] });
+    std::vector<double> line(longest);
+    for (int axis = 0; axis < 3; ++axis) // psi -> smoothed, in place through a line buffer
+    {
+      const std::vector<double>& k = kernel_[axis];
+      const int r = static_cast<int>(k.size() / 2);
+      forEachLine(box, axis, [&](size_t start, size_t stride, int n) {
+        for (int q = 0; q < n; ++q)
+          line[q] = psi[start + stride * q];
+        for (int q = 0; q < n; ++q)
+        {
+          double s = 0.0;
+          for (int i = -r; i <= r; ++i)
+            s += k[i + r] * line[std::clamp(q + i, 0, n - 1)];
+          psi[start + stride * q] = s;
+        }
+      });
+    }
+    subtractLaplacian(box, psi, tmp, halfVariance_);
+    psi.swap(tmp);
+  }
+
+  /// out = psi - sum_a c_a * (second difference of psi along a) / h_a^2 (indices clamped).
+  void subtractLaplacian(const Box& box, const std::vector<double>& psi, std::vector<double>& out,
+    const std::array<double, 3>& c) const
+  {
+    out.resize(box.size);
+    for (int z = 0; z < box.n[2]; ++z)
+      for (int y = 0; y < box.n[1]; ++y)
+        for (int x = 0; x < box.n[0]; ++x)
+        {
+          const int p[3] = { x, y, z };
+          const size_t o = box.stride[1] * y + box.stride[2] * z + x;
+          double lap = 0.0;
+          for (int a = 0; a < 3; ++a)
+          {
+            const size_t down = p[a] > 0 ? o - box.stride[a] : o;
+            const size_t up = p[a] + 1 < box.n[a] ? o + box.stride[a] : o;
+            lap += c[a] * (psi[up] - 2.0 * psi[o] + psi[down]) / (h_[a] * h_[a]);
+          }
+          out[o] = psi[o] - lap;
+        }
+  }
+
+private:
+  std::array<double, 3> h_;
+  std::array<std::vector<double>, 3> kernel_;
+  std::array<double, 3> halfVariance_{};
+};
+}
+
+namespace
+{
+/// Boundary voxels (a differently labelled voxel among their 26 neighbours), in increasing order,
+/// and per label the box of its own boundary voxels (lo[0] = INT_MAX where it has none).
+void findBoundary(const std::array<int, 3>& dims, const std::vector<uint16_t>& index, std::vector<size_t>& boundary,
+  std::vector<Box>& boxes)
+{
+  const size_t sy = static_cast<size_t>(dims[0]), sz = sy * dims[1];
+  for (Box& b : boxes)
+    b.lo = { std::numeric_limits<int>::max(), 0, 0 };
+  for (int z = 0; z < dims[2]; ++z)
+    for (int y = 0; y < dims[1]; ++y)
+      for (int x = 0; x < dims[0]; ++x)
+      {
+        const size_t v = x + sy * y + sz * z;
+        const uint16_t own = index[v];
+        bool mixed = false;
+        for (int dz = std::max(z - 1, 0); dz <= std::min(z + 1, dims[2] - 1) && !mixed; ++dz)
+          for (int dy = std::max(y - 1, 0); dy <= std::min(y + 1, dims[1] - 1) && !mixed; ++dy)
+          {
+            const uint16_t* row = index.data() + sy * dy + sz * dz;
+            for (int dx = std::max(x - 1, 0); dx <= std::min(x + 1, dims[0] - 1); ++dx)
+              mixed = mixed || row[dx] != own;
+          }
+        if (!mixed)
+          continue;
+        boundary.push_back(v);
+        Box& b = boxes[own];
+        const int p[3] = { x, y, z };
+        if (b.lo[0] == std::numeric_limits<int>::max())
+          b.lo = b.hi = { x, y, z };
+        for (int a = 0; a < 3; ++a)
+        {
+          b.lo[a] = std::min(b.lo[a], p[a]);
+          b.hi[a] = std::max(b.hi[a], p[a]);
+        }
+      }
+}
+
+/// Running maximum of `values` over the cube of half-width r[a] voxels per axis (clamped at the box).
+void runningMaximum(const Box& box, const std::array<int, 3>& r, std::vector<double>& values)
+{
+  std::vector<double> line(std::max({ box.n[0], box.n[1], box.n[2] }));
+  for (int axis = 0; axis < 3; ++axis)
+    forEachLine(box, axis, [&](size_t start, size_t stride, int n) {
+      for (int q = 0; q < n; ++q)
+        line[q] = values[start + stride * q];
+      for (int q = 0; q < n; ++q)
+      {
+        double mx = line[q];
+        for (int i = std::max(q - r[axis], 0); i <= std::min(q + r[axis], n - 1); ++i)
+          mx = std::max(mx, line[i]);
+        values[start + stride * q] = mx;
+      }
+    });
+}
+
+/// Crossing estimates per boundary voxel and + axis (weighted sums of t, from that voxel, and
+/// their weights), and each boundary voxel's own psi (log, and the weight it gets in the fit).
+struct Crossings
+{
+  explicit Crossings(size_t m, double neutral)
+    : tSum(3 * m, 0.0)
+    , tWeight(3 * m, 0.0)
+    , prior(m, neutral)
+    , priorWeight(m, kPinnedPriorWeight)
+  {
+  }
+  static constexpr double kPriorWeight = 0.1;          ///< against 1 per edge: it fixes the scale only
+  static constexpr double kPinnedPriorWeight = 0.001;  ///< a voxel pinned to delta: its psi says little
+  std::vector<double> tSum, tWeight, prior, priorWeight;
+};
+
+/// One label's smooth signed distance and what it says about the crossings of the edges it shares.
+class LabelField
+{
+public:
+  LabelField(const std::array<int, 3>& dims, const std::vector<uint16_t>& index, const std::array<double, 3>& h,
+    const LabelSmoothingOptions& options)
+    : dims_(dims)
+    , index_(index)
+    , h_(h)
+    , hMin_(std::min({ h[0], h[1], h[2] }))
+    , hMax_(std::max({ h[0], h[1], h[2] }))
+    , sigma_(options.sigma * hMax_)
+    , delta_(0.01 * hMin_)
+    , rounds_(options.iterations)
+    , filter_(sigma_, h)
+  {
+  }
+
+  double sigma() const { return sigma_; }
+  double hMin() const { return hMin_; }
+
+  /// Steps 1 and 2 for `label` in `box`; `progress(fraction of this box)` after each round.
+  template <class Progress>
+  void compute(int label, const Box& box, Progress&& progress)
+  {
+    const size_t sy = static_cast<size_t>(dims_[0]), sz = sy * dims_[1];
+    inside_.resize(box.size);
+    for (int z = 0; z < box.n[2]; ++z)
+      for (int y = 0; y < box.n[1]; ++y)
+      {
+        const uint16_t* row = index_.data() + box.lo[0] + sy * (box.lo[1] + y) + sz * (box.lo[2] + z);
+        uint8_t* out = inside_.data() + box.stride[1] * y + box.stride[2] * z;
+        for (int x = 0; x < box.n[0]; ++x)
+          out[x] = row[x] == label;
+      }
+    squaredDistances(box, inside_, h_, tmp_); // to the label's centres
+    for (uint8_t& i : inside_)
+      i = !i;
+    squaredDistances(box, inside_, h_, psi_); // to the others'
+    for (uint8_t& i : inside_)
+      i = !i;
+    for (size_t i = 0; i < box.size; ++i)
+      psi_[i] = inside_[i] ? std::sqrt(psi_[i]) - 0.5 * hMin_ : -(std::sqrt(tmp_[i]) - 0.5 * hMin_);
+    depth_ = psi_;
+    std::array<int, 3> reach{};
+    for (int a = 0; a < 3; ++a)
+      reach[a] = 1 + static_cast<int>(std::ceil(3.0 * sigma_ / h_[a]));
+    runningMaximum(box, reach, depth_);
+    for (int round = 0; round < rounds_; ++round)
+    {
+      filter_.apply(box, psi_, tmp_);
+      constrain();
+      progress((round + 1.0) / (rounds_ + 1.0));
+    }
+    const double c = kCurvatureShift * hMax_ * hMax_;
+    filter_.subtractLaplacian(box, psi_, tmp_, { c, c, c });
+    psi_.swap(tmp_);
+    constrain();
+    progress(1.0);
+  }
+
+  /// Step 3's input from this label: crossings on the edges between it and another label, and its
+  /// boundary voxels' own psi.
+  void collect(int label, const Box& box, const std::vector<size_t>& boundary, Crossings& out) const
+  {
+    const size_t strides[3] = { 1, static_cast<size_t>(dims_[0]), static_cast<size_t>(dims_[0]) * dims_[1] };
+    const double pinned = 1.000001 * delta_;
+    for (size_t bi = 0; bi < boundary.size(); ++bi)
+    {
+      const size_t v = boundary[bi];
+      const int p[3] = { static_cast<int>(v % strides[1]), static_cast<int>((v / strides[1]) % dims_[1]),
+        static_cast<int>(v / strides[2]) };
+      if (!box.contains(p))
+        continue;
+      const size_t o = box.offset(p);
+      if (index_[v] == label && psi_[o] > pinned)
+      {
+        out.prior[bi] = std::log(psi_[o]);
+        out.priorWeight[bi] = Crossings::kPriorWeight;
+      }
+      for (int a = 0; a < 3; ++a)
+      {
+        if (p[a] + 1 >= box.hi[a])
+          continue;
+        const size_t u = v + strides[a];
+        if (index_[u] == index_[v] || (index_[v] != label && index_[u] != label))
+          continue;
+        const double pa = psi_[o], pb = psi_[o + box.stride[a]];
+        const double deep = depth_[index_[v] == label ? o : o + box.stride[a]] / (kDeepReach * sigma_);
+        const double trust = (std::abs(pa) <= pinned || std::abs(pb) <= pinned ? 0.05 : 1.0) *
+          std::clamp(deep * deep, 0.01, 1.0);
+        out.tSum[3 * bi + a] += trust * pa / (pa - pb);
+        out.tWeight[3 * bi + a] += trust;
+      }
+    }
+  }
+
+private:
+  /// psi at least delta inside the label, at most -delta outside: the zero set between the centres.
+  void constrain()
+  {
+    for (size_t i = 0; i < psi_.size(); ++i)
+      psi_[i] = inside_[i] ? std::max(psi_[i], delta_) : std::min(psi_[i], -delta_);
+  }
+
+  /// beta: a staircase distance's zero set lies about beta h^2 times the mean curvature (1 / R on
+  /// a sphere) towards the convex side; fitted on spheres of radius 4.5 to 10 voxels.
+  static constexpr double kCurvatureShift = 0.15;
+  /// Depth (largest psi within the filter's reach) at which a label's crossings count fully, in sigmas.
+  static constexpr double kDeepReach = 4.0;
+
+  const std::array<int, 3>& dims_;
+  const std::vector<uint16_t>& index_;
+  std::array<double, 3> h_;
+  double hMin_, hMax_, sigma_, delta_;
+  int rounds_;
+  QuadraticPreservingFilter filter_;
+  std::vector<uint8_t> inside_;
+  std::vector<double> psi_, tmp_, depth_;
+};
+
+/// Step 3: log w by least squares, per edge log w_a - log w_b = log(t / (1 - t)), each voxel held
+/// to its prior. Gauss-Seidel sweeps (the edges tie neighbours; a few dozen sweeps settle them).
+std::vector<double> fitLogWeights(const std::array<int, 3>& dims, const std::vector<size_t>& boundary,
+  const Crossings& c)
+{
+  const size_t m = boundary.size();
+  const size_t strides[3] = { 1, static_cast<size_t>(dims[0]), static_cast<size_t>(dims[0]) * dims[1] };
+  std::vector<int64_t> neighbour(6 * m, -1);
+  std::vector<double> target(6 * m, 0.0);
+  for (size_t bi = 0; bi < m; ++bi)
+    for (int a = 0; a < 3; ++a)
+    {
+      if (c.tWeight[3 * bi + a] <= 0.0)
+        continue;
+      // the band: strictly between the two centres
+      const double t = std::clamp(c.tSum[3 * bi + a] / c.tWeight[3 * bi + a], 0.01, 0.99);
+      const size_t bj = static_cast<size_t>(
+        std::lower_bound(boundary.begin(), boundary.end(), boundary[bi] + strides[a]) - boundary.begin());
+      const double logRatio = std::log(t / (1.0 - t));
+      neighbour[6 * bi + 2 * a] = static_cast<int64_t>(bj);
+      target[6 * bi + 2 * a] = logRatio;
+      neighbour[6 * bj + 2 * a + 1] = static_cast<int64_t>(bi);
+      target[6 * bj + 2 * a + 1] = -logRatio;
+    }
+  std::vector<double> x(c.prior);
+  for (int sweep = 0; sweep < 60; ++sweep)
+  {
+    double change = 0.0;
+    for (size_t bi = 0; bi < m; ++bi)
+    {
+      double num = c.priorWeight[bi] * c.prior[bi], den = c.priorWeight[bi];
+      for (int e = 0; e < 6; ++e)
+        if (neighbour[6 * bi + e] >= 0)
+        {
+          num += x[neighbour[6 * bi + e]] + target[6 * bi + e];
+          den += 1.0;
+        }
+      change = std::max(change, std::abs(num / den - x[bi]));
+      x[bi] = num / den;
+    }
+    if (change < 1e-6)
+      break;
+  }
+  return x;
+}
+}
+
+std::vector<float> labelInterfaceWeights(const std::array<int, 3>& dims, const std::vector<uint16_t>& index,
+  int labelCount, const std::array<double, 3>& spacing, const LabelSmoothingOptions& options)
+{
+  std::vector<float> weights(index.size(), 1.0f);
+  std::vector<size_t> boundary;
+  std::vector<Box> boxes(static_cast<size_t>(std::max(labelCount, 0)));
+  findBoundary(dims, index, boundary, boxes);
+  if (boundary.empty())
+    return weights;
+
+  LabelField field(dims, index, spacing, options);
+  double work = 0.0;
+  for (Box& b : boxes)
+  {
+    if (b.lo[0] == std::numeric_limits<int>::max())
+      continue;
+    for (int a = 0; a < 3; ++a) // the neighbours across the boundary, and the filter's reach
+    {
+      const int margin = 2 + static_cast<int>(std::ceil(3.0 * field.sigma() / spacing[a]));
+      b.lo[a] = std::max(b.lo[a] - margin, 0);
+      b.hi[a] = std::min(b.hi[a] + 1 + margin, dims[a]);
+    }
+    b.finish();
+    work += static_cast<double>(b.size);
+  }
+  Crossings crossings(boundary.size(), std::log(0.5 * field.hMin()));
+  double done = 0.0;
+  for (int label = 0; label < labelCount; ++label)
+  {
+    const Box& box = boxes[label];
+    if (box.size == 0)
+      continue;
+    field.compute(label, box, [&](double fraction) {
+      if (options.progress && !options.progress(0.95 * (done + fraction * box.size) / work))
+        throw LabelSmoothingAborted();
+    });
+    done += static_cast<double>(box.size);
+    field.collect(label, box, boundary, crossings);
+  }
+  const std::vector<double> x = fitLogWeights(dims, boundary, crossings);
+  for (size_t bi = 0; bi < boundary.size(); ++bi)
+    weights[boundary[bi]] = static_cast<float>(std::exp(x[bi]) / field.hMin());
+  if (options.progress && !options.progress(1.0))
+    throw LabelSmoothingAborted();
+  return weights;
+}
+}
