@@ -323,7 +323,7 @@ std::vector<int> integerLabels(vtkDataArray* array, const char* assoc, const std
 }
 
 std::shared_ptr<omesh::LabelMapDomain> OracleBuilder::ToLabelMap(
-  vtkImageData* image, const OracleDomainMetadata& md, const std::string& who)
+  vtkImageData* image, const OracleDomainMetadata& md, const std::string& who, const Progress& progress)
 {
   if (!image || image->GetNumberOfPoints() == 0)
     throw InputError(who + ": label map is empty (no voxels)");
@@ -373,17 +373,21 @@ std::shared_ptr<omesh::LabelMapDomain> OracleBuilder::ToLabelMap(
   const omesh::AffineMap worldToVoxel = md.CellLabels
     ? omesh::LabelMapDomain::cellCenteredWorldToVoxel(o, s, direction)
     : omesh::LabelMapDomain::pointCenteredWorldToVoxel(o, s, direction);
+  omesh::LabelSmoothingOptions smoothing;
+  smoothing.progress = progress;
   auto lm = std::make_shared<omesh::LabelMapDomain>(dims, labels, worldToVoxel, md.BackgroundLabel, who,
     md.LabelInterpolation == "Smooth"      ? omesh::LabelInterpolation::Smooth
       : md.LabelInterpolation == "Trilinear" ? omesh::LabelInterpolation::Trilinear
-                                             : omesh::LabelInterpolation::Nearest);
+                                             : omesh::LabelInterpolation::Nearest,
+    smoothing);
   lm->setCut(md.Cut);
   if (lm->materials().empty())
     throw InputError(who + ": label map holds only the background label " + std::to_string(md.BackgroundLabel));
   return lm;
 }
 
-std::shared_ptr<omesh::Domain> OracleBuilder::BuildDomain(vtkDataObject* data, const std::string& where)
+std::shared_ptr<omesh::Domain> OracleBuilder::BuildDomain(
+  vtkDataObject* data, const std::string& where, const Progress& progress)
 {
   const OracleDomainMetadata md = ReadDomain(data, where);
   const std::string who = describe(md, where);
@@ -410,7 +414,7 @@ std::shared_ptr<omesh::Domain> OracleBuilder::BuildDomain(vtkDataObject* data, c
     return d;
   }
   if (md.Kind == "LabelMap")
-    return ToLabelMap(vtkImageData::SafeDownCast(data), md, who);
+    return ToLabelMap(vtkImageData::SafeDownCast(data), md, who, progress);
   auto d = BuildImplicit(md);
   d->setName(who);
   return d;
@@ -596,7 +600,7 @@ std::vector<std::string> OracleBuilder::DomainWarnings(const omesh::Hierarchical
   return warnings;
 }
 
-std::shared_ptr<omesh::HierarchicalOracle> OracleBuilder::BuildOracle(vtkDataObject* data)
+std::shared_ptr<omesh::HierarchicalOracle> OracleBuilder::BuildOracle(vtkDataObject* data, const Progress& progress)
 {
   auto oracle = std::make_shared<omesh::HierarchicalOracle>();
   if (auto* mb = vtkMultiBlockDataSet::SafeDownCast(data))
@@ -607,12 +611,12 @@ std::shared_ptr<omesh::HierarchicalOracle> OracleBuilder::BuildOracle(vtkDataObj
       vtkDataObject* block = mb->GetBlock(i);
       if (!block)
         throw InputError(where + ": block is empty");
-      oracle->add(BuildDomain(block, where));
+      oracle->add(BuildDomain(block, where, progress));
     }
   }
   else if (data)
   {
-    oracle->add(BuildDomain(data, "input"));
+    oracle->add(BuildDomain(data, "input", progress));
   }
   if (oracle->empty())
   {

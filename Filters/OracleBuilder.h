@@ -7,6 +7,7 @@
 #include "TetMesh.h"
 
 #include <array>
+#include <functional>
 #include <map>
 #include <memory>
 #include <string>
@@ -32,9 +33,13 @@ struct TriangleSurface;
 class ORACLEMESHFILTERS_EXPORT OracleBuilder
 {
 public:
+  /// Fraction done of a long step (a label map's smoothing); returning false stops it (the step
+  /// throws its own Aborted exception, e.g. omesh::LabelSmoothingAborted).
+  using Progress = std::function<bool(double)>;
+
   /// The oracle described by `data`: the multiblock output of vtkHierarchicalOracle (blocks in
-  /// priority order) or a single domain dataset.
-  static std::shared_ptr<omesh::HierarchicalOracle> BuildOracle(vtkDataObject* data);
+  /// priority order) or a single domain dataset. `progress` hears each Smooth label map's smoothing.
+  static std::shared_ptr<omesh::HierarchicalOracle> BuildOracle(vtkDataObject* data, const Progress& progress = {});
 
   /// The criteria the domains of an oracle (the output of vtkHierarchicalOracle, or one domain)
   /// set for their materials (each of a label map's labels), as one level of the merge rule.
@@ -48,7 +53,8 @@ public:
   static OracleDomainMetadata ReadDomain(vtkDataObject* data, const std::string& where);
 
   /// Builds the core domain of one domain dataset.
-  static std::shared_ptr<omesh::Domain> BuildDomain(vtkDataObject* data, const std::string& where);
+  static std::shared_ptr<omesh::Domain> BuildDomain(
+    vtkDataObject* data, const std::string& where, const Progress& progress = {});
 
   /// Core domain of an analytic kind (Sphere, Plane, Box, Cylinder) from its metadata alone.
   static std::shared_ptr<omesh::Domain> BuildImplicit(const OracleDomainMetadata& md);
@@ -65,9 +71,9 @@ public:
   /// and for every line when the array is missing (clipFeatureSegments).
   static omesh::FeatureSegments ToFeatureSegments(vtkPolyData* lines, std::vector<int>* owners = nullptr);
 
-  /// The label map of `image` as described by `md` (array, association, background).
+  /// The label map of `image` as described by `md` (array, association, background, interpolation).
   static std::shared_ptr<omesh::LabelMapDomain> ToLabelMap(
-    vtkImageData* image, const OracleDomainMetadata& md, const std::string& who);
+    vtkImageData* image, const OracleDomainMetadata& md, const std::string& who, const Progress& progress = {});
 
   /// Coordinates beyond this magnitude are refused as absurd (no model is that large; squared
   /// distances there lose every digit).

@@ -6,6 +6,7 @@
 #include "FeatureSelection.h"
 #include "HierarchicalOracle.h"
 #include "InputError.h"
+#include "LabelSmoothing.h"
 #include "MeshQuality.h"
 #include "MeshSizeEstimate.h"
 #include "OracleBuilder.h"
@@ -243,6 +244,11 @@ int vtkFeaturePreservingTetrahedralizer::RequestData(
     vtkErrorMacro(<< e.what());
     return 0;
   }
+  catch (const omesh::LabelSmoothingAborted&)
+  {
+    vtkErrorMacro(<< "meshing aborted (AbortExecute) while smoothing a label map: no mesh");
+    return 0;
+  }
   catch (const omesh::FeatureSearchAborted&)
   {
     vtkErrorMacro(<< "meshing aborted (AbortExecute) while finding feature lines: no mesh");
@@ -354,7 +360,10 @@ void vtkFeaturePreservingTetrahedralizer::GatherInputs(vtkInformationVector** in
   run.features = OracleBuilder::ToFeatureSegments(lines, &owners);
   // The oracle first: the lines are clipped to where they can be features of its domain before
   // they are merged (the merge makes a clipped end one with any given point there).
-  run.oracle = OracleBuilder::BuildOracle(oracleData);
+  run.oracle = OracleBuilder::BuildOracle(oracleData, [this](double f) {
+    this->UpdateProgress(0.02 * f); // a label map's smoothing: before the feature search's tenth
+    return !this->GetAbortExecute();
+  });
   if (!run.features.empty())
     ClipFeatures(run, owners);
   const omesh::FeatureMergeCounts merged = omesh::mergeFeatureSegments(run.features);

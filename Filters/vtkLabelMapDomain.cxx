@@ -224,7 +224,9 @@ int vtkLabelMapDomain::RequestData(
       throw omesh::InputError(noLabelArray(this->GetInputArrayInformation(0), input, who));
     if (md.LabelArray.empty())
       throw omesh::InputError(who + ": the label array has no name; name it so the oracle can find it again");
-    OracleBuilder::ToLabelMap(input, md, who); // full validation: integer, non-empty, labels >= 0
+    OracleDomainMetadata validation = md; // Nearest: the checks without the smoothing's work
+    validation.LabelInterpolation = "Nearest";
+    OracleBuilder::ToLabelMap(input, validation, who); // full validation: integer, non-empty, labels >= 0
   }
   catch (const omesh::InputError& e)
   {

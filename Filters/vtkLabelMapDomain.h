@@ -41,9 +41,10 @@ public:
     SMOOTH = 2     ///< trilinear with voxel weights fitted to smooth boundaries below the voxel size
   };
   ///@{
-  /// How labels are read between voxel centres. Default TRILINEAR: staircase boundaries force
-  /// flat tetrahedra on the interfaces.
-  vtkSetMacro(Interpolation, int); // not NEAREST or TRILINEAR: an error at the next update
+  /// How labels are read between voxel centres. Default SMOOTH: interfaces below the voxel size
+  /// (TRILINEAR follows the voxels more closely; NEAREST's staircases force flat tetrahedra on
+  /// the interfaces).
+  vtkSetMacro(Interpolation, int); // another value: an error at the next update
   vtkGetMacro(Interpolation, int);
   void SetInterpolationToNearest() { this->SetInterpolation(NEAREST); }
   void SetInterpolationToTrilinear() { this->SetInterpolation(TRILINEAR); }
@@ -98,7 +99,7 @@ protected:
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
   int BackgroundLabel = 0;
-  int Interpolation = TRILINEAR;
+  int Interpolation = SMOOTH;
   double FacetAngle = -1;
   double FacetSize = -1;
   double FacetDistance = -1;

@@ -6,6 +6,7 @@
 #include "HierarchicalOracle.h"
 #include "InputError.h"
 #include "MeshCriteria.h"
+#include "LabelSmoothing.h"
 #include "OracleBuilder.h"
 
 #include <vtkCellArray.h>
@@ -106,7 +107,7 @@ int vtkOracleFeatureLines::RequestData(vtkInformation*, vtkInformationVector** i
     omesh::checkCreaseAngle(this->CreaseAngle, "vtkOracleFeatureLines: CreaseAngle");
     if (!input)
       throw omesh::InputError("vtkOracleFeatureLines: no input on port 0 (connect a vtkHierarchicalOracle)");
-    auto oracle = OracleBuilder::BuildOracle(input);
+    auto oracle = OracleBuilder::BuildOracle(input, [this](double) { return !this->GetAbortExecute(); });
     omesh::MaterialCriteria criteria;
     criteria.global.edgeSize = this->EdgeSize;
     criteria.global.facetSize = this->FacetSize;
@@ -129,6 +130,11 @@ int vtkOracleFeatureLines::RequestData(vtkInformation*, vtkInformationVector** i
   catch (const omesh::InputError& e)
   {
     vtkErrorMacro(<< e.what());
+    return 0;
+  }
+  catch (const omesh::LabelSmoothingAborted&)
+  {
+    vtkErrorMacro(<< "feature line search aborted (AbortExecute) while smoothing a label map: no output");
     return 0;
   }
   catch (const omesh::FeatureSearchAborted&)

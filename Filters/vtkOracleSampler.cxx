@@ -4,6 +4,7 @@
 #include "FieldDataKeys.h"
 #include "HierarchicalOracle.h"
 #include "InputError.h"
+#include "LabelSmoothing.h"
 #include "OracleBuilder.h"
 
 #include <vtkDataObject.h>
@@ -117,7 +118,10 @@ int vtkOracleSampler::RequestData(
     const double* b = this->Bounds;
     if (!input)
       throw omesh::InputError("vtkOracleSampler: no input on port 0 (connect a vtkHierarchicalOracle)");
-    oracle = OracleBuilder::BuildOracle(input);
+    oracle = OracleBuilder::BuildOracle(input, [this](double f) {
+      this->UpdateProgress(0.5 * f); // a label map's smoothing, then the samples
+      return !this->GetAbortExecute();
+    });
     for (const std::string& w : OracleBuilder::DomainWarnings(*oracle))
       vtkWarningMacro(<< w);
     if (b[0] <= b[1] && b[2] <= b[3] && b[4] <= b[5]) // else the default: the oracle's bounds
@@ -131,6 +135,11 @@ int vtkOracleSampler::RequestData(
   catch (const omesh::InputError& e)
   {
     vtkErrorMacro(<< e.what());
+    return 0;
+  }
+  catch (const omesh::LabelSmoothingAborted&)
+  {
+    vtkErrorMacro(<< "sampling aborted (AbortExecute) while smoothing a label map: no output");
     return 0;
   }
 

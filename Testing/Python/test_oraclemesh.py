@@ -214,7 +214,7 @@ class BadInput(unittest.TestCase):
         for fragment in ("$.domains[0].center: must be a list of 3", "$.domains[0].radius: must be a positive",
                          "$.domains[1].type: must be one of", "$.domains[2].file: missing",
                          "$.domains[3].file:", "file not found",
-                         "$.domains[4].interpolation: must be 'trilinear' or 'nearest'"):
+                         "$.domains[4].interpolation: must be 'smooth', 'trilinear' or 'nearest'"):
             self.assertIn(fragment, text)
         with self.assertRaises(om.OracleMeshError):
             build_scene({"domains": []})

@@ -8,7 +8,8 @@
 // How the weights are found, per label L (in a box around L's boundary):
 //  1. psi = the signed distance between voxel centres of L and the others (Felzenszwalb and
 //     Huttenlocher's exact transform), less half a voxel: a staircase's distance function.
-//  2. Rounds of: psi <- G * psi - (var / 2) Lap (G * psi), then psi set to +delta / -delta at the
+//  2. Rounds of: psi <- G * psi - (var / 2) Lap (G * psi) (G: a Gaussian of `sigma` voxels along
+//     each axis, var its variance), then psi set to +delta / -delta at the
 //     voxel centres where it took the wrong sign. The filter (a Gaussian with its second-order
 //     error taken out: local quadratic regression's equivalent kernel) keeps every quadratic and
 //     every biharmonic function, a sphere's or a plane's distance among them, and damps the
@@ -122,11 +123,12 @@ void squaredDistances(const Box& box, const std::vector<uint8_t>& seed, const st
 class QuadraticPreservingFilter
 {
 public:
-  QuadraticPreservingFilter(double sigma, const std::array<double, 3>& h)
+  QuadraticPreservingFilter(const std::array<double, 3>& sigmas, const std::array<double, 3>& h)
     : h_(h)
   {
     for (int a = 0; a < 3; ++a)
     {
+      const double sigma = sigmas[a];
       const int r = std::max(1, static_cast<int>(std::ceil(3.0 * sigma / h[a])));
       std::vector<double>& k = kernel_[a];
       k.resize(2 * r + 1);
@@ -277,15 +279,23 @@ public:
     , h_(h)
     , hMin_(std::min({ h[0], h[1], h[2] }))
     , hMax_(std::max({ h[0], h[1], h[2] }))
-    , sigma_(options.sigma * hMax_)
+    , sigma_(options.sigma * hMax_) // in world units along the coarsest axis
     , delta_(0.01 * hMin_)
     , rounds_(options.iterations)
-    , filter_(sigma_, h)
+    , filter_(sigmas(options.sigma, h), h)
   {
   }
 
-  double sigma() const { return sigma_; }
   double hMin() const { return hMin_; }
+  /// The filter's reach in voxels (of every axis): the truncated Gaussian's and one more.
+  int reach() const { return 1 + static_cast<int>(std::ceil(3.0 * sigma_ / hMax_)); }
+  /// The filter's width per axis: `sigma` voxels of that axis (the staircase a voxel leaves is as
+  /// long as the voxel; on a CT grid of 0.5 x 0.5 x 1.25 one width in world units blurred the
+  /// fine axes for the coarse one's sake).
+  static std::array<double, 3> sigmas(double sigma, const std::array<double, 3>& h)
+  {
+    return { sigma * h[0], sigma * h[1], sigma * h[2] };
+  }
 
   /// Steps 1 and 2 for `label` in `box`; `progress(fraction of this box)` after each round.
   template <class Progress>
@@ -312,7 +322,7 @@ public:
     depth_ = psi_;
     std::array<int, 3> reach{};
     for (int a = 0; a < 3; ++a)
-      reach[a] = 1 + static_cast<int>(std::ceil(3.0 * sigma_ / h_[a]));
+      reach[a] = this->reach();
     runningMaximum(box, reach, depth_);
     for (int round = 0; round < rounds_; ++round)
     {
@@ -320,8 +330,8 @@ public:
       constrain();
       progress((round + 1.0) / (rounds_ + 1.0));
     }
-    const double c = kCurvatureShift * hMax_ * hMax_;
-    filter_.subtractLaplacian(box, psi_, tmp_, { c, c, c });
+    filter_.subtractLaplacian(box, psi_, tmp_,
+      { kCurvatureShift * h_[0] * h_[0], kCurvatureShift * h_[1] * h_[1], kCurvatureShift * h_[2] * h_[2] });
     psi_.swap(tmp_);
     constrain();
     progress(1.0);
@@ -343,8 +353,9 @@ public:
       const size_t o = box.offset(p);
       if (index_[v] == label && psi_[o] > pinned)
       {
+        const double deep = depth_[o] / (kDeepReach * sigma_); // a thin part's psi says little
         out.prior[bi] = std::log(psi_[o]);
-        out.priorWeight[bi] = Crossings::kPriorWeight;
+        out.priorWeight[bi] = std::max(Crossings::kPriorWeight * std::min(deep * deep, 1.0), Crossings::kPinnedPriorWeight);
       }
       for (int a = 0; a < 3; ++a)
       {
@@ -452,7 +463,7 @@ std::vector<float> labelInterfaceWeights(const std::array<int, 3>& dims, const s
       continue;
     for (int a = 0; a < 3; ++a) // the neighbours across the boundary, and the filter's reach
     {
-      const int margin = 2 + static_cast<int>(std::ceil(3.0 * field.sigma() / spacing[a]));
+      const int margin = 1 + field.reach();
       b.lo[a] = std::max(b.lo[a] - margin, 0);
       b.hi[a] = std::min(b.hi[a] + 1 + margin, dims[a]);
     }

@@ -12,7 +12,7 @@ namespace omesh
 /// How a label map's smooth interfaces are estimated (LabelInterpolation::Smooth).
 struct LabelSmoothingOptions
 {
-  /// Width of the smoothing filter, in units of the largest voxel spacing.
+  /// Width (standard deviation) of the smoothing filter, in voxels along each axis.
   double sigma = 1.0;
   /// Filter-and-constrain rounds per label (see the .cxx).
   int iterations = 3;

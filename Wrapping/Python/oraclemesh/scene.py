@@ -552,11 +552,13 @@ def build_scene(description, base_dir=".", source="scene"):
                 domain.SetDomainName(name)
                 background = _number(problems, spec, where, "background", required=False, default=0, integer=True)
                 domain.SetBackgroundLabel(background if background is not None else 0)
-                interpolation = spec.get("interpolation", "trilinear")
-                if interpolation not in ("trilinear", "nearest"):
-                    problems.add(f"{where}.interpolation", f"must be 'trilinear' or 'nearest', got {interpolation!r}")
-                elif interpolation == "nearest":
-                    domain.SetInterpolationToNearest()
+                interpolation = spec.get("interpolation", "smooth")
+                modes = {"smooth": domain.SMOOTH, "trilinear": domain.TRILINEAR, "nearest": domain.NEAREST}
+                if interpolation not in modes:
+                    problems.add(f"{where}.interpolation",
+                                 f"must be 'smooth', 'trilinear' or 'nearest', got {interpolation!r}")
+                else:
+                    domain.SetInterpolation(modes[interpolation])
                 array = spec.get("array")
                 if array is not None:
                     association = spec.get("association", "point")
