@@ -36,7 +36,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
   const size_t count = (options & 32) ? in.byte() : std::min<size_t>(wanted, 4096);
   for (size_t i = 0; i < count; ++i)
     labels.push_back(static_cast<int>(in.byte() % 6) - 1 + ((options & 64) ? 70000 * (i % 2) : 0));
-  const LabelInterpolation interp = (options & 1) ? LabelInterpolation::Trilinear : LabelInterpolation::Nearest;
+  const LabelInterpolation interp = !(options & 1) ? LabelInterpolation::Nearest
+    : (options & 128)                              ? LabelInterpolation::Smooth
+                                                   : LabelInterpolation::Trilinear;
   std::unique_ptr<LabelMapDomain> domain;
   try
   {

@@ -76,7 +76,9 @@ std::shared_ptr<Domain> makeDomain(fuzz::Input& in, int material)
           v = in.coordinate();
       const AffineMap map = LabelMapDomain::pointCenteredWorldToVoxel(in.point(), in.point(), dir);
       auto d = std::make_shared<LabelMapDomain>(dims, labels, map, 0, "labels",
-        (kind & 16) ? LabelInterpolation::Trilinear : LabelInterpolation::Nearest);
+        !(kind & 16) ? LabelInterpolation::Nearest
+          : (kind & 32) ? LabelInterpolation::Smooth // (32: the surfaces' bit, free here)
+                        : LabelInterpolation::Trilinear);
       d->setCut(kind & 64);
       return d;
     }
