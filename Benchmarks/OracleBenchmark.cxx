@@ -2,7 +2,8 @@
 // Oracle query throughput on the demo scene, side by side with CGAL Mesh_3's own domain oracles
 // on the same input (Labeled_mesh_domain_3 over an Image_3 for the label map,
 // Polyhedral_mesh_domain_3 for the surface). One thread, deterministic query points.
-//   usage: OracleBenchmark <Data/demo folder> [queries]
+//   usage: OracleBenchmark <Data/demo folder> [queries] [smooth|trilinear|nearest]
+// (the last: the tibia's interpolation, default the vtkLabelMapDomain default, Smooth)
 #include "HierarchicalOracle.h"
 #include "LabelMapDomain.h"
 #include "OracleBuilder.h"
@@ -129,7 +130,7 @@ int main(int argc, char* argv[])
 {
   if (argc < 2)
   {
-    std::fprintf(stderr, "usage: %s <demo folder> [queries]\n", argv[0]);
+    std::fprintf(stderr, "usage: %s <demo folder> [queries] [smooth|trilinear|nearest]\n", argv[0]);
     return 2;
   }
   const std::string dir = argv[1];
@@ -139,6 +140,16 @@ int main(int argc, char* argv[])
   // --- inputs through the VTK adapters, as a user builds them
   DemoScenePipeline demo(dir);
   vtkLabelMapDomain* labels = demo.tibia;
+  if (argc > 3)
+  {
+    const std::string mode = argv[3];
+    labels->SetInterpolation(mode == "nearest" ? vtkLabelMapDomain::NEAREST
+        : mode == "trilinear"                  ? vtkLabelMapDomain::TRILINEAR
+                                               : vtkLabelMapDomain::SMOOTH);
+    labels->Update();
+    demo.oracle->Update();
+    std::printf("label map interpolation: %s\n", mode.c_str());
+  }
   vtkXMLImageDataReader* imageReader = demo.imageReader;
   vtkMultiBlockDataSet* sceneOutput = demo.oracle->GetOutput();
   vtkNew<vtkSphereSource> bigSource; // 100,352 triangles

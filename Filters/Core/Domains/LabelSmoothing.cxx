@@ -5,6 +5,9 @@
 #include <cmath>
 #include <limits>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 // How the weights are found, per label L (in a box around L's boundary):
 //  1. psi = the signed distance between voxel centres of L and the others (Felzenszwalb and
 //     Huttenlocher's exact transform), less half a voxel: a staircase's distance function.
@@ -28,6 +31,21 @@ namespace omesh
 namespace
 {
 constexpr double kFar = 1e30; // "no seed" in the distance transform
+
+/// Scratch for one line of a box (one per thread): two value buffers with room for padding, and
+/// the distance transform's envelope.
+struct LineScratch
+{
+  explicit LineScratch(int n)
+    : a(n + 64)
+    , b(n + 64)
+    , z(n + 1)
+    , v(n)
+  {
+  }
+  std::vector<double> a, b, z;
+  std::vector<int> v;
+};
 
 /// d[p] = min over seeds q (f[q] < kFar) of f[q] + w (p - q)^2, for p, q in [0, n): the lower
 /// envelope of parabolas (Felzenszwalb and Huttenlocher 2012). v, z: scratch of n and n + 1.
@@ -86,40 +104,59 @@ struct Box
   {
     return static_cast<size_t>(p[0] - lo[0]) + stride[1] * (p[1] - lo[1]) + stride[2] * (p[2] - lo[2]);
   }
+  int longest() const { return std::max({ n[0], n[1], n[2] }); }
 };
 
-/// Calls fn(line start, stride, length) for every line of `box` along `axis`.
+/// Calls fn(line start, stride, length, scratch) for every line of `box` along `axis`, the lines
+/// shared among threads (TBB), each thread with its own scratch.
 template <class Fn>
 void forEachLine(const Box& box, int axis, Fn&& fn)
 {
   const int a1 = (axis + 1) % 3, a2 = (axis + 2) % 3;
-  for (int j = 0; j < box.n[a2]; ++j)
-    for (int i = 0; i < box.n[a1]; ++i)
-      fn(box.stride[a1] * i + box.stride[a2] * j, box.stride[axis], box.n[axis]);
+  tbb::parallel_for(tbb::blocked_range<int>(0, box.n[a2]), [&](const tbb::blocked_range<int>& rows) {
+    LineScratch scratch(box.longest());
+    for (int j = rows.begin(); j < rows.end(); ++j)
+      for (int i = 0; i < box.n[a1]; ++i)
+        fn(box.stride[a1] * i + box.stride[a2] * j, box.stride[axis], box.n[axis], scratch);
+  });
 }
 
 /// The squared distance from every voxel centre of the box to the nearest seed's, in world units.
 void squaredDistances(const Box& box, const std::vector<uint8_t>& seed, const std::array<double, 3>& h,
-  std::vector<double>& out)
+  std::vector<float>& out)
 {
   out.resize(box.size);
   for (size_t i = 0; i < box.size; ++i)
-    out[i] = seed[i] ? 0.0 : kFar;
-  const int longest = std::max({ box.n[0], box.n[1], box.n[2] });
-  std::vector<double> f(longest), d(longest), z(longest + 1);
-  std::vector<int> v(longest);
+    out[i] = seed[i] ? 0.0f : static_cast<float>(kFar);
   for (int axis = 0; axis < 3; ++axis)
-    forEachLine(box, axis, [&](size_t start, size_t stride, int n) {
+    forEachLine(box, axis, [&](size_t start, size_t stride, int n, LineScratch& s) {
       for (int q = 0; q < n; ++q)
-        f[q] = out[start + stride * q];
-      distanceTransform1D(f.data(), d.data(), n, h[axis] * h[axis], v.data(), z.data());
+        s.a[q] = out[start + stride * q] >= 1e29f ? kFar : out[start + stride * q];
+      distanceTransform1D(s.a.data(), s.b.data(), n, h[axis] * h[axis], s.v.data(), s.z.data());
       for (int q = 0; q < n; ++q)
-        out[start + stride * q] = std::min(d[q], kFar);
+        out[start + stride * q] = static_cast<float>(std::min(s.b[q], kFar));
+    });
+}
+
+/// Running maximum of `values` over the cube of half-width r voxels (clamped at the box).
+void runningMaximum(const Box& box, int r, std::vector<float>& values)
+{
+  for (int axis = 0; axis < 3; ++axis)
+    forEachLine(box, axis, [&](size_t start, size_t stride, int n, LineScratch& s) {
+      for (int q = 0; q < n; ++q)
+        s.a[q] = values[start + stride * q];
+      for (int q = 0; q < n; ++q)
+      {
+        double mx = s.a[q];
+        for (int i = std::max(q - r, 0); i <= std::min(q + r, n - 1); ++i)
+          mx = std::max(mx, s.a[i]);
+        values[start + stride * q] = static_cast<float>(mx);
+      }
     });
 }
 
 /// One filter round: psi <- G * psi - sum_a (var_a / 2) D_aa (G * psi) (indices clamped at the
-/// box's faces), then the sign constraint at the voxel centres.
+/// box's faces).
 class QuadraticPreservingFilter
 {
 public:
@@ -129,7 +166,7 @@ public:
     for (int a = 0; a < 3; ++a)
     {
       const double sigma = sigmas[a];
-      const int r = std::max(1, static_cast<int>(std::ceil(3.0 * sigma / h[a])));
+      const int r = std::clamp(static_cast<int>(std::ceil(3.0 * sigma / h[a])), 1, 31); // (31: the scratch's padding)
       std::vector<double>& k = kernel_[a];
       k.resize(2 * r + 1);
       double sum = 0.0, moment = 0.0;
@@ -141,24 +178,27 @@ public:
     }
   }
 
-  void apply(const Box& box, std::vector<double>& psi, std::vector<double>& tmp) const
+  void apply(const Box& box, std::vector<float>& psi, std::vector<float>& tmp) const
   {
-    tmp.resize(box.size);
-    const int longest = std::max({ box.n[0], box.n[1], box.n[2] });
-    std::vector<double> line(longest);
-    for (int axis = 0; axis < 3; ++axis) // psi -> smoothed, in place through a line buffer
+    for (int axis = 0; axis < 3; ++axis) // psi -> smoothed, in place through a padded line buffer
     {
       const std::vector<double>& k = kernel_[axis];
       const int r = static_cast<int>(k.size() / 2);
-      forEachLine(box, axis, [&](size_t start, size_t stride, int n) {
+      forEachLine(box, axis, [&](size_t start, size_t stride, int n, LineScratch& s) {
+        double* line = s.a.data() + r; // line[-r .. n - 1 + r], the ends repeated
         for (int q = 0; q < n; ++q)
           line[q] = psi[start + stride * q];
+        for (int i = 1; i <= r; ++i)
+        {
+          line[-i] = line[0];
+          line[n - 1 + i] = line[n - 1];
+        }
         for (int q = 0; q < n; ++q)
         {
-          double s = 0.0;
-          for (int i = -r; i <= r; ++i)
-            s += k[i + r] * line[std::clamp(q + i, 0, n - 1)];
-          psi[start + stride * q] = s;
+          double sum = 0.0;
+          for (int i = 0; i <= 2 * r; ++i)
+            sum += k[i] * line[q - r + i];
+          psi[start + stride * q] = static_cast<float>(sum);
         }
       });
     }
@@ -167,25 +207,28 @@ public:
   }
 
   /// out = psi - sum_a c_a * (second difference of psi along a) / h_a^2 (indices clamped).
-  void subtractLaplacian(const Box& box, const std::vector<double>& psi, std::vector<double>& out,
-    const std::array<double, 3>& c) const
+  void subtractLaplacian(
+    const Box& box, const std::vector<float>& psi, std::vector<float>& out, const std::array<double, 3>& c) const
   {
     out.resize(box.size);
-    for (int z = 0; z < box.n[2]; ++z)
-      for (int y = 0; y < box.n[1]; ++y)
-        for (int x = 0; x < box.n[0]; ++x)
-        {
-          const int p[3] = { x, y, z };
-          const size_t o = box.stride[1] * y + box.stride[2] * z + x;
-          double lap = 0.0;
-          for (int a = 0; a < 3; ++a)
+    const double w[3] = { c[0] / (h_[0] * h_[0]), c[1] / (h_[1] * h_[1]), c[2] / (h_[2] * h_[2]) };
+    tbb::parallel_for(tbb::blocked_range<int>(0, box.n[2]), [&](const tbb::blocked_range<int>& slices) {
+      for (int z = slices.begin(); z < slices.end(); ++z)
+        for (int y = 0; y < box.n[1]; ++y)
+          for (int x = 0; x < box.n[0]; ++x)
           {
-            const size_t down = p[a] > 0 ? o - box.stride[a] : o;
-            const size_t up = p[a] + 1 < box.n[a] ? o + box.stride[a] : o;
-            lap += c[a] * (psi[up] - 2.0 * psi[o] + psi[down]) / (h_[a] * h_[a]);
+            const int p[3] = { x, y, z };
+            const size_t o = box.stride[1] * y + box.stride[2] * z + x;
+            double lap = 0.0;
+            for (int a = 0; a < 3; ++a)
+            {
+              const size_t down = p[a] > 0 ? o - box.stride[a] : o;
+              const size_t up = p[a] + 1 < box.n[a] ? o + box.stride[a] : o;
+              lap += w[a] * (static_cast<double>(psi[up]) - 2.0 * psi[o] + psi[down]);
+            }
+            out[o] = static_cast<float>(psi[o] - lap);
           }
-          out[o] = psi[o] - lap;
-        }
+    });
   }
 
 private:
@@ -193,10 +236,7 @@ private:
   std::array<std::vector<double>, 3> kernel_;
   std::array<double, 3> halfVariance_{};
 };
-}
 
-namespace
-{
 /// Boundary voxels (a differently labelled voxel among their 26 neighbours), in increasing order,
 /// and per label the box of its own boundary voxels (lo[0] = INT_MAX where it has none).
 void findBoundary(const std::array<int, 3>& dims, const std::vector<uint16_t>& index, std::vector<size_t>& boundary,
@@ -234,41 +274,24 @@ void findBoundary(const std::array<int, 3>& dims, const std::vector<uint16_t>& i
       }
 }
 
-/// Running maximum of `values` over the cube of half-width r[a] voxels per axis (clamped at the box).
-void runningMaximum(const Box& box, const std::array<int, 3>& r, std::vector<double>& values)
-{
-  std::vector<double> line(std::max({ box.n[0], box.n[1], box.n[2] }));
-  for (int axis = 0; axis < 3; ++axis)
-    forEachLine(box, axis, [&](size_t start, size_t stride, int n) {
-      for (int q = 0; q < n; ++q)
-        line[q] = values[start + stride * q];
-      for (int q = 0; q < n; ++q)
-      {
-        double mx = line[q];
-        for (int i = std::max(q - r[axis], 0); i <= std::min(q + r[axis], n - 1); ++i)
-          mx = std::max(mx, line[i]);
-        values[start + stride * q] = mx;
-      }
-    });
-}
-
-/// Crossing estimates per boundary voxel and + axis (weighted sums of t, from that voxel, and
-/// their weights), and each boundary voxel's own psi (log, and the weight it gets in the fit).
+/// What the labels say about each boundary voxel: per direction (+x, -x, +y, -y, +z, -z) the
+/// weighted sum of crossing estimates t (from this voxel, along that edge, by this voxel's own
+/// label) and their weights; and the voxel's own psi (log, and the weight it gets in the fit).
 struct Crossings
 {
   explicit Crossings(size_t m, double neutral)
-    : tSum(3 * m, 0.0)
-    , tWeight(3 * m, 0.0)
-    , prior(m, neutral)
-    , priorWeight(m, kPinnedPriorWeight)
+    : tSum(6 * m, 0.0f)
+    , tWeight(6 * m, 0.0f)
+    , prior(m, static_cast<float>(neutral))
+    , priorWeight(m, static_cast<float>(kPinnedPriorWeight))
   {
   }
-  static constexpr double kPriorWeight = 0.1;          ///< against 1 per edge: it fixes the scale only
-  static constexpr double kPinnedPriorWeight = 0.001;  ///< a voxel pinned to delta: its psi says little
-  std::vector<double> tSum, tWeight, prior, priorWeight;
+  static constexpr double kPriorWeight = 0.1;         ///< against 1 per edge: it fixes the scale only
+  static constexpr double kPinnedPriorWeight = 0.001; ///< a voxel pinned to delta: its psi says little
+  std::vector<float> tSum, tWeight, prior, priorWeight;
 };
 
-/// One label's smooth signed distance and what it says about the crossings of the edges it shares.
+/// One label's smooth signed distance and what it says about the crossings of its voxels' edges.
 class LabelField
 {
 public:
@@ -289,6 +312,7 @@ public:
   double hMin() const { return hMin_; }
   /// The filter's reach in voxels (of every axis): the truncated Gaussian's and one more.
   int reach() const { return 1 + static_cast<int>(std::ceil(3.0 * sigma_ / hMax_)); }
+
   /// The filter's width per axis: `sigma` voxels of that axis (the staircase a voxel leaves is as
   /// long as the voxel; on a CT grid of 0.5 x 0.5 x 1.25 one width in world units blurred the
   /// fine axes for the coarse one's sake).
@@ -297,9 +321,12 @@ public:
     return { sigma * h[0], sigma * h[1], sigma * h[2] };
   }
 
-  /// Steps 1 and 2 for `label` in `box`; `progress(fraction of this box)` after each round.
+  /// Steps 1 and 2 for `label` in `box`, and step 3's input from this label: for each of its
+  /// boundary voxels (`own`: indices into `boundary`), the crossings of its edges to other labels
+  /// and its own psi. `progress(fraction of this box)` after each round.
   template <class Progress>
-  void compute(int label, const Box& box, Progress&& progress)
+  void run(int label, const Box& box, const std::vector<size_t>& boundary, const std::vector<uint32_t>& own,
+    Crossings& out, Progress&& progress)
   {
     const size_t sy = static_cast<size_t>(dims_[0]), sz = sy * dims_[1];
     inside_.resize(box.size);
@@ -307,9 +334,9 @@ public:
       for (int y = 0; y < box.n[1]; ++y)
       {
         const uint16_t* row = index_.data() + box.lo[0] + sy * (box.lo[1] + y) + sz * (box.lo[2] + z);
-        uint8_t* out = inside_.data() + box.stride[1] * y + box.stride[2] * z;
+        uint8_t* in = inside_.data() + box.stride[1] * y + box.stride[2] * z;
         for (int x = 0; x < box.n[0]; ++x)
-          out[x] = row[x] == label;
+          in[x] = row[x] == label;
       }
     squaredDistances(box, inside_, h_, tmp_); // to the label's centres
     for (uint8_t& i : inside_)
@@ -318,12 +345,14 @@ public:
     for (uint8_t& i : inside_)
       i = !i;
     for (size_t i = 0; i < box.size; ++i)
-      psi_[i] = inside_[i] ? std::sqrt(psi_[i]) - 0.5 * hMin_ : -(std::sqrt(tmp_[i]) - 0.5 * hMin_);
-    depth_ = psi_;
-    std::array<int, 3> reach{};
-    for (int a = 0; a < 3; ++a)
-      reach[a] = this->reach();
-    runningMaximum(box, reach, depth_);
+      psi_[i] = static_cast<float>(inside_[i] ? std::sqrt(psi_[i]) - 0.5 * hMin_ : -(std::sqrt(tmp_[i]) - 0.5 * hMin_));
+    // how deep the label reaches near each of its boundary voxels: the largest distance inside
+    // it within the filter's reach
+    tmp_ = psi_;
+    runningMaximum(box, reach(), tmp_);
+    depth_.resize(own.size());
+    for (size_t i = 0; i < own.size(); ++i)
+      depth_[i] = tmp_[offsetOf(box, boundary[own[i]])];
     for (int round = 0; round < rounds_; ++round)
     {
       filter_.apply(box, psi_, tmp_);
@@ -334,52 +363,61 @@ public:
       { kCurvatureShift * h_[0] * h_[0], kCurvatureShift * h_[1] * h_[1], kCurvatureShift * h_[2] * h_[2] });
     psi_.swap(tmp_);
     constrain();
+    collect(box, boundary, own, out);
     progress(1.0);
   }
 
-  /// Step 3's input from this label: crossings on the edges between it and another label, and its
-  /// boundary voxels' own psi.
-  void collect(int label, const Box& box, const std::vector<size_t>& boundary, Crossings& out) const
+private:
+  size_t offsetOf(const Box& box, size_t v) const
   {
-    const size_t strides[3] = { 1, static_cast<size_t>(dims_[0]), static_cast<size_t>(dims_[0]) * dims_[1] };
-    const double pinned = 1.000001 * delta_;
-    for (size_t bi = 0; bi < boundary.size(); ++bi)
-    {
-      const size_t v = boundary[bi];
-      const int p[3] = { static_cast<int>(v % strides[1]), static_cast<int>((v / strides[1]) % dims_[1]),
-        static_cast<int>(v / strides[2]) };
-      if (!box.contains(p))
-        continue;
-      const size_t o = box.offset(p);
-      if (index_[v] == label && psi_[o] > pinned)
-      {
-        const double deep = depth_[o] / (kDeepReach * sigma_); // a thin part's psi says little
-        out.prior[bi] = std::log(psi_[o]);
-        out.priorWeight[bi] = std::max(Crossings::kPriorWeight * std::min(deep * deep, 1.0), Crossings::kPinnedPriorWeight);
-      }
-      for (int a = 0; a < 3; ++a)
-      {
-        if (p[a] + 1 >= box.hi[a])
-          continue;
-        const size_t u = v + strides[a];
-        if (index_[u] == index_[v] || (index_[v] != label && index_[u] != label))
-          continue;
-        const double pa = psi_[o], pb = psi_[o + box.stride[a]];
-        const double deep = depth_[index_[v] == label ? o : o + box.stride[a]] / (kDeepReach * sigma_);
-        const double trust = (std::abs(pa) <= pinned || std::abs(pb) <= pinned ? 0.05 : 1.0) *
-          std::clamp(deep * deep, 0.01, 1.0);
-        out.tSum[3 * bi + a] += trust * pa / (pa - pb);
-        out.tWeight[3 * bi + a] += trust;
-      }
-    }
+    const size_t sy = static_cast<size_t>(dims_[0]), sz = sy * dims_[1];
+    const int p[3] = { static_cast<int>(v % sy), static_cast<int>((v / sy) % dims_[1]), static_cast<int>(v / sz) };
+    return box.offset(p);
   }
 
-private:
   /// psi at least delta inside the label, at most -delta outside: the zero set between the centres.
   void constrain()
   {
+    const float d = static_cast<float>(delta_);
     for (size_t i = 0; i < psi_.size(); ++i)
-      psi_[i] = inside_[i] ? std::max(psi_[i], delta_) : std::min(psi_[i], -delta_);
+      psi_[i] = inside_[i] ? std::max(psi_[i], d) : std::min(psi_[i], -d);
+  }
+
+  void collect(const Box& box, const std::vector<size_t>& boundary, const std::vector<uint32_t>& own,
+    Crossings& out) const
+  {
+    const size_t strides[3] = { 1, static_cast<size_t>(dims_[0]), static_cast<size_t>(dims_[0]) * dims_[1] };
+    const double pinned = 1.000001 * delta_;
+    for (size_t i = 0; i < own.size(); ++i)
+    {
+      const uint32_t bi = own[i];
+      const size_t v = boundary[bi];
+      const int p[3] = { static_cast<int>(v % strides[1]), static_cast<int>((v / strides[1]) % dims_[1]),
+        static_cast<int>(v / strides[2]) };
+      const size_t o = box.offset(p);
+      const double deep = depth_[i] / (kDeepReach * sigma_); // a thin part's psi says little
+      const double depthTrust = std::clamp(deep * deep, 0.01, 1.0);
+      if (psi_[o] > pinned)
+      {
+        out.prior[bi] = static_cast<float>(std::log(psi_[o]));
+        out.priorWeight[bi] = static_cast<float>(std::max(Crossings::kPriorWeight * std::min(deep * deep, 1.0),
+          Crossings::kPinnedPriorWeight));
+      }
+      for (int a = 0; a < 3; ++a)
+        for (int side = 0; side < 2; ++side) // +a, then -a
+        {
+          const int q = p[a] + (side ? -1 : 1);
+          if (q < box.lo[a] || q >= box.hi[a])
+            continue;
+          const size_t u = side ? v - strides[a] : v + strides[a];
+          if (index_[u] == index_[v])
+            continue;
+          const double pa = psi_[o], pb = psi_[side ? o - box.stride[a] : o + box.stride[a]];
+          const double trust = (std::abs(pa) <= pinned || std::abs(pb) <= pinned ? 0.05 : 1.0) * depthTrust;
+          out.tSum[6 * bi + 2 * a + side] += static_cast<float>(trust * pa / (pa - pb));
+          out.tWeight[6 * bi + 2 * a + side] += static_cast<float>(trust);
+        }
+    }
   }
 
   /// beta: a staircase distance's zero set lies about beta h^2 times the mean curvature (1 / R on
@@ -395,40 +433,47 @@ private:
   int rounds_;
   QuadraticPreservingFilter filter_;
   std::vector<uint8_t> inside_;
-  std::vector<double> psi_, tmp_, depth_;
+  std::vector<float> psi_, tmp_, depth_;
 };
 
-/// Step 3: log w by least squares, per edge log w_a - log w_b = log(t / (1 - t)), each voxel held
-/// to its prior. Gauss-Seidel sweeps (the edges tie neighbours; a few dozen sweeps settle them).
+/// Step 3: log w by least squares, per edge log w_a - log w_b = log(t / (1 - t)) (t from a, both
+/// labels' estimates together), each voxel held to its prior. Gauss-Seidel sweeps (the edges tie
+/// neighbours; a few dozen sweeps settle them).
 std::vector<double> fitLogWeights(const std::array<int, 3>& dims, const std::vector<size_t>& boundary,
-  const Crossings& c)
+  Crossings& c)
 {
   const size_t m = boundary.size();
   const size_t strides[3] = { 1, static_cast<size_t>(dims[0]), static_cast<size_t>(dims[0]) * dims[1] };
   std::vector<int64_t> neighbour(6 * m, -1);
-  std::vector<double> target(6 * m, 0.0);
+  std::vector<float> target(6 * m, 0.0f);
   for (size_t bi = 0; bi < m; ++bi)
     for (int a = 0; a < 3; ++a)
     {
-      if (c.tWeight[3 * bi + a] <= 0.0)
+      const size_t forward = 6 * bi + 2 * a;
+      if (c.tWeight[forward] <= 0.0f) // no edge to another label there (or past the grid's side)
         continue;
-      // the band: strictly between the two centres
-      const double t = std::clamp(c.tSum[3 * bi + a] / c.tWeight[3 * bi + a], 0.01, 0.99);
       const size_t bj = static_cast<size_t>(
         std::lower_bound(boundary.begin(), boundary.end(), boundary[bi] + strides[a]) - boundary.begin());
+      if (bj >= m || boundary[bj] != boundary[bi] + strides[a])
+        continue;
+      const size_t backward = 6 * bj + 2 * a + 1; // the other voxel's estimate, from its end
+      const double sum = c.tSum[forward] + (c.tWeight[backward] - c.tSum[backward]);
+      const double t = std::clamp(sum / (c.tWeight[forward] + c.tWeight[backward]), 0.01, 0.99); // in the band
       const double logRatio = std::log(t / (1.0 - t));
-      neighbour[6 * bi + 2 * a] = static_cast<int64_t>(bj);
-      target[6 * bi + 2 * a] = logRatio;
-      neighbour[6 * bj + 2 * a + 1] = static_cast<int64_t>(bi);
-      target[6 * bj + 2 * a + 1] = -logRatio;
+      neighbour[forward] = static_cast<int64_t>(bj);
+      target[forward] = static_cast<float>(logRatio);
+      neighbour[backward] = static_cast<int64_t>(bi);
+      target[backward] = static_cast<float>(-logRatio);
     }
-  std::vector<double> x(c.prior);
+  std::vector<float>().swap(c.tSum);
+  std::vector<float>().swap(c.tWeight);
+  std::vector<double> x(c.prior.begin(), c.prior.end());
   for (int sweep = 0; sweep < 60; ++sweep)
   {
     double change = 0.0;
     for (size_t bi = 0; bi < m; ++bi)
     {
-      double num = c.priorWeight[bi] * c.prior[bi], den = c.priorWeight[bi];
+      double num = static_cast<double>(c.priorWeight[bi]) * c.prior[bi], den = c.priorWeight[bi];
       for (int e = 0; e < 6; ++e)
         if (neighbour[6 * bi + e] >= 0)
         {
@@ -463,13 +508,16 @@ std::vector<float> labelInterfaceWeights(const std::array<int, 3>& dims, const s
       continue;
     for (int a = 0; a < 3; ++a) // the neighbours across the boundary, and the filter's reach
     {
-      const int margin = 1 + field.reach();
-      b.lo[a] = std::max(b.lo[a] - margin, 0);
-      b.hi[a] = std::min(b.hi[a] + 1 + margin, dims[a]);
+      b.lo[a] = std::max(b.lo[a] - 1 - field.reach(), 0);
+      b.hi[a] = std::min(b.hi[a] + 2 + field.reach(), dims[a]);
     }
     b.finish();
     work += static_cast<double>(b.size);
   }
+  // each label's boundary voxels (indices into boundary)
+  std::vector<std::vector<uint32_t>> own(boxes.size());
+  for (size_t bi = 0; bi < boundary.size(); ++bi)
+    own[index[boundary[bi]]].push_back(static_cast<uint32_t>(bi));
   Crossings crossings(boundary.size(), std::log(0.5 * field.hMin()));
   double done = 0.0;
   for (int label = 0; label < labelCount; ++label)
@@ -477,12 +525,12 @@ std::vector<float> labelInterfaceWeights(const std::array<int, 3>& dims, const s
     const Box& box = boxes[label];
     if (box.size == 0)
       continue;
-    field.compute(label, box, [&](double fraction) {
+    field.run(label, box, boundary, own[label], crossings, [&](double fraction) {
       if (options.progress && !options.progress(0.95 * (done + fraction * box.size) / work))
         throw LabelSmoothingAborted();
     });
     done += static_cast<double>(box.size);
-    field.collect(label, box, boundary, crossings);
+    std::vector<uint32_t>().swap(own[label]);
   }
   const std::vector<double> x = fitLogWeights(dims, boundary, crossings);
   for (size_t bi = 0; bi < boundary.size(); ++bi)
