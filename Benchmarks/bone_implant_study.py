@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""Generated bone/implant study: cases from fixed seeds (oraclemesh.cases: a long-bone label map, a
+"""Generated bone/implant study: cases from fixed seeds (oraclemesh_cases.cases: a long-bone label map, a
 CAD-like implant with flat faces and sharp edges placed at random partly inside the bone, a tilted
 resection cut), each meshed with the feature strategies side by side, every mesh checked on its own.
 
@@ -30,13 +30,13 @@ from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
-from oraclemesh import cases
+from oraclemesh_cases import cases
 from oraclemesh.fielddata import strings
 from oraclemesh.report import statistics, validity
 
 SPECIAL = ("bbox_centre_on_face", "face_on_cut_plane", "face_on_voxel_boundary", "inside", "outside")
 BONE = (1, 2)
-# A lower bound of the generated bone's outer curvature radius (oraclemesh.cases: semi-axes a, b of
+# A lower bound of the generated bone's outer curvature radius (oraclemesh_cases.cases: semi-axes a, b of
 # 12.25-13.75 and 10.25-11.75 mm, a 3% ripple: b^2 / a >= 6.9 mm at the ends of the major axis; the
 # flare widens b relatively more than a, and along the shaft the radius is far larger). Bounds how far a facet's chords cut inside it (see bone_deficit_bound).
 BONE_MIN_CURVATURE_RADIUS = 6.5

@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""Generated CAD-assembly study: cases from fixed seeds (oraclemesh.cad_cases: 2-4 flat-faced parts
+"""Generated CAD-assembly study: cases from fixed seeds (oraclemesh_cases.cad_cases: 2-4 flat-faced parts
 -- boxes, stepped blocks, 8/12/16-gon cylinders, thin plates, wedges with 18-27 degree edges -- on
 a 1 mm grid, face to face, along edges, overlapping, nested, a cylinder's axis on a box's edge, on
 the housing's faces, in a box or sphere housing, sometimes an axis-aligned cut plane through a
@@ -33,7 +33,7 @@ import numpy as np
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from bone_implant_study import run_and_measure  # noqa: E402
 
-from oraclemesh import cad_cases  # noqa: E402
+from oraclemesh_cases import cad_cases  # noqa: E402
 from oraclemesh.fielddata import strings  # noqa: E402
 
 SLIVER_ANGLE = 1.0  # the mesher's default sliver_angle: no tetrahedron below it, before or after optimisation

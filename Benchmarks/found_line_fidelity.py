@@ -28,7 +28,8 @@ import time
 import numpy as np
 
 import oraclemesh as om
-from oraclemesh import cases, fieldkeys
+from oraclemesh import fieldkeys
+from oraclemesh_cases import cases
 from oraclemesh.fielddata import strings
 from oraclemesh.meshing import mesher_for
 from oraclemesh.report import validity

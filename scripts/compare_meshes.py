@@ -10,7 +10,7 @@ a restructuring that claims to change no behaviour is checked against the build 
 A snapshot holds the command line, the Python package and the VTK module library of a build; it
 runs with LD_LIBRARY_PATH set to it (the build's libraries carry a RUNPATH, which that overrides).
 Scenes: the demo (Data/demo/scene.json, fewer vertices), a generated bone/implant case
-(oraclemesh.cases), a cube with all edges as features, a noisy organic surface with automatic
+(oraclemesh_cases.cases), a cube with all edges as features, a noisy organic surface with automatic
 sharp edges (Benchmarks/noisy_features.py), a ball cut by a plane with the automatic feature lines
 (its rim) and 10-node tetrahedra (the paths the other four do not take). Exits 1 when any mesh
 differs. `--set` passes `oraclemesh mesh --set` settings to the build's runs only: a new option at
@@ -61,7 +61,7 @@ def make_scenes(work, names, build):
         demo["mesh"].update(maximum_number_of_vertices=20000, seed=3)
         scenes["demo"] = demo
     if "bone_implant" in names:
-        from oraclemesh import cases
+        from oraclemesh_cases import cases
 
         path = cases.make_case(os.path.join(work, "bone_implant"), 4, variant="random", radius_edge=1.3)
         with open(path) as f:

@@ -5,8 +5,8 @@
 import json
 import os
 
-from oraclemesh import cad_cases
-from oraclemesh import cases
+from oraclemesh_cases import cad_cases
+from oraclemesh_cases import cases
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 

@@ -47,7 +47,7 @@ TriangleSurface steppedPart(const std::array<double, 4>& rotation)
     test::loftedRectangles({ { { 2.25, 1.75 }, -4 }, { { 3.5, 2.75 }, 0 }, { { 6, 5 }, 0 }, { { 6, 5 }, 2 } }), rotation);
 }
 
-/// ProtectingBalls with the criteria of oraclemesh.cases (mm), the part (material 3) finer.
+/// ProtectingBalls with the criteria of oraclemesh_cases.cases (mm), the part (material 3) finer.
 MesherOptions implantOptions()
 {
   MesherOptions o;

@@ -118,7 +118,7 @@ inline TriangleSurface icosphere(const Vec3& c, double r, int levels)
 }
 
 /// Closed solid through axis-aligned rectangles (half sizes x, y at height z, bottom to top), as
-/// oraclemesh.cases lofts its implants: planar quads, so every face is flat; two rectangles at one
+/// oraclemesh_cases.cases lofts its implants: planar quads, so every face is flat; two rectangles at one
 /// height make a flat annulus (a collar's underside, with concave edges where the stem meets it).
 inline TriangleSurface loftedRectangles(const std::vector<std::pair<std::array<double, 2>, double>>& rects)
 {

@@ -318,14 +318,14 @@ if __name__ == "__main__":
 
 
 class FoundLinesBesideGivenSharpEdges(unittest.TestCase):
-    """A generated bone/implant case (oraclemesh.cases, seed 0) whose scene gives the implant's sharp
+    """A generated bone/implant case (oraclemesh_cases.cases, seed 0) whose scene gives the implant's sharp
     edges (from_surface): in Automatic those given lines are not meshed, so every line of port 2 was
     found (Origin 1), the implant's creases included (they were marked given, being near the unused
     given lines); in Both the given edges win where they and the creases coincide."""
 
     @classmethod
     def setUpClass(cls):
-        from oraclemesh import cases
+        from oraclemesh_cases import cases
         cls.tmp = tempfile.mkdtemp()
         cls.folder = os.path.join(cls.tmp, "case")
         cases.make_case(cls.folder, 0)
@@ -394,7 +394,7 @@ class TwoSharpEdgeSearchesAgree(unittest.TestCase):
     def test_the_same_edges_at_the_same_angle(self):
         import numpy as np
         from vtkmodules.vtkFiltersCore import vtkFeatureEdges
-        from oraclemesh import cases
+        from oraclemesh_cases import cases
         with tempfile.TemporaryDirectory() as tmp:
             cases.make_case(tmp, 0)
             surfaces = {"demo": os.path.join(os.path.dirname(__file__), "..", "..", "Data", "demo", "implant.vtp"),

@@ -1,6 +1,6 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """The paper's radius-edge bound B = 1.1 (issue 9 item 3) on a generated CAD-like implant alone
-(oraclemesh.cases, variant implant_only: flat faces, sharp edges, a chamfered stem tip in the void):
+(oraclemesh_cases.cases, variant implant_only: flat faces, sharp edges, a chamfered stem tip in the void):
 refinement ends before the vertex budget, the mesh is valid, every feature line is a chain of mesh
 edges, the simplified feature lines are the given ones (no convex corner bypassed by a chord inside
 the part), and the minimal dihedral angle is above the paper's 8.7 degrees after optimisation and
@@ -9,7 +9,7 @@ import os
 import tempfile
 import unittest
 
-from oraclemesh import cases
+from oraclemesh_cases import cases
 from oraclemesh.fielddata import strings
 from oraclemesh.meshing import mesh
 from oraclemesh.report import statistics

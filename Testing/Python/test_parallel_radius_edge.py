@@ -16,7 +16,7 @@ import os
 import tempfile
 import unittest
 
-from oraclemesh import cases
+from oraclemesh_cases import cases
 from oraclemesh.fielddata import strings
 from oraclemesh.meshing import mesh
 from oraclemesh.report import statistics

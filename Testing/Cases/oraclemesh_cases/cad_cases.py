@@ -29,8 +29,8 @@ Placements whose volume that cannot give (prisms along different axes overlappin
 The sphere housing holds the parts entirely; its volume is 4/3 pi r^3 less the cut's cap. The
 only rounding is floating point (cylinder vertices are cos/sin values).
 
-Needs numpy and vtkmodules only:  /usr/bin/python3 Wrapping/Python/oraclemesh/cad_cases.py OUTDIR --seed 3
-                                  /usr/bin/python3 Wrapping/Python/oraclemesh/cad_cases.py --selftest
+Needs numpy and vtkmodules only:  /usr/bin/python3 Testing/Cases/oraclemesh_cases/cad_cases.py OUTDIR --seed 3
+                                  /usr/bin/python3 Testing/Cases/oraclemesh_cases/cad_cases.py --selftest
 """
 import argparse
 import itertools
@@ -395,7 +395,7 @@ def _draw(rng):
 
 
 def _cases():
-    """oraclemesh.cases (its surface writer and ear clipping), imported as a package module or by path."""
+    """oraclemesh_cases.cases (its surface writer and ear clipping), imported as a package module or by path."""
     try:
         from . import cases
     except ImportError:
@@ -466,7 +466,7 @@ def make_case(folder, seed, *, radius_edge=2.0, strategy="Conforming"):
         json.dump(scene, f, indent=2)
         f.write("\n")
     case = {
-        "generator": "oraclemesh.cad_cases", "version": VERSION, "seed": seed, "draws": attempt + 1,
+        "generator": "oraclemesh_cases.cad_cases", "version": VERSION, "seed": seed, "draws": attempt + 1,
         "radius_edge": float(radius_edge), "strategy": strategy, "housing": housing, "cut": cut,
         "parts": [{"name": p["name"], "material": p["material"], "shape": p["shape"], "axis": "xyz"[p["axis"]],
                    "placement": p["placement"], "bounds": [v for pair in zip(*_bounds(p)) for v in pair],

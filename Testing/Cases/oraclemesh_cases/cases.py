@@ -17,8 +17,8 @@ and returns the path of scene.json. The same seed gives byte-identical files. Fo
 variant has the same bone and cut plane; "implant_only" has the "random" variant's implant.
 
 This module needs numpy and vtkmodules only, not the compiled oraclemesh module, so it also runs
-by path:  /usr/bin/python3 Wrapping/Python/oraclemesh/cases.py OUTDIR --seed 3 [--variant all]
-          /usr/bin/python3 Wrapping/Python/oraclemesh/cases.py --selftest
+by path:  /usr/bin/python3 Testing/Cases/oraclemesh_cases/cases.py OUTDIR --seed 3 [--variant all]
+          /usr/bin/python3 Testing/Cases/oraclemesh_cases/cases.py --selftest
 """
 import argparse
 import json
@@ -557,7 +557,7 @@ def make_case(folder, seed, *, variant="random", radius_edge=1.3, strategy="Conf
         expected.update(bone_volumes)
         exact.update({k: False for k in bone_volumes})
     case = {
-        "generator": "oraclemesh.cases", "version": VERSION, "seed": seed, "variant": variant,
+        "generator": "oraclemesh_cases.cases", "version": VERSION, "seed": seed, "variant": variant,
         "radius_edge": float(radius_edge), "strategy": strategy,
         "files": {"label_map": "bone_labels.vti", "implant": "implant.vtp", "scene": "scene.json",
                   "label_map_in_scene": variant != "implant_only"},
