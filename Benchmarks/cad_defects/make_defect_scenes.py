@@ -27,8 +27,8 @@ def write(name, parts, housing_bounds, mesh_extra=None, features="Given"):
     os.makedirs(folder, exist_ok=True)
     domains = []
     for k, p in enumerate(parts):
-        points, tris = cad_cases._part_surface(p)
-        cases._write_surface(os.path.join(folder, f"part{k + 1}.vtp"), points, tris)
+        points, tris = cad_cases.part_surface(p)
+        cases.write_surface(os.path.join(folder, f"part{k + 1}.vtp"), points, tris)
         domains.append({"name": f"part{k + 1}", "type": "surface", "file": f"part{k + 1}.vtp", "material": k + 2})
     domains.append({"name": "housing", "type": "box", "bounds": housing_bounds, "material": 1})
     scene = {"domains": domains,

@@ -14,13 +14,13 @@
 //  2. Rounds of: psi <- G * psi - (var / 2) Lap (G * psi) (G: a Gaussian of `sigma` voxels along
 //     each axis, var its variance), then psi set to +delta / -delta at the
 //     voxel centres where it took the wrong sign. The filter (a Gaussian with its second-order
-//     error taken out: local quadratic regression's equivalent kernel) keeps every quadratic and
-//     every biharmonic function, a sphere's or a plane's distance among them, and damps the
-//     staircase. The sign constraint keeps the zero set between the voxel centres the labels
-//     allow. Then one curvature step, psi <- psi - beta h^2 Lap psi: the distance to the nearest
-//     centre of the other side is shorter from a surface's concave side than from its convex
-//     side (more centres lie near), which moves a staircase distance's zero set by about
-//     beta h^2 times the mean curvature towards the convex side.
+//     error taken out: local quadratic regression's equivalent kernel) keeps every quadratic and,
+//     in the continuum, every biharmonic function (a sphere's or a plane's distance among them),
+//     and damps the staircase. The sign constraint keeps the zero set between the voxel centres
+//     the labels allow. Then one curvature step, psi <- psi - beta h^2 Lap psi: the distance to
+//     the nearest centre of the other side is shorter from a surface's concave side than from
+//     its convex side (more centres lie near), which moves a staircase distance's zero set by
+//     about beta h^2 times the mean curvature into the convex region it bounds (balls shrink).
 //  3. Each voxel edge between two labels gets the crossing of the two labels' psi along it, each
 //     weighted by how deep its label reaches there within the filter's reach (near a thin part
 //     of L, the filter mixes both of its sides: the other label tells better), and log w is the

@@ -29,8 +29,8 @@ Placements whose volume that cannot give (prisms along different axes overlappin
 The sphere housing holds the parts entirely; its volume is 4/3 pi r^3 less the cut's cap. The
 only rounding is floating point (cylinder vertices are cos/sin values).
 
-Needs numpy and vtkmodules only:  /usr/bin/python3 Testing/Cases/oraclemesh_cases/cad_cases.py OUTDIR --seed 3
-                                  /usr/bin/python3 Testing/Cases/oraclemesh_cases/cad_cases.py --selftest
+Run with the build tree's site-packages on PYTHONPATH:  python3 -m oraclemesh_cases.cad_cases OUTDIR --seed 3
+                                                          python3 -m oraclemesh_cases.cad_cases --selftest
 """
 import argparse
 import itertools
@@ -157,7 +157,7 @@ def _regular_polygon(n, r, cu, cv):
     return [(cu + r * math.cos(2 * math.pi * k / n), cv + r * math.sin(2 * math.pi * k / n)) for k in range(n)]
 
 
-def _part_surface(part):
+def part_surface(part):
     """(points, triangles) of a part: its polygon extruded along its axis, outward oriented."""
     poly, a, (w0, w1) = part["poly"], part["axis"], part["extent"]
     n = len(poly)
@@ -166,7 +166,7 @@ def _part_surface(part):
     for i in range(n):
         j = (i + 1) % n
         tris += [(i, j, n + j), (i, n + j, n + i)]
-    for p, q, r in _cases()._ear_clip(poly):
+    for p, q, r in _cases().ear_clip(poly):
         tris += [(p, r, q), (n + p, n + q, n + r)]
     u, v = (a + 1) % 3, (a + 2) % 3
     points = np.zeros((2 * n, 3))
@@ -395,11 +395,8 @@ def _draw(rng):
 
 
 def _cases():
-    """oraclemesh_cases.cases (its surface writer and ear clipping), imported as a package module or by path."""
-    try:
-        from . import cases
-    except ImportError:
-        import cases  # run by path: cases.py is next to this file
+    """oraclemesh_cases.cases (its surface writer and ear clipping)."""
+    from . import cases
     return cases
 
 
@@ -453,12 +450,12 @@ def make_case(folder, seed, *, radius_edge=2.0, strategy="Conforming"):
     os.makedirs(folder, exist_ok=True)
     surfaces = {}
     for p in parts:
-        points, tris = _part_surface(p)
-        volume = float(_cases()._volume_exact(points, tris))
+        points, tris = part_surface(p)
+        volume = float(_cases().volume_exact(points, tris))
         own = _common_volume([_part_pieces(p)])
         if volume <= 0 or abs(volume - own) > 1e-9 * max(1.0, own):
             raise RuntimeError(f"{p['name']}: surface volume {volume} != pieces' {own}")  # a bug here
-        _cases()._write_surface(os.path.join(folder, f"{p['name']}.vtp"), points, tris)
+        _cases().write_surface(os.path.join(folder, f"{p['name']}.vtp"), points, tris)
         surfaces[p["name"]] = {"points": len(points), "triangles": len(tris), "volume": volume}
     scene = _scene(seed, parts, cut, housing, radius_edge, strategy, volumes)
     scene_path = os.path.join(folder, "scene.json")

@@ -16,9 +16,9 @@
 and returns the path of scene.json. The same seed gives byte-identical files. For one seed every
 variant has the same bone and cut plane; "implant_only" has the "random" variant's implant.
 
-This module needs numpy and vtkmodules only, not the compiled oraclemesh module, so it also runs
-by path:  /usr/bin/python3 Testing/Cases/oraclemesh_cases/cases.py OUTDIR --seed 3 [--variant all]
-          /usr/bin/python3 Testing/Cases/oraclemesh_cases/cases.py --selftest
+Run with the build tree's site-packages on PYTHONPATH (the package sits beside oraclemesh there):
+    python3 -m oraclemesh_cases.cases OUTDIR --seed 3 [--variant all]
+    python3 -m oraclemesh_cases.cases --selftest
 """
 import argparse
 import json
@@ -169,7 +169,7 @@ def _loft(loops):
     return np.array(points, dtype=float), np.array(tris, dtype=np.int64), np.array(parts, dtype=float)
 
 
-def _ear_clip(poly):
+def ear_clip(poly):
     """Triangles (index triples, counter-clockwise) of a simple counter-clockwise polygon."""
     def cross(o, a, b):
         return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
@@ -201,7 +201,7 @@ def _prism(poly, z0, z1, boxes):
     for i in range(n):
         j = (i + 1) % n
         tris += [(i, j, n + j), (i, n + j, n + i)]
-    for a, b, c in _ear_clip(poly):
+    for a, b, c in ear_clip(poly):
         tris += [(a, c, b), (n + a, n + b, n + c)]
     parts = [[(x0, y0, z0), (x1, y0, z0), (x1, y1, z0), (x0, y1, z0), (x0, y0, z1), (x1, y0, z1), (x1, y1, z1),
               (x0, y1, z1)] for x0, x1, y0, y1 in boxes]
@@ -223,7 +223,7 @@ def _loft_volume(loops):
     return v
 
 
-def _volume_exact(points, tris):
+def volume_exact(points, tris):
     """Exact signed volume of the stored polyhedron (divergence theorem in rationals)."""
     P = [tuple(Fraction(float(c)) for c in p) for p in points]
     total = Fraction(0)
@@ -463,7 +463,7 @@ def _polydata(points, tris):
     return pd
 
 
-def _write_surface(path, points, tris):
+def write_surface(path, points, tris):
     from vtkmodules.vtkIOXML import vtkXMLPolyDataWriter
 
     writer = vtkXMLPolyDataWriter()
@@ -536,14 +536,14 @@ def make_case(folder, seed, *, variant="random", radius_edge=1.3, strategy="Conf
             "face_on_voxel_boundary": _face_on_voxel_boundary}[variant](rng, bone, cut)
     points = _transform(local, matrix, translation)
     parts_world = _transform(parts.reshape(-1, 3), matrix, translation).reshape(parts.shape)
-    volume = _volume_exact(points, tris)
+    volume = volume_exact(points, tris)
     if volume <= 0:
         raise RuntimeError("implant surface is not oriented outwards")  # a bug in the builders
     labels = _bone_labels(bone)
 
     os.makedirs(folder, exist_ok=True)
     _write_label_map(os.path.join(folder, "bone_labels.vti"), labels)
-    _write_surface(os.path.join(folder, "implant.vtp"), points, tris)
+    write_surface(os.path.join(folder, "implant.vtp"), points, tris)
     scene = _scene(variant, seed, cut, radius_edge, strategy)
     scene_path = os.path.join(folder, "scene.json")
     with open(scene_path, "w") as f:
@@ -694,36 +694,9 @@ def _label_at(labels, pts):
 
 
 def _scene_validator():
-    """The project's load_scene: the package's when it imports (built), else scene.py loaded with the
-    compiled classes stubbed (every check of the JSON and the input files, no VTK pipeline)."""
-    try:
-        from oraclemesh.scene import load_scene
-        return load_scene, "oraclemesh.scene"
-    except Exception:  # noqa: BLE001 - the compiled module is not built or not on the path
-        pass
-    import importlib.util
-    import types
-
-    here = os.path.dirname(os.path.abspath(__file__))
-    name = "_oraclemesh_cases_validator"
-    if name + ".scene" in sys.modules:
-        return sys.modules[name + ".scene"].load_scene, "scene.py (compiled classes stubbed)"
-
-    class _Stub:
-        def __getattr__(self, attr):
-            return lambda *args, **kwargs: None
-
-    package = types.ModuleType(name)
-    package.__path__ = [here]
-    for cls in ("vtkHierarchicalOracle", "vtkImplicitDomain", "vtkLabelMapDomain", "vtkSphereDomain",
-                "vtkSurfaceDomain"):
-        setattr(package, cls, type(cls, (_Stub,), {}))
-    sys.modules[name] = package
-    spec = importlib.util.spec_from_file_location(name + ".scene", os.path.join(here, "scene.py"))
-    module = importlib.util.module_from_spec(spec)
-    sys.modules[spec.name] = module
-    spec.loader.exec_module(module)
-    return module.load_scene, "scene.py (compiled classes stubbed)"
+    """The project's load_scene (every check of the JSON and the input files)."""
+    from oraclemesh.scene import load_scene
+    return load_scene, "oraclemesh.scene"
 
 
 def _check_case(folder, seed, variant, load_scene, stats):
@@ -752,7 +725,7 @@ def _check_case(folder, seed, variant, load_scene, stats):
     area2 = np.linalg.norm(np.cross(points[tris[:, 1]] - points[tris[:, 0]], points[tris[:, 2]] - points[tris[:, 0]]),
                            axis=1)
     assert np.all(area2 > 1e-9), "degenerate triangle"
-    volume = _volume_exact(points, tris)
+    volume = volume_exact(points, tris)
     assert volume > 0, "not oriented outwards"
     assert float(volume) == case["implant"]["volume"] == case["expected_volumes"]["3"]
     loops = case["implant"]["local_loops"]
