@@ -60,7 +60,6 @@ pv.SaveScreenshot(png, view, ImageResolution=[640, 640])
 
 
 def mesh(interpolation, work):
-    import oraclemesh as om
     scene = {
         "domains": [{"name": "tibia", "type": "labelmap", "file": os.path.abspath(os.path.join(DATA, "tibia_labels.vti")),
                      "array": "labels", "label_names": {"1": "cortical bone", "2": "cancellous bone"},
