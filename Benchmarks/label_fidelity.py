@@ -21,6 +21,12 @@ same seed. Per run:
         --work build/label_fidelity [--cases sphere_r4.5 shell_1.5 ...]
     python3 Benchmarks/label_fidelity.py --oraclemesh build/bin/PeerOracleMesh --work DIR --check
 
+--cost N: instead, the cost of building the oracle of an N^3 image of 10 overlapping balls (labels
+1-10), per interpolation, each in a fresh process: seconds and the peak resident memory it added
+(VmHWM), per voxel (the image itself and its label array are read before the measure starts):
+
+    PYTHONPATH=build/lib/python3.11/site-packages python3 Benchmarks/label_fidelity.py --oraclemesh - --work DIR --cost 256
+
 --check (ctest Python.label_fidelity): three cases, OracleMesh only (Trilinear and Smooth). Smooth
 must keep the distances of CHECK_BOUNDS (the aims, 0.08 voxel on average and 0.35 at most, where
 they are met; today's figures where not), be at least 20 % closer than Trilinear on average, keep
@@ -208,6 +214,56 @@ def run(tool, exe, image, mesh_path, interpolation, criteria, seed):
     return record
 
 
+COST_CHILD = r'''
+import sys, time
+import oraclemesh as om
+from vtkmodules.vtkIOXML import vtkXMLImageDataReader
+def peak():
+    with open("/proc/self/status") as f:
+        return next(int(l.split()[1]) * 1024 for l in f if l.startswith("VmHWM:"))
+r = vtkXMLImageDataReader(); r.SetFileName(sys.argv[1]); r.Update()
+image = r.GetOutput()
+d = om.vtkLabelMapDomain(); d.SetInputData(image); d.SetInterpolation(int(sys.argv[2])); d.Update()
+before = peak()
+s = om.vtkOracleSampler(); s.SetInputConnection(d.GetOutputPort()); s.SetDimensions(2, 2, 2)
+t = time.time(); s.Update(); seconds = time.time() - t
+print(seconds, peak() - before)
+'''
+
+
+def cost(n, work):
+    """Seconds and added peak bytes per voxel of building an n^3, 10-label oracle, per interpolation."""
+    from vtkmodules.util.numpy_support import numpy_to_vtk
+    from vtkmodules.vtkCommonDataModel import vtkImageData
+    from vtkmodules.vtkIOXML import vtkXMLImageDataWriter
+    path = os.path.join(work, f"balls_{n}.vti")
+    rng = np.random.default_rng(1)
+    labels = np.zeros((n, n, n), np.uint8)
+    axis = np.arange(n, dtype=np.float32)
+    for label in range(1, 11):
+        c, r = rng.uniform(0.2 * n, 0.8 * n, 3), rng.uniform(0.1 * n, 0.25 * n)
+        inside = ((axis[None, None, :] - c[0]) ** 2 + (axis[None, :, None] - c[1]) ** 2 +
+                  (axis[:, None, None] - c[2]) ** 2) < r * r
+        labels[inside] = label
+    image = vtkImageData()
+    image.SetDimensions(n, n, n)
+    array = numpy_to_vtk(labels.ravel(), deep=True)
+    array.SetName("labels")
+    image.GetPointData().SetScalars(array)
+    w = vtkXMLImageDataWriter()
+    w.SetFileName(path)
+    w.SetInputData(image)
+    w.Write()
+    print(f"| {n}^3, 10 labels | build s | added peak, bytes per voxel |")
+    print("|---|---:|---:|")
+    for name, mode in (("nearest", 0), ("trilinear", 1), ("smooth", 2)):
+        out = subprocess.run([sys.executable, "-c", COST_CHILD, path, str(mode)], capture_output=True, text=True,
+                             check=True)
+        seconds, added = map(float, out.stdout.split()[-2:])
+        print(f"| {name} | {seconds:.2f} | {added / n ** 3:.1f} |")
+    return 0
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--oraclemesh", required=True, help="PeerOracleMesh")
@@ -217,7 +273,11 @@ def main():
     ap.add_argument("--interpolations", nargs="+", default=list(INTERPOLATIONS), choices=INTERPOLATIONS)
     ap.add_argument("--check", action="store_true", help="three cases, assert the Smooth aims")
     ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument("--cost", type=int, metavar="N", help="the cost of building an N^3 10-label oracle instead")
     args = ap.parse_args()
+    if args.cost:
+        os.makedirs(args.work, exist_ok=True)
+        return cost(args.cost, args.work)
     cases = args.cases or (list(CHECK_CASES) if args.check else list(CASES))
     interpolations = ["trilinear", "smooth"] if args.check else args.interpolations
     os.makedirs(args.work, exist_ok=True)
