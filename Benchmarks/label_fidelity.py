@@ -158,36 +158,30 @@ def tet_volumes(points, tets):
 
 
 def faces_of(tets):
+    """The mesh's distinct faces: (vertex ids, the material on each side, -1 on the boundary)."""
     faces = np.concatenate([tets[:, [1, 2, 3]], tets[:, [0, 2, 3]], tets[:, [0, 1, 3]], tets[:, [0, 1, 2]]])
     faces.sort(axis=1)
     owner = np.tile(np.arange(len(tets)), 4)
-    _, inverse, counts = np.unique(faces, axis=0, return_inverse=True, return_counts=True)
-    return faces, owner, inverse.ravel(), counts
+    unique, inverse, counts = np.unique(faces, axis=0, return_inverse=True, return_counts=True)
+    order = np.argsort(inverse.ravel(), kind="stable")  # the two copies of an inner face side by side
+    starts = np.r_[0, np.cumsum(counts)[:-1]]
+    first = owner[order[starts]]
+    second = np.where(counts == 2, owner[order[np.minimum(starts + 1, len(order) - 1)]], -1)
+    return unique, first, second
 
 
 def measure(points, tets, materials, shapes, unit):
-    faces, owner, inverse, counts = faces_of(tets)
-    # per unique face: the materials of its (one or two) tetrahedra
-    first = np.full(counts.size, -1)
-    second = np.full(counts.size, -1)
-    order = np.argsort(inverse, kind="stable")
-    inv_sorted = inverse[order]
-    starts = np.r_[0, np.flatnonzero(np.diff(inv_sorted)) + 1]
-    first[inv_sorted[starts]] = materials[owner[order[starts]]]
-    has_two = counts[inv_sorted[starts]] == 2
-    second[inv_sorted[starts[has_two]]] = materials[owner[order[starts[has_two] + 1]]]
-    interface = (counts == 1) | (first != second)
-    face_rows = faces[order[starts]]
-    vertices = np.unique(face_rows[interface].ravel())
+    faces, first, second = faces_of(tets)
+    inner = second >= 0
+    interface = ~inner | (materials[first] != np.where(inner, materials[second], -1))
+    vertices = np.unique(faces[interface].ravel())
     p = points[vertices]
     dist = np.min(np.abs(np.stack([s.sdf(p) for _, s in shapes])), axis=0) / unit
     # connected pieces per material (tetrahedra sharing a face of the same material)
     from scipy.sparse import coo_matrix
     from scipy.sparse.csgraph import connected_components
-    pair = has_two & (first[inv_sorted[starts]] == second[inv_sorted[starts]])
-    a = owner[order[starts[pair]]]
-    b = owner[order[starts[pair] + 1]]
-    graph = coo_matrix((np.ones(len(a)), (a, b)), shape=(len(tets), len(tets)))
+    same = inner & ~interface
+    graph = coo_matrix((np.ones(same.sum()), (first[same], second[same])), shape=(len(tets), len(tets)))
     _, component = connected_components(graph, directed=False)
     pieces = {int(m): int(np.unique(component[materials == m]).size) for m in np.unique(materials)}
     volumes = {}
