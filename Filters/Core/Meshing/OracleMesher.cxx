@@ -10,6 +10,7 @@
 #include "FeatureEdgeSizes.h"
 #include "FeatureNetworkSimplification.h"
 #include "InputError.h"
+#include "DihedralImprovement.h"
 #include "MeshQuality.h"
 #include "MeshSizeEstimate.h"
 #include "MeshValidity.h"
@@ -1510,6 +1511,7 @@ private:
     c3t3_->clear();
     mesh.segments = locateFeatureSegments(mesh, *features_);
     deadline_.check("locating the feature lines in the mesh");
+    improveAngles(mesh);
     const double coverage = featureCoverage(mesh.segments, *features_);
     if (!features_->empty() && coverage < 0.9999)
     {
@@ -1559,6 +1561,24 @@ private:
     mesh.warnings = std::move(warnings_);
     report(1.0, "done");
     return mesh;
+  }
+
+  /// The quality step (DihedralImprovement.h): the located feature segments are the edges it keeps.
+  void improveAngles(TetMesh& mesh)
+  {
+    if (!options_.improveAngles || mesh.tets.empty())
+      return;
+    const auto start = Clock::now();
+    DihedralImprovementOptions o;
+    o.minAngle = options_.improvementMinAngle;
+    o.maxAngle = options_.improvementMaxAngle;
+    o.progress = [this](double f) {
+      deadline_.check("quality step");
+      report(0.98 + 0.02 * f, "quality step");
+    };
+    improvement_ = improveDihedralAngles(mesh, oracle_, o);
+    improvementTime_ = seconds(start);
+    outputTets_ = mesh.tets.size();
   }
 
   /// Never silent: pieces the segment level could not make mesh edges, how many, why and where.
@@ -1685,6 +1705,21 @@ private:
     st["optimisation.exudation_steps"] = static_cast<double>(exuded_.steps);
     st["optimisation.exudation_cut_short"] = exuded_.cutShort;
     st["optimisation.cells_relabelled_by_centroid"] = static_cast<double>(relabelled_);
+    if (options_.improveAngles)
+    {
+      const auto& r = improvement_;
+      st["improvement.outside_before"] = static_cast<double>(r.outsideBefore);
+      st["improvement.outside_after"] = static_cast<double>(r.outsideAfter);
+      st["improvement.min_dihedral_before"] = r.minBefore;
+      st["improvement.max_dihedral_before"] = r.maxBefore;
+      st["improvement.edge_removals"] = static_cast<double>(r.edgeRemovals);
+      st["improvement.face_removals"] = static_cast<double>(r.faceRemovals);
+      st["improvement.interior_moves"] = static_cast<double>(r.interiorMoves);
+      st["improvement.interface_moves"] = static_cast<double>(r.surfaceMoves);
+      st["improvement.rounds"] = r.rounds;
+      st["improvement.cut_short"] = r.cutShort;
+      st["time.improvement"] = improvementTime_;
+    }
     st["time.perturbation"] = perturbed_.seconds;
     st["time.exudation"] = exuded_.seconds;
     st["time.initialisation"] = initTime_;
@@ -1762,6 +1797,8 @@ private:
   double parallelCpu_ = 0.0, parallelBusiestCpu_ = 0.0; ///< of every refinement thread, of the busiest one
   double minBefore_ = 0.0, optLimit_ = 0.0;
   OptimiserRun perturbed_, exuded_;
+  DihedralImprovementReport improvement_;
+  double improvementTime_ = 0.0;
   size_t relabelled_ = 0; ///< cells the optimisers left across a boundary (relabelCellsAcrossBoundaries)
 };
 

@@ -89,6 +89,14 @@ struct MesherOptions
   /// Seconds for each of perturb and exude: 0 = no limit (the default: a limit makes the mesh
   /// depend on the machine's speed), < 0 = stock CGAL's default (the refinement's running time).
   double optimisationTimeLimit = 0.0;
+  /// The quality step after the optimisers (improveDihedralAngles in DihedralImprovement.h): flips
+  /// inside one material and vertex moves that keep feature lines and interfaces where they are,
+  /// raising the tetrahedra with a dihedral angle outside [improvementMinAngle,
+  /// improvementMaxAngle] degrees (FE-grade: small angles spoil the conditioning, large ones the
+  /// gradients). In rounds, not seconds (statistics improvement.*).
+  bool improveAngles = true;
+  double improvementMinAngle = 15.0;
+  double improvementMaxAngle = 155.0;
   /// For tests only (no door sets it): undo the exudation as if it had broken a segment or lowered
   /// the smallest angle, to check that the undo gives back the mesh from before it (real inputs
   /// rarely take that path).

@@ -78,6 +78,17 @@ double maxDihedralAngle(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3&
   return std::acos(*std::min_element(cosines, cosines + 6)) * 180.0 / M_PI;
 }
 
+bool dihedralAngleRange(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, double& smallest, double& largest)
+{
+  double cosines[6];
+  if (!dihedralCosines(a, b, c, d, cosines))
+    return false;
+  const auto [lo, hi] = std::minmax_element(cosines, cosines + 6);
+  smallest = std::acos(*hi) * 180.0 / M_PI;
+  largest = std::acos(*lo) * 180.0 / M_PI;
+  return true;
+}
+
 bool dihedralAnglesCertainlyAtLeast(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, double cosBound)
 {
   // An angle is below the bound where the cosine between two outward normals, -m_i.m_j / (|m_i|

@@ -16,6 +16,10 @@ double minDihedralAngle(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3&
 /// 180 degrees spoils gradients and stresses as much as small angles spoil the conditioning.
 double maxDihedralAngle(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
 
+/// Smallest and largest dihedral angle of abcd in degrees, from one set of face normals (the same
+/// values as minDihedralAngle and maxDihedralAngle); false for a tetrahedron with a degenerate face.
+bool dihedralAngleRange(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, double& smallest, double& largest);
+
 /// Whether every dihedral angle of abcd is certainly at least the angle whose cosine is
 /// `cosBound`, i.e. minDihedralAngle(a, b, c, d) is at least that angle in degrees: the same face
 /// normals, compared squared against the bound with a margin (1e-9 in the cosine) far beyond the

@@ -1,0 +1,631 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "DihedralImprovement.h"
+
+#include "HierarchicalOracle.h"
+#include "MeshQuality.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <unordered_set>
+
+namespace omesh
+{
+namespace
+{
+constexpr double kRadToDeg = 57.29577951308232;
+
+std::uint64_t edgeKey(int a, int b)
+{
+  const auto lo = static_cast<std::uint64_t>(std::min(a, b));
+  const auto hi = static_cast<std::uint64_t>(std::max(a, b));
+  return (hi << 32) | lo;
+}
+
+struct FaceKey
+{
+  std::array<int, 3> v;
+  FaceKey(int a, int b, int c)
+    : v{ a, b, c }
+  {
+    std::sort(v.begin(), v.end());
+  }
+  bool operator==(const FaceKey& o) const { return v == o.v; }
+};
+
+struct FaceKeyHash
+{
+  std::size_t operator()(const FaceKey& k) const
+  {
+    std::uint64_t h = static_cast<std::uint64_t>(k.v[0]) * 0x9E3779B97F4A7C15ull;
+    h ^= static_cast<std::uint64_t>(k.v[1]) + 0x7F4A7C159E3779B9ull + (h << 6) + (h >> 2);
+    h ^= static_cast<std::uint64_t>(k.v[2]) + 0x94D049BB133111EBull + (h << 6) + (h >> 2);
+    return static_cast<std::size_t>(h);
+  }
+};
+
+/// The tetrahedra as a mutable set: removed ones stay as tombstones until compact(), each vertex
+/// lists the live tetrahedra around it.
+class TetStars
+{
+public:
+  explicit TetStars(const TetMesh& mesh)
+    : tets_(mesh.tets)
+    , material_(mesh.tetMaterial)
+    , alive_(mesh.tets.size(), 1)
+    , stars_(mesh.points.size())
+  {
+    for (std::size_t t = 0; t < tets_.size(); ++t)
+      for (int v : tets_[t])
+        stars_[static_cast<std::size_t>(v)].push_back(static_cast<int>(t));
+  }
+
+  std::size_t size() const { return tets_.size(); }
+  bool alive(int t) const { return alive_[static_cast<std::size_t>(t)] != 0; }
+  const std::array<int, 4>& tet(int t) const { return tets_[static_cast<std::size_t>(t)]; }
+  int material(int t) const { return material_[static_cast<std::size_t>(t)]; }
+  const std::vector<int>& star(int v) const { return stars_[static_cast<std::size_t>(v)]; }
+
+  int add(const std::array<int, 4>& t, int material)
+  {
+    const int id = static_cast<int>(tets_.size());
+    tets_.push_back(t);
+    material_.push_back(material);
+    alive_.push_back(1);
+    for (int v : t)
+      stars_[static_cast<std::size_t>(v)].push_back(id);
+    return id;
+  }
+
+  void remove(int t)
+  {
+    alive_[static_cast<std::size_t>(t)] = 0;
+    for (int v : tets_[static_cast<std::size_t>(t)])
+    {
+      auto& s = stars_[static_cast<std::size_t>(v)];
+      s.erase(std::find(s.begin(), s.end(), t));
+    }
+  }
+
+  /// Live tetrahedra containing both a and b.
+  std::vector<int> around(int a, int b) const
+  {
+    std::vector<int> out;
+    for (int t : star(a))
+    {
+      const auto& q = tet(t);
+      if (std::find(q.begin(), q.end(), b) != q.end())
+        out.push_back(t);
+    }
+    return out;
+  }
+
+  /// Writes the live tetrahedra back, in their order (the new ones after the old).
+  void compact(TetMesh& mesh) const
+  {
+    mesh.tets.clear();
+    mesh.tetMaterial.clear();
+    for (std::size_t t = 0; t < tets_.size(); ++t)
+      if (alive_[t])
+      {
+        mesh.tets.push_back(tets_[t]);
+        mesh.tetMaterial.push_back(material_[t]);
+      }
+  }
+
+private:
+  std::vector<std::array<int, 4>> tets_;
+  std::vector<int> material_;
+  std::vector<unsigned char> alive_;
+  std::vector<std::vector<int>> stars_;
+};
+
+enum class VertexKind : unsigned char
+{
+  Fixed,
+  Interior,
+  Interface
+};
+
+/// Raises the worst tetrahedra by flips and vertex moves (see improveDihedralAngles).
+class DihedralImprover
+{
+public:
+  DihedralImprover(TetMesh& mesh, const HierarchicalOracle& oracle, const DihedralImprovementOptions& options)
+    : mesh_(mesh)
+    , oracle_(oracle)
+    , options_(options)
+    , stars_(mesh)
+  {
+    orientation_ = orientationOfMesh();
+    classifyVertices();
+  }
+
+  DihedralImprovementReport run()
+  {
+    measure(report_.outsideBefore, report_.minBefore, report_.maxBefore);
+    bool changed = true;
+    for (int round = 0; round < options_.rounds && changed; ++round)
+    {
+      changed = runRound(round);
+      report_.rounds = round + 1;
+    }
+    report_.cutShort = changed && report_.rounds == options_.rounds && options_.rounds > 0;
+    stars_.compact(mesh_);
+    measure(report_.outsideAfter, report_.minAfter, report_.maxAfter);
+    return report_;
+  }
+
+private:
+  // --- measures ----------------------------------------------------------------------------
+  double quality(const std::array<int, 4>& t) const
+  {
+    const auto& p = mesh_.points;
+    if (orient(t) <= 0)
+      return -1.0;
+    return dihedralWindowQuality(p[t[0]], p[t[1]], p[t[2]], p[t[3]], options_.minAngle, options_.maxAngle);
+  }
+  double quality(int t) const { return quality(stars_.tet(t)); }
+
+  /// Signed volume in the mesh's orientation (positive for its tetrahedra).
+  double orient(const std::array<int, 4>& t) const
+  {
+    const auto& p = mesh_.points;
+    return orientation_ * signedVolume(p[t[0]], p[t[1]], p[t[2]], p[t[3]]);
+  }
+
+  double orientationOfMesh() const
+  {
+    const auto& p = mesh_.points;
+    for (const auto& t : mesh_.tets)
+    {
+      const double v = signedVolume(p[t[0]], p[t[1]], p[t[2]], p[t[3]]);
+      if (v != 0)
+        return v > 0 ? 1.0 : -1.0;
+    }
+    return 1.0;
+  }
+
+  void measure(std::size_t& outside, double& minAngle, double& maxAngle) const
+  {
+    outside = 0;
+    minAngle = 180.0;
+    maxAngle = 0.0;
+    const auto& p = mesh_.points;
+    for (const auto& t : mesh_.tets)
+    {
+      double lo = 0.0, hi = 180.0;
+      dihedralAngleRange(p[t[0]], p[t[1]], p[t[2]], p[t[3]], lo, hi);
+      minAngle = std::min(minAngle, lo);
+      maxAngle = std::max(maxAngle, hi);
+      outside += lo < options_.minAngle || hi > options_.maxAngle;
+    }
+    if (mesh_.tets.empty())
+      minAngle = maxAngle = 0.0;
+  }
+
+  // --- what may change -----------------------------------------------------------------------
+  /// Interface triangles and feature edges are kept; vertices on one interface move along it,
+  /// interior vertices anywhere, the others stay.
+  void classifyVertices()
+  {
+    const std::size_t n = mesh_.points.size();
+    kind_.assign(n, VertexKind::Interior);
+    sides_.assign(n, { 0, 0 });
+    interfaceAt_.assign(n, {});
+    for (std::size_t v = 0; v < n; ++v)
+      if (mesh_.pointDimension[v] <= 1)
+        kind_[v] = VertexKind::Fixed;
+    for (const auto& s : mesh_.segments)
+      if (s.aId >= 0 && s.bId >= 0)
+      {
+        kept_.insert(edgeKey(s.aId, s.bId));
+        kind_[static_cast<std::size_t>(s.aId)] = kind_[static_cast<std::size_t>(s.bId)] = VertexKind::Fixed;
+      }
+    for (std::size_t k = 0; k < mesh_.interfaceTriangles.size(); ++k)
+    {
+      const auto& tri = mesh_.interfaceTriangles[k];
+      const auto& m = mesh_.interfaceMaterials[k];
+      const std::array<int, 2> pair{ std::min(m[0], m[1]), std::max(m[0], m[1]) };
+      interfaces_.insert(FaceKey(tri[0], tri[1], tri[2]));
+      for (int v : tri)
+      {
+        auto& at = interfaceAt_[static_cast<std::size_t>(v)];
+        if (at.empty())
+          sides_[static_cast<std::size_t>(v)] = pair;
+        else if (sides_[static_cast<std::size_t>(v)] != pair)
+          kind_[static_cast<std::size_t>(v)] = VertexKind::Fixed; // interfaces meet here
+        at.push_back(static_cast<int>(k));
+      }
+    }
+    for (std::size_t v = 0; v < n; ++v)
+      if (kind_[v] != VertexKind::Fixed)
+        kind_[v] = classifyFree(static_cast<int>(v));
+  }
+
+  VertexKind classifyFree(int v) const
+  {
+    const auto& star = stars_.star(v);
+    if (star.empty())
+      return VertexKind::Fixed;
+    if (interfaceAt_[static_cast<std::size_t>(v)].empty())
+    {
+      // inside one material by its star (a vertex CGAL put on a surface that no interface
+      // triangle shows stays: moving it could leave that surface)
+      const int m = stars_.material(star.front());
+      for (int t : star)
+        if (stars_.material(t) != m)
+          return VertexKind::Fixed;
+      return mesh_.pointDimension[static_cast<std::size_t>(v)] == 3 ? VertexKind::Interior : VertexKind::Fixed;
+    }
+    const auto pair = sides_[static_cast<std::size_t>(v)];
+    for (int t : star)
+      if (stars_.material(t) != pair[0] && stars_.material(t) != pair[1])
+        return VertexKind::Fixed;
+    return mesh_.pointDimension[static_cast<std::size_t>(v)] == 2 ? VertexKind::Interface : VertexKind::Fixed;
+  }
+
+  bool isKept(int a, int b) const
+  {
+    if (kept_.count(edgeKey(a, b)))
+      return true;
+    // edges between two feature vertices: chords of protecting balls count as the line
+    return mesh_.pointDimension[static_cast<std::size_t>(a)] <= 1 && mesh_.pointDimension[static_cast<std::size_t>(b)] <= 1;
+  }
+  bool isInterface(int a, int b, int c) const { return interfaces_.count(FaceKey(a, b, c)) != 0; }
+
+  // --- rounds -----------------------------------------------------------------------------------
+  bool runRound(int round)
+  {
+    std::vector<std::pair<double, int>> bad;
+    for (std::size_t t = 0; t < stars_.size(); ++t)
+      if (stars_.alive(static_cast<int>(t)))
+      {
+        const double q = quality(static_cast<int>(t));
+        if (q < 1.0)
+          bad.emplace_back(q, static_cast<int>(t));
+      }
+    std::sort(bad.begin(), bad.end());
+    bool changed = false;
+    for (std::size_t k = 0; k < bad.size(); ++k)
+    {
+      if (options_.progress && (k & 63u) == 0)
+        options_.progress((round + static_cast<double>(k) / bad.size()) / options_.rounds);
+      const int t = bad[k].second;
+      if (stars_.alive(t) && quality(t) < 1.0)
+        changed = improveTet(t) || changed;
+    }
+    return changed;
+  }
+
+  bool improveTet(int t)
+  {
+    const auto q = stars_.tet(t);
+    for (int i = 0; i < 4; ++i)
+      for (int j = i + 1; j < 4; ++j)
+        if (removeEdge(q[i], q[j]))
+          return true;
+    for (int f = 0; f < 4; ++f)
+      if (removeFace(t, f))
+        return true;
+    bool moved = false;
+    for (int v : q)
+    {
+      if (!stars_.alive(t) || quality(t) >= 1.0)
+        break;
+      moved = moveVertex(v) || moved;
+    }
+    return moved;
+  }
+
+  // --- flips --------------------------------------------------------------------------------
+  /// The ring of vertices around edge ab, ordered so that (a, b, r[i], r[i+1]) is positive, and the
+  /// tetrahedra around it; false when the edge may not go (on a boundary, an interface or a feature
+  /// line, between materials) or the ring is not closed.
+  bool ringAround(int a, int b, std::vector<int>& ring, std::vector<int>& tets) const
+  {
+    if (isKept(a, b))
+      return false;
+    tets = stars_.around(a, b);
+    if (tets.size() < 3 || tets.size() > 7)
+      return false;
+    const int material = stars_.material(tets.front());
+    std::vector<std::pair<int, int>> next; // (c, d) with (a, b, c, d) positive
+    for (int t : tets)
+    {
+      if (stars_.material(t) != material)
+        return false;
+      int cd[2], k = 0;
+      for (int v : stars_.tet(t))
+        if (v != a && v != b)
+          cd[k++] = v;
+      if (isInterface(a, b, cd[0]) || isInterface(a, b, cd[1]))
+        return false;
+      if (orient({ a, b, cd[0], cd[1] }) < 0)
+        std::swap(cd[0], cd[1]);
+      next.emplace_back(cd[0], cd[1]);
+    }
+    ring.assign(1, next.front().first);
+    for (std::size_t k = 1; k < next.size(); ++k)
+    {
+      const auto it = std::find_if(next.begin(), next.end(), [&](const auto& e) { return e.first == ring.back(); });
+      if (it == next.end())
+        return false;
+      ring.push_back(it->second);
+    }
+    const auto last = std::find_if(next.begin(), next.end(), [&](const auto& e) { return e.first == ring.back(); });
+    return last != next.end() && last->second == ring.front() &&
+      std::unordered_set<int>(ring.begin(), ring.end()).size() == ring.size();
+  }
+
+  /// Removes edge ab: its ring is triangulated the best way (Shewchuk's dynamic programme over the
+  /// ring polygon), each triangle making one tetrahedron with a and one with b.
+  bool removeEdge(int a, int b)
+  {
+    std::vector<int> ring, old;
+    if (!ringAround(a, b, ring, old))
+      return false;
+    double before = std::numeric_limits<double>::infinity();
+    for (int t : old)
+      before = std::min(before, quality(t));
+    const int n = static_cast<int>(ring.size());
+    auto pairQuality = [&](int i, int k, int j) {
+      return std::min(quality({ ring[i], ring[k], ring[j], b }), quality({ ring[j], ring[k], ring[i], a }));
+    };
+    std::vector<double> best(n * n, std::numeric_limits<double>::infinity());
+    std::vector<int> split(n * n, -1);
+    for (int len = 2; len < n; ++len)
+      for (int i = 0; i + len < n; ++i)
+      {
+        const int j = i + len;
+        double top = -std::numeric_limits<double>::infinity();
+        for (int k = i + 1; k < j; ++k)
+        {
+          const double q = std::min({ best[i * n + k], best[k * n + j], pairQuality(i, k, j) });
+          if (q > top)
+          {
+            top = q;
+            split[i * n + j] = k;
+          }
+        }
+        best[i * n + j] = top;
+      }
+    if (!(best[n - 1] > before + 1e-9))
+      return false;
+    const int material = stars_.material(old.front());
+    for (int t : old)
+      stars_.remove(t);
+    std::vector<std::pair<int, int>> todo{ { 0, n - 1 } };
+    while (!todo.empty())
+    {
+      const auto [i, j] = todo.back();
+      todo.pop_back();
+      if (j - i < 2)
+        continue;
+      const int k = split[i * n + j];
+      stars_.add({ ring[i], ring[k], ring[j], b }, material);
+      stars_.add({ ring[j], ring[k], ring[i], a }, material);
+      todo.push_back({ i, k });
+      todo.push_back({ k, j });
+    }
+    ++report_.edgeRemovals;
+    return true;
+  }
+
+  /// 2-3 flip: face f of t and the same-material tetrahedron beyond it become three around the
+  /// edge joining their apexes.
+  bool removeFace(int t, int f)
+  {
+    const auto q = stars_.tet(t);
+    const int d = q[f];
+    const int a = q[(f + 1) & 3], b = q[(f + 2) & 3], c = q[(f + 3) & 3];
+    if (isInterface(a, b, c))
+      return false;
+    int other = -1;
+    for (int u : stars_.around(a, b))
+    {
+      const auto& r = stars_.tet(u);
+      if (u != t && std::find(r.begin(), r.end(), c) != r.end())
+        other = u;
+    }
+    if (other < 0 || stars_.material(other) != stars_.material(t))
+      return false;
+    int e = -1;
+    for (int v : stars_.tet(other))
+      if (v != a && v != b && v != c)
+        e = v;
+    std::array<int, 3> ring{ a, b, c };
+    if (orient({ d, e, a, b }) < 0)
+      std::swap(ring[1], ring[2]);
+    const std::array<std::array<int, 4>, 3> made{ { { d, e, ring[0], ring[1] }, { d, e, ring[1], ring[2] },
+      { d, e, ring[2], ring[0] } } };
+    const double before = std::min(quality(t), quality(other));
+    double after = std::numeric_limits<double>::infinity();
+    for (const auto& m : made)
+      after = std::min(after, quality(m));
+    if (!(after > before + 1e-9))
+      return false;
+    const int material = stars_.material(t);
+    stars_.remove(t);
+    stars_.remove(other);
+    for (const auto& m : made)
+      stars_.add(m, material);
+    ++report_.faceRemovals;
+    return true;
+  }
+
+  // --- vertex moves -------------------------------------------------------------------------------
+  double starQuality(int v, int* worst = nullptr) const
+  {
+    double q = std::numeric_limits<double>::infinity();
+    for (int t : stars_.star(v))
+    {
+      const double x = quality(t);
+      if (x < q)
+      {
+        q = x;
+        if (worst)
+          *worst = t;
+      }
+    }
+    return q;
+  }
+
+  double meanEdgeLength(int v) const
+  {
+    double sum = 0.0;
+    int count = 0;
+    for (int t : stars_.star(v))
+      for (int u : stars_.tet(t))
+        if (u != v)
+        {
+          sum += norm(mesh_.points[static_cast<std::size_t>(u)] - mesh_.points[static_cast<std::size_t>(v)]);
+          ++count;
+        }
+    return count ? sum / count : 0.0;
+  }
+
+  /// Unit normal of the interface at v, pointing from sides_[v][0] to sides_[v][1] (area-weighted
+  /// mean of its interface triangles'); zero when they do not agree on a side.
+  Vec3 interfaceNormal(int v) const
+  {
+    Vec3 sum{ 0, 0, 0 };
+    const auto pair = sides_[static_cast<std::size_t>(v)];
+    for (int k : interfaceAt_[static_cast<std::size_t>(v)])
+    {
+      const auto& tri = mesh_.interfaceTriangles[static_cast<std::size_t>(k)];
+      const auto& p = mesh_.points;
+      Vec3 n = cross(p[tri[1]] - p[tri[0]], p[tri[2]] - p[tri[0]]);
+      // orient by a tetrahedron on the triangle: away from it on the first side, into it on the second
+      for (int t : stars_.star(v))
+      {
+        const auto& q = stars_.tet(t);
+        const auto apex = std::find_if(q.begin(), q.end(), [&](int u) { return u != tri[0] && u != tri[1] && u != tri[2]; });
+        if (std::count_if(q.begin(), q.end(), [&](int u) { return u == tri[0] || u == tri[1] || u == tri[2]; }) != 3)
+          continue;
+        const double side = dot(n, p[*apex] - p[tri[0]]);
+        if ((stars_.material(t) == pair[0]) == (side > 0))
+          n = -1.0 * n;
+        break;
+      }
+      sum = sum + n;
+    }
+    const double l = norm(sum);
+    return l > 0 ? (1.0 / l) * sum : Vec3{ 0, 0, 0 };
+  }
+
+  /// x put back on v's interface: the change from sides_[v][0] to sides_[v][1] along `normal`
+  /// within `reach`; false when there is none.
+  bool onInterface(int v, const Vec3& normal, double reach, Vec3& x) const
+  {
+    const auto pair = sides_[static_cast<std::size_t>(v)];
+    const Intersection hit = oracle_.intersect(x - reach * normal, x + reach * normal);
+    if (!hit.found || hit.materialBefore != pair[0] || hit.materialAfter != pair[1])
+      return false;
+    x = hit.point;
+    return true;
+  }
+
+  /// Gradient ascent on the star's worst quality (numerical gradient of the worst tetrahedron,
+  /// halving steps until the star's worst rises); interface vertices move in the tangent plane and
+  /// are put back on the interface.
+  bool moveVertex(int v)
+  {
+    const VertexKind kind = kind_[static_cast<std::size_t>(v)];
+    if (kind == VertexKind::Fixed)
+      return false;
+    Vec3& x = mesh_.points[static_cast<std::size_t>(v)];
+    const Vec3 start = x;
+    const double length = meanEdgeLength(v);
+    const Vec3 normal = kind == VertexKind::Interface ? interfaceNormal(v) : Vec3{ 0, 0, 0 };
+    if (kind == VertexKind::Interface && norm(normal) == 0.0)
+      return false;
+    int worst = -1;
+    double current = starQuality(v, &worst);
+    for (int iteration = 0; iteration < 6 && current < 1.0; ++iteration)
+    {
+      Vec3 g = gradient(worst, v, 1e-4 * length);
+      if (kind == VertexKind::Interface)
+        g = g - dot(g, normal) * normal;
+      const double gl = norm(g);
+      if (!(gl > 0))
+        break;
+      const Vec3 here = x;
+      bool stepped = false;
+      for (double step = 0.2 * length; step > 1e-3 * length && !stepped; step *= 0.5)
+      {
+        Vec3 trial = here + (step / gl) * g;
+        if (kind == VertexKind::Interface && !onInterface(v, normal, 0.5 * length, trial))
+          continue;
+        x = trial;
+        int w = -1;
+        const double q = starQuality(v, &w);
+        if (q > current + 1e-9)
+        {
+          current = q;
+          worst = w;
+          stepped = true;
+        }
+        else
+          x = here;
+      }
+      if (!stepped)
+        break;
+    }
+    const bool moved = x.x != start.x || x.y != start.y || x.z != start.z;
+    if (moved)
+      ++(kind == VertexKind::Interface ? report_.surfaceMoves : report_.interiorMoves);
+    return moved;
+  }
+
+  /// Central-difference gradient of tetrahedron t's quality with respect to vertex v's position.
+  Vec3 gradient(int t, int v, double h)
+  {
+    Vec3& x = mesh_.points[static_cast<std::size_t>(v)];
+    const Vec3 at = x;
+    Vec3 g{ 0, 0, 0 };
+    for (int axis = 0; axis < 3; ++axis)
+    {
+      x = at;
+      x[axis] += h;
+      const double up = quality(t);
+      x = at;
+      x[axis] -= h;
+      const double down = quality(t);
+      g[axis] = (up - down) / (2 * h);
+    }
+    x = at;
+    return g;
+  }
+
+  TetMesh& mesh_;
+  const HierarchicalOracle& oracle_;
+  const DihedralImprovementOptions& options_;
+  TetStars stars_;
+  double orientation_ = 1.0;
+  std::vector<VertexKind> kind_;
+  std::vector<std::array<int, 2>> sides_;      ///< the two materials of an interface vertex
+  std::vector<std::vector<int>> interfaceAt_;  ///< interface triangles at each vertex
+  std::unordered_set<std::uint64_t> kept_;     ///< present feature-segment edges
+  std::unordered_set<FaceKey, FaceKeyHash> interfaces_;
+  DihedralImprovementReport report_;
+};
+}
+
+double dihedralWindowQuality(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, double minAngle,
+  double maxAngle)
+{
+  double lo = 0.0, hi = 180.0;
+  if (!dihedralAngleRange(a, b, c, d, lo, hi) || !(lo > 0))
+    return -1.0;
+  return std::min(lo / minAngle, (180.0 - hi) / (180.0 - maxAngle));
+}
+
+DihedralImprovementReport improveDihedralAngles(
+  TetMesh& mesh, const HierarchicalOracle& oracle, const DihedralImprovementOptions& options)
+{
+  DihedralImprover improver(mesh, oracle, options);
+  return improver.run();
+}
+}
