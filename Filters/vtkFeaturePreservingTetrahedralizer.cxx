@@ -125,6 +125,9 @@ vtkFeaturePreservingTetrahedralizer::vtkFeaturePreservingTetrahedralizer()
   this->PickingSliverAngle = defaults.pickingSliverAngle;
   this->Perturb = defaults.perturb;
   this->Exude = defaults.exude;
+  this->ImproveAngles = defaults.improveAngles;
+  this->ImprovementMinAngle = defaults.improvementMinAngle;
+  this->ImprovementMaxAngle = defaults.improvementMaxAngle;
   this->PerturbationFailuresPerBound = defaults.perturbationFailuresPerBound;
   this->ExudationSliverBound = defaults.exudationSliverBound;
   this->PerturbationStepsPerVertex = defaults.perturbationStepsPerVertex;
@@ -295,6 +298,8 @@ void vtkFeaturePreservingTetrahedralizer::CheckProperties() const
   checkRange("Threads", this->Threads, 0, 1024, "; 1 = sequential, 0 = every core");
   checkRange("PerturbationFailuresPerBound", this->PerturbationFailuresPerBound, 0.0, 1e6, "; 0 = never give up");
   checkRange("ExudationSliverBound", this->ExudationSliverBound, 0.0, 90.0, " degrees; 0 = every cell");
+  checkRange("ImprovementMinAngle", this->ImprovementMinAngle, 1.0, 60.0, " degrees");
+  checkRange("ImprovementMaxAngle", this->ImprovementMaxAngle, 120.0, 179.0, " degrees");
   checkRange("PerturbationStepsPerVertex", this->PerturbationStepsPerVertex, 0.0, 1e6, "; 0 = no budget");
   checkRange("ExudationStepsPerCell", this->ExudationStepsPerCell, 0.0, 1e6, "; 0 = no budget");
   checkRange("OptimisationTimeLimit", this->OptimisationTimeLimit, -1.0, 1e9, " seconds; 0 = none, -1 = CGAL's");
@@ -323,6 +328,9 @@ void vtkFeaturePreservingTetrahedralizer::SetUpOptions(MeshingRun& run)
   options.pickingSliverAngle = this->PickingSliverAngle;
   options.perturb = this->Perturb;
   options.exude = this->Exude;
+  options.improveAngles = this->ImproveAngles;
+  options.improvementMinAngle = this->ImprovementMinAngle;
+  options.improvementMaxAngle = this->ImprovementMaxAngle;
   options.perturbationFailuresPerBound = this->PerturbationFailuresPerBound;
   options.exudationSliverBound = this->ExudationSliverBound;
   options.perturbationStepsPerVertex = this->PerturbationStepsPerVertex;
@@ -538,6 +546,9 @@ void vtkFeaturePreservingTetrahedralizer::PrintSelf(ostream& os, vtkIndent inden
   os << indent << "PickingSliverAngle: " << this->PickingSliverAngle << "\n";
   os << indent << "Perturb: " << this->Perturb << "\n";
   os << indent << "Exude: " << this->Exude << "\n";
+  os << indent << "ImproveAngles: " << this->ImproveAngles << "\n";
+  os << indent << "ImprovementMinAngle: " << this->ImprovementMinAngle << "\n";
+  os << indent << "ImprovementMaxAngle: " << this->ImprovementMaxAngle << "\n";
   os << indent << "PerturbationFailuresPerBound: " << this->PerturbationFailuresPerBound << "\n";
   os << indent << "ExudationSliverBound: " << this->ExudationSliverBound << "\n";
   os << indent << "PerturbationStepsPerVertex: " << this->PerturbationStepsPerVertex << "\n";

@@ -156,6 +156,20 @@ public:
   ///@}
 
   ///@{
+  /// The quality step after the optimisers (omesh::improveDihedralAngles): flips inside one
+  /// material and vertex moves that keep feature lines and interfaces, raising the tetrahedra with
+  /// a dihedral angle outside [ImprovementMinAngle, ImprovementMaxAngle] degrees (default on,
+  /// [15, 155]; statistics improvement.*, a line in the report).
+  vtkSetMacro(ImproveAngles, bool);
+  vtkGetMacro(ImproveAngles, bool);
+  vtkBooleanMacro(ImproveAngles, bool);
+  vtkSetMacro(ImprovementMinAngle, double); // 1 to 60
+  vtkGetMacro(ImprovementMinAngle, double);
+  vtkSetMacro(ImprovementMaxAngle, double); // 120 to 179
+  vtkGetMacro(ImprovementMaxAngle, double);
+  ///@}
+
+  ///@{
   /// The optimisation policy (see omesh::MesherOptions): the perturber gives up at a bound on the
   /// smallest dihedral angle it cannot reach after this many vertices it could not move (plus 1% of
   /// its attempts at that bound; default 4; 0 = never, CGAL's behaviour); the exuder pumps the cells
@@ -293,6 +307,9 @@ protected:
   double EdgeSize;
   bool Perturb;
   bool Exude;
+  bool ImproveAngles;
+  double ImprovementMinAngle;
+  double ImprovementMaxAngle;
   double PerturbationFailuresPerBound;
   double ExudationSliverBound;
   double PerturbationStepsPerVertex;

@@ -1708,8 +1708,10 @@ private:
     if (options_.improveAngles)
     {
       const auto& r = improvement_;
-      st["improvement.outside_before"] = static_cast<double>(r.outsideBefore);
-      st["improvement.outside_after"] = static_cast<double>(r.outsideAfter);
+      st[keys::IMPROVEMENT_MIN_ANGLE] = options_.improvementMinAngle;
+      st[keys::IMPROVEMENT_MAX_ANGLE] = options_.improvementMaxAngle;
+      st[keys::IMPROVEMENT_OUTSIDE_BEFORE] = static_cast<double>(r.outsideBefore);
+      st[keys::IMPROVEMENT_OUTSIDE_AFTER] = static_cast<double>(r.outsideAfter);
       st["improvement.min_dihedral_before"] = r.minBefore;
       st["improvement.max_dihedral_before"] = r.maxBefore;
       st["improvement.edge_removals"] = static_cast<double>(r.edgeRemovals);
@@ -1717,8 +1719,8 @@ private:
       st["improvement.interior_moves"] = static_cast<double>(r.interiorMoves);
       st["improvement.interface_moves"] = static_cast<double>(r.surfaceMoves);
       st["improvement.rounds"] = r.rounds;
-      st["improvement.cut_short"] = r.cutShort;
-      st["time.improvement"] = improvementTime_;
+      st[keys::IMPROVEMENT_CUT_SHORT] = r.cutShort;
+      st[keys::TIME_IMPROVEMENT] = improvementTime_;
     }
     st["time.perturbation"] = perturbed_.seconds;
     st["time.exudation"] = exuded_.seconds;

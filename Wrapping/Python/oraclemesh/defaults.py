@@ -28,6 +28,8 @@ FEATURE_SOURCES = ("None", "Given", "Automatic", "Both")
 # Scene "mesh" keys that are plain tetrahedralizer properties.
 MESH_PROPERTIES = {
     "perturb": "Perturb", "exude": "Exude", "sliver_angle": "SliverAngle",
+    "improve_angles": "ImproveAngles", "improvement_min_angle": "ImprovementMinAngle",
+    "improvement_max_angle": "ImprovementMaxAngle",
     "resample_feature_lines": "ResampleFeatureLines",
     "interface_sliver_angle": "InterfaceSliverAngle", "picking_sliver_angle": "PickingSliverAngle",
     "perturbation_failures_per_bound": "PerturbationFailuresPerBound",
@@ -37,7 +39,7 @@ MESH_PROPERTIES = {
     "seed": "Seed", "maximum_number_of_vertices": "MaximumNumberOfVertices", "time_limit": "TimeLimit",
     "element_order": "ElementOrder", "threads": "Threads",
 }
-BOOLEAN_PROPERTIES = {"Perturb", "Exude", "ResampleFeatureLines"}
+BOOLEAN_PROPERTIES = {"Perturb", "Exude", "ImproveAngles", "ResampleFeatureLines"}
 # MESH_PROPERTIES keys that a scene spells inside "mesh.features" ("resample")
 SCENE_FEATURE_PROPERTIES = {"resample_feature_lines"}
 

@@ -187,6 +187,12 @@ def report_lines(grid, title, names=None, source="mesh", recheck=True):
         lines.append("optimisation: " + "; ".join(
             f"{phase} {int(steps)} steps in {seconds:.1f} s, " + ("ended at its budget" if cut else "done")
             for phase, steps, cut, seconds in phases))
+    if fieldkeys.IMPROVEMENT_OUTSIDE_BEFORE in stats:
+        window = f"[{stats[fieldkeys.IMPROVEMENT_MIN_ANGLE]:g}, {stats[fieldkeys.IMPROVEMENT_MAX_ANGLE]:g}]"
+        lines.append(f"quality step: {int(stats[fieldkeys.IMPROVEMENT_OUTSIDE_BEFORE])} tetrahedra with a dihedral angle "
+                     f"outside {window} degrees before it, {int(stats[fieldkeys.IMPROVEMENT_OUTSIDE_AFTER])} after "
+                     f"({stats.get(fieldkeys.TIME_IMPROVEMENT, 0.0):.1f} s, "
+                     + ("ended at its budget of rounds)" if stats.get(fieldkeys.IMPROVEMENT_CUT_SHORT) else "done)"))
     for warning in strings(grid.GetFieldData(), fieldkeys.WARNINGS):
         if not warning.startswith("mesh validity:"):  # the line above says it
             lines.append("warning: " + warning)

@@ -51,7 +51,8 @@ MESH_KEYS = {"strategy", "criteria", "materials", "features", "seed", "maximum_n
              "perturb", "exude", "sliver_angle", "interface_sliver_angle", "picking_sliver_angle",
              "perturbation_steps_per_vertex",
              "exudation_steps_per_cell", "optimisation_time_limit", "perturbation_failures_per_bound",
-             "exudation_sliver_bound", "time_limit", "element_order", "threads"}
+             "exudation_sliver_bound", "time_limit", "element_order", "threads",
+             "improve_angles", "improvement_min_angle", "improvement_max_angle"}
 FEATURE_KEYS = {"use", "from_surface", "feature_angle", "files", "resample", "comment"}
 OUTPUT_KEYS = {"mesh", "report", "histogram", "comment"}
 INT_MIN, INT_MAX = -2**31, 2**31 - 1  # the C int of material ids, labels and the seed
@@ -329,7 +330,7 @@ def _mesh_block(problems, spec, scene):
     seed = _number(problems, spec, "$.mesh", "seed", required=False, integer=True)
     if seed is not None:
         mesh["seed"] = seed
-    for flag in ("perturb", "exude"):
+    for flag in ("perturb", "exude", "improve_angles"):
         if flag in spec and not isinstance(spec[flag], bool):
             problems.add(f"$.mesh.{flag}", f"must be true or false, got {spec[flag]!r}")
         elif flag in spec:
@@ -344,7 +345,8 @@ def _mesh_block(problems, spec, scene):
     for key, low, high in (("perturbation_steps_per_vertex", 0, 1e6), ("exudation_steps_per_cell", 0, 1e6),
                            ("optimisation_time_limit", -1, 1e6), ("perturbation_failures_per_bound", 0, 1e6),
                            ("exudation_sliver_bound", 0, 90), ("time_limit", -1, 1e9),
-                           ("picking_sliver_angle", -1, 30)):
+                           ("picking_sliver_angle", -1, 30), ("improvement_min_angle", 1, 60),
+                           ("improvement_max_angle", 120, 179)):
         value = _number(problems, spec, "$.mesh", key, required=False)
         if value is not None:
             if not low <= value <= high:

@@ -1,0 +1,187 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "BoxDomain.h"
+#include "DihedralImprovement.h"
+#include "HierarchicalOracle.h"
+#include "MeshQuality.h"
+#include "MeshValidity.h"
+#include "OracleMesher.h"
+#include "SphereDomain.h"
+#include "SurfaceDomain.h"
+#include "TestShapes.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+using namespace omesh;
+
+namespace
+{
+/// The 12 edges of the box [lo, hi]^3.
+FeatureSegments boxEdges(double lo, double hi)
+{
+  FeatureSegments f;
+  for (int i = 0; i < 8; ++i)
+    f.points.push_back({ (i & 1) ? hi : lo, (i & 2) ? hi : lo, (i & 4) ? hi : lo });
+  for (int i = 0; i < 8; ++i)
+    for (int bit : { 1, 2, 4 })
+      if (!(i & bit))
+        f.segments.push_back({ i, i | bit });
+  return f;
+}
+
+/// A ball of radius 0.6 (material 1) in a cube [-1, 1]^3 (material 2) with the cube's edges as
+/// feature lines, meshed at radius-edge 2 (many tetrahedra outside [15, 155] before the step).
+struct BallInCube
+{
+  HierarchicalOracle oracle;
+  FeatureSegments edges = boxEdges(-1, 1);
+  MesherOptions options;
+  BallInCube()
+  {
+    oracle.add(std::make_shared<SphereDomain>(Vec3{ 0.1, -0.05, 0.02 }, 0.6, 1));
+    oracle.add(std::make_shared<SurfaceDomain>(test::cube(-1, 1), 2));
+    options.criteria.global = { 25.0, 0.25, 0.01, 0.25, 2.0, 0.0 };
+    options.seed = 3;
+  }
+};
+
+bool inWindow(const TetMesh& m, std::size_t t, double lo, double hi)
+{
+  const auto& q = m.tets[t];
+  const auto& p = m.points;
+  return minDihedralAngle(p[q[0]], p[q[1]], p[q[2]], p[q[3]]) >= lo &&
+    maxDihedralAngle(p[q[0]], p[q[1]], p[q[2]], p[q[3]]) <= hi;
+}
+}
+
+TEST(DihedralImprovement, WindowQualityIsAtLeastOneExactlyInsideTheWindow)
+{
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  int inside = 0;
+  for (int k = 0; k < 2000; ++k)
+  {
+    const Vec3 a{ u(rng), u(rng), u(rng) }, b{ u(rng), u(rng), u(rng) }, c{ u(rng), u(rng), u(rng) },
+      d{ u(rng), u(rng), u(rng) };
+    const bool in = minDihedralAngle(a, b, c, d) >= 15.0 && maxDihedralAngle(a, b, c, d) <= 155.0;
+    inside += in;
+    EXPECT_EQ(dihedralWindowQuality(a, b, c, d, 15.0, 155.0) >= 1.0, in) << k;
+  }
+  EXPECT_GT(inside, 50); // both kinds were tried
+  EXPECT_LT(inside, 1950);
+  EXPECT_EQ(dihedralWindowQuality({ 0, 0, 0 }, { 1, 0, 0 }, { 0, 1, 0 }, { 1, 1, 0 }, 15.0, 155.0), -1.0);
+}
+
+TEST(DihedralImprovement, AFlatPairBecomesThreeAroundTheEdgeOfItsApexes)
+{
+  // two flat tetrahedra on an equilateral triangle, apexes 0.1 above and below its centre: their
+  // angles at the apex edges are near 180 degrees; around the apex edge they make three good ones
+  TetMesh m;
+  m.points = { { 1, 0, 0 }, { -0.5, 0.8660254, 0 }, { -0.5, -0.8660254, 0 }, { 0, 0, 0.6 }, { 0, 0, -0.6 } };
+  m.points[3].z = 0.1;
+  m.points[4].z = -0.1;
+  m.pointDimension.assign(5, 0); // every vertex held: only flips may act
+  m.tets = { { 0, 1, 2, 3 }, { 0, 2, 1, 4 } };
+  m.tetMaterial = { 1, 1 };
+  const double volume = materialVolumes(m).at(1);
+  HierarchicalOracle none;
+  const auto report = improveDihedralAngles(m, none);
+  EXPECT_EQ(report.faceRemovals, 1u);
+  ASSERT_EQ(m.tets.size(), 3u);
+  EXPECT_NEAR(materialVolumes(m).at(1), volume, 1e-12);
+  for (const auto& t : m.tets)
+    EXPECT_GT(signedVolume(m.points[t[0]], m.points[t[1]], m.points[t[2]], m.points[t[3]]) *
+        signedVolume(m.points[0], m.points[1], m.points[2], m.points[3]),
+      0.0)
+      << "a flipped tetrahedron is inverted";
+  EXPECT_GT(report.minAfter, report.minBefore);
+}
+
+TEST(DihedralImprovement, TheFlatPairStaysWhenItsFaceIsAnInterfaceOrItsMaterialsDiffer)
+{
+  TetMesh m;
+  m.points = { { 1, 0, 0 }, { -0.5, 0.8660254, 0 }, { -0.5, -0.8660254, 0 }, { 0, 0, 0.1 }, { 0, 0, -0.1 } };
+  m.pointDimension.assign(5, 0);
+  m.tets = { { 0, 1, 2, 3 }, { 0, 2, 1, 4 } };
+  m.tetMaterial = { 1, 2 };
+  m.interfaceTriangles = { { 0, 1, 2 } };
+  m.interfaceMaterials = { { 1, 2 } };
+  HierarchicalOracle none;
+  const auto report = improveDihedralAngles(m, none);
+  EXPECT_EQ(report.faceRemovals + report.edgeRemovals, 0u);
+  EXPECT_EQ(m.tets.size(), 2u);
+}
+
+TEST(DihedralImprovement, KeepsFeatureLinesInterfacesAndVolumesAndReachesTheWindow)
+{
+  BallInCube c;
+  MesherOptions off = c.options;
+  off.improveAngles = false;
+  const TetMesh before = meshOracle(c.oracle, c.edges, {}, off);
+  const TetMesh after = meshOracle(c.oracle, c.edges, {}, c.options);
+
+  EXPECT_GT(after.statistics.at("improvement.outside_before"), 20.0) << "the case no longer tests the step";
+  EXPECT_EQ(after.statistics.at("improvement.outside_after"), 0.0);
+  for (std::size_t t = 0; t < after.tets.size(); ++t)
+    ASSERT_TRUE(inWindow(after, t, 15.0, 155.0)) << "tetrahedron " << t;
+  EXPECT_NEAR(featureCoverage(locateFeatureSegments(after, c.edges), c.edges), 1.0, 1e-12);
+  EXPECT_EQ(after.statistics.at("validity.defects"), 0.0);
+  EXPECT_LE(after.tets.size(), before.tets.size() * 12 / 10);
+  const auto vb = materialVolumes(before), va = materialVolumes(after);
+  for (int material : { 1, 2 })
+    EXPECT_NEAR(va.at(material), vb.at(material), 0.005 * vb.at(material)) << material;
+
+  // Same refinement, so the same points before the step: feature vertices stay, interface vertices
+  // stay on their surface, interface triangles are the same.
+  ASSERT_EQ(before.points.size(), after.points.size());
+  ASSERT_EQ(before.interfaceTriangles, after.interfaceTriangles);
+  std::size_t moved = 0;
+  const Vec3 centre{ 0.1, -0.05, 0.02 };
+  for (std::size_t v = 0; v < after.points.size(); ++v)
+  {
+    const Vec3 p = after.points[v], q = before.points[v];
+    const bool same = p.x == q.x && p.y == q.y && p.z == q.z;
+    if (after.pointDimension[v] <= 1)
+      EXPECT_TRUE(same) << "feature vertex " << v << " moved";
+    if (after.pointDimension[v] == 2 && !same)
+    {
+      ++moved;
+      const bool onBall = std::abs(norm(q - centre) - 0.6) < 1e-6;
+      if (onBall)
+        EXPECT_NEAR(norm(p - centre), 0.6, 1e-9) << "vertex " << v << " left the ball's surface";
+      else // on a face of the cube: the coordinate that is +-1 stays so
+        EXPECT_TRUE(std::abs(std::abs(p.x) - 1) < 1e-12 || std::abs(std::abs(p.y) - 1) < 1e-12 ||
+          std::abs(std::abs(p.z) - 1) < 1e-12)
+          << "vertex " << v << " left the cube's faces";
+    }
+  }
+  EXPECT_GT(moved, 0u) << "no interface vertex moved: the case no longer tests their projection";
+}
+
+TEST(DihedralImprovement, OffLeavesTheOutsideTetrahedra)
+{
+  BallInCube c;
+  c.options.improveAngles = false;
+  const TetMesh m = meshOracle(c.oracle, c.edges, {}, c.options);
+  std::size_t outside = 0;
+  for (std::size_t t = 0; t < m.tets.size(); ++t)
+    outside += !inWindow(m, t, 15.0, 155.0);
+  EXPECT_GT(outside, 0u);
+  EXPECT_EQ(m.statistics.count("improvement.outside_before"), 0u);
+}
+
+TEST(DihedralImprovement, ProgressReportsTheStepAndAbortStopsIt)
+{
+  BallInCube c;
+  bool seen = false;
+  c.options.progress = [&](double, const char* phase) {
+    if (std::string(phase) != "quality step")
+      return true;
+    seen = true;
+    return false;
+  };
+  EXPECT_THROW(meshOracle(c.oracle, c.edges, {}, c.options), MeshingAborted);
+  EXPECT_TRUE(seen);
+}
