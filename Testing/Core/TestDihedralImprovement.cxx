@@ -86,8 +86,9 @@ TEST(DihedralImprovement, AFlatPairBecomesThreeAroundTheEdgeOfItsApexes)
   m.tets = { { 0, 1, 2, 3 }, { 0, 2, 1, 4 } };
   m.tetMaterial = { 1, 1 };
   const double volume = materialVolumes(m).at(1);
-  HierarchicalOracle none;
-  const auto report = improveDihedralAngles(m, none);
+  HierarchicalOracle around; // material 1 where the pair is (the new tetrahedra's centroids are checked)
+  around.add(std::make_shared<BoxDomain>(Vec3{ -2, -2, -2 }, Vec3{ 2, 2, 2 }, 1));
+  const auto report = improveDihedralAngles(m, around);
   EXPECT_EQ(report.faceRemovals, 1u);
   ASSERT_EQ(m.tets.size(), 3u);
   EXPECT_NEAR(materialVolumes(m).at(1), volume, 1e-12);
@@ -108,8 +109,9 @@ TEST(DihedralImprovement, TheFlatPairStaysWhenItsFaceIsAnInterfaceOrItsMaterials
   m.tetMaterial = { 1, 2 };
   m.interfaceTriangles = { { 0, 1, 2 } };
   m.interfaceMaterials = { { 1, 2 } };
-  HierarchicalOracle none;
-  const auto report = improveDihedralAngles(m, none);
+  HierarchicalOracle around;
+  around.add(std::make_shared<BoxDomain>(Vec3{ -2, -2, -2 }, Vec3{ 2, 2, 2 }, 1));
+  const auto report = improveDihedralAngles(m, around);
   EXPECT_EQ(report.faceRemovals + report.edgeRemovals, 0u);
   EXPECT_EQ(m.tets.size(), 2u);
 }

@@ -299,7 +299,7 @@ TEST(OracleMesher, ConformingKeepsTheCubeEdgesBeforeAndAfterOptimisation)
   o.add(std::make_shared<SurfaceDomain>(test::cube(0, 1), 1));
   const FeatureSegments edges = cubeEdges(0, 1);
   MesherOptions raw = options(FeatureStrategy::Conforming, 0.2);
-  raw.perturb = raw.exude = false;
+  raw.perturb = raw.exude = raw.improveAngles = false;
   const TetMesh before = meshOracle(o, edges, {}, raw);
   EXPECT_NEAR(featureCoverage(before.segments, edges), 1.0, 1e-12);
   expectCircumcentreMaterials(before, o);
@@ -347,9 +347,11 @@ TEST(OracleMesher, UndoneExudationGivesBackTheMeshFromBeforeIt)
   const FeatureSegments edges = cubeEdges(0, 1);
   MesherOptions noExuder = options(FeatureStrategy::Conforming, 0.2);
   noExuder.exude = false;
+  noExuder.improveAngles = false; // the comparison is with the complex before the exuder
   const TetMesh before = meshOracle(o, edges, {}, noExuder);
   MesherOptions undo = options(FeatureStrategy::Conforming, 0.2);
   undo.exudationSliverBound = 0; // pump every cell: the exuder changes the mesh
+  undo.improveAngles = false;
   const TetMesh exuded = meshOracle(o, edges, {}, undo);
   ASSERT_FALSE(tetSet(exuded) == tetSet(before)) << "the exuder changed nothing: nothing to undo";
   undo.undoExudationForTesting = true;
@@ -563,7 +565,7 @@ TEST(OracleMesher, InterfaceSliversAreRefined)
     return worst;
   };
   MesherOptions opt = options(FeatureStrategy::None, 0.2);
-  opt.perturb = opt.exude = false; // what refinement alone guarantees
+  opt.perturb = opt.exude = opt.improveAngles = false; // what refinement alone guarantees
   opt.interfaceSliverAngle = 0.0;
   const double without = worstInterfaceTet(meshOracle(o, {}, {}, opt));
   opt.interfaceSliverAngle = 15.0;
@@ -579,7 +581,7 @@ TEST(OracleMesher, SliversAreRefinedBeforeOptimisation)
 {
   const HierarchicalOracle o = ballOnBox();
   MesherOptions opt = options(FeatureStrategy::Conforming, 0.2);
-  opt.perturb = opt.exude = false;
+  opt.perturb = opt.exude = opt.improveAngles = false;
   opt.pickingSliverAngle = 0.0; // circumcentres: the sliver rule alone
   opt.sliverAngle = 0.0;
   const double without = worstTet(meshOracle(o, {}, {}, opt));
@@ -603,7 +605,7 @@ TEST(OracleMesher, PickedRefinementPointsBoundTheAnglesBeforeOptimisation)
   MesherOptions opt = options(FeatureStrategy::Conforming, 0.3);
   opt.criteria.global.cellRadiusEdgeRatio = 1.1;
   opt.criteria.global.edgeSize = 0.2;
-  opt.perturb = opt.exude = false;
+  opt.perturb = opt.exude = opt.improveAngles = false;
   opt.maximumNumberOfVertices = 100000;
   opt.pickingSliverAngle = 0.0; // circumcentres, SliverAngle 1
   const TetMesh circumcentres = meshOracle(o, edges, {}, opt);
@@ -626,7 +628,7 @@ TEST(OracleMesher, PickedRefinementPointsWithoutFeatureLines)
 {
   const HierarchicalOracle o = ballOnBox();
   MesherOptions opt = options(FeatureStrategy::None, 0.2);
-  opt.perturb = opt.exude = false;
+  opt.perturb = opt.exude = opt.improveAngles = false;
   ASSERT_EQ(effectivePickingSliverAngle(opt), kPickingSliverAngleLoose);
   const TetMesh picked = meshOracle(o, {}, {}, opt);
   EXPECT_GE(worstTet(picked), kPickingSliverAngleLoose);

@@ -1572,6 +1572,7 @@ private:
     DihedralImprovementOptions o;
     o.minAngle = options_.improvementMinAngle;
     o.maxAngle = options_.improvementMaxAngle;
+    o.cellSizeOf = [this](int material) { return options_.criteria.of(material).cellSize; };
     o.progress = [this](double f) {
       deadline_.check("quality step");
       report(0.98 + 0.02 * f, "quality step");

@@ -205,6 +205,32 @@ private:
       minAngle = maxAngle = 0.0;
   }
 
+  /// Whether tetrahedron t of `material` may be in the mesh: within its material's cell size, and,
+  /// with all four vertices on interfaces or feature lines, with its centroid in its material.
+  bool acceptable(const std::array<int, 4>& t, int material) const
+  {
+    const auto& p = mesh_.points;
+    if (options_.cellSizeOf)
+    {
+      const double size = options_.cellSizeOf(material);
+      if (size > 0 && !(norm(p[t[0]] - circumcenter(p[t[0]], p[t[1]], p[t[2]], p[t[3]])) <= size))
+        return false;
+    }
+    for (int v : t)
+      if (mesh_.pointDimension[static_cast<std::size_t>(v)] == 3)
+        return true;
+    const Vec3 centroid = 0.25 * (p[t[0]] + p[t[1]] + p[t[2]] + p[t[3]]);
+    return oracle_.material(centroid) == material;
+  }
+
+  bool starAcceptable(int v) const
+  {
+    for (int t : stars_.star(v))
+      if (!acceptable(stars_.tet(t), stars_.material(t)))
+        return false;
+    return true;
+  }
+
   // --- what may change -----------------------------------------------------------------------
   /// Interface triangles and feature edges are kept; vertices on one interface move along it,
   /// interior vertices anywhere, the others stay.
@@ -394,8 +420,7 @@ private:
     if (!(best[n - 1] > before + 1e-9))
       return false;
     const int material = stars_.material(old.front());
-    for (int t : old)
-      stars_.remove(t);
+    std::vector<std::array<int, 4>> made;
     std::vector<std::pair<int, int>> todo{ { 0, n - 1 } };
     while (!todo.empty())
     {
@@ -404,11 +429,18 @@ private:
       if (j - i < 2)
         continue;
       const int k = split[i * n + j];
-      stars_.add({ ring[i], ring[k], ring[j], b }, material);
-      stars_.add({ ring[j], ring[k], ring[i], a }, material);
+      made.push_back({ ring[i], ring[k], ring[j], b });
+      made.push_back({ ring[j], ring[k], ring[i], a });
       todo.push_back({ i, k });
       todo.push_back({ k, j });
     }
+    for (const auto& m : made)
+      if (!acceptable(m, material))
+        return false;
+    for (int t : old)
+      stars_.remove(t);
+    for (const auto& m : made)
+      stars_.add(m, material);
     ++report_.edgeRemovals;
     return true;
   }
@@ -444,9 +476,10 @@ private:
     double after = std::numeric_limits<double>::infinity();
     for (const auto& m : made)
       after = std::min(after, quality(m));
-    if (!(after > before + 1e-9))
-      return false;
     const int material = stars_.material(t);
+    if (!(after > before + 1e-9) ||
+      !std::all_of(made.begin(), made.end(), [&](const auto& m) { return acceptable(m, material); }))
+      return false;
     stars_.remove(t);
     stars_.remove(other);
     for (const auto& m : made)
@@ -561,7 +594,7 @@ private:
         x = trial;
         int w = -1;
         const double q = starQuality(v, &w);
-        if (q > current + 1e-9)
+        if (q > current + 1e-9 && starAcceptable(v))
         {
           current = q;
           worst = w;

@@ -18,6 +18,9 @@ struct DihedralImprovementOptions
   /// Rounds over the tetrahedra outside the window, worst first; a round that changes nothing ends
   /// the step. A budget of steps, not seconds: a seed gives the same mesh on any machine.
   int rounds = 6;
+  /// The circumradius bound of a material's tetrahedra (its cell size; <= 0: none): no change
+  /// makes a tetrahedron larger than its material allows. Unset: no bound.
+  std::function<double(int)> cellSizeOf;
   /// Called between tetrahedra with the fraction of the work done (may throw to abort).
   std::function<void(double)> progress;
 };
@@ -47,7 +50,9 @@ struct DihedralImprovementReport
 ///  - moving a vertex of exactly one interface (two materials, or a material and the outside) along
 ///    it, each trial point put back on the oracle's interface (HierarchicalOracle::intersect along
 ///    the interface normal).
-/// Vertices on feature lines and corners (pointDimension <= 1), the ends of present feature
+/// No change makes a tetrahedron larger than its material's cell size, nor one whose four vertices
+/// all lie on interfaces or feature lines with its centroid in another material (an edge across a
+/// thin or acute part). Vertices on feature lines and corners (pointDimension <= 1), the ends of present feature
 /// segments and vertices where interfaces meet do not move. Deterministic. mesh.segments must be
 /// located (locateFeatureSegments) before: their present pieces are the edges kept.
 DihedralImprovementReport improveDihedralAngles(
