@@ -109,6 +109,7 @@ inline omesh::FeatureSegments readSegments(const std::string& path)
 ///   <labels|surface|cad> <input> [features] [--cell-size x] [--facet-size x] [--facet-distance x]
 ///   [--facet-angle x] [--radius-edge x] [--edge-size x] [--opt default|none|limit:T] [--seed n]
 ///   [--threads n] [--sliver-angle degrees] [--interpolation nearest|trilinear|smooth] [--write path]
+///   [--improve on|off]
 /// --opt: default = the tool's own default optimisation; none = refinement only; limit:T = perturb
 /// and exude each limited to T seconds and nothing else (no step budgets); previous (OracleMesh
 /// only) = its defaults before issue 12's optimisation policy. --threads (OracleMesh only): the
@@ -116,6 +117,8 @@ inline omesh::FeatureSegments readSegments(const std::string& path)
 /// strategy's picked-point angle (MesherOptions::pickingSliverAngle). --interpolation (OracleMesh
 /// only, labels): the label map's LabelInterpolation (default trilinear, as CGAL's). --write: the
 /// mesh as points, tetrahedra and materials (writeMesh) for measures the JSON line lacks.
+/// --improve (OracleMesh only): its quality step (MesherOptions::improveAngles, default on).
+/// --opt remesh (CGAL only): the default optimisers, then CGAL's Tetrahedral_remeshing.
 struct Args
 {
   std::string kind, input, features;
@@ -123,6 +126,7 @@ struct Args
   std::string opt = "default";
   std::string interpolation = "trilinear";
   std::string write;
+  bool improve = true;
   double limit = 0;
   unsigned seed = 1;
   int threads = 1;
@@ -152,6 +156,13 @@ inline Args parseArgs(int argc, char* argv[])
     else if (s == "--sliver-angle") a.sliverAngle = std::stod(value());
     else if (s == "--interpolation") a.interpolation = value();
     else if (s == "--write") a.write = value();
+    else if (s == "--improve")
+    {
+      const std::string v = value();
+      if (v != "on" && v != "off")
+        throw std::runtime_error("--improve: on or off");
+      a.improve = v == "on";
+    }
     else if (s == "--opt")
     {
       a.opt = value();
@@ -160,8 +171,8 @@ inline Args parseArgs(int argc, char* argv[])
         a.limit = std::stod(a.opt.substr(6));
         a.opt = "limit";
       }
-      else if (a.opt != "default" && a.opt != "none" && a.opt != "previous")
-        throw std::runtime_error("--opt: default, none, previous or limit:SECONDS");
+      else if (a.opt != "default" && a.opt != "none" && a.opt != "previous" && a.opt != "remesh")
+        throw std::runtime_error("--opt: default, none, previous, remesh or limit:SECONDS");
     }
     else
       positional.push_back(s);
@@ -235,14 +246,18 @@ inline void report(const char* tool, const Args& a, const omesh::TetMesh& mesh, 
   double refineSeconds, double perturbSeconds, double exudeSeconds, double optimiseSeconds, double callSeconds,
   double peakRss, double callCpuSeconds, const omesh::FeatureSegments& features, const std::string& extra = "")
 {
-  double minAngle = 180.0, sum = 0.0;
-  size_t below10 = 0;
+  double minAngle = 180.0, maxAngle = 0.0, sum = 0.0;
+  size_t below10 = 0, outside = 0; // outside: an angle outside [15, 155] degrees
   for (const auto& t : mesh.tets)
   {
-    const double d = omesh::minDihedralAngle(mesh.points[t[0]], mesh.points[t[1]], mesh.points[t[2]], mesh.points[t[3]]);
+    const auto& p = mesh.points;
+    const double d = omesh::minDihedralAngle(p[t[0]], p[t[1]], p[t[2]], p[t[3]]);
+    const double D = omesh::maxDihedralAngle(p[t[0]], p[t[1]], p[t[2]], p[t[3]]);
     minAngle = std::min(minAngle, d);
+    maxAngle = std::max(maxAngle, D);
     sum += d;
     below10 += d < 10.0;
+    outside += d < 15.0 || D > 155.0;
   }
   omesh::ValidityThresholds th;
   th.segmentsRequired = false; // coverage is reported on its own
@@ -258,6 +273,7 @@ inline void report(const char* tool, const Args& a, const omesh::TetMesh& mesh, 
     << ", \"exude\": " << exudeSeconds << ", \"optimise\": " << optimiseSeconds << ", \"call\": " << callSeconds << ", \"call_cpu\": " << callCpuSeconds
     << ", \"peak_rss\": " << peakRss << ", \"min_dihedral\": " << (mesh.tets.empty() ? 0.0 : minAngle)
     << ", \"mean_min_dihedral\": " << (mesh.tets.empty() ? 0.0 : sum / mesh.tets.size())
+    << ", \"max_dihedral\": " << maxAngle << ", \"outside_15_155\": " << outside
     << ", \"tets_below_10\": " << below10 << ", \"defects\": " << v.defects()
     << ", \"duplicates\": " << v.duplicateVertices << ", \"flat\": " << v.flatTetrahedra
     << ", \"micro\": " << v.microTetrahedra << ", \"inverted\": " << v.invertedTetrahedra

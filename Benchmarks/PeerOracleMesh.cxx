@@ -59,6 +59,7 @@ int main(int argc, char* argv[])
     o.seed = a.seed;
     o.threads = a.threads;
     o.pickingSliverAngle = a.sliverAngle;
+    o.improveAngles = a.improve;
     if (a.opt == "none")
       o.perturb = o.exude = false;
     else if (a.opt == "previous") // the defaults before issue 12's optimisation policy: step budgets only
@@ -89,7 +90,8 @@ int main(int argc, char* argv[])
           << ", \"warnings\": " << mesh.warnings.size()
           << ", \"refine_cpu\": " << stat("cpu.refinement") << ", \"optimise_cpu\": " << stat("cpu.optimisation")
           << ", \"refine_critical_cpu\": " << stat("cpu.refinement_critical_path")
-          << ", \"min_refined\": " << stat("optimisation.min_dihedral_before");
+          << ", \"min_refined\": " << stat("optimisation.min_dihedral_before")
+          << ", \"improve\": " << stat("time.improvement");
     // Conforming on several threads: vertices after and seconds of each phase (sequential segments,
     // parallel, sequential tail)
     for (const auto& [key, value] : st)

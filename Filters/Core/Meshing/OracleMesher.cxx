@@ -1720,6 +1720,7 @@ private:
       st["improvement.interior_moves"] = static_cast<double>(r.interiorMoves);
       st["improvement.interface_moves"] = static_cast<double>(r.surfaceMoves);
       st["improvement.rounds"] = r.rounds;
+      st[keys::IMPROVEMENT_OUTSIDE_HELD] = static_cast<double>(r.outsideHeld);
       st[keys::IMPROVEMENT_CUT_SHORT] = r.cutShort;
       st[keys::TIME_IMPROVEMENT] = improvementTime_;
     }

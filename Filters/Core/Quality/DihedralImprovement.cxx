@@ -154,6 +154,7 @@ public:
     report_.cutShort = changed && report_.rounds == options_.rounds && options_.rounds > 0;
     stars_.compact(mesh_);
     measure(report_.outsideAfter, report_.minAfter, report_.maxAfter);
+    report_.outsideHeld = countOutsideHeld();
     return report_;
   }
 
@@ -229,6 +230,16 @@ private:
       if (!acceptable(stars_.tet(t), stars_.material(t)))
         return false;
     return true;
+  }
+
+  std::size_t countOutsideHeld() const
+  {
+    std::size_t held = 0;
+    for (const auto& t : mesh_.tets)
+      if (quality(t) < 1.0 &&
+        std::all_of(t.begin(), t.end(), [&](int v) { return kind_[static_cast<std::size_t>(v)] == VertexKind::Fixed; }))
+        ++held;
+    return held;
   }
 
   // --- what may change -----------------------------------------------------------------------

@@ -29,6 +29,9 @@ struct DihedralImprovementReport
 {
   std::size_t outsideBefore = 0; ///< tetrahedra with an angle outside the window, before and after
   std::size_t outsideAfter = 0;
+  /// of those after, the ones whose four vertices are all held (on feature lines, corners, where
+  /// interfaces meet): their shape is the input's lines', no move or interior flip reaches them
+  std::size_t outsideHeld = 0;
   double minBefore = 0.0, maxBefore = 0.0; ///< extreme dihedral angles (degrees)
   double minAfter = 0.0, maxAfter = 0.0;
   std::size_t edgeRemovals = 0;   ///< interior edges removed (3-2 flips and larger rings)

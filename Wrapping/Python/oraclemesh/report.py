@@ -190,8 +190,11 @@ def report_lines(grid, title, names=None, source="mesh", recheck=True):
     if fieldkeys.IMPROVEMENT_OUTSIDE_BEFORE in stats:
         window = f"[{stats[fieldkeys.IMPROVEMENT_MIN_ANGLE]:g}, {stats[fieldkeys.IMPROVEMENT_MAX_ANGLE]:g}]"
         lines.append(f"quality step: {int(stats[fieldkeys.IMPROVEMENT_OUTSIDE_BEFORE])} tetrahedra with a dihedral angle "
-                     f"outside {window} degrees before it, {int(stats[fieldkeys.IMPROVEMENT_OUTSIDE_AFTER])} after "
-                     f"({stats.get(fieldkeys.TIME_IMPROVEMENT, 0.0):.1f} s, "
+                     f"outside {window} degrees before it, {int(stats[fieldkeys.IMPROVEMENT_OUTSIDE_AFTER])} after"
+                     + (f" ({int(stats[fieldkeys.IMPROVEMENT_OUTSIDE_HELD])} with every vertex held: on feature lines, "
+                        "corners or where interfaces meet, their shape is the input's; see the worst tetrahedra above)"
+                        if stats.get(fieldkeys.IMPROVEMENT_OUTSIDE_HELD) else "")
+                     + f" ({stats.get(fieldkeys.TIME_IMPROVEMENT, 0.0):.1f} s, "
                      + ("ended at its budget of rounds)" if stats.get(fieldkeys.IMPROVEMENT_CUT_SHORT) else "done)"))
     for warning in strings(grid.GetFieldData(), fieldkeys.WARNINGS):
         if not warning.startswith("mesh validity:"):  # the line above says it
