@@ -23,6 +23,8 @@ PKGS=(
   python3-meshio python3-matplotlib
   # batch on a Dask cluster (--scheduler, --workers)
   python3-distributed
+  # benchmarks: TetGen as a peer of the quality step (Benchmarks/quality_step.py); scipy's k-d tree
+  tetgen python3-scipy
 )
 export DEBIAN_FRONTEND=noninteractive
 missing=()

@@ -1580,6 +1580,7 @@ private:
     improvement_ = improveDihedralAngles(mesh, oracle_, o);
     improvementTime_ = seconds(start);
     outputTets_ = mesh.tets.size();
+    outputVertices_ = mesh.points.size();
   }
 
   /// Never silent: pieces the segment level could not make mesh edges, how many, why and where.
@@ -1718,6 +1719,7 @@ private:
       st["improvement.edge_removals"] = static_cast<double>(r.edgeRemovals);
       st["improvement.face_removals"] = static_cast<double>(r.faceRemovals);
       st["improvement.interior_moves"] = static_cast<double>(r.interiorMoves);
+      st["improvement.edge_splits"] = static_cast<double>(r.edgeSplits);
       st["improvement.interface_moves"] = static_cast<double>(r.surfaceMoves);
       st["improvement.rounds"] = r.rounds;
       st[keys::IMPROVEMENT_OUTSIDE_HELD] = static_cast<double>(r.outsideHeld);

@@ -78,6 +78,14 @@ public:
     return id;
   }
 
+  /// Takes back a removed tetrahedron (its vertices' stars list it again).
+  void revive(int t)
+  {
+    alive_[static_cast<std::size_t>(t)] = 1;
+    for (int v : tets_[static_cast<std::size_t>(t)])
+      stars_[static_cast<std::size_t>(v)].push_back(t);
+  }
+
   void remove(int t)
   {
     alive_[static_cast<std::size_t>(t)] = 0;
@@ -87,6 +95,10 @@ public:
       s.erase(std::find(s.begin(), s.end(), t));
     }
   }
+
+  /// Room for the star of a new vertex; the last one can be taken back while it has no tetrahedra.
+  void addVertex() { stars_.emplace_back(); }
+  void removeLastVertex() { stars_.pop_back(); }
 
   /// Live tetrahedra containing both a and b.
   std::vector<int> around(int a, int b) const
@@ -353,7 +365,71 @@ private:
         break;
       moved = moveVertex(v) || moved;
     }
-    return moved;
+    if (moved || !stars_.alive(t))
+      return moved;
+    // the last resort, for tetrahedra whose vertices cannot move (a thin layer between two
+    // interfaces, feature lines): a new interior vertex on one of its edges, longest first
+    std::array<std::pair<double, std::pair<int, int>>, 6> edges;
+    int k = 0;
+    for (int i = 0; i < 4; ++i)
+      for (int j = i + 1; j < 4; ++j)
+        edges[k++] = { -norm(mesh_.points[static_cast<std::size_t>(q[i])] - mesh_.points[static_cast<std::size_t>(q[j])]),
+          { q[i], q[j] } };
+    std::sort(edges.begin(), edges.end());
+    for (const auto& e : edges)
+      if (splitEdge(e.second.first, e.second.second))
+        return true;
+    return false;
+  }
+
+  /// Splits interior edge ab at its midpoint (each tetrahedron around it in two), moves the new
+  /// vertex to where its star is best and keeps it when the star's worst beats the ring's before;
+  /// else everything goes back.
+  bool splitEdge(int a, int b)
+  {
+    std::vector<int> ring, old;
+    if (!ringAround(a, b, ring, old))
+      return false;
+    double before = std::numeric_limits<double>::infinity();
+    for (int t : old)
+      before = std::min(before, quality(t));
+    const int material = stars_.material(old.front());
+    const int m = static_cast<int>(mesh_.points.size());
+    const auto& p = mesh_.points;
+    mesh_.points.push_back(0.5 * (p[static_cast<std::size_t>(a)] + p[static_cast<std::size_t>(b)]));
+    mesh_.pointDimension.push_back(3);
+    kind_.push_back(VertexKind::Interior);
+    sides_.push_back({ 0, 0 });
+    interfaceAt_.emplace_back();
+    stars_.addVertex();
+    for (int t : old)
+      stars_.remove(t);
+    std::vector<int> made;
+    for (std::size_t i = 0; i < ring.size(); ++i)
+    {
+      const int c = ring[i], d = ring[(i + 1) % ring.size()];
+      made.push_back(stars_.add({ a, m, c, d }, material));
+      made.push_back(stars_.add({ m, b, c, d }, material));
+    }
+    const std::size_t movesBefore = report_.interiorMoves;
+    moveVertex(m);
+    report_.interiorMoves = movesBefore;
+    if (starQuality(m) > before + 1e-9 && starAcceptable(m))
+    {
+      ++report_.edgeSplits;
+      return true;
+    }
+    for (int t : made)
+      stars_.remove(t);
+    for (int t : old)
+      stars_.revive(t);
+    stars_.removeLastVertex();
+    mesh_.points.pop_back();
+    mesh_.pointDimension.pop_back();
+    kind_.pop_back();
+    sides_.pop_back();
+    interfaceAt_.pop_back();
+    return false;
   }
 
   // --- flips --------------------------------------------------------------------------------

@@ -36,6 +36,7 @@ struct DihedralImprovementReport
   double minAfter = 0.0, maxAfter = 0.0;
   std::size_t edgeRemovals = 0;   ///< interior edges removed (3-2 flips and larger rings)
   std::size_t faceRemovals = 0;   ///< interior faces removed (2-3 flips)
+  std::size_t edgeSplits = 0;     ///< interior vertices added on interior edges (kept ones)
   std::size_t interiorMoves = 0;  ///< interior vertices moved
   std::size_t surfaceMoves = 0;   ///< interface vertices moved along their interface (kept on it)
   int rounds = 0;                 ///< rounds run
@@ -50,6 +51,8 @@ struct DihedralImprovementReport
 ///    interior face (2-3 flip), only inside one material and never an edge of a feature line, so
 ///    interface triangles and feature edges stay as they are;
 ///  - moving an interior vertex to where its star's worst tetrahedron is best;
+///  - where nothing else helps, splitting an interior edge of the tetrahedron (a new interior
+///    vertex, moved the same way, kept only when it raises the worst of its star);
 ///  - moving a vertex of exactly one interface (two materials, or a material and the outside) along
 ///    it, each trial point put back on the oracle's interface (HierarchicalOracle::intersect along
 ///    the interface normal).
