@@ -44,6 +44,7 @@ from label_fidelity import read_mesh as read_peer_mesh  # noqa: E402
 from peer_benchmark import SIZES, criteria, prepare  # noqa: E402
 
 WINDOW = (15.0, 155.0)
+TIMEOUT = 600  # seconds for each peer run outside this project (TetGen, Gmsh)
 
 
 def dihedral_range(points, tets):
@@ -130,7 +131,11 @@ def run_tetgen(off, h, work):
     subprocess.run(["cp", off, base], check=True)
     max_volume = (h * (8 / 3) ** 0.5) ** 3 / (6 * 2 ** 0.5)
     t0 = time.perf_counter()
-    subprocess.run(["tetgen", "-pq1.4/15", f"-a{max_volume:.6g}", "-O9/7", "-Q", base], check=True, timeout=7200)
+    try:
+        subprocess.run(["tetgen", "-pq1.4/15", f"-a{max_volume:.6g}", "-O9/7", "-Q", base], check=True,
+                       timeout=TIMEOUT)
+    except subprocess.TimeoutExpired:
+        return None, None, TIMEOUT
     wall = time.perf_counter() - t0
     stem = base[:-4] + ".1"
     nodes = np.loadtxt(stem + ".node", skiprows=1, comments="#")[:, 1:4]
@@ -154,13 +159,18 @@ def run_gmsh(off, h, work):
                 f"Mesh.MeshSizeMax = {1.633 * h};\nMesh.Optimize = 1;\n")
     msh = stl[:-4] + ".msh"
     t0 = time.perf_counter()
-    subprocess.run(["gmsh", geo, "-3", "-o", msh, "-v", "1"], check=True, timeout=7200, cwd=work)
+    try:
+        subprocess.run(["gmsh", geo, "-3", "-o", msh, "-v", "1"], check=True, timeout=TIMEOUT, cwd=work)
+    except subprocess.TimeoutExpired:
+        return None, None, TIMEOUT
     wall = time.perf_counter() - t0
     m = meshio.read(msh)
     return m.points, m.get_cells_type("tetra"), wall
 
 
 def row(name, points, tets, wall, reference_volume, segments):
+    if tets is None:
+        return {"tool": name, "timeout": wall}
     lo, hi = dihedral_range(points, tets)
     outside = int(((lo < WINDOW[0]) | (hi > WINDOW[1])).sum())
     cov = coverage(points, tets, segments) if segments else None
@@ -204,6 +214,9 @@ def main():
         print("| tool | tetrahedra | min ° | max ° | outside [15, 155] | seconds | feature coverage | volume vs OracleMesh without the step |")
         print("|---|---|---|---|---|---|---|---|")
         for r in rows:
+            if "timeout" in r:
+                print(f"| {r['tool']} | did not end within {r['timeout']} s | | | | | | |")
+                continue
             cov = "–" if r["coverage"] is None else f"{100 * r['coverage']:.1f} %"
             print(f"| {r['tool']} | {r['tets']:,} | {r['min']:.2f} | {r['max']:.2f} | {r['outside']:,} | "
                   f"{r['seconds']:.2f} | {cov} | {100 * r['volume_vs_reference']:+.3f} % |")

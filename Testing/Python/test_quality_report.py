@@ -97,5 +97,62 @@ class Report(unittest.TestCase):
         self.assertIn("need 0 <= MIN < MAX <= 180", bad.stderr)
 
 
+class QualityStep(unittest.TestCase):
+    """The quality step through the doors: on by default (the filter, the scene's defaults), its
+    window checked by --strict, off by the scene key, its keys validated."""
+
+    def mesh(self, tmp, *extra):
+        import json
+
+        scene = os.path.join(tmp, "scene.json")
+        with open(scene, "w") as f:
+            json.dump(SCENE, f)
+        out = os.path.join(tmp, "mesh.vtu")
+        result = run("mesh", scene, "-o", out, "--report", os.path.join(tmp, "report.txt"), *extra)
+        return result, read_mesh(out) if result.returncode == 0 else None
+
+    def test_on_by_default_and_every_angle_in_its_window(self):
+        from oraclemesh import vtkFeaturePreservingTetrahedralizer
+        from oraclemesh.defaults import mesh_defaults
+
+        self.assertTrue(vtkFeaturePreservingTetrahedralizer().GetImproveAngles())
+        self.assertEqual((mesh_defaults()["improvement_min_angle"], mesh_defaults()["improvement_max_angle"]),
+                         (15.0, 155.0))
+        with tempfile.TemporaryDirectory() as tmp:
+            off, grid = self.mesh(tmp, "--set", "improve_angles=false")
+            self.assertEqual(off.returncode, 0, off.stderr)
+            points, cells, _ = tetrahedra(grid)
+            shape = shape_measures(points, cells)
+            outside = int(((shape["min_dihedral"] < 15) | (shape["max_dihedral"] > 155)).sum())
+            self.assertGreater(outside, 0, "the scene no longer has tetrahedra for the step to raise")
+            self.assertNotIn("quality step:", off.stdout)
+            on, grid = self.mesh(tmp, "--strict", "15,155")
+            self.assertEqual(on.returncode, 0, on.stderr)
+            self.assertRegex(on.stdout, r"quality step: \d+ tetrahedra with a dihedral angle outside \[15, 155\] "
+                                        r"degrees before it, 0 after")
+            points, cells, _ = tetrahedra(grid)
+            shape = shape_measures(points, cells)
+            self.assertGreaterEqual(shape["min_dihedral"].min(), 15.0)
+            self.assertLessEqual(shape["max_dihedral"].max(), 155.0)
+
+    def test_scene_keys_are_checked(self):
+        import json
+
+        from oraclemesh.errors import OracleMeshError
+        from oraclemesh.scene import load_scene
+
+        for key, value, words in (("improve_angles", "yes", "true or false"),
+                                  ("improvement_max_angle", 100, "between 120 and 179"),
+                                  ("improvement_min_angle", 0, "between 1 and 60")):
+            with tempfile.TemporaryDirectory() as tmp:
+                path = os.path.join(tmp, "scene.json")
+                with open(path, "w") as f:
+                    json.dump({**SCENE, "mesh": {**SCENE["mesh"], key: value}}, f)
+                with self.assertRaises(OracleMeshError) as e:
+                    load_scene(path)
+            self.assertIn(f"$.mesh.{key}", str(e.exception))
+            self.assertIn(words, str(e.exception))
+
+
 if __name__ == "__main__":
     unittest.main()
