@@ -91,7 +91,8 @@ int main(int argc, char* argv[])
           << ", \"refine_cpu\": " << stat("cpu.refinement") << ", \"optimise_cpu\": " << stat("cpu.optimisation")
           << ", \"refine_critical_cpu\": " << stat("cpu.refinement_critical_path")
           << ", \"min_refined\": " << stat("optimisation.min_dihedral_before")
-          << ", \"improve\": " << stat("time.improvement");
+          << ", \"improve\": " << stat("time.improvement")
+          << ", \"outside_held\": " << stat("improvement.outside_held");
     // Conforming on several threads: vertices after and seconds of each phase (sequential segments,
     // parallel, sequential tail)
     for (const auto& [key, value] : st)

@@ -145,8 +145,14 @@ TEST(DihedralImprovement, KeepsFeatureLinesInterfacesAndVolumesAndReachesTheWind
   {
     const Vec3 p = after.points[v], q = before.points[v];
     const bool same = p.x == q.x && p.y == q.y && p.z == q.z;
-    if (after.pointDimension[v] <= 1)
-      EXPECT_TRUE(same) << "feature vertex " << v << " moved";
+    if (after.pointDimension[v] == 0)
+      EXPECT_TRUE(same) << "corner " << v << " moved";
+    if (after.pointDimension[v] == 1 && !same) // slid along its cube edge: two coordinates stay +-1
+    {
+      const int onFaces = (std::abs(std::abs(p.x) - 1) < 1e-12) + (std::abs(std::abs(p.y) - 1) < 1e-12) +
+        (std::abs(std::abs(p.z) - 1) < 1e-12);
+      EXPECT_GE(onFaces, 2) << "feature vertex " << v << " left its edge";
+    }
     if (after.pointDimension[v] == 2 && !same)
     {
       ++moved;
@@ -160,6 +166,42 @@ TEST(DihedralImprovement, KeepsFeatureLinesInterfacesAndVolumesAndReachesTheWind
     }
   }
   EXPECT_GT(moved, 0u) << "no interface vertex moved: the case no longer tests their projection";
+  // the pieces' ends are where their vertices are
+  for (const auto& piece : after.segments)
+    if (piece.aId >= 0)
+      EXPECT_EQ(norm(piece.a - after.points[static_cast<std::size_t>(piece.aId)]), 0.0);
+
+}
+
+TEST(DihedralImprovement, FeatureVerticesSlideAlongTheirStraightSegmentsOnly)
+{
+  // an L-shaped prism with all 18 edges as feature lines, at radius-edge 3: the worst tetrahedra
+  // sit at its edges, whose inner vertices may slide along them
+  const TriangleSurface part = test::lPrism(7.0, { 0.37, -1.13, 2.71 });
+  HierarchicalOracle o;
+  o.add(std::make_shared<SurfaceDomain>(part, 3));
+  FeatureSegments edges;
+  edges.points = part.points;
+  for (int i = 0; i < 6; ++i)
+    for (const std::array<int, 2> e : { std::array<int, 2>{ i, (i + 1) % 6 }, { 6 + i, 6 + (i + 1) % 6 }, { i, 6 + i } })
+      edges.segments.push_back(e);
+  MesherOptions opt;
+  opt.criteria.global = { 25.0, 1.5, 0.1, 1.5, 3.0, 0.75 };
+  opt.seed = 5;
+  const TetMesh m = meshOracle(o, edges, {}, opt);
+  EXPECT_GT(m.statistics.at("improvement.feature_line_moves"), 0.0) << "the case no longer tests the slides";
+  EXPECT_EQ(m.statistics.at("improvement.outside_after"), 0.0);
+  EXPECT_NEAR(featureCoverage(locateFeatureSegments(m, edges), edges), 1.0, 1e-12);
+  EXPECT_EQ(m.statistics.at("validity.defects"), 0.0);
+  for (std::size_t v = 0; v < m.points.size(); ++v)
+  {
+    if (m.pointDimension[v] != 1)
+      continue;
+    double nearest = 1e300;
+    for (const auto& s : edges.segments)
+      nearest = std::min(nearest, distanceToSegment(m.points[v], edges.points[s[0]], edges.points[s[1]]));
+    EXPECT_LT(nearest, 1e-9) << "feature vertex " << v << " left the lines";
+  }
 }
 
 TEST(DihedralImprovement, OffLeavesTheOutsideTetrahedra)

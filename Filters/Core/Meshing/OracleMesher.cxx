@@ -1721,6 +1721,7 @@ private:
       st["improvement.interior_moves"] = static_cast<double>(r.interiorMoves);
       st["improvement.edge_splits"] = static_cast<double>(r.edgeSplits);
       st["improvement.interface_moves"] = static_cast<double>(r.surfaceMoves);
+      st["improvement.feature_line_moves"] = static_cast<double>(r.lineMoves);
       st["improvement.rounds"] = r.rounds;
       st[keys::IMPROVEMENT_OUTSIDE_HELD] = static_cast<double>(r.outsideHeld);
       st[keys::IMPROVEMENT_CUT_SHORT] = r.cutShort;

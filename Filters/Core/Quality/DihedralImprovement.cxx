@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <unordered_map>
 #include <unordered_set>
 
 namespace omesh
@@ -137,7 +138,8 @@ enum class VertexKind : unsigned char
 {
   Fixed,
   Interior,
-  Interface
+  Interface,
+  OnLine ///< inside one straight feature segment: slides along it
 };
 
 /// Raises the worst tetrahedra by flips and vertex moves (see improveDihedralAngles).
@@ -165,6 +167,13 @@ public:
     }
     report_.cutShort = changed && report_.rounds == options_.rounds && options_.rounds > 0;
     stars_.compact(mesh_);
+    for (auto& piece : mesh_.segments) // their ends may have slid along the line
+    {
+      if (piece.aId >= 0)
+        piece.a = mesh_.points[static_cast<std::size_t>(piece.aId)];
+      if (piece.bId >= 0)
+        piece.b = mesh_.points[static_cast<std::size_t>(piece.bId)];
+    }
     measure(report_.outsideAfter, report_.minAfter, report_.maxAfter);
     report_.outsideHeld = countOutsideHeld();
     return report_;
@@ -236,10 +245,13 @@ private:
     return oracle_.material(centroid) == material;
   }
 
-  bool starAcceptable(int v) const
+  /// Whether the tetrahedra around v are acceptable; with `wasAcceptable` (one flag per star
+  /// tetrahedron, taken before a move), only those that were: a move need not mend what it found.
+  bool starAcceptable(int v, const std::vector<char>* wasAcceptable = nullptr) const
   {
-    for (int t : stars_.star(v))
-      if (!acceptable(stars_.tet(t), stars_.material(t)))
+    const auto& star = stars_.star(v);
+    for (std::size_t k = 0; k < star.size(); ++k)
+      if ((!wasAcceptable || (*wasAcceptable)[k]) && !acceptable(stars_.tet(star[k]), stars_.material(star[k])))
         return false;
     return true;
   }
@@ -291,6 +303,30 @@ private:
     for (std::size_t v = 0; v < n; ++v)
       if (kind_[v] != VertexKind::Fixed)
         kind_[v] = classifyFree(static_cast<int>(v));
+    classifyLineVertices();
+  }
+
+  /// A segment point between two present pieces of the same straight segment (not an input point)
+  /// slides along it: its edges stay on the line.
+  void classifyLineVertices()
+  {
+    std::unordered_map<int, std::vector<const TetMesh::Segment*>> pieces;
+    for (const auto& s : mesh_.segments)
+      if (s.aId >= 0 && s.bId >= 0 && s.present)
+      {
+        pieces[s.aId].push_back(&s);
+        pieces[s.bId].push_back(&s);
+      }
+    for (const auto& [v, at] : pieces)
+    {
+      if (mesh_.pointDimension[static_cast<std::size_t>(v)] != 1 || at.size() != 2 || at[0]->input != at[1]->input)
+        continue;
+      const Vec3 d = at[0]->b - at[0]->a, e = at[1]->b - at[1]->a;
+      if (!(norm(d) > 0) || norm(cross(d, e)) > 1e-9 * norm(d) * norm(e))
+        continue;
+      kind_[static_cast<std::size_t>(v)] = VertexKind::OnLine;
+      lineDirection_[v] = (1.0 / norm(d)) * d;
+    }
   }
 
   VertexKind classifyFree(int v) const
@@ -663,40 +699,77 @@ private:
       return false;
     int worst = -1;
     double current = starQuality(v, &worst);
-    for (int iteration = 0; iteration < 6 && current < 1.0; ++iteration)
+    std::vector<char> wasAcceptable;
+    for (int t : stars_.star(v))
+      wasAcceptable.push_back(acceptable(stars_.tet(t), stars_.material(t)));
+    Step s{ v, kind, normal, length, current, worst, wasAcceptable };
+    for (int iteration = 0; iteration < 6 && s.current < 1.0; ++iteration)
     {
-      Vec3 g = gradient(worst, v, 1e-4 * length);
-      if (kind == VertexKind::Interface)
-        g = g - dot(g, normal) * normal;
-      const double gl = norm(g);
-      if (!(gl > 0))
-        break;
-      const Vec3 here = x;
-      bool stepped = false;
-      for (double step = 0.2 * length; step > 1e-3 * length && !stepped; step *= 0.5)
+      // the worst tetrahedron's gradient; where another one blocks it, the axes (a pattern search)
+      bool stepped = lineSearch(s, gradient(s.worst, v, 1e-4 * length));
+      for (int axis = 0; axis < 6 && !stepped; ++axis)
       {
-        Vec3 trial = here + (step / gl) * g;
-        if (kind == VertexKind::Interface && !onInterface(v, normal, 0.5 * length, trial))
-          continue;
-        x = trial;
-        int w = -1;
-        const double q = starQuality(v, &w);
-        if (q > current + 1e-9 && starAcceptable(v))
-        {
-          current = q;
-          worst = w;
-          stepped = true;
-        }
-        else
-          x = here;
+        Vec3 d{ 0, 0, 0 };
+        d[axis / 2] = axis % 2 ? -1.0 : 1.0;
+        stepped = lineSearch(s, d);
       }
       if (!stepped)
         break;
     }
     const bool moved = x.x != start.x || x.y != start.y || x.z != start.z;
     if (moved)
-      ++(kind == VertexKind::Interface ? report_.surfaceMoves : report_.interiorMoves);
+      ++(kind == VertexKind::Interface ? report_.surfaceMoves
+          : kind == VertexKind::OnLine ? report_.lineMoves
+                                       : report_.interiorMoves);
     return moved;
+  }
+
+  /// A vertex being moved: where it may go and how good its star is.
+  struct Step
+  {
+    int v;
+    VertexKind kind;
+    Vec3 normal;   ///< of its interface (Interface vertices move in the tangent plane)
+    double length; ///< mean edge length around it
+    double current;
+    int worst;
+    const std::vector<char>& wasAcceptable;
+  };
+
+  /// Moves s.v along `direction` (in the tangent plane for an interface vertex, then put back on
+  /// the interface) by the longest of 0.2, 0.1, ... x the edge length that raises its star's worst
+  /// quality; false (and the vertex where it was) when none does.
+  bool lineSearch(Step& s, Vec3 direction)
+  {
+    if (s.kind == VertexKind::Interface)
+      direction = direction - dot(direction, s.normal) * s.normal;
+    else if (s.kind == VertexKind::OnLine)
+    {
+      const Vec3& line = lineDirection_.at(s.v);
+      direction = dot(direction, line) * line;
+    }
+    const double dl = norm(direction);
+    if (!(dl > 0))
+      return false;
+    Vec3& x = mesh_.points[static_cast<std::size_t>(s.v)];
+    const Vec3 here = x;
+    for (double step = 0.2 * s.length; step > 1e-3 * s.length; step *= 0.5)
+    {
+      Vec3 trial = here + (step / dl) * direction;
+      if (s.kind == VertexKind::Interface && !onInterface(s.v, s.normal, 0.5 * s.length, trial))
+        continue;
+      x = trial;
+      int w = -1;
+      const double q = starQuality(s.v, &w);
+      if (q > s.current + 1e-9 && starAcceptable(s.v, &s.wasAcceptable))
+      {
+        s.current = q;
+        s.worst = w;
+        return true;
+      }
+      x = here;
+    }
+    return false;
   }
 
   /// Central-difference gradient of tetrahedron t's quality with respect to vertex v's position.
@@ -728,6 +801,7 @@ private:
   std::vector<std::array<int, 2>> sides_;      ///< the two materials of an interface vertex
   std::vector<std::vector<int>> interfaceAt_;  ///< interface triangles at each vertex
   std::unordered_set<std::uint64_t> kept_;     ///< present feature-segment edges
+  std::unordered_map<int, Vec3> lineDirection_; ///< of each OnLine vertex's segment (unit)
   std::unordered_set<FaceKey, FaceKeyHash> interfaces_;
   DihedralImprovementReport report_;
 };

@@ -39,6 +39,7 @@ struct DihedralImprovementReport
   std::size_t edgeSplits = 0;     ///< interior vertices added on interior edges (kept ones)
   std::size_t interiorMoves = 0;  ///< interior vertices moved
   std::size_t surfaceMoves = 0;   ///< interface vertices moved along their interface (kept on it)
+  std::size_t lineMoves = 0;      ///< feature-line vertices moved along their straight segment
   int rounds = 0;                 ///< rounds run
   bool cutShort = false;          ///< the round budget ended it with work left that still paid
 };
@@ -58,8 +59,9 @@ struct DihedralImprovementReport
 ///    the interface normal).
 /// No change makes a tetrahedron larger than its material's cell size, nor one whose four vertices
 /// all lie on interfaces or feature lines with its centroid in another material (an edge across a
-/// thin or acute part). Vertices on feature lines and corners (pointDimension <= 1), the ends of present feature
-/// segments and vertices where interfaces meet do not move. Deterministic. mesh.segments must be
+/// thin or acute part). A vertex inside one straight feature segment (between two present pieces
+/// of it, not an input point) moves only along it; other vertices on feature lines, corners and
+/// vertices where interfaces meet do not move. Deterministic. mesh.segments must be
 /// located (locateFeatureSegments) before: their present pieces are the edges kept.
 DihedralImprovementReport improveDihedralAngles(
   TetMesh& mesh, const HierarchicalOracle& oracle, const DihedralImprovementOptions& options = {});
