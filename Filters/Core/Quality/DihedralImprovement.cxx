@@ -15,7 +15,11 @@ namespace omesh
 {
 namespace
 {
-constexpr double kRadToDeg = 57.29577951308232;
+/// A tetrahedron whose longest edge is below this x the typical edge is not made: ten times the
+/// validity check's micro threshold (MeshValidity.h), which measures against the median edge;
+/// one that already was so small must not go below twice that threshold.
+constexpr double kMicro = 1e-3;
+constexpr double kMicroFloor = 2e-4;
 
 std::uint64_t edgeKey(int a, int b)
 {
@@ -153,6 +157,7 @@ public:
     , stars_(mesh)
   {
     orientation_ = orientationOfMesh();
+    microLength_ = kMicro * typicalEdge();
     classifyVertices();
   }
 
@@ -197,6 +202,26 @@ private:
     return orientation_ * signedVolume(p[t[0]], p[t[1]], p[t[2]], p[t[3]]);
   }
 
+  /// The validity check's length (MeshValidity.h): the median edge (here of one edge per
+  /// tetrahedron), or the edge of a regular tetrahedron of the mean volume where that is longer.
+  double typicalEdge() const
+  {
+    std::vector<double> lengths;
+    lengths.reserve(mesh_.tets.size());
+    double volume = 0.0;
+    const auto& p = mesh_.points;
+    for (const auto& t : mesh_.tets)
+    {
+      lengths.push_back(norm(p[t[0]] - p[t[1]]));
+      volume += std::abs(signedVolume(p[t[0]], p[t[1]], p[t[2]], p[t[3]]));
+    }
+    if (lengths.empty())
+      return 0.0;
+    std::nth_element(lengths.begin(), lengths.begin() + lengths.size() / 2, lengths.end());
+    const double meanVolumeEdge = std::cbrt(6.0 * std::sqrt(2.0) * volume / mesh_.tets.size());
+    return std::max(lengths[lengths.size() / 2], meanVolumeEdge);
+  }
+
   double orientationOfMesh() const
   {
     const auto& p = mesh_.points;
@@ -229,9 +254,21 @@ private:
 
   /// Whether tetrahedron t of `material` may be in the mesh: within its material's cell size, and,
   /// with all four vertices on interfaces or feature lines, with its centroid in its material.
+  double longestEdge(const std::array<int, 4>& t) const
+  {
+    const auto& p = mesh_.points;
+    double longest = 0.0;
+    for (int i = 0; i < 4; ++i)
+      for (int j = i + 1; j < 4; ++j)
+        longest = std::max(longest, norm(p[t[i]] - p[t[j]]));
+    return longest;
+  }
+
   bool acceptable(const std::array<int, 4>& t, int material) const
   {
     const auto& p = mesh_.points;
+    if (longestEdge(t) < microLength_)
+      return false; // the checks would call it micro (MeshValidity.h), whatever its angles
     if (options_.cellSizeOf)
     {
       const double size = options_.cellSizeOf(material);
@@ -251,8 +288,16 @@ private:
   {
     const auto& star = stars_.star(v);
     for (std::size_t k = 0; k < star.size(); ++k)
-      if ((!wasAcceptable || (*wasAcceptable)[k]) && !acceptable(stars_.tet(star[k]), stars_.material(star[k])))
+    {
+      const auto& t = stars_.tet(star[k]);
+      if (wasAcceptable && !(*wasAcceptable)[k])
+      {
+        if (longestEdge(t) < microLength_ * (kMicroFloor / kMicro))
+          return false;
+      }
+      else if (!acceptable(t, stars_.material(star[k])))
         return false;
+    }
     return true;
   }
 
@@ -797,6 +842,7 @@ private:
   const DihedralImprovementOptions& options_;
   TetStars stars_;
   double orientation_ = 1.0;
+  double microLength_ = 0.0; ///< no tetrahedron is made whose longest edge is shorter
   std::vector<VertexKind> kind_;
   std::vector<std::array<int, 2>> sides_;      ///< the two materials of an interface vertex
   std::vector<std::vector<int>> interfaceAt_;  ///< interface triangles at each vertex
