@@ -18,25 +18,12 @@ using namespace omesh;
 
 namespace
 {
-/// The 12 edges of the box [lo, hi]^3.
-FeatureSegments boxEdges(double lo, double hi)
-{
-  FeatureSegments f;
-  for (int i = 0; i < 8; ++i)
-    f.points.push_back({ (i & 1) ? hi : lo, (i & 2) ? hi : lo, (i & 4) ? hi : lo });
-  for (int i = 0; i < 8; ++i)
-    for (int bit : { 1, 2, 4 })
-      if (!(i & bit))
-        f.segments.push_back({ i, i | bit });
-  return f;
-}
-
 /// A ball of radius 0.6 (material 1) in a cube [-1, 1]^3 (material 2) with the cube's edges as
 /// feature lines, meshed at radius-edge 2 (many tetrahedra outside [15, 155] before the step).
 struct BallInCube
 {
   HierarchicalOracle oracle;
-  FeatureSegments edges = boxEdges(-1, 1);
+  FeatureSegments edges = test::cubeEdges(-1, 1);
   MesherOptions options;
   BallInCube()
   {

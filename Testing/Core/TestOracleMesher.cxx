@@ -27,18 +27,6 @@ using namespace omesh;
 
 namespace
 {
-FeatureSegments cubeEdges(double lo, double hi)
-{
-  FeatureSegments f;
-  for (int i = 0; i < 8; ++i)
-    f.points.push_back({ (i & 1) ? hi : lo, (i & 2) ? hi : lo, (i & 4) ? hi : lo });
-  for (int i = 0; i < 8; ++i)
-    for (int bit : { 1, 2, 4 })
-      if (!(i & bit))
-        f.segments.push_back({ i, i | bit });
-  return f;
-}
-
 /// A CAD-like implant with flat faces, 6 mm long: a tapered stem under a wider collar, whose
 /// underside meets the stem at concave edges. Turned by a unit quaternion into a generic position.
 TriangleSurface steppedPart(const std::array<double, 4>& rotation)
@@ -134,7 +122,7 @@ TEST(OracleMesher, ProtectingBallsKeepTheCubeEdges)
 {
   HierarchicalOracle o;
   o.add(std::make_shared<SurfaceDomain>(test::cube(0, 1), 1));
-  const FeatureSegments edges = cubeEdges(0, 1);
+  const FeatureSegments edges = test::cubeEdges(0, 1);
   const TetMesh m = meshOracle(o, edges, {}, options(FeatureStrategy::ProtectingBalls, 0.2));
   EXPECT_NEAR(featureCoverage(m.segments, edges), 1.0, 1e-12);
   EXPECT_NEAR(materialVolumes(m).at(1), 1.0, 0.01);
@@ -158,7 +146,7 @@ TEST(OracleMesher, ProtectingBallsKeepLinesThatTurnLittle)
     f.points.push_back({ std::cos(2 * M_PI * i / n), std::sin(2 * M_PI * i / n), 0 });
     f.segments.push_back({ i, (i + 1) % n });
   }
-  const FeatureSegments box = cubeEdges(-1.5, 1.5);
+  const FeatureSegments box = test::cubeEdges(-1.5, 1.5);
   for (const auto& e : box.segments)
   {
     const Vec3 a = box.points[e[0]], b = box.points[e[1]];
@@ -297,7 +285,7 @@ TEST(OracleMesher, ConformingKeepsTheCubeEdgesBeforeAndAfterOptimisation)
 {
   HierarchicalOracle o;
   o.add(std::make_shared<SurfaceDomain>(test::cube(0, 1), 1));
-  const FeatureSegments edges = cubeEdges(0, 1);
+  const FeatureSegments edges = test::cubeEdges(0, 1);
   MesherOptions raw = options(FeatureStrategy::Conforming, 0.2);
   raw.perturb = raw.exude = raw.improveAngles = false;
   const TetMesh before = meshOracle(o, edges, {}, raw);
@@ -344,7 +332,7 @@ TEST(OracleMesher, UndoneExudationGivesBackTheMeshFromBeforeIt)
   // need it, so it is forced here and compared with a run that stops before the exuder.
   HierarchicalOracle o;
   o.add(std::make_shared<SurfaceDomain>(test::cube(0, 1), 1));
-  const FeatureSegments edges = cubeEdges(0, 1);
+  const FeatureSegments edges = test::cubeEdges(0, 1);
   MesherOptions noExuder = options(FeatureStrategy::Conforming, 0.2);
   noExuder.exude = false;
   noExuder.improveAngles = false; // the comparison is with the complex before the exuder
@@ -379,7 +367,7 @@ TEST(OracleMesher, SegmentRepairAfterPerturbationRefinesOnlyAroundTheBrokenSubSe
   // 2,316 -> 2,413 with the full scan, none added now.
   HierarchicalOracle o;
   o.add(std::make_shared<SurfaceDomain>(test::cube(0, 1), 1));
-  const FeatureSegments edges = cubeEdges(0, 1);
+  const FeatureSegments edges = test::cubeEdges(0, 1);
   MesherOptions tight = options(FeatureStrategy::Conforming, 0.15);
   tight.criteria.global.cellRadiusEdgeRatio = 1.1;
   tight.exude = false;
@@ -472,7 +460,7 @@ TEST(OracleMesher, FeatureStrategiesSameSeedSameMesh)
 {
   HierarchicalOracle o;
   o.add(std::make_shared<SurfaceDomain>(test::cube(0, 1), 1));
-  const FeatureSegments edges = cubeEdges(0, 1);
+  const FeatureSegments edges = test::cubeEdges(0, 1);
   for (auto s : { FeatureStrategy::Conforming, FeatureStrategy::ProtectingBalls })
   {
     SCOPED_TRACE(toString(s));
@@ -549,7 +537,7 @@ TEST(OracleMesher, AbortDuringFeatureProtection)
   opt.criteria.global.edgeSize = 1e-4; // 10^4 protecting balls per edge: seconds of work
   bool asked = false;
   opt.progress = [&](double, const char* phase) { return !(asked = std::string(phase) == "feature protection"); };
-  EXPECT_THROW(meshOracle(o, cubeEdges(0, 1), {}, opt), MeshingAborted);
+  EXPECT_THROW(meshOracle(o, test::cubeEdges(0, 1), {}, opt), MeshingAborted);
   EXPECT_TRUE(asked);
 }
 
@@ -601,7 +589,7 @@ TEST(OracleMesher, PickedRefinementPointsBoundTheAnglesBeforeOptimisation)
   HierarchicalOracle o;
   o.add(std::make_shared<BoxDomain>(Vec3{ -0.5, -0.5, -0.5 }, Vec3{ 0.5, 0.5, 0.5 }, 2));
   o.add(std::make_shared<SphereDomain>(Vec3{ 0.1, 0.05, 0 }, 1.2, 1));
-  const FeatureSegments edges = cubeEdges(-0.5, 0.5);
+  const FeatureSegments edges = test::cubeEdges(-0.5, 0.5);
   MesherOptions opt = options(FeatureStrategy::Conforming, 0.3);
   opt.criteria.global.cellRadiusEdgeRatio = 1.1;
   opt.criteria.global.edgeSize = 0.2;
@@ -1031,7 +1019,7 @@ TEST(OracleMesher, ProtectingBallsHonourTheSeed)
 {
   HierarchicalOracle o;
   o.add(std::make_shared<SurfaceDomain>(test::cube(0, 1), 1));
-  const FeatureSegments edges = cubeEdges(0, 1);
+  const FeatureSegments edges = test::cubeEdges(0, 1);
   auto points = [&](unsigned seed) {
     MesherOptions opt = options(FeatureStrategy::ProtectingBalls, 0.25);
     opt.seed = seed;

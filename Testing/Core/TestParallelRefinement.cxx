@@ -45,18 +45,6 @@ MesherOptions ballOverBoxOptions(int threads)
   return o;
 }
 
-FeatureSegments cubeEdges(double lo, double hi)
-{
-  FeatureSegments f;
-  for (int i = 0; i < 8; ++i)
-    f.points.push_back({ (i & 1) ? hi : lo, (i & 2) ? hi : lo, (i & 4) ? hi : lo });
-  for (int i = 0; i < 8; ++i)
-    for (int bit : { 1, 2, 4 })
-      if (!(i & bit))
-        f.segments.push_back({ i, i | bit });
-  return f;
-}
-
 double stat(const TetMesh& m, const std::string& name)
 {
   const auto it = m.statistics.find(name);
@@ -187,7 +175,7 @@ TEST(ParallelRefinement, ProtectingBallsKeepTheCubeEdges)
 {
   HierarchicalOracle o;
   o.add(std::make_shared<SurfaceDomain>(test::cube(0, 1), 1));
-  const FeatureSegments edges = cubeEdges(0, 1);
+  const FeatureSegments edges = test::cubeEdges(0, 1);
   MesherOptions opt;
   opt.strategy = FeatureStrategy::ProtectingBalls;
   opt.criteria.global = { 25.0, 0.2, 0.01, 0.2, 3.0, 0.0 };

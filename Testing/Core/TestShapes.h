@@ -25,6 +25,19 @@ inline FeatureSegments polyline(const std::vector<Vec3>& points)
   return f;
 }
 
+/// The 12 edges of the cube [lo, hi]^3 as feature segments (its 8 corners as points).
+inline FeatureSegments cubeEdges(double lo, double hi)
+{
+  FeatureSegments f;
+  for (int i = 0; i < 8; ++i)
+    f.points.push_back({ (i & 1) ? hi : lo, (i & 2) ? hi : lo, (i & 4) ? hi : lo });
+  for (int i = 0; i < 8; ++i)
+    for (int bit : { 1, 2, 4 })
+      if (!(i & bit))
+        f.segments.push_back({ i, i | bit });
+  return f;
+}
+
 /// Axis-aligned cube [lo, hi]^3, 12 outward triangles.
 inline TriangleSurface cube(double lo, double hi)
 {

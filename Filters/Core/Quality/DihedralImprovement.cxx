@@ -471,9 +471,7 @@ private:
     std::vector<int> ring, old;
     if (!ringAround(a, b, ring, old))
       return false;
-    double before = std::numeric_limits<double>::infinity();
-    for (int t : old)
-      before = std::min(before, quality(t));
+    const double before = worstOf(old);
     const int material = stars_.material(old.front());
     const int m = static_cast<int>(mesh_.points.size());
     const auto& p = mesh_.points;
@@ -560,9 +558,7 @@ private:
     std::vector<int> ring, old;
     if (!ringAround(a, b, ring, old))
       return false;
-    double before = std::numeric_limits<double>::infinity();
-    for (int t : old)
-      before = std::min(before, quality(t));
+    const double before = worstOf(old);
     const int n = static_cast<int>(ring.size());
     auto pairQuality = [&](int i, int k, int j) {
       return std::min(quality({ ring[i], ring[k], ring[j], b }), quality({ ring[j], ring[k], ring[i], a }));
@@ -657,6 +653,14 @@ private:
   }
 
   // --- vertex moves -------------------------------------------------------------------------------
+  double worstOf(const std::vector<int>& tets) const
+  {
+    double q = std::numeric_limits<double>::infinity();
+    for (int t : tets)
+      q = std::min(q, quality(t));
+    return q;
+  }
+
   double starQuality(int v, int* worst = nullptr) const
   {
     double q = std::numeric_limits<double>::infinity();
