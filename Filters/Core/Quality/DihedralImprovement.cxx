@@ -21,6 +21,12 @@ namespace
 constexpr double kMicro = 1e-3;
 constexpr double kMicroFloor = 2e-4;
 
+/// Why a tetrahedron may not be made (DihedralImprover::flaws).
+constexpr unsigned kMicroFlaw = 1;  ///< longest edge below kMicro x the typical edge
+constexpr unsigned kTinyFlaw = 2;   ///< below kMicroFloor x the typical edge
+constexpr unsigned kLargeFlaw = 4;  ///< circumradius above its material's cell size
+constexpr unsigned kAcrossFlaw = 8; ///< every vertex on an interface or line, centroid in another material
+
 std::uint64_t edgeKey(int a, int b)
 {
   const auto lo = static_cast<std::uint64_t>(std::min(a, b));
@@ -252,8 +258,6 @@ private:
       minAngle = maxAngle = 0.0;
   }
 
-  /// Whether tetrahedron t of `material` may be in the mesh: within its material's cell size, and,
-  /// with all four vertices on interfaces or feature lines, with its centroid in its material.
   double longestEdge(const std::array<int, 4>& t) const
   {
     const auto& p = mesh_.points;
@@ -264,38 +268,43 @@ private:
     return longest;
   }
 
-  bool acceptable(const std::array<int, 4>& t, int material) const
+  /// What keeps tetrahedron t of `material` out of the mesh (Flaw bits, 0 = nothing): micro (the
+  /// checks would call it so, MeshValidity.h, whatever its angles), larger than its material's
+  /// cell size, or, with all four vertices on interfaces or feature lines, its centroid in another
+  /// material.
+  unsigned flaws(const std::array<int, 4>& t, int material) const
   {
     const auto& p = mesh_.points;
-    if (longestEdge(t) < microLength_)
-      return false; // the checks would call it micro (MeshValidity.h), whatever its angles
+    unsigned f = 0;
+    const double longest = longestEdge(t);
+    if (longest < microLength_)
+      f |= longest < microLength_ * (kMicroFloor / kMicro) ? kMicroFlaw | kTinyFlaw : kMicroFlaw;
     if (options_.cellSizeOf)
     {
       const double size = options_.cellSizeOf(material);
       if (size > 0 && !(norm(p[t[0]] - circumcenter(p[t[0]], p[t[1]], p[t[2]], p[t[3]])) <= size))
-        return false;
+        f |= kLargeFlaw;
     }
-    for (int v : t)
-      if (mesh_.pointDimension[static_cast<std::size_t>(v)] == 3)
-        return true;
-    const Vec3 centroid = 0.25 * (p[t[0]] + p[t[1]] + p[t[2]] + p[t[3]]);
-    return oracle_.material(centroid) == material;
+    if (std::none_of(t.begin(), t.end(), [&](int v) { return mesh_.pointDimension[static_cast<std::size_t>(v)] == 3; }) &&
+      oracle_.material(0.25 * (p[t[0]] + p[t[1]] + p[t[2]] + p[t[3]])) != material)
+      f |= kAcrossFlaw;
+    return f;
   }
 
-  /// Whether the tetrahedra around v are acceptable; with `wasAcceptable` (one flag per star
-  /// tetrahedron, taken before a move), only those that were: a move need not mend what it found.
-  bool starAcceptable(int v, const std::vector<char>* wasAcceptable = nullptr) const
+  bool acceptable(const std::array<int, 4>& t, int material) const { return flaws(t, material) == 0; }
+
+  /// Whether the tetrahedra around v are acceptable; with `flawsBefore` (one set per star
+  /// tetrahedron, taken before a move), a move need not mend what it found: a tetrahedron already
+  /// larger than its cell size may stay so, one already below the micro length must stay above
+  /// the floor; one already across a boundary may not be moved (it could only go further).
+  bool starAcceptable(int v, const std::vector<unsigned>* flawsBefore = nullptr) const
   {
     const auto& star = stars_.star(v);
     for (std::size_t k = 0; k < star.size(); ++k)
     {
-      const auto& t = stars_.tet(star[k]);
-      if (wasAcceptable && !(*wasAcceptable)[k])
-      {
-        if (longestEdge(t) < microLength_ * (kMicroFloor / kMicro))
-          return false;
-      }
-      else if (!acceptable(t, stars_.material(star[k])))
+      const unsigned now = flaws(stars_.tet(star[k]), stars_.material(star[k]));
+      const unsigned allowed = flawsBefore ? (*flawsBefore)[k] & (kLargeFlaw | kMicroFlaw) : 0u;
+      if (now & ~allowed)
         return false;
     }
     return true;
@@ -748,10 +757,10 @@ private:
       return false;
     int worst = -1;
     double current = starQuality(v, &worst);
-    std::vector<char> wasAcceptable;
+    std::vector<unsigned> flawsBefore;
     for (int t : stars_.star(v))
-      wasAcceptable.push_back(acceptable(stars_.tet(t), stars_.material(t)));
-    Step s{ v, kind, normal, length, current, worst, wasAcceptable };
+      flawsBefore.push_back(flaws(stars_.tet(t), stars_.material(t)));
+    Step s{ v, kind, normal, length, current, worst, flawsBefore };
     for (int iteration = 0; iteration < 6 && s.current < 1.0; ++iteration)
     {
       // the worst tetrahedron's gradient; where another one blocks it, the axes (a pattern search)
@@ -782,7 +791,7 @@ private:
     double length; ///< mean edge length around it
     double current;
     int worst;
-    const std::vector<char>& wasAcceptable;
+    const std::vector<unsigned>& flawsBefore;
   };
 
   /// Moves s.v along `direction` (in the tangent plane for an interface vertex, then put back on
@@ -810,7 +819,7 @@ private:
       x = trial;
       int w = -1;
       const double q = starQuality(s.v, &w);
-      if (q > s.current + 1e-9 && starAcceptable(s.v, &s.wasAcceptable))
+      if (q > s.current + 1e-9 && starAcceptable(s.v, &s.flawsBefore))
       {
         s.current = q;
         s.worst = w;
