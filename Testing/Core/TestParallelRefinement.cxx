@@ -336,7 +336,8 @@ TEST(ParallelRefinement, CriteriaNoFacetCanMeetStayValid)
       opt.seed = 1;
       opt.threads = 2;
       opt.maximumNumberOfVertices = 3000;
-      opt.perturb = opt.exude = false; // the exuder spends minutes on such a mesh (OracleMesherTimeLimit)
+      // the exuder spends minutes on such a mesh (OracleMesherTimeLimit); refinement is what is tested
+      opt.perturb = opt.exude = opt.improveAngles = false;
       opt.timeLimit = 60;
       SCOPED_TRACE(std::string(impossible) + ", run " + std::to_string(run));
       const TetMesh m = meshOracle(o, {}, {}, opt);
