@@ -3,6 +3,7 @@
 
 #include "HierarchicalOracle.h"
 #include "MeshQuality.h"
+#include "MeshValidity.h"
 
 #include <algorithm>
 #include <cmath>
@@ -170,10 +171,15 @@ public:
   DihedralImprovementReport run()
   {
     measure(report_.outsideBefore, report_.minBefore, report_.maxBefore);
+    // A tetrahedron keeps its quality until one of its vertices moves: after the first round only
+    // the ones left bad and the ones made or moved since can be bad.
+    std::vector<int> candidates(stars_.size());
+    for (std::size_t t = 0; t < candidates.size(); ++t)
+      candidates[t] = static_cast<int>(t);
     bool changed = true;
     for (int round = 0; round < options_.rounds && changed; ++round)
     {
-      changed = runRound(round);
+      changed = runRound(round, candidates);
       report_.rounds = round + 1;
     }
     report_.cutShort = changed && report_.rounds == options_.rounds && options_.rounds > 0;
@@ -185,8 +191,7 @@ public:
       if (piece.bId >= 0)
         piece.b = mesh_.points[static_cast<std::size_t>(piece.bId)];
     }
-    measure(report_.outsideAfter, report_.minAfter, report_.maxAfter);
-    report_.outsideHeld = countOutsideHeld();
+    measure(report_.outsideAfter, report_.minAfter, report_.maxAfter, &report_.outsideHeld);
     return report_;
   }
 
@@ -208,8 +213,8 @@ private:
     return orientation_ * signedVolume(p[t[0]], p[t[1]], p[t[2]], p[t[3]]);
   }
 
-  /// The validity check's length (MeshValidity.h): the median edge (here of one edge per
-  /// tetrahedron), or the edge of a regular tetrahedron of the mean volume where that is longer.
+  /// The validity check's length (validityLength, MeshValidity.h), with the median of one edge per
+  /// tetrahedron.
   double typicalEdge() const
   {
     std::vector<double> lengths;
@@ -224,8 +229,7 @@ private:
     if (lengths.empty())
       return 0.0;
     std::nth_element(lengths.begin(), lengths.begin() + lengths.size() / 2, lengths.end());
-    const double meanVolumeEdge = std::cbrt(6.0 * std::sqrt(2.0) * volume / mesh_.tets.size());
-    return std::max(lengths[lengths.size() / 2], meanVolumeEdge);
+    return validityLength(lengths[lengths.size() / 2], volume, mesh_.tets.size());
   }
 
   double orientationOfMesh() const
@@ -240,8 +244,12 @@ private:
     return 1.0;
   }
 
-  void measure(std::size_t& outside, double& minAngle, double& maxAngle) const
+  /// Tetrahedra outside the window and the extreme angles; with `held`, the outside ones whose
+  /// vertices are all held.
+  void measure(std::size_t& outside, double& minAngle, double& maxAngle, std::size_t* held = nullptr) const
   {
+    if (held)
+      *held = 0;
     outside = 0;
     minAngle = 180.0;
     maxAngle = 0.0;
@@ -252,7 +260,10 @@ private:
       dihedralAngleRange(p[t[0]], p[t[1]], p[t[2]], p[t[3]], lo, hi);
       minAngle = std::min(minAngle, lo);
       maxAngle = std::max(maxAngle, hi);
-      outside += lo < options_.minAngle || hi > options_.maxAngle;
+      const bool out = lo < options_.minAngle || hi > options_.maxAngle;
+      outside += out;
+      if (held && out && std::all_of(t.begin(), t.end(), [&](int v) { return kind_[static_cast<std::size_t>(v)] == VertexKind::Fixed; }))
+        ++*held;
     }
     if (mesh_.tets.empty())
       minAngle = maxAngle = 0.0;
@@ -310,14 +321,12 @@ private:
     return true;
   }
 
-  std::size_t countOutsideHeld() const
+  /// Adds a tetrahedron and remembers it for the next round.
+  int addTet(const std::array<int, 4>& t, int material)
   {
-    std::size_t held = 0;
-    for (const auto& t : mesh_.tets)
-      if (quality(t) < 1.0 &&
-        std::all_of(t.begin(), t.end(), [&](int v) { return kind_[static_cast<std::size_t>(v)] == VertexKind::Fixed; }))
-        ++held;
-    return held;
+    const int id = stars_.add(t, material);
+    touched_.push_back(id);
+    return id;
   }
 
   // --- what may change -----------------------------------------------------------------------
@@ -415,17 +424,20 @@ private:
   bool isInterface(int a, int b, int c) const { return interfaces_.count(FaceKey(a, b, c)) != 0; }
 
   // --- rounds -----------------------------------------------------------------------------------
-  bool runRound(int round)
+  /// Works through the bad tetrahedra among `candidates`, worst first; leaves in `candidates` the
+  /// ones to look at next round (those still there and bad, and those made or moved).
+  bool runRound(int round, std::vector<int>& candidates)
   {
     std::vector<std::pair<double, int>> bad;
-    for (std::size_t t = 0; t < stars_.size(); ++t)
-      if (stars_.alive(static_cast<int>(t)))
+    for (int t : candidates)
+      if (stars_.alive(t))
       {
-        const double q = quality(static_cast<int>(t));
+        const double q = quality(t);
         if (q < 1.0)
-          bad.emplace_back(q, static_cast<int>(t));
+          bad.emplace_back(q, t);
       }
     std::sort(bad.begin(), bad.end());
+    touched_.clear();
     bool changed = false;
     for (std::size_t k = 0; k < bad.size(); ++k)
     {
@@ -435,6 +447,11 @@ private:
       if (stars_.alive(t) && quality(t) < 1.0)
         changed = improveTet(t) || changed;
     }
+    candidates = std::move(touched_);
+    for (const auto& entry : bad)
+      candidates.push_back(entry.second);
+    std::sort(candidates.begin(), candidates.end());
+    candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
     return changed;
   }
 
@@ -496,8 +513,8 @@ private:
     for (std::size_t i = 0; i < ring.size(); ++i)
     {
       const int c = ring[i], d = ring[(i + 1) % ring.size()];
-      made.push_back(stars_.add({ a, m, c, d }, material));
-      made.push_back(stars_.add({ m, b, c, d }, material));
+      made.push_back(addTet({ a, m, c, d }, material));
+      made.push_back(addTet({ m, b, c, d }, material));
     }
     const std::size_t movesBefore = report_.interiorMoves;
     moveVertex(m);
@@ -613,7 +630,7 @@ private:
     for (int t : old)
       stars_.remove(t);
     for (const auto& m : made)
-      stars_.add(m, material);
+      addTet(m, material);
     ++report_.edgeRemovals;
     return true;
   }
@@ -656,7 +673,7 @@ private:
     stars_.remove(t);
     stars_.remove(other);
     for (const auto& m : made)
-      stars_.add(m, material);
+      addTet(m, material);
     ++report_.faceRemovals;
     return true;
   }
@@ -776,6 +793,8 @@ private:
     }
     const bool moved = x.x != start.x || x.y != start.y || x.z != start.z;
     if (moved)
+      touched_.insert(touched_.end(), stars_.star(v).begin(), stars_.star(v).end());
+    if (moved)
       ++(kind == VertexKind::Interface ? report_.surfaceMoves
           : kind == VertexKind::OnLine ? report_.lineMoves
                                        : report_.interiorMoves);
@@ -863,6 +882,7 @@ private:
   std::unordered_map<int, Vec3> lineDirection_; ///< of each OnLine vertex's segment (unit)
   std::unordered_set<FaceKey, FaceKeyHash> interfaces_;
   DihedralImprovementReport report_;
+  std::vector<int> touched_; ///< tetrahedra made or moved in this round
 };
 }
 

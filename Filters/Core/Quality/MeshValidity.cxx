@@ -258,6 +258,13 @@ double acrossBoundaryBy(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3&
   return length;
 }
 
+double validityLength(double medianEdge, double totalVolume, std::size_t tetrahedra)
+{
+  const double meanVolumeEdge =
+    tetrahedra ? std::cbrt(6.0 * std::sqrt(2.0) * totalVolume / static_cast<double>(tetrahedra)) : 0.0;
+  return std::max(medianEdge, meanVolumeEdge);
+}
+
 MeshValidity checkMeshValidity(const TetMesh& mesh, const std::function<int(const Vec3&)>& materialAt,
   const ValidityThresholds& th, std::vector<unsigned char>* tetDefects)
 {
@@ -287,8 +294,7 @@ MeshValidity checkMeshValidity(const TetMesh& mesh, const std::function<int(cons
     const auto& k = mesh.tets[t];
     volume += std::abs(signedVolume(mesh.points[k[0]], mesh.points[k[1]], mesh.points[k[2]], mesh.points[k[3]]));
   }
-  const double meanVolumeEdge = std::cbrt(6.0 * std::sqrt(2.0) * volume / static_cast<double>(good.size()));
-  const double L = std::max(r.medianEdge, meanVolumeEdge);
+  const double L = validityLength(r.medianEdge, volume, good.size());
 
   for (std::size_t t : good)
     flags[t] |= shapeAndMaterialDefects(mesh, t, materialAt, th, L);

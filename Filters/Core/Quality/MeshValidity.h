@@ -14,6 +14,11 @@ namespace omesh
 {
 /// Thresholds relative to a length L of the mesh: its median edge, or the edge of a regular
 /// tetrahedron of its mean volume where that is longer.
+/// The length L the thresholds are relative to: the median edge, or the edge of a regular
+/// tetrahedron of the mean volume (`totalVolume` / `tetrahedra`) where that is longer (a cluster of
+/// tiny tetrahedra that is most of the mesh must not pull L down with it).
+double validityLength(double medianEdge, double totalVolume, std::size_t tetrahedra);
+
 struct ValidityThresholds
 {
   double duplicate = 1e-9; ///< two used vertices closer than this x L are duplicates
