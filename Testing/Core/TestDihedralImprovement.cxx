@@ -11,7 +11,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <map>
 #include <random>
 
 using namespace omesh;
@@ -101,6 +103,133 @@ TEST(DihedralImprovement, TheFlatPairStaysWhenItsFaceIsAnInterfaceOrItsMaterials
   const auto report = improveDihedralAngles(m, around);
   EXPECT_EQ(report.faceRemovals + report.edgeRemovals, 0u);
   EXPECT_EQ(m.tets.size(), 2u);
+}
+
+namespace
+{
+/// A flat tetrahedron t = (a, b, c, d) on a ridge: a, b at z = 0 on the x axis, c, d at z = -0.1 on
+/// the y axis; its faces abc and abd are the top, acd and bcd lie on two tetrahedra reaching down
+/// to e. Edge cd is a feature line (it cannot be flipped away); a is a corner, the rest on the
+/// surface. Material 1; with `cap`, material 2 above the ridge (two tetrahedra up to f).
+TetMesh ridge(bool cap)
+{
+  TetMesh m;
+  m.points = { { -1, 0, 0 }, { 1, 0, 0 }, { 0, -1, -0.1 }, { 0, 1, -0.1 }, { 0, 0, -1 }, { 0, 0, 1 } };
+  m.pointDimension = { 0, 2, 1, 1, 2, 2 };
+  auto positive = [&](std::array<int, 4> t) {
+    const auto& p = m.points;
+    if (signedVolume(p[t[0]], p[t[1]], p[t[2]], p[t[3]]) < 0)
+      std::swap(t[2], t[3]);
+    return t;
+  };
+  m.tets = { positive({ 0, 1, 2, 3 }), positive({ 1, 4, 2, 3 }), positive({ 4, 0, 2, 3 }) };
+  m.tetMaterial = { 1, 1, 1 };
+  if (!cap)
+  {
+    m.points.pop_back();
+    m.pointDimension.pop_back();
+  }
+  else
+  {
+    m.tets.push_back(positive({ 0, 1, 2, 5 }));
+    m.tets.push_back(positive({ 0, 1, 3, 5 }));
+    m.tetMaterial.push_back(2);
+    m.tetMaterial.push_back(2);
+  }
+  const std::vector<std::array<int, 3>> faces = { { 0, 1, 2 }, { 0, 1, 3 }, { 1, 4, 2 }, { 1, 4, 3 }, { 4, 0, 2 },
+    { 4, 0, 3 } };
+  for (const auto& f : faces)
+  {
+    m.interfaceTriangles.push_back(f);
+    m.interfaceMaterials.push_back({ 1, cap && f[2] < 4 && f[0] == 0 ? 2 : -1 });
+  }
+  if (cap)
+    for (const std::array<int, 3>& f : { std::array<int, 3>{ 0, 2, 5 }, { 1, 2, 5 }, { 0, 3, 5 }, { 1, 3, 5 } })
+    {
+      m.interfaceTriangles.push_back(f);
+      m.interfaceMaterials.push_back({ 2, -1 });
+    }
+  return m;
+}
+
+/// The faces between two materials or on the boundary, each with its two sides' materials.
+std::map<std::array<int, 3>, std::array<int, 2>> separatingFaces(const TetMesh& m)
+{
+  std::map<std::array<int, 3>, std::vector<int>> sides;
+  for (std::size_t t = 0; t < m.tets.size(); ++t)
+    for (int f = 0; f < 4; ++f)
+    {
+      std::array<int, 3> face{ m.tets[t][(f + 1) & 3], m.tets[t][(f + 2) & 3], m.tets[t][(f + 3) & 3] };
+      std::sort(face.begin(), face.end());
+      sides[face].push_back(m.tetMaterial[t]);
+    }
+  std::map<std::array<int, 3>, std::array<int, 2>> out;
+  for (const auto& [face, s] : sides)
+  {
+    const std::array<int, 2> pair{ std::min(s[0], s.size() > 1 ? s[1] : -1), std::max(s[0], s.size() > 1 ? s[1] : -1) };
+    if (pair[0] != pair[1])
+      out[face] = pair;
+  }
+  return out;
+}
+
+/// The mesh's interface triangles as separatingFaces gives them.
+std::map<std::array<int, 3>, std::array<int, 2>> interfaces(const TetMesh& m)
+{
+  std::map<std::array<int, 3>, std::array<int, 2>> out;
+  for (std::size_t k = 0; k < m.interfaceTriangles.size(); ++k)
+  {
+    auto face = m.interfaceTriangles[k];
+    std::sort(face.begin(), face.end());
+    const auto& s = m.interfaceMaterials[k];
+    EXPECT_TRUE(out.emplace(face, std::array<int, 2>{ std::min(s[0], s[1]), std::max(s[0], s[1]) }).second)
+      << "an interface triangle twice";
+  }
+  return out;
+}
+}
+
+TEST(DihedralImprovement, AFlatTetrahedronOnABoundaryRidgeIsPeeledOff)
+{
+  TetMesh m = ridge(false);
+  ASSERT_EQ(interfaces(m), separatingFaces(m));
+  HierarchicalOracle body;
+  body.add(std::make_shared<BoxDomain>(Vec3{ -2, -2, -2 }, Vec3{ 2, 2, 2 }, 1));
+  const auto report = improveDihedralAngles(m, body);
+  EXPECT_EQ(report.peeled, 1u);
+  ASSERT_EQ(m.tets.size(), 2u);
+  EXPECT_EQ(std::count(m.tets.begin(), m.tets.end(), ridge(false).tets[0]), 0) << "the flat one went";
+  EXPECT_EQ(interfaces(m), separatingFaces(m)) << "the boundary runs through the peeled one's lower faces";
+  const auto validity = checkMeshValidity(m);
+  EXPECT_TRUE(validity.valid()) << validity.describe();
+}
+
+TEST(DihedralImprovement, AFlatTetrahedronOnAnInterfaceRidgeGoesToTheOtherSide)
+{
+  TetMesh m = ridge(true);
+  ASSERT_EQ(interfaces(m), separatingFaces(m));
+  const double before = materialVolumes(m).at(1) + materialVolumes(m).at(2);
+  HierarchicalOracle twoMaterials; // 2 above z = 0, 1 below
+  twoMaterials.add(std::make_shared<BoxDomain>(Vec3{ -2, -2, 0 }, Vec3{ 2, 2, 2 }, 2));
+  twoMaterials.add(std::make_shared<BoxDomain>(Vec3{ -2, -2, -2 }, Vec3{ 2, 2, 2 }, 1));
+  const auto report = improveDihedralAngles(m, twoMaterials);
+  EXPECT_EQ(report.peeled, 1u);
+  EXPECT_EQ(report.outsideAfter, 0u);
+  EXPECT_EQ(interfaces(m), separatingFaces(m)) << "the interface runs through the peeled one's lower faces";
+  EXPECT_NEAR(materialVolumes(m).at(1) + materialVolumes(m).at(2), before, 1e-12) << "nothing lost";
+  for (std::size_t t = 0; t < m.tets.size(); ++t)
+    EXPECT_TRUE(inWindow(m, t, 15.0, 155.0)) << t;
+}
+
+TEST(DihedralImprovement, AFlatTetrahedronWithAFeatureOnItsRidgeStays)
+{
+  TetMesh m = ridge(false);
+  m.pointDimension[1] = 0; // a and b corners: the ridge ab counts as a feature line
+  HierarchicalOracle body;
+  body.add(std::make_shared<BoxDomain>(Vec3{ -2, -2, -2 }, Vec3{ 2, 2, 2 }, 1));
+  const auto report = improveDihedralAngles(m, body);
+  EXPECT_EQ(report.peeled, 0u);
+  EXPECT_EQ(m.tets.size(), 3u);
 }
 
 TEST(DihedralImprovement, KeepsFeatureLinesInterfacesAndVolumesAndReachesTheWindow)

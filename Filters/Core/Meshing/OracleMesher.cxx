@@ -1720,6 +1720,7 @@ private:
       st["improvement.face_removals"] = static_cast<double>(r.faceRemovals);
       st["improvement.interior_moves"] = static_cast<double>(r.interiorMoves);
       st["improvement.edge_splits"] = static_cast<double>(r.edgeSplits);
+      st["improvement.peeled"] = static_cast<double>(r.peeled);
       st["improvement.interface_moves"] = static_cast<double>(r.surfaceMoves);
       st["improvement.feature_line_moves"] = static_cast<double>(r.lineMoves);
       st["improvement.rounds"] = r.rounds;

@@ -4,6 +4,7 @@
 #include "HierarchicalOracle.h"
 #include "MeshQuality.h"
 #include "MeshValidity.h"
+#include "TetStars.h"
 
 #include <algorithm>
 #include <cmath>
@@ -22,128 +23,15 @@ namespace
 constexpr double kMicro = 1e-3;
 constexpr double kMicroFloor = 2e-4;
 
+/// A tetrahedron is peeled (DihedralImprover::peel) only when its height is below this x its
+/// longest edge: the interface moves by no more than that.
+constexpr double kPeelHeight = 0.2;
+
 /// Why a tetrahedron may not be made (DihedralImprover::flaws).
 constexpr unsigned kMicroFlaw = 1;  ///< longest edge below kMicro x the typical edge
 constexpr unsigned kTinyFlaw = 2;   ///< below kMicroFloor x the typical edge
 constexpr unsigned kLargeFlaw = 4;  ///< circumradius above its material's cell size
 constexpr unsigned kAcrossFlaw = 8; ///< every vertex on an interface or line, centroid in another material
-
-std::uint64_t edgeKey(int a, int b)
-{
-  const auto lo = static_cast<std::uint64_t>(std::min(a, b));
-  const auto hi = static_cast<std::uint64_t>(std::max(a, b));
-  return (hi << 32) | lo;
-}
-
-struct FaceKey
-{
-  std::array<int, 3> v;
-  FaceKey(int a, int b, int c)
-    : v{ a, b, c }
-  {
-    std::sort(v.begin(), v.end());
-  }
-  bool operator==(const FaceKey& o) const { return v == o.v; }
-};
-
-struct FaceKeyHash
-{
-  std::size_t operator()(const FaceKey& k) const
-  {
-    std::uint64_t h = static_cast<std::uint64_t>(k.v[0]) * 0x9E3779B97F4A7C15ull;
-    h ^= static_cast<std::uint64_t>(k.v[1]) + 0x7F4A7C159E3779B9ull + (h << 6) + (h >> 2);
-    h ^= static_cast<std::uint64_t>(k.v[2]) + 0x94D049BB133111EBull + (h << 6) + (h >> 2);
-    return static_cast<std::size_t>(h);
-  }
-};
-
-/// The tetrahedra as a mutable set: removed ones stay as tombstones until compact(), each vertex
-/// lists the live tetrahedra around it.
-class TetStars
-{
-public:
-  explicit TetStars(const TetMesh& mesh)
-    : tets_(mesh.tets)
-    , material_(mesh.tetMaterial)
-    , alive_(mesh.tets.size(), 1)
-    , stars_(mesh.points.size())
-  {
-    for (std::size_t t = 0; t < tets_.size(); ++t)
-      for (int v : tets_[t])
-        stars_[static_cast<std::size_t>(v)].push_back(static_cast<int>(t));
-  }
-
-  std::size_t size() const { return tets_.size(); }
-  bool alive(int t) const { return alive_[static_cast<std::size_t>(t)] != 0; }
-  const std::array<int, 4>& tet(int t) const { return tets_[static_cast<std::size_t>(t)]; }
-  int material(int t) const { return material_[static_cast<std::size_t>(t)]; }
-  const std::vector<int>& star(int v) const { return stars_[static_cast<std::size_t>(v)]; }
-
-  int add(const std::array<int, 4>& t, int material)
-  {
-    const int id = static_cast<int>(tets_.size());
-    tets_.push_back(t);
-    material_.push_back(material);
-    alive_.push_back(1);
-    for (int v : t)
-      stars_[static_cast<std::size_t>(v)].push_back(id);
-    return id;
-  }
-
-  /// Takes back a removed tetrahedron (its vertices' stars list it again).
-  void revive(int t)
-  {
-    alive_[static_cast<std::size_t>(t)] = 1;
-    for (int v : tets_[static_cast<std::size_t>(t)])
-      stars_[static_cast<std::size_t>(v)].push_back(t);
-  }
-
-  void remove(int t)
-  {
-    alive_[static_cast<std::size_t>(t)] = 0;
-    for (int v : tets_[static_cast<std::size_t>(t)])
-    {
-      auto& s = stars_[static_cast<std::size_t>(v)];
-      s.erase(std::find(s.begin(), s.end(), t));
-    }
-  }
-
-  /// Room for the star of a new vertex; the last one can be taken back while it has no tetrahedra.
-  void addVertex() { stars_.emplace_back(); }
-  void removeLastVertex() { stars_.pop_back(); }
-
-  /// Live tetrahedra containing both a and b.
-  std::vector<int> around(int a, int b) const
-  {
-    std::vector<int> out;
-    for (int t : star(a))
-    {
-      const auto& q = tet(t);
-      if (std::find(q.begin(), q.end(), b) != q.end())
-        out.push_back(t);
-    }
-    return out;
-  }
-
-  /// Writes the live tetrahedra back, in their order (the new ones after the old).
-  void compact(TetMesh& mesh) const
-  {
-    mesh.tets.clear();
-    mesh.tetMaterial.clear();
-    for (std::size_t t = 0; t < tets_.size(); ++t)
-      if (alive_[t])
-      {
-        mesh.tets.push_back(tets_[t]);
-        mesh.tetMaterial.push_back(material_[t]);
-      }
-  }
-
-private:
-  std::vector<std::array<int, 4>> tets_;
-  std::vector<int> material_;
-  std::vector<unsigned char> alive_;
-  std::vector<std::vector<int>> stars_;
-};
 
 enum class VertexKind : unsigned char
 {
@@ -184,6 +72,7 @@ public:
     }
     report_.cutShort = changed && report_.rounds == options_.rounds && options_.rounds > 0;
     stars_.compact(mesh_);
+    compactInterfaces();
     for (auto& piece : mesh_.segments) // their ends may have slid along the line
     {
       if (piece.aId >= 0)
@@ -338,6 +227,7 @@ private:
     kind_.assign(n, VertexKind::Interior);
     sides_.assign(n, { 0, 0 });
     interfaceAt_.assign(n, {});
+    interfaceGone_.assign(mesh_.interfaceTriangles.size(), 0);
     for (std::size_t v = 0; v < n; ++v)
       if (mesh_.pointDimension[v] <= 1)
         kind_[v] = VertexKind::Fixed;
@@ -352,7 +242,7 @@ private:
       const auto& tri = mesh_.interfaceTriangles[k];
       const auto& m = mesh_.interfaceMaterials[k];
       const std::array<int, 2> pair{ std::min(m[0], m[1]), std::max(m[0], m[1]) };
-      interfaces_.insert(FaceKey(tri[0], tri[1], tri[2]));
+      interfaces_.emplace(FaceKey(tri[0], tri[1], tri[2]), static_cast<int>(k));
       for (int v : tri)
       {
         auto& at = interfaceAt_[static_cast<std::size_t>(v)];
@@ -474,6 +364,8 @@ private:
     }
     if (moved || !stars_.alive(t))
       return moved;
+    if (peel(t))
+      return true;
     // the last resort, for tetrahedra whose vertices cannot move (a thin layer between two
     // interfaces, feature lines): a new interior vertex on one of its edges, longest first
     std::array<std::pair<double, std::pair<int, int>>, 6> edges;
@@ -519,7 +411,7 @@ private:
     const std::size_t movesBefore = report_.interiorMoves;
     moveVertex(m);
     report_.interiorMoves = movesBefore;
-    if (starQuality(m) > before + 1e-9 && starAcceptable(m))
+    if (starQuality(m) > before + 1e-9 && starAcceptable(m) && oracle_.material(mesh_.points.back()) == material)
     {
       ++report_.edgeSplits;
       return true;
@@ -535,6 +427,237 @@ private:
     sides_.pop_back();
     interfaceAt_.pop_back();
     return false;
+  }
+
+  // --- peeling --------------------------------------------------------------------------------
+  /// A thin tetrahedron lying on a fold of an interface (every vertex on an interface, two faces
+  /// on it towards the same side X, the edge between its other two faces inside its own material)
+  /// goes over to X: the outside (it is removed) or the material beyond (and the edge it leaves
+  /// inside X is removed, else it goes back). The interface then runs through its other two
+  /// faces, at most its height away (CGAL's Tetrahedral_remeshing peels slivers the same way).
+  /// Tetrahedra whose vertices are all held are reached this way only.
+  bool peel(int t)
+  {
+    const auto q = stars_.tet(t);
+    const int m = stars_.material(t);
+    const auto& p = mesh_.points;
+    for (int v : q)
+      if (mesh_.pointDimension[static_cast<std::size_t>(v)] > 2)
+        return false;
+    double largestFace = 0.0;
+    for (int f = 0; f < 4; ++f)
+      largestFace = std::max(largestFace, norm(cross(p[q[(f + 2) & 3]] - p[q[(f + 1) & 3]], p[q[(f + 3) & 3]] - p[q[(f + 1) & 3]])));
+    const double height = largestFace > 0 ? 6.0 * std::abs(orient(q)) / largestFace : 0.0;
+    if (!(height <= kPeelHeight * longestEdge(q)))
+      return false;
+    std::array<int, 4> side; // the material beyond the face opposite q[f], -1 outside
+    for (int f = 0; f < 4; ++f)
+    {
+      const int a = q[(f + 1) & 3], b = q[(f + 2) & 3], c = q[(f + 3) & 3];
+      const int next = stars_.beyond(t, a, b, c);
+      side[f] = next < 0 ? -1 : stars_.material(next);
+      if (isInterface(a, b, c) != (side[f] != m))
+        return false; // an interface that does not separate materials here: not ours to move
+    }
+    for (int f = 0; f < 4; ++f)
+      for (int g = f + 1; g < 4; ++g)
+      {
+        // faces f and g towards x, the other two not
+        const int x = side[f];
+        int k1 = -1, k2 = -1;
+        for (int e = 0; e < 4; ++e)
+          if (e != f && e != g)
+            (k1 < 0 ? k1 : k2) = e;
+        if (x == m || side[g] != x || side[k1] == x || side[k2] == x)
+          continue;
+        const int a = q[k1], b = q[k2]; // the fold edge, shared by faces f and g
+        const int c = q[f], d = q[g];   // shared by the other two faces
+        // the other two faces towards t's own material: edge cd stays inside it (no pinch);
+        // removed: cd must not be on the boundary already (no non-manifold edge)
+        if (isKept(a, b) || (side[k1] == m && side[k2] == m && !insideOneMaterial(c, d, m)) ||
+          (x < 0 && !closedAround(c, d)))
+          continue;
+        std::vector<Retriangulated> changes;
+        for (int e : { f, g })
+          changes.push_back({ face(q, e), { 0, 0 }, true });
+        for (int e : { k1, k2 })
+          changes.push_back({ face(q, e), { x, side[e] }, false });
+        if (x < 0 ? removeToOutside(t, changes) : giveTo(t, x, changes))
+          return true;
+      }
+    return false;
+  }
+
+  static std::array<int, 3> face(const std::array<int, 4>& q, int f)
+  {
+    return { q[(f + 1) & 3], q[(f + 2) & 3], q[(f + 3) & 3] };
+  }
+
+  /// Whether edge cd is inside material m: every tetrahedron around it of m, no face around it on
+  /// an interface or the boundary.
+  bool insideOneMaterial(int c, int d, int m) const
+  {
+    const auto around = stars_.around(c, d);
+    for (int u : around)
+    {
+      if (stars_.material(u) != m)
+        return false;
+      for (int v : stars_.tet(u))
+        if (v != c && v != d && isInterface(c, d, v))
+          return false;
+    }
+    return !around.empty() && closedAround(c, d);
+  }
+
+  /// Whether the tetrahedra around edge cd close around it (no face at it on the boundary).
+  bool closedAround(int c, int d) const
+  {
+    for (int u : stars_.around(c, d))
+      for (int v : stars_.tet(u))
+        if (v != c && v != d && stars_.beyond(u, c, d, v) < 0)
+          return false;
+    return true;
+  }
+
+  /// A face of a peeled tetrahedron: off every interface (`gone`), or on one between `materials`.
+  struct Retriangulated
+  {
+    std::array<int, 3> tri;
+    std::array<int, 2> materials;
+    bool gone;
+  };
+
+  /// Tetrahedron t leaves the mesh; its faces towards the outside go, the others become the
+  /// boundary.
+  bool removeToOutside(int t, std::vector<Retriangulated>& changes)
+  {
+    for (int v : stars_.tet(t))
+      if (stars_.star(v).size() < 2)
+        return false;
+    stars_.remove(t);
+    swapInterfaces(changes);
+    for (const auto& c : changes)
+      for (int v : c.tri)
+        touched_.insert(touched_.end(), stars_.star(v).begin(), stars_.star(v).end());
+    ++report_.peeled;
+    return true;
+  }
+
+  /// Tetrahedron t goes from its material to x; kept when a flip inside x then removes it.
+  bool giveTo(int t, int x, std::vector<Retriangulated>& changes)
+  {
+    const int m = stars_.material(t);
+    stars_.setMaterial(t, x);
+    const auto undo = swapInterfaces(changes);
+    const auto q = stars_.tet(t);
+    for (int i = 0; i < 4; ++i)
+      for (int j = i + 1; j < 4; ++j)
+        if (removeEdge(q[i], q[j]))
+        {
+          ++report_.peeled;
+          return true;
+        }
+    for (int f = 0; f < 4; ++f)
+      if (removeFace(t, f))
+      {
+        ++report_.peeled;
+        return true;
+      }
+    stars_.setMaterial(t, m);
+    undoSwap(undo);
+    return false;
+  }
+
+  /// What swapInterfaces changed, for undoSwap.
+  struct InterfaceSwap
+  {
+    std::vector<int> gone, made;
+    std::vector<std::pair<int, VertexKind>> kinds;
+  };
+
+  /// The interface triangles of `changes` that were on an interface go; those not `gone` come
+  /// (again) with their materials. Vertices of one interface that now touch another are held.
+  InterfaceSwap swapInterfaces(const std::vector<Retriangulated>& changes)
+  {
+    InterfaceSwap swap;
+    for (const auto& change : changes)
+    {
+      const auto it = interfaces_.find(FaceKey(change.tri[0], change.tri[1], change.tri[2]));
+      if (it == interfaces_.end())
+        continue;
+      swap.gone.push_back(it->second);
+      interfaceGone_[static_cast<std::size_t>(it->second)] = 1;
+      for (int v : change.tri)
+      {
+        auto& at = interfaceAt_[static_cast<std::size_t>(v)];
+        at.erase(std::find(at.begin(), at.end(), it->second));
+      }
+      interfaces_.erase(it);
+    }
+    for (const auto& change : changes)
+    {
+      if (change.gone)
+        continue;
+      const auto& tri = change.tri;
+      const auto& materials = change.materials;
+      const std::array<int, 2> pair{ std::min(materials[0], materials[1]), std::max(materials[0], materials[1]) };
+      const int k = static_cast<int>(mesh_.interfaceTriangles.size());
+      mesh_.interfaceTriangles.push_back(tri);
+      mesh_.interfaceMaterials.push_back(materials);
+      interfaceGone_.push_back(0);
+      interfaces_.emplace(FaceKey(tri[0], tri[1], tri[2]), k);
+      swap.made.push_back(k);
+      for (int v : tri)
+      {
+        interfaceAt_[static_cast<std::size_t>(v)].push_back(k);
+        auto& kind = kind_[static_cast<std::size_t>(v)];
+        if (kind != VertexKind::Fixed && sides_[static_cast<std::size_t>(v)] != pair)
+        {
+          swap.kinds.emplace_back(v, kind);
+          kind = VertexKind::Fixed;
+        }
+      }
+    }
+    return swap;
+  }
+
+  void undoSwap(const InterfaceSwap& swap)
+  {
+    for (auto k = swap.made.rbegin(); k != swap.made.rend(); ++k)
+    {
+      const auto tri = mesh_.interfaceTriangles[static_cast<std::size_t>(*k)];
+      interfaces_.erase(FaceKey(tri[0], tri[1], tri[2]));
+      for (int v : tri)
+        interfaceAt_[static_cast<std::size_t>(v)].pop_back();
+      mesh_.interfaceTriangles.pop_back();
+      mesh_.interfaceMaterials.pop_back();
+      interfaceGone_.pop_back();
+    }
+    for (auto it = swap.kinds.rbegin(); it != swap.kinds.rend(); ++it)
+      kind_[static_cast<std::size_t>(it->first)] = it->second;
+    for (int k : swap.gone)
+    {
+      const auto& tri = mesh_.interfaceTriangles[static_cast<std::size_t>(k)];
+      interfaceGone_[static_cast<std::size_t>(k)] = 0;
+      interfaces_.emplace(FaceKey(tri[0], tri[1], tri[2]), k);
+      for (int v : tri)
+        interfaceAt_[static_cast<std::size_t>(v)].push_back(k);
+    }
+  }
+
+  /// Drops the peeled interface triangles from the mesh.
+  void compactInterfaces()
+  {
+    std::size_t kept = 0;
+    for (std::size_t k = 0; k < mesh_.interfaceTriangles.size(); ++k)
+      if (!interfaceGone_[k])
+      {
+        mesh_.interfaceTriangles[kept] = mesh_.interfaceTriangles[k];
+        mesh_.interfaceMaterials[kept] = mesh_.interfaceMaterials[k];
+        ++kept;
+      }
+    mesh_.interfaceTriangles.resize(kept);
+    mesh_.interfaceMaterials.resize(kept);
   }
 
   // --- flips --------------------------------------------------------------------------------
@@ -644,13 +767,7 @@ private:
     const int a = q[(f + 1) & 3], b = q[(f + 2) & 3], c = q[(f + 3) & 3];
     if (isInterface(a, b, c))
       return false;
-    int other = -1;
-    for (int u : stars_.around(a, b))
-    {
-      const auto& r = stars_.tet(u);
-      if (u != t && std::find(r.begin(), r.end(), c) != r.end())
-        other = u;
-    }
+    const int other = stars_.beyond(t, a, b, c);
     if (other < 0 || stars_.material(other) != stars_.material(t))
       return false;
     int e = -1;
@@ -777,7 +894,7 @@ private:
     std::vector<unsigned> flawsBefore;
     for (int t : stars_.star(v))
       flawsBefore.push_back(flaws(stars_.tet(t), stars_.material(t)));
-    Step s{ v, kind, normal, length, current, worst, flawsBefore };
+    Step s{ v, kind, normal, length, stars_.material(stars_.star(v).front()), current, worst, flawsBefore };
     for (int iteration = 0; iteration < 6 && s.current < 1.0; ++iteration)
     {
       // the worst tetrahedron's gradient; where another one blocks it, the axes (a pattern search)
@@ -808,6 +925,7 @@ private:
     VertexKind kind;
     Vec3 normal;   ///< of its interface (Interface vertices move in the tangent plane)
     double length; ///< mean edge length around it
+    int material;  ///< of its tetrahedra (an interior vertex's)
     double current;
     int worst;
     const std::vector<unsigned>& flawsBefore;
@@ -834,6 +952,9 @@ private:
     {
       Vec3 trial = here + (step / dl) * direction;
       if (s.kind == VertexKind::Interface && !onInterface(s.v, s.normal, 0.5 * s.length, trial))
+        continue;
+      // an interior vertex stays inside its material (its tetrahedra would reach across otherwise)
+      if (s.kind == VertexKind::Interior && oracle_.material(trial) != s.material)
         continue;
       x = trial;
       int w = -1;
@@ -880,7 +1001,8 @@ private:
   std::vector<std::vector<int>> interfaceAt_;  ///< interface triangles at each vertex
   std::unordered_set<std::uint64_t> kept_;     ///< present feature-segment edges
   std::unordered_map<int, Vec3> lineDirection_; ///< of each OnLine vertex's segment (unit)
-  std::unordered_set<FaceKey, FaceKeyHash> interfaces_;
+  std::unordered_map<FaceKey, int, FaceKeyHash> interfaces_; ///< -> index in mesh_.interfaceTriangles
+  std::vector<unsigned char> interfaceGone_;                 ///< per interface triangle: peeled away
   DihedralImprovementReport report_;
   std::vector<int> touched_; ///< tetrahedra made or moved in this round
 };

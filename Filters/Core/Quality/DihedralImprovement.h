@@ -37,6 +37,7 @@ struct DihedralImprovementReport
   std::size_t edgeRemovals = 0;   ///< interior edges removed (3-2 flips and larger rings)
   std::size_t faceRemovals = 0;   ///< interior faces removed (2-3 flips)
   std::size_t edgeSplits = 0;     ///< interior vertices added on interior edges (kept ones)
+  std::size_t peeled = 0;         ///< thin tetrahedra on a fold of an interface given to the other side
   std::size_t interiorMoves = 0;  ///< interior vertices moved
   std::size_t surfaceMoves = 0;   ///< interface vertices moved along their interface (kept on it)
   std::size_t lineMoves = 0;      ///< feature-line vertices moved along their straight segment
