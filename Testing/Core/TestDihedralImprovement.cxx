@@ -2,6 +2,7 @@
 #include "BoxDomain.h"
 #include "DihedralImprovement.h"
 #include "HierarchicalOracle.h"
+#include "LabelMapDomain.h"
 #include "MeshQuality.h"
 #include "MeshValidity.h"
 #include "OracleMesher.h"
@@ -230,6 +231,39 @@ TEST(DihedralImprovement, AFlatTetrahedronWithAFeatureOnItsRidgeStays)
   const auto report = improveDihedralAngles(m, body);
   EXPECT_EQ(report.peeled, 0u);
   EXPECT_EQ(m.tets.size(), 3u);
+}
+
+TEST(DihedralImprovement, PeelsOnALabelMapKeepItsInterfacesAndVolumes)
+{
+  // a ball in a shell sampled on voxels (trilinear interfaces): folds of the interfaces between
+  // voxels carry thin tetrahedra whose vertices lie where the two labels and the outside meet
+  const std::array<int, 3> dims{ 26, 26, 26 };
+  std::vector<int> labels;
+  for (int k = 0; k < dims[2]; ++k)
+    for (int j = 0; j < dims[1]; ++j)
+      for (int i = 0; i < dims[0]; ++i)
+      {
+        const double r = norm(Vec3{ i - 12.3, j - 12.6, k - 12.1 });
+        labels.push_back(r < 6.5 ? 1 : r < 9.7 ? 2 : 0);
+      }
+  HierarchicalOracle oracle;
+  oracle.add(std::make_shared<LabelMapDomain>(dims, labels,
+    LabelMapDomain::pointCenteredWorldToVoxel({ 0, 0, 0 }, { 1, 1, 1 }, { 1, 0, 0, 0, 1, 0, 0, 0, 1 }), 0, "balls",
+    LabelInterpolation::Trilinear));
+  MesherOptions on;
+  on.criteria.global = { 25.0, 2.0, 0.5, 2.0, 3.0, 0.0 };
+  on.seed = 2;
+  MesherOptions off = on;
+  off.improveAngles = false;
+  const TetMesh before = meshOracle(oracle, {}, {}, off);
+  const TetMesh after = meshOracle(oracle, {}, {}, on);
+  EXPECT_GT(after.statistics.at("improvement.peeled"), 0.0) << "the case no longer tests peeling";
+  EXPECT_LT(after.statistics.at("improvement.outside_after"), after.statistics.at("improvement.outside_before"));
+  EXPECT_EQ(interfaces(after), separatingFaces(after));
+  EXPECT_EQ(after.statistics.at("validity.defects"), 0.0);
+  const auto vb = materialVolumes(before), va = materialVolumes(after);
+  for (int material : { 1, 2 })
+    EXPECT_NEAR(va.at(material), vb.at(material), 0.005 * vb.at(material)) << material;
 }
 
 TEST(DihedralImprovement, KeepsFeatureLinesInterfacesAndVolumesAndReachesTheWindow)
