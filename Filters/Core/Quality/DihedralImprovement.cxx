@@ -393,7 +393,7 @@ private:
     const int material = stars_.material(old.front());
     const int m = static_cast<int>(mesh_.points.size());
     const auto& p = mesh_.points;
-    mesh_.points.push_back(0.5 * (p[static_cast<std::size_t>(a)] + p[static_cast<std::size_t>(b)]));
+    mesh_.points.push_back(splitPoint(a, b, ring, material));
     mesh_.pointDimension.push_back(3);
     kind_.push_back(VertexKind::Interior);
     sides_.push_back({ 0, 0 });
@@ -658,6 +658,28 @@ private:
       }
     mesh_.interfaceTriangles.resize(kept);
     mesh_.interfaceMaterials.resize(kept);
+  }
+
+  /// Where a new vertex on edge ab starts: its midpoint, or where that lies outside the material
+  /// (a chord across a concave interface), the first point towards the centre of the ring that
+  /// lies inside.
+  Vec3 splitPoint(int a, int b, const std::vector<int>& ring, int material) const
+  {
+    const auto& p = mesh_.points;
+    const Vec3 mid = 0.5 * (p[static_cast<std::size_t>(a)] + p[static_cast<std::size_t>(b)]);
+    if (oracle_.material(mid) == material)
+      return mid;
+    Vec3 centre{ 0, 0, 0 };
+    for (int v : ring)
+      centre = centre + p[static_cast<std::size_t>(v)];
+    centre = (1.0 / static_cast<double>(ring.size())) * centre;
+    for (double f : { 0.25, 0.5, 0.75 })
+    {
+      const Vec3 x = mid + f * (centre - mid);
+      if (oracle_.material(x) == material)
+        return x;
+    }
+    return mid;
   }
 
   // --- flips --------------------------------------------------------------------------------
