@@ -482,7 +482,7 @@ private:
           changes.push_back({ face(q, e), { 0, 0 }, true });
         for (int e : { k1, k2 })
           changes.push_back({ face(q, e), { x, side[e] }, false });
-        if (x < 0 ? removeToOutside(t, changes) : giveTo(t, x, changes))
+        if (x < 0 ? removeToOutside(t, changes) : giveTo(t, x, a, b, changes))
           return true;
       }
     return false;
@@ -543,28 +543,59 @@ private:
     return true;
   }
 
-  /// Tetrahedron t goes from its material to x; kept when a flip inside x then removes it.
-  bool giveTo(int t, int x, std::vector<Retriangulated>& changes)
+  /// Tetrahedron t goes from its material to x; kept when a flip inside x then removes it, or
+  /// when removing its fold edge ab and moving the vertices around it does.
+  bool giveTo(int t, int x, int a, int b, std::vector<Retriangulated>& changes)
   {
     const int m = stars_.material(t);
+    const double before = quality(t);
     stars_.setMaterial(t, x);
     const auto undo = swapInterfaces(changes);
     const auto q = stars_.tet(t);
-    for (int i = 0; i < 4; ++i)
-      for (int j = i + 1; j < 4; ++j)
-        if (removeEdge(q[i], q[j]))
-        {
-          ++report_.peeled;
-          return true;
-        }
-    for (int f = 0; f < 4; ++f)
-      if (removeFace(t, f))
-      {
-        ++report_.peeled;
-        return true;
-      }
+    bool done = false;
+    for (int i = 0; i < 4 && !done; ++i)
+      for (int j = i + 1; j < 4 && !done; ++j)
+        done = removeEdge(q[i], q[j]);
+    for (int f = 0; f < 4 && !done; ++f)
+      done = removeFace(t, f);
+    if (!done)
+      done = removeEdgeAndMove(a, b, before);
+    if (done)
+    {
+      ++report_.peeled;
+      return true;
+    }
     stars_.setMaterial(t, m);
     undoSwap(undo);
+    return false;
+  }
+
+  /// Removes edge ab although that alone does not pay, then moves the vertices of its ring; kept
+  /// when the new tetrahedra end better than `before`, else everything goes back.
+  bool removeEdgeAndMove(int a, int b, double before)
+  {
+    std::vector<int> made, old;
+    const auto report = report_;
+    const std::size_t touched = touched_.size();
+    if (!removeEdge(a, b, &made, &old))
+      return false;
+    std::vector<std::pair<int, Vec3>> positions;
+    for (int t : made)
+      for (int v : stars_.tet(t))
+        if (v != a && v != b && std::none_of(positions.begin(), positions.end(), [&](const auto& e) { return e.first == v; }))
+          positions.emplace_back(v, mesh_.points[static_cast<std::size_t>(v)]);
+    for (const auto& [v, at] : positions)
+      moveVertex(v);
+    if (worstOf(made) > before + 1e-9)
+      return true;
+    for (const auto& [v, at] : positions)
+      mesh_.points[static_cast<std::size_t>(v)] = at;
+    for (int t : made)
+      stars_.remove(t);
+    for (int t : old)
+      stars_.revive(t);
+    report_ = report;
+    touched_.resize(touched);
     return false;
   }
 
@@ -724,12 +755,14 @@ private:
 
   /// Removes edge ab: its ring is triangulated the best way (Shewchuk's dynamic programme over the
   /// ring polygon), each triangle making one tetrahedron with a and one with b.
-  bool removeEdge(int a, int b)
+  /// With `made`: the edge goes even when that does not pay (as long as no tetrahedron is flat or
+  /// inverted), and `made` receives the new tetrahedra, `old` the ones removed.
+  bool removeEdge(int a, int b, std::vector<int>* made = nullptr, std::vector<int>* removed = nullptr)
   {
     std::vector<int> ring, old;
     if (!ringAround(a, b, ring, old))
       return false;
-    const double before = worstOf(old);
+    const double before = made ? 0.0 : worstOf(old);
     const int n = static_cast<int>(ring.size());
     auto pairQuality = [&](int i, int k, int j) {
       return std::min(quality({ ring[i], ring[k], ring[j], b }), quality({ ring[j], ring[k], ring[i], a }));
@@ -755,7 +788,7 @@ private:
     if (!(best[n - 1] > before + 1e-9))
       return false;
     const int material = stars_.material(old.front());
-    std::vector<std::array<int, 4>> made;
+    std::vector<std::array<int, 4>> tets;
     std::vector<std::pair<int, int>> todo{ { 0, n - 1 } };
     while (!todo.empty())
     {
@@ -764,18 +797,24 @@ private:
       if (j - i < 2)
         continue;
       const int k = split[i * n + j];
-      made.push_back({ ring[i], ring[k], ring[j], b });
-      made.push_back({ ring[j], ring[k], ring[i], a });
+      tets.push_back({ ring[i], ring[k], ring[j], b });
+      tets.push_back({ ring[j], ring[k], ring[i], a });
       todo.push_back({ i, k });
       todo.push_back({ k, j });
     }
-    for (const auto& m : made)
+    for (const auto& m : tets)
       if (!acceptable(m, material))
         return false;
     for (int t : old)
       stars_.remove(t);
-    for (const auto& m : made)
-      addTet(m, material);
+    for (const auto& m : tets)
+    {
+      const int id = addTet(m, material);
+      if (made)
+        made->push_back(id);
+    }
+    if (removed)
+      *removed = old;
     ++report_.edgeRemovals;
     return true;
   }
