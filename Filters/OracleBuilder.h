@@ -83,43 +83,9 @@ public:
   /// coordinate, naming `who`, `what` ("surface", "feature lines") and the point.
   static void CheckCoordinates(vtkPoints* points, const std::string& who, const std::string& what);
 
-  /// Bytes this process can still allocate: the system's available memory (MemAvailable), capped by
-  /// the address-space limit (ulimit -v) when one is set.
-  static double AvailableMemory();
-
-  /// Throws before allocating `count` items of `bytesEach` bytes when they would need more than the
-  /// available memory: "who: what (count) need X GB (B bytes each); Y GB available".
-  static void CheckMemory(const std::string& who, const std::string& what, double count, double bytesEach);
-
-  /// Warnings for the domains no point of which reaches the mesh: every point sampled inside the
-  /// domain's bounds (20 x 20 x 20) that the domain contains belongs to a higher-priority domain.
-  static std::vector<std::string> HiddenDomainWarnings(const omesh::HierarchicalOracle& oracle);
-
-  /// Warnings for inputs that look placed in different frames or units: two bounded material
-  /// domains whose bounding boxes differ in size by ScaleWarningRatio or more (metres and
-  /// millimetres), or a group of inputs whose boxes overlap none of the others' in
-  /// OverlapWarningShare of the smaller box or more (apart, or barely overlapping: a surface in
-  /// another frame than the label map). Boxes that share a face or an edge overlap across it (parts
-  /// meeting on purpose), and a group may hang together through a third input (two implant parts
-  /// in a bone).
-  static std::vector<std::string> InputPlacementWarnings(const omesh::HierarchicalOracle& oracle);
-  static constexpr double ScaleWarningRatio = 100.0;
-  static constexpr double OverlapWarningShare = 0.05;
-
-  /// Warnings for the materials of `oracle` (the labels of a label map) that have no tetrahedron in
-  /// the mesh although their input is not empty: `tetsPerMaterial` counts the mesh's tetrahedra.
-  static std::vector<std::string> VanishedMaterialWarnings(
-    const omesh::HierarchicalOracle& oracle, const std::map<int, std::size_t>& tetsPerMaterial);
   /// Warnings for names and criteria given to materials no domain has: a label map's label names
   /// (read from the domains in `data`, BuildOracle's input) for labels its image lacks, and
   /// `criteriaMaterials` (the per-material table's ids) that no domain of `oracle` gives.
   static std::vector<std::string> UnknownMaterialWarnings(
     vtkDataObject* data, const omesh::HierarchicalOracle& oracle, const std::vector<int>& criteriaMaterials);
-  /// The domains' own warnings (what a surface's inside test repaired), then HiddenDomainWarnings.
-  static std::vector<std::string> DomainWarnings(const omesh::HierarchicalOracle& oracle);
-  /// The surface domains' own warnings (what their inside test repaired: holes, non-manifold
-  /// edges, intersecting triangles), each of a winding-number surface followed, given the mesh, by
-  /// how far its material's boundary and the input surface lie apart (SurfaceDeviation).
-  static std::vector<std::string> SurfaceWarnings(
-    const omesh::HierarchicalOracle& oracle, const omesh::TetMesh* mesh = nullptr);
 };

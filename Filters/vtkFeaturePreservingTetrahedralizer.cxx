@@ -1,17 +1,13 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "vtkFeaturePreservingTetrahedralizer.h"
 
-#include "FeatureClip.h"
-#include "FeatureMerge.h"
 #include "FeatureSelection.h"
 #include "HierarchicalOracle.h"
 #include "InputError.h"
 #include "LabelSmoothing.h"
-#include "MeshQuality.h"
-#include "MeshSizeEstimate.h"
+#include "MeshingPipeline.h"
 #include "OracleBuilder.h"
 #include "OracleMesher.h"
-#include "QuadraticTets.h"
 #include "TetMeshOutput.h"
 
 #include <vtkCellArray.h>
@@ -44,51 +40,6 @@ vtkStandardNewMacro(vtkFeaturePreservingTetrahedralizer);
 
 namespace
 {
-/// Refuses, before any meshing, criteria the run cannot meet (beyond the vertex budget or the time
-/// limit: MeshSizeEstimate.h) and a mesh too big for the memory available: errors naming the sizes,
-/// not hours of refinement, std::bad_alloc or the OOM killer later. Returns the estimate's vertices.
-double checkMeshSize(
-  const omesh::HierarchicalOracle& oracle, const omesh::FeatureSegments& features, const omesh::MesherOptions& options)
-{
-  const omesh::MeshSizeEstimate estimate = omesh::estimateMeshSize(oracle, options.criteria, features);
-  const double asked = estimate.total();
-  const double budget = options.maximumNumberOfVertices ? static_cast<double>(options.maximumNumberOfVertices) : asked;
-  omesh::checkMeshSize(
-    estimate, static_cast<double>(options.maximumNumberOfVertices), omesh::effectiveTimeLimit(options));
-  std::ostringstream what;
-  what << "a mesh of about " << std::min(asked, budget) << " vertices (the criteria ask for about " << asked
-       << (budget < asked ? ", MaximumNumberOfVertices caps it)" : ")");
-  try
-  {
-    OracleBuilder::CheckMemory(
-      "vtkFeaturePreservingTetrahedralizer", what.str(), std::min(asked, budget), omesh::kBytesPerMeshVertex);
-  }
-  catch (const omesh::InputError& e)
-  {
-    throw omesh::InputError(std::string(e.what()) + ": coarsen the criteria or lower MaximumNumberOfVertices");
-  }
-  return asked;
-}
-
-/// The error of a run that ends with no tetrahedron: what removed everything, from what the run
-/// found on the way (hidden or cut domains, criteria larger than the domain, the budget), else the
-/// likely causes.
-std::string emptyMeshMessage(const std::vector<std::string>& notes, const std::vector<std::string>& inputNotes,
-  const std::vector<std::string>& meshWarnings)
-{
-  std::string text = "no tetrahedra: the mesh is empty";
-  std::vector<std::string> causes(notes.begin(), notes.end());
-  causes.insert(causes.end(), inputNotes.begin(), inputNotes.end());
-  causes.insert(causes.end(), meshWarnings.begin(), meshWarnings.end());
-  if (causes.empty())
-    return text + " (every material is cut away, outside the other domains, or smaller than the mesh size: "
-                  "check the cuts' sides and the criteria against the inputs' size)";
-  text += "; what the run found:";
-  for (size_t i = 0; i < causes.size(); ++i)
-    text += (i ? "; " : " ") + causes[i];
-  return text;
-}
-
 /// Throws when a property lies outside [low, high] (or is NaN), naming it.
 void checkRange(const char* property, double value, double low, double high, const char* meaning = "")
 {
@@ -212,18 +163,13 @@ void vtkFeaturePreservingTetrahedralizer::RemoveAllMaterialCriteria()
   this->ClearMaterialCriteria();
 }
 
-/// One run of RequestData: the core's inputs and options, then its mesh.
+/// One run of RequestData: the core's inputs and options, then its result.
 struct vtkFeaturePreservingTetrahedralizer::MeshingRun
 {
-  omesh::MesherOptions options;
   std::shared_ptr<omesh::HierarchicalOracle> oracle;
-  omesh::FeatureSegments features;
-  omesh::FeatureSelection selection; // how `features` were chosen: each segment's origin
-  std::vector<omesh::Vec3> seedPoints;
-  std::vector<std::string> notes;      // this adapter's warnings, listed before the mesher's
-  std::vector<std::string> inputNotes; // of them, those about the inputs (field data InputWarnings)
-  omesh::TetMesh mesh;
-  omesh::QuadraticTetMesh quadratic; // with ElementOrder 2
+  omesh::PipelineInput input;
+  omesh::PipelineOptions options;
+  omesh::PipelineResult result;
 };
 
 int vtkFeaturePreservingTetrahedralizer::RequestData(
@@ -240,7 +186,7 @@ int vtkFeaturePreservingTetrahedralizer::RequestData(
   {
     this->CheckProperties(); // before any heavy work
     this->GatherInputs(inputVector, run);
-    this->MeshInputs(run);
+    run.result = omesh::runMeshingPipeline(*run.oracle, std::move(run.input), run.options);
   }
   catch (const omesh::InputError& e)
   {
@@ -318,7 +264,9 @@ std::array<double, 6> vtkFeaturePreservingTetrahedralizer::GlobalCriteria() cons
 
 void vtkFeaturePreservingTetrahedralizer::SetUpOptions(MeshingRun& run)
 {
-  omesh::MesherOptions& options = run.options;
+  run.options.features = static_cast<omesh::FeatureSource>(this->Features);
+  run.options.creaseAngle = this->CreaseAngle;
+  omesh::MesherOptions& options = run.options.mesher;
   options.strategy = this->FeatureStrategy == CONFORMING ? omesh::FeatureStrategy::Conforming
     : this->FeatureStrategy == NONE                    ? omesh::FeatureStrategy::None
                                                         : omesh::FeatureStrategy::ProtectingBalls;
@@ -364,168 +312,44 @@ void vtkFeaturePreservingTetrahedralizer::GatherInputs(vtkInformationVector** in
     throw omesh::InputError(std::string("seed points (input port 2): need points (vtkPolyData), got ") +
       seedsData->GetClassName());
   this->SetUpOptions(run);
-  std::vector<int> owners;
-  run.features = OracleBuilder::ToFeatureSegments(lines, &owners);
-  // The oracle first: the lines are clipped to where they can be features of its domain before
-  // they are merged (the merge makes a clipped end one with any given point there).
+  run.input.lines = OracleBuilder::ToFeatureSegments(lines, &run.input.owners);
   run.oracle = OracleBuilder::BuildOracle(oracleData, [this](double f) {
     this->UpdateProgress(0.02 * f); // a label map's smoothing: before the feature search's tenth
     return !this->GetAbortExecute();
   });
-  if (!run.features.empty())
-    ClipFeatures(run, owners);
-  const omesh::FeatureMergeCounts merged = omesh::mergeFeatureSegments(run.features);
-  if (merged.changed())
-  {
-    // only what happened: "merged 2 duplicate segment(s); split 4 pair(s) of crossing segments ..."
-    std::vector<std::string> merges;
-    if (merged.duplicates)
-      merges.push_back(std::to_string(merged.duplicates) + " duplicate segment(s)");
-    if (merged.overlapping)
-      merges.push_back(std::to_string(merged.overlapping) + " overlapping collinear segment(s) in " +
-        std::to_string(merged.overlapGroups) + " group(s)");
-    if (merged.mergedPoints)
-      merges.push_back(std::to_string(merged.mergedPoints) + " repeated point(s)" +
-        (merged.withinRounding ? " (some within rounding of each other)" : ""));
-    std::string text = "feature lines: ";
-    for (size_t i = 0; i < merges.size(); ++i)
-      text += (i == 0 ? "merged " : i + 1 == merges.size() ? " and " : ", ") + merges[i];
-    if (merged.crossings)
-      text += (merges.empty() ? "" : "; ") + std::string("split ") + std::to_string(merged.crossings) +
-        " pair(s) of crossing segments where they cross (lines may meet only at shared points)";
-    if (merged.splitSegments)
-      text += (merges.empty() && !merged.crossings ? "" : "; ") + std::string("split ") +
-        std::to_string(merged.splitSegments) + " segment(s) at points of other lines lying on them within rounding";
-    run.notes.push_back(text + "; " + std::to_string(run.features.segments.size()) + " segments remain");
-  }
-
-  for (const std::string& w : OracleBuilder::HiddenDomainWarnings(*run.oracle))
-    run.notes.push_back(w);
-  run.inputNotes = OracleBuilder::InputPlacementWarnings(*run.oracle);
   // The merge rule of MeshCriteria.h: global < the domains' own < this filter's table.
   const omesh::CriteriaLevel domainLevel = OracleBuilder::DomainCriteria(oracleData, *run.oracle);
   omesh::CriteriaLevel tableLevel;
   for (const auto& [m, c] : this->MaterialCriteria)
     tableLevel.add(m, omesh::MeshCriteria::fromVtk(c), "the per-material table");
-  run.options.criteria =
+  run.options.mesher.criteria =
     omesh::mergeCriteria(omesh::MeshCriteria::fromVtk(this->GlobalCriteria()), { &domainLevel, &tableLevel });
-  // slips that would mesh silently: names and criteria of materials no input has, sizes in other units
+  // names and criteria given to materials no input has (read from the domains' field data)
   std::vector<int> tableMaterials;
   for (const auto& entry : this->MaterialCriteria)
     tableMaterials.push_back(entry.first);
-  for (std::string& w : OracleBuilder::UnknownMaterialWarnings(oracleData, *run.oracle, tableMaterials))
-    run.inputNotes.push_back(std::move(w));
-  for (std::string& w : omesh::criteriaScaleWarnings(*run.oracle, run.options.criteria))
-    run.inputNotes.push_back(std::move(w));
-  this->SelectFeatures(run);
+  run.input.inputWarnings = OracleBuilder::UnknownMaterialWarnings(oracleData, *run.oracle, tableMaterials);
   if (seeds)
     OracleBuilder::CheckCoordinates(seeds->GetPoints(), "seed points (input port 2)", "");
   for (vtkIdType i = 0; seeds && i < seeds->GetNumberOfPoints(); ++i)
   {
     double x[3];
     seeds->GetPoint(i, x);
-    run.seedPoints.push_back({ x[0], x[1], x[2] });
-  }
-}
-
-void vtkFeaturePreservingTetrahedralizer::ClipFeatures(MeshingRun& run, const std::vector<int>& owners)
-{
-  const omesh::FeatureClipCounts clipped = omesh::clipFeatureSegments(run.features, *run.oracle, owners);
-  if (!clipped.changed())
-    return;
-  // one warning: how many segments, of which inputs
-  std::ostringstream o;
-  o << "feature lines clipped to the meshed domain: " << clipped.removed() << " segment(s) removed and "
-    << clipped.split() << " split where they leave it (";
-  bool first = true;
-  for (const auto& [owner, c] : clipped.owners)
-  {
-    o << (first ? "" : "; ");
-    first = false;
-    if (owner == omesh::kUserLine)
-      o << "the given lines";
-    else
-    {
-      const auto& domains = run.oracle->domains();
-      o << "the sharp edges of ";
-      if (owner >= 0 && owner < static_cast<int>(domains.size()) && !domains[owner]->name().empty())
-        o << domains[owner]->name();
-      else
-        o << "input " << owner;
-    }
-    o << ": " << c.removed << " removed, " << c.split << " split";
-  }
-  o << "): no material lies there (beyond the domains or cut away)";
-  if (std::any_of(clipped.owners.begin(), clipped.owners.end(), [](const auto& e) { return e.first != omesh::kUserLine; }))
-    o << " or a higher-priority input covers the part's edge";
-  o << ", so no mesh edge can hold them and they are not counted as missing; " << run.features.segments.size()
-    << " segments remain";
-  run.notes.push_back(o.str());
-}
-
-void vtkFeaturePreservingTetrahedralizer::SelectFeatures(MeshingRun& run)
-{
-  // The lines to keep: given, found where the inputs meet, or both. The search runs under the
-  // run's time limit (the mesher gets what is left) and takes the first tenth of the progress.
-  const auto source = static_cast<omesh::FeatureSource>(this->Features);
-  const bool searching = source == omesh::FeatureSource::Automatic || source == omesh::FeatureSource::Both;
-  const omesh::MeshingDeadline deadline(omesh::effectiveTimeLimit(run.options));
-  run.selection = omesh::selectFeatures(*run.oracle, run.features, source, run.options.criteria, this->CreaseAngle,
-    [this, &deadline](double f) {
-      deadline.check("feature line search");
-      this->UpdateProgress(0.1 * f);
-      return !this->GetAbortExecute();
-    });
-  run.features = run.selection.segments;
-  if (searching)
-  {
-    if (deadline.limited())
-      run.options.timeLimit = std::max(1e-3, deadline.limit() - deadline.elapsed());
-    run.options.progress = [this](double fraction, const char*) {
-      this->UpdateProgress(0.1 + 0.9 * fraction);
-      return !this->GetAbortExecute();
-    };
-  }
-  run.notes.insert(run.notes.end(), run.selection.warnings.begin(), run.selection.warnings.end());
-}
-
-void vtkFeaturePreservingTetrahedralizer::MeshInputs(MeshingRun& run)
-{
-  const double asked = checkMeshSize(*run.oracle, run.features, run.options);
-  run.mesh = omesh::meshOracle(*run.oracle, run.features, run.seedPoints, run.options);
-  run.mesh.statistics["estimated_vertices"] = asked;
-  if (run.mesh.tets.empty())
-    throw omesh::InputError(emptyMeshMessage(run.notes, run.inputNotes, run.mesh.warnings));
-  if (run.options.elementOrder == 2)
-  {
-    const auto started = std::chrono::steady_clock::now();
-    run.quadratic = omesh::makeQuadraticTets(run.mesh, *run.oracle);
-    run.quadratic.statistics["time.quadratic"] =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-    run.mesh.statistics.insert(run.quadratic.statistics.begin(), run.quadratic.statistics.end());
+    run.input.seedPoints.push_back({ x[0], x[1], x[2] });
   }
 }
 
 void vtkFeaturePreservingTetrahedralizer::AssembleOutputs(MeshingRun& run, vtkInformationVector* outputVector)
 {
-  std::map<int, std::size_t> tetsPerMaterial;
-  for (int m : run.mesh.tetMaterial)
-    ++tetsPerMaterial[m];
-  for (const std::string& w : OracleBuilder::VanishedMaterialWarnings(*run.oracle, tetsPerMaterial))
-    run.inputNotes.push_back(w);
-  // what the surfaces' inside tests repaired, measured on the mesh (--strict fails on these)
-  const std::vector<std::string> repairs = OracleBuilder::SurfaceWarnings(*run.oracle, &run.mesh);
-  run.inputNotes.insert(run.inputNotes.begin(), repairs.begin(), repairs.end());
-  run.notes.insert(run.notes.end(), run.inputNotes.begin(), run.inputNotes.end());
-  run.mesh.warnings.insert(run.mesh.warnings.begin(), run.notes.begin(), run.notes.end());
-  for (const auto& w : run.mesh.warnings)
+  const omesh::PipelineResult& result = run.result;
+  for (const auto& w : result.mesh.warnings)
     vtkWarningMacro(<< w);
-
   vtkUnstructuredGrid* grid = vtkUnstructuredGrid::GetData(outputVector, 0);
-  TetMeshOutput::FillGrid(grid, run.mesh, run.options.elementOrder == 2 ? &run.quadratic : nullptr, run.inputNotes);
-  TetMeshOutput::FillInterfaces(vtkPolyData::GetData(outputVector, 1), run.mesh, grid);
+  TetMeshOutput::FillGrid(
+    grid, result.mesh, run.options.mesher.elementOrder == 2 ? &result.quadratic : nullptr, result.inputWarnings);
+  TetMeshOutput::FillInterfaces(vtkPolyData::GetData(outputVector, 1), result.mesh, grid);
   // the mesher's pieces name the selection's segments, also where it resampled them
-  TetMeshOutput::FillSegments(vtkPolyData::GetData(outputVector, 2), run.mesh, run.selection);
+  TetMeshOutput::FillSegments(vtkPolyData::GetData(outputVector, 2), result.mesh, result.selection);
 }
 
 void vtkFeaturePreservingTetrahedralizer::PrintSelf(ostream& os, vtkIndent indent)

@@ -325,19 +325,14 @@ private:
   vtkFeaturePreservingTetrahedralizer(const vtkFeaturePreservingTetrahedralizer&) = delete;
   void operator=(const vtkFeaturePreservingTetrahedralizer&) = delete;
 
-  // RequestData in three steps: input gathering, the core call, output assembly.
-  struct MeshingRun; // the core's inputs, options and mesh (core types: defined in the .cxx)
+  // RequestData: the inputs converted to the core's, the core's pipeline (runMeshingPipeline,
+  // MeshingPipeline.h), its result converted back.
+  struct MeshingRun; // the core's inputs, options and result (core types: defined in the .cxx)
   void CheckProperties() const;
   /// The global criteria as the properties spell them (-1: the default; other negatives refused).
   std::array<double, 6> GlobalCriteria() const;
   void SetUpOptions(MeshingRun& run);
   void GatherInputs(vtkInformationVector** inputVector, MeshingRun& run);
-  // (of GatherInputs) the given lines clipped to the oracle's domain (owners: EdgesOfDomain per
-  // segment, clipFeatureSegments), with one warning for what was clipped
-  void ClipFeatures(MeshingRun& run, const std::vector<int>& owners);
-  // (of GatherInputs) the lines to mesh (Features), the search under the run's time limit
-  void SelectFeatures(MeshingRun& run);
-  void MeshInputs(MeshingRun& run);
   void AssembleOutputs(MeshingRun& run, vtkInformationVector* outputVector);
 
   std::map<int, std::array<double, 6>> MaterialCriteria;

@@ -4,6 +4,7 @@
 #include "InputError.h"
 #include "LabelMapDomain.h"
 #include "OracleBuilder.h"
+#include "MemoryCheck.h"
 
 #include <vtkCellData.h>
 #include <vtkDataArray.h>
@@ -79,7 +80,7 @@ int vtkLabelMapDomain::RequestInformation(
     static_cast<double>(e[1] - e[0] + 1) * static_cast<double>(e[3] - e[2] + 1) * static_cast<double>(e[5] - e[4] + 1);
   try
   {
-    OracleBuilder::CheckMemory(std::string("vtkLabelMapDomain '") + (this->DomainName ? this->DomainName : "") + "'",
+    omesh::checkMemory(std::string("vtkLabelMapDomain '") + (this->DomainName ? this->DomainName : "") + "'",
       "its input image of " + std::to_string(e[1] - e[0] + 1) + " x " + std::to_string(e[3] - e[2] + 1) + " x " +
         std::to_string(e[5] - e[4] + 1) + " voxels (refused before it is read)",
       voxels, 7.0);

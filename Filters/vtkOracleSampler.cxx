@@ -6,6 +6,8 @@
 #include "InputError.h"
 #include "LabelSmoothing.h"
 #include "OracleBuilder.h"
+#include "MemoryCheck.h"
+#include "InputWarnings.h"
 
 #include <vtkDataObject.h>
 #include <vtkDoubleArray.h>
@@ -65,7 +67,7 @@ void checkProperties(const int* dims, const double* b)
   if (dims[0] < 1 || dims[1] < 1 || dims[2] < 1)
     throw omesh::InputError("vtkOracleSampler: Dimensions must be >= 1 on every axis");
   // before any work: the Material array (4 bytes a point)
-  OracleBuilder::CheckMemory("vtkOracleSampler", "Dimensions " + std::to_string(dims[0]) + " x " +
+  omesh::checkMemory("vtkOracleSampler", "Dimensions " + std::to_string(dims[0]) + " x " +
       std::to_string(dims[1]) + " x " + std::to_string(dims[2]) + " points",
     static_cast<double>(dims[0]) * dims[1] * dims[2], 4.0);
   for (int i = 0; i < 6; ++i)
@@ -122,7 +124,7 @@ int vtkOracleSampler::RequestData(
       this->UpdateProgress(0.5 * f); // a label map's smoothing, then the samples
       return !this->GetAbortExecute();
     });
-    for (const std::string& w : OracleBuilder::DomainWarnings(*oracle))
+    for (const std::string& w : omesh::domainWarnings(*oracle))
       vtkWarningMacro(<< w);
     if (b[0] <= b[1] && b[2] <= b[3] && b[4] <= b[5]) // else the default: the oracle's bounds
     {
