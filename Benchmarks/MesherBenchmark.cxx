@@ -7,6 +7,7 @@
 #include "HierarchicalOracle.h"
 #include "MeshQuality.h"
 #include "OracleBuilder.h"
+#include "MeshingPipeline.h"
 #include "OracleMesher.h"
 #include "TriangleDistance.h"
 #include "TriangleSurface.h"
@@ -38,7 +39,12 @@ Result Run(const omesh::HierarchicalOracle& oracle, const omesh::FeatureSegments
 {
   Result r;
   const auto t0 = std::chrono::steady_clock::now();
-  const omesh::TetMesh m = omesh::meshOracle(oracle, features, {}, options);
+  omesh::PipelineInput input;
+  input.lines = features;
+  omesh::PipelineOptions pipeline;
+  pipeline.mesher = options;
+  pipeline.features = omesh::FeatureSource::Given;
+  const omesh::TetMesh m = omesh::runMeshingPipeline(oracle, std::move(input), std::move(pipeline)).mesh;
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   r.tets = static_cast<double>(m.tets.size());
   r.vertices = static_cast<double>(m.points.size());

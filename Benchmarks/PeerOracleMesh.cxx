@@ -13,6 +13,7 @@
 
 #include "HierarchicalOracle.h"
 #include "LabelMapDomain.h"
+#include "MeshingPipeline.h"
 #include "OracleMesher.h"
 #include "SurfaceDomain.h"
 
@@ -74,7 +75,12 @@ int main(int argc, char* argv[])
     }
     const auto t0 = peer::Clock::now();
     const double cpu0 = peer::cpuSeconds();
-    const omesh::TetMesh mesh = omesh::meshOracle(oracle, features, {}, o);
+    omesh::PipelineInput input;
+    input.lines = features;
+    omesh::PipelineOptions options;
+    options.mesher = o;
+    options.features = omesh::FeatureSource::Given;
+    const omesh::TetMesh mesh = omesh::runMeshingPipeline(oracle, std::move(input), std::move(options)).mesh;
     const double call = peer::since(t0);
     const double cpu = peer::cpuSeconds() - cpu0;
     const double rss = peer::peakRssBytes();
