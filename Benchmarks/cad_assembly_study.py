@@ -71,7 +71,7 @@ def volume_tolerance(case, m, tris, facet_distance, features):
       are sampled, not exact) let a facet cut a crease; each boundary facet deviates from the
       true surface by about the facet distance at most, so the bound is facet_distance x the
       material's boundary area / its volume. Generous (measured errors are 5-50x smaller except
-      at acute edges, see docs/PERFORMANCE.md), but it holds by construction and catches lost or
+      at acute edges, see docs/journal/2026-12-02-performance-studies.md), but it holds by construction and catches lost or
       doubled regions.
     """
     volume = case["expected_volumes"][str(m)]

@@ -45,7 +45,7 @@ struct FeatureLineOptions
   /// allows; 0 = as the curves found). Never below the segment length. Chords cut to the edge size
   /// beforehand made every junction and corner a star vertex whose shortest segment is the edge size,
   /// trimmed at a third of it (T1.1), and kept the other inputs' crossings on straight creases as
-  /// vertices: the mesh grew finer around both (docs/FEATURE-LINES.md).
+  /// vertices: the mesh grew finer around both (docs/journal/2026-12-01-feature-line-studies.md).
   std::map<int, double> materialChordLength;
   double creaseChordLength = 0.0;
   /// Per material: a curve's chords keep within the smallest of its materials' tolerances (those

@@ -425,7 +425,7 @@ def _scene(seed, parts, cut, housing, radius_edge, strategy, volumes):
             "criteria": {**CRITERIA, "cell_radius_edge_ratio": float(radius_edge)},
             "materials": {str(p["material"]): dict(PART_CRITERIA) for p in parts},
             # resample off: the edges are exact (resampling simplifies noisy networks; on CAD edges it
-            # merges a small cylinder's corners and cuts its volume, docs/PERFORMANCE.md)
+            # merges a small cylinder's corners and cuts its volume, docs/journal/2026-12-02-performance-studies.md)
             "features": {"from_surface": [p["name"] for p in parts], "feature_angle": FEATURE_ANGLE,
                          "resample": False},
             "seed": int(seed),
