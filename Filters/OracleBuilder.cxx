@@ -13,7 +13,6 @@
 #include "LabelMapDomain.h"
 #include "MemoryCheck.h"
 #include "SphereDomain.h"
-#include "SurfaceDeviation.h"
 #include "SurfaceDomain.h"
 #include "TriangleSurface.h"
 
@@ -30,15 +29,10 @@
 #include <vtkSmartPointer.h>
 
 #include <cmath>
-#include <cstdio>
-#include <fstream>
 #include <limits>
-#include <set>
 #include <sstream>
 #include <unordered_map>
 
-#include <sys/resource.h>
-#include <unistd.h>
 
 using omesh::InputError;
 

@@ -4,11 +4,9 @@
 #include "MeshCriteria.h"
 #include "OracleDomainMetadata.h"
 #include "OracleMeshFiltersModule.h"
-#include "TetMesh.h"
 
 #include <array>
 #include <functional>
-#include <map>
 #include <memory>
 #include <string>
 

@@ -29,10 +29,8 @@
 #include <vtkUnstructuredGrid.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <exception>
-#include <map>
 #include <memory>
 #include <sstream>
 

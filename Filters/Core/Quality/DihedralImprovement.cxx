@@ -444,16 +444,12 @@ private:
     for (int v : q)
       if (mesh_.pointDimension[static_cast<std::size_t>(v)] > 2)
         return false;
-    double largestFace = 0.0;
-    for (int f = 0; f < 4; ++f)
-      largestFace = std::max(largestFace, norm(cross(p[q[(f + 2) & 3]] - p[q[(f + 1) & 3]], p[q[(f + 3) & 3]] - p[q[(f + 1) & 3]])));
-    const double height = largestFace > 0 ? 6.0 * std::abs(orient(q)) / largestFace : 0.0;
-    if (!(height <= kPeelHeight * longestEdge(q)))
+    if (!(smallestAltitude(p[q[0]], p[q[1]], p[q[2]], p[q[3]]) <= kPeelHeight * longestEdge(q)))
       return false;
     std::array<int, 4> side; // the material beyond the face opposite q[f], -1 outside
     for (int f = 0; f < 4; ++f)
     {
-      const int a = q[(f + 1) & 3], b = q[(f + 2) & 3], c = q[(f + 3) & 3];
+      const auto [a, b, c] = face(q, f);
       const int next = stars_.beyond(t, a, b, c);
       side[f] = next < 0 ? -1 : stars_.material(next);
       if (isInterface(a, b, c) != (side[f] != m))
@@ -536,9 +532,8 @@ private:
         return false;
     stars_.remove(t);
     swapInterfaces(changes);
-    for (const auto& c : changes)
-      for (int v : c.tri)
-        touched_.insert(touched_.end(), stars_.star(v).begin(), stars_.star(v).end());
+    for (int v : stars_.tet(t)) // a removed tetrahedron keeps its vertices
+      touched_.insert(touched_.end(), stars_.star(v).begin(), stars_.star(v).end());
     ++report_.peeled;
     return true;
   }
