@@ -3,11 +3,13 @@
 
 #include "FieldDataKeys.h"
 #include "MeshQuality.h"
+#include "ShapeSummary.h"
 
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
 #include <vtkDoubleArray.h>
 #include <vtkFieldData.h>
+#include <vtkIdTypeArray.h>
 #include <vtkIntArray.h>
 #include <vtkNew.h>
 #include <vtkPointData.h>
@@ -26,21 +28,48 @@ vtkSmartPointer<vtkPoints> toPoints(const std::vector<omesh::Vec3>& pts)
   auto points = vtkSmartPointer<vtkPoints>::New();
   points->SetDataTypeToDouble();
   points->SetNumberOfPoints(static_cast<vtkIdType>(pts.size()));
-  for (size_t i = 0; i < pts.size(); ++i)
-    points->SetPoint(static_cast<vtkIdType>(i), pts[i].x, pts[i].y, pts[i].z);
+  double* xyz = vtkDoubleArray::SafeDownCast(points->GetData())->GetPointer(0);
+  for (const omesh::Vec3& p : pts)
+  {
+    *xyz++ = p.x;
+    *xyz++ = p.y;
+    *xyz++ = p.z;
+  }
   return points;
+}
+
+template <typename Array>
+vtkSmartPointer<Array> namedArray(const char* name, std::size_t values)
+{
+  auto a = vtkSmartPointer<Array>::New();
+  a->SetName(name);
+  a->SetNumberOfValues(static_cast<vtkIdType>(values));
+  return a;
 }
 }
 
+omesh::TetShapeArrays TetShapeCellArrays::allocate(std::size_t n)
+{
+  this->minDihedral = namedArray<vtkDoubleArray>(omesh::keys::MIN_DIHEDRAL_ANGLE, n);
+  this->maxDihedral = namedArray<vtkDoubleArray>(omesh::keys::MAX_DIHEDRAL_ANGLE, n);
+  this->radiusEdge = namedArray<vtkDoubleArray>(omesh::keys::RADIUS_EDGE_RATIO, n);
+  this->tetrahedra = n;
+  omesh::TetShapeArrays buffers;
+  buffers.minDihedral = this->minDihedral->GetPointer(0);
+  buffers.maxDihedral = this->maxDihedral->GetPointer(0);
+  buffers.radiusEdge = this->radiusEdge->GetPointer(0);
+  return buffers;
+}
+
 void TetMeshOutput::FillGrid(vtkUnstructuredGrid* grid, const omesh::TetMesh& mesh,
-  const omesh::QuadraticTetMesh* quadratic, const std::vector<std::string>& inputWarnings)
+  const omesh::QuadraticTetMesh* quadratic, const std::vector<std::string>& inputWarnings,
+  const TetShapeCellArrays* shapes)
 {
   grid->SetPoints(toPoints(quadratic ? quadratic->points : mesh.points));
-  AddTetrahedra(grid, mesh, quadratic);
-  vtkNew<vtkIntArray> dimension;
-  dimension->SetName(omesh::keys::DIMENSION);
-  for (int d : quadratic ? quadratic->pointDimension : mesh.pointDimension)
-    dimension->InsertNextValue(d);
+  AddTetrahedra(grid, mesh, quadratic, shapes);
+  const std::vector<int>& dimensions = quadratic ? quadratic->pointDimension : mesh.pointDimension;
+  auto dimension = namedArray<vtkIntArray>(omesh::keys::DIMENSION, dimensions.size());
+  std::copy(dimensions.begin(), dimensions.end(), dimension->GetPointer(0));
   grid->GetPointData()->AddArray(dimension);
   AddStatistics(grid->GetFieldData(), mesh.statistics);
   AddStrings(grid->GetFieldData(), omesh::keys::WARNINGS, mesh.warnings);
@@ -49,50 +78,55 @@ void TetMeshOutput::FillGrid(vtkUnstructuredGrid* grid, const omesh::TetMesh& me
   AddStrings(grid->GetFieldData(), omesh::keys::INPUT_WARNINGS, inputWarnings);
 }
 
-void TetMeshOutput::AddTetrahedra(
-  vtkUnstructuredGrid* grid, const omesh::TetMesh& mesh, const omesh::QuadraticTetMesh* quadratic)
+void TetMeshOutput::AddTetrahedra(vtkUnstructuredGrid* grid, const omesh::TetMesh& mesh,
+  const omesh::QuadraticTetMesh* quadratic, const TetShapeCellArrays* shapes)
 {
+  const std::size_t n = mesh.tets.size();
   const vtkIdType nodes = quadratic ? 10 : 4;
-  vtkNew<vtkCellArray> tets;
-  tets->AllocateExact(static_cast<vtkIdType>(mesh.tets.size()), nodes * static_cast<vtkIdType>(mesh.tets.size()));
-  vtkNew<vtkIntArray> material;
-  material->SetName(omesh::keys::MATERIAL);
-  vtkNew<vtkDoubleArray> dihedral;
-  dihedral->SetName(omesh::keys::MIN_DIHEDRAL_ANGLE);
-  vtkNew<vtkDoubleArray> largest;
-  largest->SetName(omesh::keys::MAX_DIHEDRAL_ANGLE);
-  vtkNew<vtkDoubleArray> ratio;
-  ratio->SetName(omesh::keys::RADIUS_EDGE_RATIO);
+  // the cells' offsets and connectivity written in place, positively oriented
+  vtkNew<vtkIdTypeArray> offsets, connectivity;
+  offsets->SetNumberOfValues(static_cast<vtkIdType>(n) + 1);
+  connectivity->SetNumberOfValues(nodes * static_cast<vtkIdType>(n));
+  vtkIdType* offset = offsets->GetPointer(0);
+  vtkIdType* ids = connectivity->GetPointer(0);
   const auto& P = mesh.points;
-  for (size_t t = 0; t < mesh.tets.size(); ++t)
+  for (std::size_t t = 0; t < n; ++t, ids += nodes)
   {
+    offset[t] = nodes * static_cast<vtkIdType>(t);
+    if (quadratic)
+    {
+      std::copy(quadratic->tets[t].begin(), quadratic->tets[t].end(), ids);
+      continue;
+    }
     auto k = mesh.tets[t];
     if (omesh::signedVolume(P[k[0]], P[k[1]], P[k[2]], P[k[3]]) < 0)
       std::swap(k[0], k[1]);
-    vtkIdType ids[10] = { k[0], k[1], k[2], k[3] };
-    if (quadratic)
-      std::copy(quadratic->tets[t].begin(), quadratic->tets[t].end(), ids);
-    tets->InsertNextCell(nodes, ids);
-    material->InsertNextValue(mesh.tetMaterial[t]);
-    dihedral->InsertNextValue(omesh::minDihedralAngle(P[k[0]], P[k[1]], P[k[2]], P[k[3]]));
-    largest->InsertNextValue(omesh::maxDihedralAngle(P[k[0]], P[k[1]], P[k[2]], P[k[3]]));
-    ratio->InsertNextValue(omesh::radiusEdgeRatio(P[k[0]], P[k[1]], P[k[2]], P[k[3]]));
+    std::copy(k.begin(), k.end(), ids);
   }
+  offset[n] = nodes * static_cast<vtkIdType>(n);
+  vtkNew<vtkCellArray> tets;
+  tets->SetData(offsets, connectivity);
   grid->SetCells(quadratic ? VTK_QUADRATIC_TETRA : VTK_TETRA, tets);
-  if (mesh.tetDefects.size() == mesh.tets.size())
+
+  auto material = namedArray<vtkIntArray>(omesh::keys::MATERIAL, n);
+  std::copy(mesh.tetMaterial.begin(), mesh.tetMaterial.begin() + static_cast<std::ptrdiff_t>(n), material->GetPointer(0));
+  TetShapeCellArrays measured;
+  if (!shapes || shapes->tetrahedra != n || !shapes->minDihedral)
   {
-    vtkNew<vtkUnsignedCharArray> defects; // bits as vtkMeshValidityCheck's
-    defects->SetName(omesh::keys::DEFECTS);
-    defects->SetNumberOfTuples(static_cast<vtkIdType>(mesh.tets.size()));
-    for (size_t t = 0; t < mesh.tets.size(); ++t)
-      defects->SetValue(static_cast<vtkIdType>(t), mesh.tetDefects[t]);
+    omesh::summariseShapes(mesh, measured.allocate(n));
+    shapes = &measured;
+  }
+  if (mesh.tetDefects.size() == n)
+  {
+    auto defects = namedArray<vtkUnsignedCharArray>(omesh::keys::DEFECTS, n); // bits as vtkMeshValidityCheck's
+    std::copy(mesh.tetDefects.begin(), mesh.tetDefects.end(), defects->GetPointer(0));
     grid->GetCellData()->AddArray(defects);
   }
   grid->GetCellData()->AddArray(material);
   grid->GetCellData()->SetScalars(material);
-  grid->GetCellData()->AddArray(dihedral);
-  grid->GetCellData()->AddArray(largest);
-  grid->GetCellData()->AddArray(ratio);
+  grid->GetCellData()->AddArray(shapes->minDihedral);
+  grid->GetCellData()->AddArray(shapes->maxDihedral);
+  grid->GetCellData()->AddArray(shapes->radiusEdge);
 }
 
 void TetMeshOutput::FillInterfaces(vtkPolyData* interfaces, const omesh::TetMesh& mesh, vtkUnstructuredGrid* grid)
@@ -161,6 +195,16 @@ void TetMeshOutput::AddStatistics(vtkFieldData* fieldData, const std::map<std::s
   }
   fieldData->AddArray(names);
   fieldData->AddArray(values);
+}
+
+void TetMeshOutput::AddStatistic(vtkFieldData* fieldData, const std::string& name, double value)
+{
+  auto* names = vtkStringArray::SafeDownCast(fieldData->GetAbstractArray(omesh::keys::STATISTIC_NAMES));
+  auto* values = vtkDoubleArray::SafeDownCast(fieldData->GetArray(omesh::keys::STATISTIC_VALUES));
+  if (!names || !values)
+    return;
+  names->InsertNextValue(name);
+  values->InsertNextValue(value);
 }
 
 void TetMeshOutput::AddStrings(vtkFieldData* fieldData, const char* name, const std::vector<std::string>& strings)

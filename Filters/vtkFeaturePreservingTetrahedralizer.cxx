@@ -29,6 +29,7 @@
 #include <vtkUnstructuredGrid.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <exception>
 #include <memory>
@@ -168,6 +169,7 @@ struct vtkFeaturePreservingTetrahedralizer::MeshingRun
   omesh::PipelineInput input;
   omesh::PipelineOptions options;
   omesh::PipelineResult result;
+  TetShapeCellArrays shapes; ///< the cell arrays the mesher's measuring pass writes
 };
 
 int vtkFeaturePreservingTetrahedralizer::RequestData(
@@ -275,6 +277,7 @@ void vtkFeaturePreservingTetrahedralizer::SetUpOptions(MeshingRun& run)
   options.perturb = this->Perturb;
   options.exude = this->Exude;
   options.improveAngles = this->ImproveAngles;
+  options.shapeArrays = [&run](std::size_t tetrahedra) { return run.shapes.allocate(tetrahedra); };
   options.improvementMinAngle = this->ImprovementMinAngle;
   options.improvementMaxAngle = this->ImprovementMaxAngle;
   options.perturbationFailuresPerBound = this->PerturbationFailuresPerBound;
@@ -339,15 +342,18 @@ void vtkFeaturePreservingTetrahedralizer::GatherInputs(vtkInformationVector** in
 
 void vtkFeaturePreservingTetrahedralizer::AssembleOutputs(MeshingRun& run, vtkInformationVector* outputVector)
 {
+  const auto started = std::chrono::steady_clock::now();
   const omesh::PipelineResult& result = run.result;
   for (const auto& w : result.mesh.warnings)
     vtkWarningMacro(<< w);
   vtkUnstructuredGrid* grid = vtkUnstructuredGrid::GetData(outputVector, 0);
   TetMeshOutput::FillGrid(
-    grid, result.mesh, run.options.mesher.elementOrder == 2 ? &result.quadratic : nullptr, result.inputWarnings);
+    grid, result.mesh, run.options.mesher.elementOrder == 2 ? &result.quadratic : nullptr, result.inputWarnings, &run.shapes);
   TetMeshOutput::FillInterfaces(vtkPolyData::GetData(outputVector, 1), result.mesh, grid);
   // the mesher's pieces name the selection's segments, also where it resampled them
   TetMeshOutput::FillSegments(vtkPolyData::GetData(outputVector, 2), result.mesh, result.selection);
+  TetMeshOutput::AddStatistic(grid->GetFieldData(), "time.vtk_output",
+    std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
 }
 
 void vtkFeaturePreservingTetrahedralizer::PrintSelf(ostream& os, vtkIndent indent)

@@ -1,11 +1,17 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// The interface sliver rule's shortcut (dihedralAnglesCertainlyAtLeast) against the angle it skips.
+// The measures of MeshQuality.h and ShapeSummary.h: known tetrahedra, the interface sliver rule's
+// shortcut (dihedralAnglesCertainlyAtLeast) against the angle it skips, the one measuring pass.
+#include "FieldDataKeys.h"
 #include "MeshQuality.h"
+#include "ShapeSummary.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <map>
 #include <random>
+#include <string>
 
 namespace
 {
@@ -60,4 +66,71 @@ TEST(MeshQuality, MaxDihedralAngleOfKnownTetrahedra)
   EXPECT_NEAR(maxDihedralAngle(a, b, c, d), minDihedralAngle(a, b, c, d), 1e-9);
   EXPECT_GT(maxDihedralAngle(o, x, { 1, 1, 0.01 }, y), 179.0); // a sliver: four nearly coplanar corners
   EXPECT_NEAR(maxDihedralAngle(o, x, y, { 1, 1, 0 }), 180.0, 1e-9); // flat
+}
+
+TEST(MeshQuality, TetShapeOfKnownTetrahedra)
+{
+  using namespace omesh;
+  const Vec3 a{ 1, 1, 1 }, b{ 1, -1, -1 }, c{ -1, 1, -1 }, d{ -1, -1, 1 };
+  const TetShape regular = tetShape(a, b, c, d);
+  EXPECT_NEAR(regular.minDihedral, std::acos(1.0 / 3.0) * 180.0 / M_PI, 1e-9);
+  EXPECT_NEAR(regular.maxDihedral, regular.minDihedral, 1e-9);
+  EXPECT_NEAR(regular.radiusRatio, 1.0, 1e-9);
+  EXPECT_NEAR(regular.meanRatio, 1.0, 1e-9);
+  EXPECT_NEAR(regular.edgeRatio, 1.0, 1e-9);
+  EXPECT_NEAR(regular.radiusEdge, std::sqrt(6.0) / 4.0, 1e-9);
+  EXPECT_NEAR(regular.volume, 8.0 / 3.0, 1e-9);
+  // the trirectangular corner: r = 1 / (3 + sqrt 3), R = sqrt(3) / 2
+  const Vec3 o{ 0, 0, 0 }, x{ 1, 0, 0 }, y{ 0, 1, 0 }, z{ 0, 0, 1 };
+  const TetShape corner = tetShape(o, x, y, z);
+  EXPECT_NEAR(corner.radiusRatio, 3.0 / (3.0 + std::sqrt(3.0)) / (std::sqrt(3.0) / 2.0), 1e-9);
+  EXPECT_NEAR(corner.meanRatio, 12.0 * std::pow(0.5, 2.0 / 3.0) / 9.0, 1e-9);
+  EXPECT_NEAR(corner.edgeRatio, 1.0 / std::sqrt(2.0), 1e-9);
+  EXPECT_NEAR(corner.maxDihedral, 90.0, 1e-9);
+  // the same values as the measures one by one, to the bit
+  EXPECT_EQ(corner.minDihedral, minDihedralAngle(o, x, y, z));
+  EXPECT_EQ(corner.maxDihedral, maxDihedralAngle(o, x, y, z));
+  EXPECT_EQ(corner.radiusEdge, radiusEdgeRatio(o, x, y, z));
+  const TetShape flat = tetShape(o, x, y, { 1, 1, 0 });
+  EXPECT_EQ(flat.minDihedral, 0.0);
+  EXPECT_EQ(flat.maxDihedral, 180.0);
+  EXPECT_EQ(flat.radiusRatio, 0.0);
+  EXPECT_EQ(flat.meanRatio, 0.0);
+}
+
+TEST(MeshQuality, ShapeSummaryIsOnePassOfTheMeasures)
+{
+  using namespace omesh;
+  // two materials, one tetrahedron given negatively oriented: measured as the output writes it
+  TetMesh m;
+  m.points = { { 0, 0, 0 }, { 1, 0, 0 }, { 0, 1, 0 }, { 0, 0, 1 }, { 1, 1, 1 }, { 0.2, 0.2, 0.05 } };
+  m.tets = { { 0, 1, 2, 3 }, { 2, 1, 3, 4 }, { 0, 1, 2, 5 } };
+  m.tetMaterial = { 1, 2, 1 };
+  std::vector<double> smallest(3), largest(3), ratio(3);
+  const ShapeSummary s = summariseShapes(m, { smallest.data(), largest.data(), ratio.data() });
+  ASSERT_EQ(s.materials.size(), 2u);
+  EXPECT_EQ(s.materials.at(1).tetrahedra, 2u);
+  EXPECT_EQ(s.all.tetrahedra, 3u);
+  const auto volumes = materialVolumes(m);
+  EXPECT_NEAR(s.materials.at(1).volume, volumes.at(1), 1e-15);
+  EXPECT_NEAR(s.materials.at(2).volume, volumes.at(2), 1e-15);
+  double worstRatio = 1.0;
+  for (std::size_t t = 0; t < 3; ++t)
+  {
+    const auto& k = m.tets[t];
+    const Vec3 &a = m.points[k[0]], &b = m.points[k[1]], &c = m.points[k[2]], &d = m.points[k[3]];
+    EXPECT_NEAR(smallest[t], minDihedralAngle(a, b, c, d), 1e-9);
+    EXPECT_NEAR(largest[t], maxDihedralAngle(a, b, c, d), 1e-9);
+    EXPECT_NEAR(ratio[t], radiusEdgeRatio(a, b, c, d), 1e-9 * ratio[t]);
+    worstRatio = std::min(worstRatio, tetShape(a, b, c, d).radiusRatio);
+  }
+  EXPECT_EQ(s.all.minDihedral, *std::min_element(smallest.begin(), smallest.end()));
+  EXPECT_EQ(s.all.maxDihedral, *std::max_element(largest.begin(), largest.end()));
+  EXPECT_NEAR(s.all.meanMinDihedral(), (smallest[0] + smallest[1] + smallest[2]) / 3.0, 1e-12);
+  EXPECT_NEAR(s.all.worstRadiusRatio, worstRatio, 1e-12);
+  EXPECT_EQ(s.materials.at(2).minDihedral, smallest[1]);
+  std::map<std::string, double> st;
+  s.addTo(st);
+  EXPECT_EQ(st.at(std::string(keys::SHAPE_TETRAHEDRA) + ".material_1"), 2.0);
+  EXPECT_EQ(st.at(keys::SHAPE_MIN_DIHEDRAL), s.all.minDihedral);
 }

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <random>
 
 using namespace omesh;
 
@@ -165,6 +166,46 @@ TEST(MeshValidity, ThirdTetrahedronOnAnInteriorFaceIsSeenInALargerMesh)
   const MeshValidity v = checkMeshValidity(m, {}, {}, &flags);
   EXPECT_EQ(v.nonManifoldFaces, 1u);
   EXPECT_EQ(std::count_if(flags.begin(), flags.end(), [](unsigned char f) { return (f & kNonManifoldFace) != 0; }), 3);
+}
+
+TEST(MeshValidity, DuplicatesAreThePairsABruteForceSearchFinds)
+{
+  // jittered grid vertices, and copies of some at 0.3-3 times the duplicate distance in random
+  // directions (across the search grid's cell faces too), each copy used by a tetrahedron
+  std::mt19937 random(7);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  TetMesh m = kuhnCube(6);
+  for (Vec3& p : m.points)
+    p = p + 0.2 * Vec3{ unit(random), unit(random), unit(random) };
+  ValidityThresholds th;
+  th.duplicate = 1e-4;
+  const std::size_t original = m.tets.size();
+  for (int copy = 0; copy < 200; ++copy)
+  {
+    const std::array<int, 4> t = m.tets[static_cast<std::size_t>(copy * 7) % original];
+    Vec3 direction{ unit(random), unit(random), unit(random) };
+    direction = (1.0 / norm(direction)) * direction;
+    const double distance = (0.3 + 2.7 * (unit(random) + 1.0) / 2.0) * th.duplicate; // x L, L about 1
+    m.points.push_back(m.points[t[0]] + distance * direction);
+    m.tets.push_back({ static_cast<int>(m.points.size()) - 1, t[1], t[2], t[3] });
+    m.tetMaterial.push_back(1);
+  }
+  const MeshValidity v = checkMeshValidity(m, {}, th);
+  double volume = 0.0;
+  for (const auto& k : m.tets)
+    volume += std::abs(signedVolume(m.points[k[0]], m.points[k[1]], m.points[k[2]], m.points[k[3]]));
+  const double tol = th.duplicate * validityLength(v.medianEdge, volume, m.tets.size());
+  std::size_t expected = 0;
+  for (std::size_t a = 0; a < m.points.size(); ++a)
+  {
+    bool dup = false;
+    for (std::size_t b = 0; b < m.points.size() && !dup; ++b)
+      dup = a != b && norm(m.points[a] - m.points[b]) < tol;
+    expected += dup;
+  }
+  EXPECT_GT(expected, 50u);
+  EXPECT_LT(expected, 400u);
+  EXPECT_EQ(v.duplicateVertices, expected);
 }
 
 TEST(MeshValidity, BadIndicesAreSeen)

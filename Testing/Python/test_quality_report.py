@@ -14,7 +14,7 @@ import unittest
 import numpy as np
 
 import oraclemesh as om
-from oraclemesh.report import read_mesh
+from oraclemesh.report import centroid, quality, read_mesh
 from oraclemesh.shape import shape_measures
 from oraclemesh.writers import tetrahedra
 
@@ -68,13 +68,40 @@ class Report(unittest.TestCase):
         np.testing.assert_allclose(smallest, shape["min_dihedral"], atol=1e-6)
         self.assertTrue((largest > 70.52).all() and (largest < 180).all())
 
+    def test_a_fresh_mesh_reports_the_mesher_figures_equal_to_an_independent_measure(self):
+        """The result's quality comes from the mesher's one measuring pass (ShapeSummary); measured
+        again here from the corners alone (shape.py, numpy) every figure agrees."""
+        fresh, again = self.result.quality, quality(self.result.grid)
+        self.assertNotIn("radius_ratio", fresh["shape"], "the fresh quality is the mesher's, not measured again")
+        self.assertEqual(set(fresh["materials"]), set(again["materials"]))
+        for m, row in again["materials"].items():
+            for key, value in row.items():
+                self.assertAlmostEqual(fresh["materials"][m][key], value, delta=1e-9 * max(1.0, abs(value)),
+                                       msg=f"material {m}: {key}")
+        for key in ("tets", "vertices", "volume", "min_dihedral", "max_dihedral"):
+            self.assertAlmostEqual(fresh[key], again[key], delta=1e-9 * max(1.0, abs(again[key])), msg=key)
+        for key, value in again["worst"].items():
+            self.assertAlmostEqual(fresh["worst"][key], value, delta=1e-9, msg=key)
+        for key in ("min_dihedral", "max_dihedral"):
+            np.testing.assert_allclose(fresh["shape"][key], again["shape"][key], atol=1e-9)
+
+    def test_the_worst_tetrahedra_are_those_a_full_sort_gives(self):
+        from oraclemesh.report import worst_tetrahedra
+
+        q = dict(self.result.quality)
+        values = np.round(q["shape"]["min_dihedral"], 1)  # many ties
+        q["shape"] = {"min_dihedral": values, "max_dihedral": -values}
+        for key in ("min_dihedral", "max_dihedral"):
+            full = np.argsort(values if key == "min_dihedral" else values, kind="stable")[:7]
+            np.testing.assert_array_equal(worst_tetrahedra(q, key, 7), full)
+
     def test_the_report_names_the_worst_tetrahedra_and_where_they_are(self):
         q, report = self.result.quality, self.result.report
         self.assertIn("maximal dihedral angle per tetrahedron: 60-90°:", report)
         self.assertIn("(max dihedral and the ratios are the worst tetrahedron's", report)
         shape = q["shape"]
         worst = int(np.argmax(shape["max_dihedral"]))
-        centre = q["centroids"][worst]
+        centre = centroid(q, worst)
         line = next(text for text in report.splitlines() if text.startswith("worst tetrahedra by largest"))
         self.assertIn(f"{shape['max_dihedral'][worst]:.2f}° in #{worst} (material {int(q['material'][worst])}) at "
                       f"({', '.join(f'{x:.4g}' for x in centre)})", line.split(";")[0])

@@ -178,6 +178,7 @@ PipelineResult runMeshingPipeline(const HierarchicalOracle& oracle, PipelineInpu
     out.mesh.statistics.insert(out.quadratic.statistics.begin(), out.quadratic.statistics.end());
   }
 
+  const auto checksStarted = std::chrono::steady_clock::now();
   std::map<int, std::size_t> tetsPerMaterial;
   for (int m : out.mesh.tetMaterial)
     ++tetsPerMaterial[m];
@@ -186,6 +187,8 @@ PipelineResult runMeshingPipeline(const HierarchicalOracle& oracle, PipelineInpu
   // what the surfaces' inside tests repaired, measured on the mesh
   const std::vector<std::string> repairs = surfaceWarnings(oracle, &out.mesh);
   inputNotes.insert(inputNotes.begin(), repairs.begin(), repairs.end());
+  out.mesh.statistics["time.input_checks_on_mesh"] =
+    std::chrono::duration<double>(std::chrono::steady_clock::now() - checksStarted).count();
   notes.insert(notes.end(), inputNotes.begin(), inputNotes.end());
   out.mesh.warnings.insert(out.mesh.warnings.begin(), notes.begin(), notes.end());
   return out;

@@ -550,16 +550,24 @@ TetMesh toTetMesh(const C3t3& c3t3, const HierarchicalOracle& oracle, const std:
 {
   TetMesh out;
   const Tr& tr = c3t3.triangulation();
-  std::unordered_map<Tr::Vertex_handle, int> ids;
+  // Output ids in the order the cells first use the vertices, looked up by the vertices' time
+  // stamps (unique, below the number of vertices ever created): an array, not a hash map.
+  std::size_t stamps = 0;
+  for (auto v = tr.finite_vertices_begin(); v != tr.finite_vertices_end(); ++v)
+    stamps = std::max(stamps, v->time_stamp() + 1);
+  std::vector<int> ids(stamps, -1);
+  out.points.reserve(tr.number_of_vertices());
+  out.pointDimension.reserve(tr.number_of_vertices());
   auto id = [&](Tr::Vertex_handle v) {
-    auto [it, inserted] = ids.emplace(v, static_cast<int>(out.points.size()));
-    if (inserted)
+    int& at = ids[v->time_stamp()];
+    if (at < 0)
     {
+      at = static_cast<int>(out.points.size());
       out.points.push_back(toVec(v->point().point()));
       const int dim = c3t3.in_dimension(v);
       out.pointDimension.push_back(dim < 0 ? 3 : dim);
     }
-    return it->second;
+    return at;
   };
   const std::vector<std::pair<Tr::Cell_handle, int>> taken = cellsInsideByCentroid(c3t3, oracle, candidates);
   std::unordered_map<Tr::Cell_handle, std::size_t> takenAt; // position in `taken`
@@ -577,6 +585,8 @@ TetMesh toTetMesh(const C3t3& c3t3, const HierarchicalOracle& oracle, const std:
     out.tets.push_back({ id(c->vertex(0)), id(c->vertex(1)), id(c->vertex(2)), id(c->vertex(3)) });
     out.tetMaterial.push_back(materialOf(index));
   };
+  out.tets.reserve(c3t3.number_of_cells_in_complex() + taken.size());
+  out.tetMaterial.reserve(out.tets.capacity());
   for (auto c = c3t3.cells_in_complex_begin(); c != c3t3.cells_in_complex_end(); ++c)
     addTet(c, c3t3.subdomain_index(c));
   for (const auto& [c, index] : taken)
@@ -1502,6 +1512,7 @@ private:
   /// statistics of the run.
   TetMesh validatedMesh()
   {
+    auto started = Clock::now();
     TetMesh mesh = toTetMesh(
       *c3t3_, oracle_, segments_ ? segments_->cellsAroundEdgesOutsideComplex() : std::vector<Tr::Cell_handle>{});
     outputVertices_ = mesh.points.size();
@@ -1509,7 +1520,10 @@ private:
     // Only the output is needed from here on: the triangulation's memory goes back before the
     // checks build their own tables (else both at once were the run's peak).
     c3t3_->clear();
+    outputTime_ = seconds(started);
+    started = Clock::now();
     mesh.segments = locateFeatureSegments(mesh, *features_);
+    locationTime_ = seconds(started);
     deadline_.check("locating the feature lines in the mesh");
     improveAngles(mesh);
     const double coverage = featureCoverage(mesh.segments, *features_);
@@ -1529,6 +1543,7 @@ private:
       for (auto& piece : mesh.segments)
         piece.input = resampled_->source[static_cast<size_t>(piece.input)];
     warnMissingPieces();
+    started = Clock::now();
     std::vector<unsigned char> defects;
     // Missing feature-line pieces are defects only where the strategy promises them (not None).
     ValidityThresholds thresholds;
@@ -1557,7 +1572,10 @@ private:
     }
     for (const auto& [name, value] : validity.asStatistics())
       mesh.statistics[name] = value;
+    validityTime_ = seconds(started);
+    started = Clock::now();
     addStatistics(mesh, coverage);
+    mesh.statistics["time.statistics"] = seconds(started);
     mesh.warnings = std::move(warnings_);
     report(1.0, "done");
     return mesh;
@@ -1602,18 +1620,15 @@ private:
   /// The mesh's size and angles, what each rule did, the optimisers' runs and the times.
   void addStatistics(TetMesh& mesh, double coverage) const
   {
-    double minAngle = 180.0, sumAngle = 0.0;
-    for (const auto& t : mesh.tets)
-    {
-      const double a = minDihedralAngle(mesh.points[t[0]], mesh.points[t[1]], mesh.points[t[2]], mesh.points[t[3]]);
-      minAngle = std::min(minAngle, a);
-      sumAngle += a;
-    }
+    // the one pass that measures every tetrahedron: these figures, and the caller's cell arrays
+    const ShapeSummary shapes =
+      summariseShapes(mesh, options_.shapeArrays ? options_.shapeArrays(mesh.tets.size()) : TetShapeArrays{});
     auto& st = mesh.statistics;
+    shapes.addTo(st);
     st["tetrahedra"] = static_cast<double>(mesh.tets.size());
     st["vertices"] = static_cast<double>(mesh.points.size());
-    st["min_dihedral_angle"] = mesh.tets.empty() ? 0.0 : minAngle;
-    st["mean_min_dihedral_angle"] = mesh.tets.empty() ? 0.0 : sumAngle / mesh.tets.size();
+    st["min_dihedral_angle"] = mesh.tets.empty() ? 0.0 : shapes.all.minDihedral;
+    st["mean_min_dihedral_angle"] = shapes.all.meanMinDihedral();
     st[keys::FEATURE_COVERAGE] = coverage;
     st["feature_segments"] = static_cast<double>(features_->segments.size());
     if (resampled_)
@@ -1659,10 +1674,11 @@ private:
     }
     addSegmentStatistics(st);
     addOptimisationStatistics(st);
-    for (const auto& [m, v] : materialVolumes(mesh))
-      st["volume.material_" + std::to_string(m)] = v;
-    for (int m : mesh.tetMaterial)
-      st["tetrahedra.material_" + std::to_string(m)] += 1.0;
+    for (const auto& [m, figures] : shapes.materials)
+    {
+      st["volume.material_" + std::to_string(m)] = figures.volume;
+      st["tetrahedra.material_" + std::to_string(m)] = static_cast<double>(figures.tetrahedra);
+    }
   }
 
   void addSegmentStatistics(std::map<std::string, double>& st) const
@@ -1733,6 +1749,9 @@ private:
     st["time.initialisation"] = initTime_;
     st["time.refinement"] = refineTime_;
     st["time.optimisation"] = optTime_;
+    st["time.output"] = outputTime_;
+    st["time.feature_location"] = locationTime_;
+    st["time.validity"] = validityTime_;
     st["time.total"] = seconds(started_);
     st["time_limit"] = deadline_.limit();
     // CPU seconds of the calling thread, and of the refinement's threads for a parallel refinement
@@ -1807,6 +1826,7 @@ private:
   OptimiserRun perturbed_, exuded_;
   DihedralImprovementReport improvement_;
   double improvementTime_ = 0.0;
+  double outputTime_ = 0.0, locationTime_ = 0.0, validityTime_ = 0.0; ///< of validatedMesh's phases
   size_t relabelled_ = 0; ///< cells the optimisers left across a boundary (relabelCellsAcrossBoundaries)
 };
 

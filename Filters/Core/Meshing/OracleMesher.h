@@ -4,6 +4,7 @@
 #include "FeatureSegments.h"
 #include "MeshCriteria.h"
 #include "MeshingDeadline.h"
+#include "ShapeSummary.h"
 #include "TetMesh.h"
 
 #include <cstddef>
@@ -131,6 +132,10 @@ struct MesherOptions
   /// Called during the work with a fraction in [0, 1] and the phase name; return false to abort
   /// (the call then throws MeshingAborted). Called from the calling thread.
   std::function<bool(double, const char*)> progress;
+  /// Where each tetrahedron's shape measures go (summariseShapes, ShapeSummary.h), in buffers the
+  /// caller owns: called once the output's size is known, with its number of tetrahedra. Unset:
+  /// only the summary statistics are made.
+  std::function<TetShapeArrays(std::size_t tetrahedra)> shapeArrays;
 };
 
 /// The automatic picking sliver angle (MesherOptions::pickingSliverAngle < 0): the paper's

@@ -39,8 +39,10 @@ inline Vec3 outwardFaceNormal(const Vec3 p[4], int f)
 namespace
 {
 /// The cosines of the six dihedral angles of abcd (pi minus the angle between the outward normals
-/// of the two faces at an edge); false for a tetrahedron with a degenerate face.
-bool dihedralCosines(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, double cosines[6])
+/// of the two faces at an edge); false for a tetrahedron with a degenerate face. `twiceAreas`, if
+/// given, gets the four faces' doubled areas (face f opposite corner f).
+bool dihedralCosines(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, double cosines[6],
+  double* twiceAreas = nullptr)
 {
   const Vec3 p[4] = { a, b, c, d };
   Vec3 n[4];
@@ -48,6 +50,8 @@ bool dihedralCosines(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d,
   {
     const Vec3 m = outwardFaceNormal(p, f);
     const double l = norm(m);
+    if (twiceAreas)
+      twiceAreas[f] = l;
     if (!(l > 0))
       return false;
     n[f] = (1.0 / l) * m;
@@ -87,6 +91,45 @@ bool dihedralAngleRange(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3&
   smallest = std::acos(*hi) * 180.0 / M_PI;
   largest = std::acos(*lo) * 180.0 / M_PI;
   return true;
+}
+
+TetShape tetShape(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d)
+{
+  TetShape s;
+  double cosines[6], twiceAreas[4] = { 0, 0, 0, 0 };
+  if (dihedralCosines(a, b, c, d, cosines, twiceAreas))
+  {
+    // the same operations as minDihedralAngle and maxDihedralAngle: the same values to the bit
+    const auto [lo, hi] = std::minmax_element(cosines, cosines + 6);
+    s.minDihedral = std::acos(*hi) * 180.0 / M_PI;
+    s.maxDihedral = std::acos(*lo) * 180.0 / M_PI;
+  }
+  const Vec3 p[4] = { a, b, c, d };
+  double l[6], squares = 0.0;
+  for (int i = 0, e = 0; i < 4; ++i)
+    for (int j = i + 1; j < 4; ++j, ++e)
+    {
+      l[e] = norm(p[j] - p[i]);
+      squares += l[e] * l[e];
+    }
+  const double shortest = *std::min_element(l, l + 6), longest = *std::max_element(l, l + 6);
+  const double volume = std::abs(signedVolume(a, b, c, d));
+  s.volume = volume;
+  s.edgeRatio = longest > 0 ? shortest / longest : 0.0;
+  const Vec3 cc = circumcenter(a, b, c, d);
+  s.radiusEdge = isFinite(cc) ? norm(cc - a) / shortest : std::numeric_limits<double>::infinity();
+  if (volume > 0)
+  {
+    // the circumradius from the products of opposite edges' lengths (a tetrahedron's Heron)
+    const double x = l[0] * l[5], y = l[1] * l[4], z = l[2] * l[3];
+    const double product = std::max(0.0, (x + y + z) * (x + y - z) * (x - y + z) * (-x + y + z));
+    const double circumradius = std::sqrt(product) / (24.0 * volume);
+    const double inradius = 3.0 * volume / (0.5 * (twiceAreas[0] + twiceAreas[1] + twiceAreas[2] + twiceAreas[3]));
+    const double ratio = 3.0 * inradius / circumradius;
+    s.radiusRatio = std::isfinite(ratio) ? ratio : 0.0;
+    s.meanRatio = 12.0 * std::pow(3.0 * volume, 2.0 / 3.0) / squares;
+  }
+  return s;
 }
 
 bool dihedralAnglesCertainlyAtLeast(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, double cosBound)

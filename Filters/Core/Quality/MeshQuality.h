@@ -27,6 +27,24 @@ bool dihedralAngleRange(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3&
 /// it cannot tell (near the bound, a flat face, cosBound <= 0): then ask minDihedralAngle.
 bool dihedralAnglesCertainlyAtLeast(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, double cosBound);
 
+/// Shape measures of one tetrahedron as finite-element preprocessors report them (the Python
+/// report's shape.py computes the same from the corners alone): 1 for the regular tetrahedron but
+/// for the angles (70.53 degrees) and radiusEdge (0.61); a flat one gets 0 (180 for maxDihedral).
+struct TetShape
+{
+  double minDihedral = 0.0, maxDihedral = 180.0; ///< degrees: minDihedralAngle, maxDihedralAngle
+  double radiusRatio = 0.0; ///< 3 x inradius / circumradius (Gmsh's gamma)
+  double meanRatio = 0.0;   ///< 12 (3 |V|)^(2/3) / sum of the squared edge lengths
+  double edgeRatio = 0.0;   ///< shortest / longest edge
+  double radiusEdge = 0.0;  ///< radiusEdgeRatio
+  double volume = 0.0;      ///< |signedVolume|
+};
+
+/// Every TetShape measure of abcd from one set of face normals and edge lengths (minDihedral,
+/// maxDihedral and radiusEdge equal minDihedralAngle, maxDihedralAngle and radiusEdgeRatio to the
+/// bit).
+TetShape tetShape(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
+
 /// Circumradius divided by the shortest edge (sqrt(6)/4 = 0.61 for the regular tetrahedron;
 /// infinite for a flat one).
 double radiusEdgeRatio(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);

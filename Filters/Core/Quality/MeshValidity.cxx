@@ -10,31 +10,18 @@
 #include <cmath>
 #include <cstdint>
 #include <sstream>
-#include <unordered_map>
 
 namespace omesh
 {
 namespace
 {
-struct CellKey
-{
-  std::int64_t i, j, k;
-  bool operator==(const CellKey& o) const { return i == o.i && j == o.j && k == o.k; }
-};
-struct CellKeyHash
-{
-  std::size_t operator()(const CellKey& c) const
-  {
-    return static_cast<std::size_t>(c.i * 73856093 ^ c.j * 19349663 ^ c.k * 83492791);
-  }
-};
-
-/// Used vertices with another used vertex closer than `tol`: a hash grid of cells of about `tol`,
-/// each vertex compared with the 27 cells around it. Such cells hold few vertices that are not
-/// duplicates (a vertex stops at its first duplicate), wherever the vertices crowd: with cells of
-/// the median edge, a cluster of tiny tetrahedra was a quadratic search (2 minutes at 300k
-/// vertices). Keys count from the smallest coordinates in cells of at least 1e-12 of the extent,
-/// so that they fit.
+/// Used vertices with another used vertex closer than `tol`. The vertices are sorted by the cell of
+/// a grid of 8 `tol` that holds them; each is compared with the vertices of its own cell and of
+/// the neighbouring cells it lies within `tol` of (about two cells on average, not 27). Such
+/// cells hold few vertices that are not duplicates (a vertex stops at its first duplicate),
+/// wherever the vertices crowd: with cells of the median edge, a cluster of tiny tetrahedra was a
+/// quadratic search. Keys count from the smallest coordinates in cells of at least 1e-12 of the
+/// extent, so that they fit.
 std::vector<char> findDuplicates(const std::vector<Vec3>& points, const std::vector<char>& used, double tol)
 {
   BoundingBox box;
@@ -42,37 +29,51 @@ std::vector<char> findDuplicates(const std::vector<Vec3>& points, const std::vec
     if (used[v] && isFinite(points[v]))
       box.add(points[v]);
   const Vec3 extent = box.size(), low = box.min;
-  const double cell = std::max(tol, 1e-12 * std::max({ extent.x, extent.y, extent.z, 0.0 }));
-  std::unordered_map<CellKey, std::vector<int>, CellKeyHash> grid;
-  auto keyOf = [cell, low](const Vec3& p) {
-    return CellKey{ static_cast<std::int64_t>(std::floor((p.x - low.x) / cell)),
-      static_cast<std::int64_t>(std::floor((p.y - low.y) / cell)), static_cast<std::int64_t>(std::floor((p.z - low.z) / cell)) };
+  const double cell = std::max(8.0 * tol, 1e-12 * std::max({ extent.x, extent.y, extent.z, 0.0 }));
+  using Key = std::array<std::int64_t, 3>;
+  struct Entry
+  {
+    Key key;
+    int vertex;
+    bool operator<(const Entry& o) const { return key < o.key; }
   };
+  auto coordinate = [cell](double x) { return static_cast<std::int64_t>(std::floor(x / cell)); };
+  std::vector<Entry> sorted;
+  sorted.reserve(points.size());
   for (std::size_t v = 0; v < points.size(); ++v)
     if (used[v] && isFinite(points[v]))
-      grid[keyOf(points[v])].push_back(static_cast<int>(v));
+    {
+      const Vec3 p = points[v] - low;
+      sorted.push_back({ { coordinate(p.x), coordinate(p.y), coordinate(p.z) }, static_cast<int>(v) });
+    }
+  std::sort(sorted.begin(), sorted.end());
   std::vector<char> duplicate(points.size(), 0);
-  for (std::size_t v = 0; v < points.size(); ++v)
+  for (const Entry& e : sorted)
   {
-    if (!used[v] || !isFinite(points[v]))
-      continue;
-    const CellKey k = keyOf(points[v]);
+    const Vec3 p = points[e.vertex] - low;
+    // the neighbouring cells along each axis that lie within tol of p
+    std::int64_t from[3], to[3];
+    const double x[3] = { p.x, p.y, p.z };
+    for (int a = 0; a < 3; ++a)
+    {
+      const double inCell = x[a] - static_cast<double>(e.key[a]) * cell;
+      from[a] = e.key[a] - (inCell < tol ? 1 : 0);
+      to[a] = e.key[a] + (inCell > cell - tol ? 1 : 0);
+    }
     bool dup = false;
-    for (std::int64_t di = -1; di <= 1 && !dup; ++di)
-      for (std::int64_t dj = -1; dj <= 1 && !dup; ++dj)
-        for (std::int64_t dk = -1; dk <= 1 && !dup; ++dk)
+    for (std::int64_t i = from[0]; i <= to[0] && !dup; ++i)
+      for (std::int64_t j = from[1]; j <= to[1] && !dup; ++j)
+        for (std::int64_t k = from[2]; k <= to[2] && !dup; ++k)
         {
-          const auto it = grid.find({ k.i + di, k.j + dj, k.k + dk });
-          if (it == grid.end())
-            continue;
-          for (int w : it->second)
-            if (w != static_cast<int>(v) && norm(points[w] - points[v]) < tol)
+          const Entry probe{ { i, j, k }, 0 };
+          for (auto it = std::lower_bound(sorted.begin(), sorted.end(), probe); it != sorted.end() && it->key == probe.key; ++it)
+            if (it->vertex != e.vertex && norm(points[it->vertex] - points[e.vertex]) < tol)
             {
               dup = true;
               break;
             }
         }
-    duplicate[v] = dup;
+    duplicate[e.vertex] = dup;
   }
   return duplicate;
 }
@@ -84,18 +85,27 @@ std::vector<char> findDuplicates(const std::vector<Vec3>& points, const std::vec
 std::size_t countNonManifoldFaces(const std::vector<std::array<int, 4>>& tets, const std::vector<std::size_t>& good,
   std::size_t pointCount, std::vector<unsigned char>& flags)
 {
-  auto faceOf = [&tets](std::size_t t, int skip) {
-    std::array<int, 3> f;
-    for (int i = 0, n = 0; i < 4; ++i)
-      if (i != skip)
-        f[n++] = tets[t][i];
-    std::sort(f.begin(), f.end());
-    return f;
+  // with its corners sorted, a b c d, a tetrahedron's faces are abc, abd, acd (smallest a) and bcd
+  auto sortedCorners = [&tets](std::size_t t) {
+    std::array<int, 4> k = tets[t];
+    auto order = [&k](int i, int j) {
+      if (k[j] < k[i])
+        std::swap(k[i], k[j]);
+    };
+    order(0, 1);
+    order(2, 3);
+    order(0, 2);
+    order(1, 3);
+    order(1, 2);
+    return k;
   };
   std::vector<std::size_t> first(pointCount + 1, 0);
   for (std::size_t t : good)
-    for (int skip = 0; skip < 4; ++skip)
-      ++first[faceOf(t, skip)[0] + 1];
+  {
+    const std::array<int, 4> k = sortedCorners(t);
+    first[k[0] + 1] += 3;
+    first[k[1] + 1] += 1;
+  }
   for (std::size_t v = 0; v < pointCount; ++v)
     first[v + 1] += first[v];
   struct Entry
@@ -106,12 +116,15 @@ std::size_t countNonManifoldFaces(const std::vector<std::array<int, 4>>& tets, c
   };
   std::vector<Entry> entries(first[pointCount]);
   std::vector<std::size_t> next(first.begin(), first.end() - 1);
+  auto pair = [](int b, int c) { return (static_cast<std::uint64_t>(b) << 32) | static_cast<std::uint32_t>(c); };
   for (std::size_t t : good)
-    for (int skip = 0; skip < 4; ++skip)
-    {
-      const std::array<int, 3> f = faceOf(t, skip);
-      entries[next[f[0]]++] = { (static_cast<std::uint64_t>(f[1]) << 32) | static_cast<std::uint32_t>(f[2]), t };
-    }
+  {
+    const std::array<int, 4> k = sortedCorners(t);
+    entries[next[k[0]]++] = { pair(k[1], k[2]), t };
+    entries[next[k[0]]++] = { pair(k[1], k[3]), t };
+    entries[next[k[0]]++] = { pair(k[2], k[3]), t };
+    entries[next[k[1]]++] = { pair(k[2], k[3]), t };
+  }
   std::size_t count = 0;
   for (std::size_t v = 0; v < pointCount; ++v)
   {

@@ -97,17 +97,21 @@ def _worst(shape, selected):
             for key in SHAPE_KEYS}
 
 
-def quality(grid, source="mesh"):
+def quality(grid, source="mesh", measured=False):
     """Per-material quality of a tetrahedral mesh: {"materials": {id: {"tets", "volume",
     "min_dihedral", "mean_min_dihedral", "worst_max_dihedral", "worst_radius_ratio", "worst_mean_ratio",
     "worst_edge_ratio"}}, "tets", "vertices" (corners), "nodes" (with the mid-edge ones), "volume",
     "min_dihedral", "max_dihedral", "worst" (the worst_* values of the whole mesh), "angles" (per-tet
-    minimal dihedral angles, of the corners),
-    "shape" (shape.shape_measures of every tetrahedron), "centroids",
+    minimal dihedral angles, of the corners), "shape" (per-tet measures: shape.shape_measures of every
+    tetrahedron, or with `measured` its "min_dihedral" and "max_dihedral" only), "points" and "cells"
+    (the corners; centroid() gives a tetrahedron's centre),
     "material" (per-tet material), "order" (1 or 2) and for 10-node tetrahedra "min_jacobian_ratio"
     (quadratic.jacobian_ratios)}.
     Volumes come from the geometry (curved for 10-node tetrahedra), so any tetrahedral .vtu with
-    Material and MinDihedralAngle works."""
+    Material and MinDihedralAngle works. With `measured` (a mesh just made, not read from a file) the
+    mesher's own figures are taken where the grid carries them: its one measuring pass wrote the
+    cell arrays and the shape.* statistics (the same measures, ShapeSummary.h); a file is measured
+    here, independently of the mesher."""
     import numpy as np
     from vtkmodules.util.numpy_support import vtk_to_numpy
 
@@ -119,8 +123,12 @@ def quality(grid, source="mesh"):
     if array is None:
         raise OracleMeshError(f"{source}: no cell array '{fieldkeys.MIN_DIHEDRAL_ANGLE}' (write meshes with 'oraclemesh mesh')")
     angles = vtk_to_numpy(array).astype(np.float64)
-    p = points[cells]
     quadratic = nodes.shape[1] == 10
+    if measured and not quadratic:
+        q = _measured_quality(grid, points, cells, material, angles)
+        if q is not None:
+            return q
+    p = points[cells]
     volumes = curved_volumes(points, nodes) if quadratic else \
         np.abs(np.einsum("ij,ij->i", p[:, 1] - p[:, 0], np.cross(p[:, 2] - p[:, 0], p[:, 3] - p[:, 0]))) / 6
     shape = shape_measures(points, cells)  # from the corners: independent of the mesher's arrays
@@ -134,17 +142,58 @@ def quality(grid, source="mesh"):
     q = {"materials": materials, "tets": int(len(cells)), "vertices": int(len(np.unique(cells))) if quadratic else int(grid.GetNumberOfPoints()),
          "nodes": int(grid.GetNumberOfPoints()), "volume": float(volumes.sum()), "min_dihedral": float(angles.min()),
          "max_dihedral": worst["worst_max_dihedral"], "worst": worst, "angles": angles, "shape": shape,
-         "centroids": p.mean(axis=1), "material": material, "order": 2 if quadratic else 1}
+         "points": points, "cells": cells, "material": material, "order": 2 if quadratic else 1}
     if quadratic:
         q["min_jacobian_ratio"] = float(jacobian_ratios(points, nodes).min())
     return q
+
+
+# quality()'s figures and the shape.* statistics (ShapeSummary.h) they come from with `measured`
+_MEASURED = (("tets", fieldkeys.SHAPE_TETRAHEDRA), ("volume", fieldkeys.SHAPE_VOLUME),
+             ("min_dihedral", fieldkeys.SHAPE_MIN_DIHEDRAL), ("mean_min_dihedral", fieldkeys.SHAPE_MEAN_MIN_DIHEDRAL),
+             ("worst_max_dihedral", fieldkeys.SHAPE_MAX_DIHEDRAL),
+             ("worst_radius_ratio", fieldkeys.SHAPE_WORST_RADIUS_RATIO),
+             ("worst_mean_ratio", fieldkeys.SHAPE_WORST_MEAN_RATIO),
+             ("worst_edge_ratio", fieldkeys.SHAPE_WORST_EDGE_RATIO))
+
+
+def _measured_quality(grid, points, cells, material, angles):
+    """quality() of a linear mesh from the mesher's figures (cell arrays and shape.* statistics);
+    None when the grid does not carry them for these cells."""
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+
+    stats = statistics(grid)
+    largest = grid.GetCellData().GetArray(fieldkeys.MAX_DIHEDRAL_ANGLE)
+    if largest is None or stats.get(fieldkeys.SHAPE_TETRAHEDRA) != len(cells):
+        return None
+    prefix = fieldkeys.SHAPE_TETRAHEDRA + ".material_"
+    ids = sorted(int(key[len(prefix):]) for key in stats if key.startswith(prefix))
+
+    def row(suffix):
+        figures = {name: stats[key + suffix] for name, key in _MEASURED}
+        figures["tets"] = int(figures["tets"])
+        return figures
+
+    materials = {m: row(f".material_{m}") for m in ids}
+    whole = row("")
+    worst = {f"worst_{key}": whole[f"worst_{key}"] for key in SHAPE_KEYS}
+    shape = {"min_dihedral": angles, "max_dihedral": vtk_to_numpy(largest)}
+    return {"materials": materials, "tets": int(len(cells)), "vertices": int(grid.GetNumberOfPoints()),
+            "nodes": int(grid.GetNumberOfPoints()), "volume": whole["volume"], "min_dihedral": whole["min_dihedral"],
+            "max_dihedral": whole["worst_max_dihedral"], "worst": worst, "angles": angles, "shape": shape,
+            "points": points, "cells": cells, "material": material, "order": 1}
+
+
+def centroid(q, t):
+    """The centre of tetrahedron `t` of a quality() dict (its corners' mean)."""
+    return q["points"][q["cells"][t]].mean(axis=0)
 
 
 def report_lines(grid, title, names=None, source="mesh", recheck=True):
     """The quality report as lines of text (and the quality dict it was made from)."""
     import numpy as np
 
-    q = quality(grid, source)
+    q = quality(grid, source, measured=not recheck)
     names = {**material_names(grid), **(names or {})}
     stats = statistics(grid)
     lines = [f"{title}: {q['tets']} {'10-node ' if q['order'] == 2 else ''}tetrahedra, {q['vertices']} vertices"
@@ -208,7 +257,13 @@ def worst_tetrahedra(q, key, count=WORST_SHOWN):
     import numpy as np
 
     values = q["shape"][key]
-    order = np.argsort(-values if key == "max_dihedral" else values, kind="stable")
+    keyed = -values if key == "max_dihedral" else values
+    if len(keyed) > count:  # a partition finds the count-th value; only those up to it are sorted
+        cut = np.partition(keyed, count - 1)[count - 1]
+        few = np.flatnonzero(keyed <= cut)  # with its ties, in index order: as a stable sort of all
+        order = few[np.argsort(keyed[few], kind="stable")]
+    else:
+        order = np.argsort(keyed, kind="stable")
     return order[:count]
 
 
@@ -222,7 +277,7 @@ def shape_lines(q):
     shape, lines = q["shape"], []
     for key, words in (("min_dihedral", "smallest"), ("max_dihedral", "largest")):
         items = [f"{shape[key][t]:.2f}° in #{t} (material {int(q['material'][t])}) at "
-                 f"({', '.join(f'{x:.4g}' for x in q['centroids'][t])})" for t in worst_tetrahedra(q, key)]
+                 f"({', '.join(f'{x:.4g}' for x in centroid(q, t))})" for t in worst_tetrahedra(q, key)]
         lines.append(f"worst tetrahedra by {words} dihedral angle: " + "; ".join(items))
     return lines
 

@@ -1,0 +1,71 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "ShapeSummary.h"
+
+#include "FieldDataKeys.h"
+
+#include <algorithm>
+#include <string>
+#include <utility>
+
+namespace omesh
+{
+void ShapeFigures::add(const TetShape& s)
+{
+  ++tetrahedra;
+  volume += s.volume;
+  minDihedral = std::min(minDihedral, s.minDihedral);
+  sumMinDihedral += s.minDihedral;
+  maxDihedral = std::max(maxDihedral, s.maxDihedral);
+  worstRadiusRatio = std::min(worstRadiusRatio, s.radiusRatio);
+  worstMeanRatio = std::min(worstMeanRatio, s.meanRatio);
+  worstEdgeRatio = std::min(worstEdgeRatio, s.edgeRatio);
+}
+
+void ShapeSummary::addTo(std::map<std::string, double>& statistics) const
+{
+  auto put = [&statistics](const std::string& suffix, const ShapeFigures& f) {
+    statistics[keys::SHAPE_TETRAHEDRA + suffix] = static_cast<double>(f.tetrahedra);
+    statistics[keys::SHAPE_VOLUME + suffix] = f.volume;
+    statistics[keys::SHAPE_MIN_DIHEDRAL + suffix] = f.tetrahedra ? f.minDihedral : 0.0;
+    statistics[keys::SHAPE_MEAN_MIN_DIHEDRAL + suffix] = f.meanMinDihedral();
+    statistics[keys::SHAPE_MAX_DIHEDRAL + suffix] = f.tetrahedra ? f.maxDihedral : 0.0;
+    statistics[keys::SHAPE_WORST_RADIUS_RATIO + suffix] = f.tetrahedra ? f.worstRadiusRatio : 0.0;
+    statistics[keys::SHAPE_WORST_MEAN_RATIO + suffix] = f.tetrahedra ? f.worstMeanRatio : 0.0;
+    statistics[keys::SHAPE_WORST_EDGE_RATIO + suffix] = f.tetrahedra ? f.worstEdgeRatio : 0.0;
+  };
+  put("", all);
+  for (const auto& [m, f] : materials)
+    put(".material_" + std::to_string(m), f);
+}
+
+ShapeSummary summariseShapes(const TetMesh& mesh, const TetShapeArrays& arrays)
+{
+  ShapeSummary summary;
+  const auto& P = mesh.points;
+  // materials come in long runs: the map is asked only where the material changes
+  int current = 0;
+  ShapeFigures* figures = nullptr;
+  for (std::size_t t = 0; t < mesh.tets.size(); ++t)
+  {
+    auto k = mesh.tets[t];
+    if (signedVolume(P[k[0]], P[k[1]], P[k[2]], P[k[3]]) < 0)
+      std::swap(k[0], k[1]);
+    const TetShape s = tetShape(P[k[0]], P[k[1]], P[k[2]], P[k[3]]);
+    if (arrays.minDihedral)
+      arrays.minDihedral[t] = s.minDihedral;
+    if (arrays.maxDihedral)
+      arrays.maxDihedral[t] = s.maxDihedral;
+    if (arrays.radiusEdge)
+      arrays.radiusEdge[t] = s.radiusEdge;
+    const int m = t < mesh.tetMaterial.size() ? mesh.tetMaterial[t] : 0;
+    if (!figures || m != current)
+    {
+      figures = &summary.materials[m];
+      current = m;
+    }
+    figures->add(s);
+    summary.all.add(s);
+  }
+  return summary;
+}
+}

@@ -1,0 +1,50 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#pragma once
+
+#include "MeshQuality.h"
+#include "TetMesh.h"
+
+#include <cstddef>
+#include <functional>
+#include <map>
+
+namespace omesh
+{
+/// Where summariseShapes writes each tetrahedron's measures, in the caller's own buffers (the VTK
+/// adapter's cell arrays): each pointer null or to one value per tetrahedron.
+struct TetShapeArrays
+{
+  double* minDihedral = nullptr;
+  double* maxDihedral = nullptr;
+  double* radiusEdge = nullptr;
+};
+
+/// Shape figures of a group of tetrahedra (a material, or the whole mesh): counts, volume, and the
+/// worst value of each TetShape measure.
+struct ShapeFigures
+{
+  std::size_t tetrahedra = 0;
+  double volume = 0.0;
+  double minDihedral = 180.0, sumMinDihedral = 0.0, maxDihedral = 0.0;
+  double worstRadiusRatio = 1.0, worstMeanRatio = 1.0, worstEdgeRatio = 1.0;
+
+  void add(const TetShape& s);
+  double meanMinDihedral() const { return tetrahedra ? sumMinDihedral / static_cast<double>(tetrahedra) : 0.0; }
+};
+
+/// The shape figures of a mesh, per material and all together.
+struct ShapeSummary
+{
+  std::map<int, ShapeFigures> materials;
+  ShapeFigures all;
+
+  /// The figures as statistics (shape.* keys of FieldDataKeys.txt, each also per material with
+  /// the suffix ".material_<id>").
+  void addTo(std::map<std::string, double>& statistics) const;
+};
+
+/// One pass over the tetrahedra: each one's TetShape (its corners taken positively oriented, as
+/// the VTK output writes them), written to `arrays` where given, and the summary. The one place
+/// that measures every tetrahedron after meshing: statistics, report and cell arrays share it.
+ShapeSummary summariseShapes(const TetMesh& mesh, const TetShapeArrays& arrays = {});
+}
