@@ -98,6 +98,8 @@ int main(int argc, char* argv[])
           << ", \"refine_critical_cpu\": " << stat("cpu.refinement_critical_path")
           << ", \"min_refined\": " << stat("optimisation.min_dihedral_before")
           << ", \"improve\": " << stat("time.improvement")
+          << ", \"output\": " << stat("time.output") << ", \"validity\": " << stat("time.validity")
+          << ", \"statistics\": " << stat("time.statistics")
           << ", \"outside_held\": " << stat("improvement.outside_held");
     // Conforming on several threads: vertices after and seconds of each phase (sequential segments,
     // parallel, sequential tail)

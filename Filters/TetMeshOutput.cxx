@@ -116,6 +116,8 @@ void TetMeshOutput::AddTetrahedra(vtkUnstructuredGrid* grid, const omesh::TetMes
     omesh::summariseShapes(mesh, measured.allocate(n));
     shapes = &measured;
   }
+  if (!mesh.separatingFaces.empty())
+    AddSeparatingFaces(grid, mesh);
   if (mesh.tetDefects.size() == n)
   {
     auto defects = namedArray<vtkUnsignedCharArray>(omesh::keys::DEFECTS, n); // bits as vtkMeshValidityCheck's
@@ -127,6 +129,28 @@ void TetMeshOutput::AddTetrahedra(vtkUnstructuredGrid* grid, const omesh::TetMes
   grid->GetCellData()->AddArray(shapes->minDihedral);
   grid->GetCellData()->AddArray(shapes->maxDihedral);
   grid->GetCellData()->AddArray(shapes->radiusEdge);
+}
+
+void TetMeshOutput::AddSeparatingFaces(vtkUnstructuredGrid* grid, const omesh::TetMesh& mesh)
+{
+  // The face not holding corner c, in the written (positively oriented) corner order, is the
+  // Abaqus face S1..S4 (1-2-3, 1-4-2, 2-4-3, 3-4-1) numbered kFaceWithout[c] + 1.
+  constexpr int kFaceWithout[4] = { 2, 3, 1, 0 };
+  const auto& P = mesh.points;
+  vtkNew<vtkIdTypeArray> faces;
+  faces->SetName(omesh::keys::SEPARATING_FACES);
+  faces->SetNumberOfComponents(2);
+  faces->SetNumberOfTuples(static_cast<vtkIdType>(mesh.separatingFaces.size()));
+  vtkIdType* out = faces->GetPointer(0);
+  for (const auto& f : mesh.separatingFaces)
+  {
+    const auto& k = mesh.tets[f.tet];
+    const bool swapped = omesh::signedVolume(P[k[0]], P[k[1]], P[k[2]], P[k[3]]) < 0; // as AddTetrahedra
+    const int corner = swapped && f.opposite < 2 ? 1 - f.opposite : f.opposite;
+    *out++ = 4 * static_cast<vtkIdType>(f.tet) + kFaceWithout[corner];
+    *out++ = f.other;
+  }
+  grid->GetFieldData()->AddArray(faces);
 }
 
 void TetMeshOutput::FillInterfaces(vtkPolyData* interfaces, const omesh::TetMesh& mesh, vtkUnstructuredGrid* grid)

@@ -53,6 +53,9 @@ public:
   static void AddStatistic(vtkFieldData* fieldData, const std::string& name, double value);
 
 private:
+  /// Field array SeparatingFaces (FieldDataKeys.txt): the validity check's faces on the boundary
+  /// or between materials, for the surface sets of the writers (Python's surfaces.py).
+  static void AddSeparatingFaces(vtkUnstructuredGrid* grid, const omesh::TetMesh& mesh);
   static void AddTetrahedra(vtkUnstructuredGrid* grid, const omesh::TetMesh& mesh, const omesh::QuadraticTetMesh* quadratic,
     const TetShapeCellArrays* shapes);
   static void AddStrings(vtkFieldData* fieldData, const char* name, const std::vector<std::string>& strings);

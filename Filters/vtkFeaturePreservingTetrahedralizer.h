@@ -31,7 +31,10 @@
  *
  * Outputs: port 0, vtkUnstructuredGrid of tetrahedra (4 nodes, or 10 with ElementOrder 2) with cell data Material, MinDihedralAngle, MaxDihedralAngle
  * (degrees) and RadiusEdgeRatio, point data Dimension (0 corner, 1 segment, 2 interface,
- * 3 volume), field data StatisticNames/StatisticValues and Warnings; port 1, the interface
+ * 3 volume), field data StatisticNames/StatisticValues, Warnings and SeparatingFaces (the faces on
+ * the boundary or between materials as the validity check found them: 4 x cell + the face's
+ * Abaqus number - 1, and the material on the other side or -1; what the writers' surface sets
+ * are made of); port 1, the interface
  * triangles with cell data Materials (2 components: the materials on the two sides, -1 outside);
  * port 2, the constrained segments cut at the mesh vertices on them, cell data Present (1 when the
  * piece is a mesh edge), Origin (0 given, 1 found where the inputs meet) and Materials (4

@@ -480,6 +480,26 @@ class PythonApi(unittest.TestCase):
             self.assertEqual(set(written), set(paths) | {os.path.join(tmp, "m_surfaces.vtu")})
             self.assertEqual(set(meshio.read(paths[1]).point_sets), set(result.surface_sets.names))
 
+    def test_the_mesher_faces_give_the_sets_the_writers_find_alone(self):
+        """A fresh result's sets come from the faces the mesher's validity check found (field array
+        SeparatingFaces); found again from the tetrahedra alone they are the same, face for face."""
+        from oraclemesh.writers import MeshArrays
+
+        for order in (1, 2):
+            result = om.mesh(SCENE, element_order=order)
+            fast = result.surface_sets
+            self.assertIsNotNone(result._separating, "the mesher gave its faces")
+            alone = MeshArrays(result.grid, result.material_names).sets
+            self.assertEqual(fast.names, alone.names)
+            self.assertEqual(fast.materials, alone.materials)
+            for field in ("faces", "owner", "side", "pairs", "surface"):
+                np.testing.assert_array_equal(getattr(fast, field), getattr(alone, field), err_msg=f"order {order}: {field}")
+            with tempfile.TemporaryDirectory() as tmp:  # the writers' own data stays out of the files
+                path = os.path.join(tmp, "m.vtu")
+                result.save(path)
+                with open(path, "rb") as f:
+                    self.assertNotIn(b"SeparatingFaces", f.read())
+
     def test_bad_scenes_and_paths_are_named(self):
         with self.assertRaises(om.OracleMeshError) as ctx:
             om.mesh("/nonexistent/scene.json")

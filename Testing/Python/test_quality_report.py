@@ -44,6 +44,15 @@ class ShapeMeasures(unittest.TestCase):
         np.testing.assert_allclose(s["edge_ratio"], [1, 1 / math.sqrt(2), 1 / math.sqrt(2)], atol=1e-9)
 
 
+    def test_the_report_histogram_counts_as_numpy_does(self):
+        from oraclemesh.report import MAX_TEXT_BINS, TEXT_BINS, histogram
+
+        random = np.random.default_rng(3)
+        for bins in (TEXT_BINS, MAX_TEXT_BINS):
+            values = np.concatenate([random.uniform(-10, 190, 5000), np.array(bins, float)])  # edges exactly too
+            np.testing.assert_array_equal(histogram(values, bins), np.histogram(values, bins=bins)[0])
+
+
 class Report(unittest.TestCase):
     @classmethod
     def setUpClass(cls):

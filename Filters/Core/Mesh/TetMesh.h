@@ -4,6 +4,7 @@
 #include "Vec3.h"
 
 #include <array>
+#include <cstddef>
 #include <map>
 #include <string>
 #include <vector>
@@ -19,6 +20,17 @@ struct TetMesh
   std::vector<std::array<int, 4>> tets;
   std::vector<int> tetMaterial;
   std::vector<unsigned char> tetDefects; ///< TetDefect bits per tetrahedron (MeshValidity.h), when checked
+
+  /// A tetrahedron's face on the mesh's boundary or between two materials, kept on the side of its
+  /// owner: the lower material id (the finite-element writers' surface sets).
+  struct SeparatingFace
+  {
+    std::size_t tet = 0; ///< the owner
+    int opposite = 0;    ///< its corner (0-3, in `tets` order) not on the face
+    int other = -1;      ///< the material on the other side, -1 outside
+  };
+  /// The separating faces as the validity check found them from the tetrahedra alone (when asked).
+  std::vector<SeparatingFace> separatingFaces;
 
   std::vector<std::array<int, 3>> interfaceTriangles;
   std::vector<std::array<int, 2>> interfaceMaterials; ///< material on each side (-1 outside)

@@ -602,7 +602,7 @@ TetMesh toTetMesh(const C3t3& c3t3, const HierarchicalOracle& oracle, const std:
   for (auto f = c3t3.facets_in_complex_begin(); f != c3t3.facets_in_complex_end(); ++f)
   {
     const Tr::Cell_handle other = f->first->neighbor(f->second);
-    if (takenAt.count(f->first) || takenAt.count(other))
+    if (!takenAt.empty() && (takenAt.count(f->first) || takenAt.count(other)))
       continue; // around the cells taken: below
     // A restricted facet with no tetrahedron of the complex on either side (a patch between two
     // outside regions, e.g. the cut-away part and the exterior) bounds nothing: kept, its corners
@@ -1549,13 +1549,20 @@ private:
     ValidityThresholds thresholds;
     thresholds.segmentsRequired = options_.strategy != FeatureStrategy::None;
     thresholds.facetDistanceOf = [this](int m) { return options_.criteria.of(m).facetDistance; };
+    // the check's pass over the tetrahedra also measures them (statistics and the caller's cell
+    // arrays), its pass over the faces finds the separating ones (the writers' surface sets)
+    ValidityByproducts byproducts;
+    byproducts.separatingFaces = &mesh.separatingFaces;
+    byproducts.shapes = &shapes_;
+    if (options_.shapeArrays)
+      byproducts.shapeArrays = options_.shapeArrays(mesh.tets.size());
     const MeshValidity validity = checkMeshValidity(
       mesh,
       [this](const Vec3& p) {
         deadline_.tick("validation");
         return oracle_.material(p);
       },
-      thresholds, &defects);
+      thresholds, &defects, byproducts);
     mesh.tetDefects = std::move(defects);
     if (!validity.valid())
       warnings_.push_back("mesh validity: " + validity.describe());
@@ -1620,9 +1627,7 @@ private:
   /// The mesh's size and angles, what each rule did, the optimisers' runs and the times.
   void addStatistics(TetMesh& mesh, double coverage) const
   {
-    // the one pass that measures every tetrahedron: these figures, and the caller's cell arrays
-    const ShapeSummary shapes =
-      summariseShapes(mesh, options_.shapeArrays ? options_.shapeArrays(mesh.tets.size()) : TetShapeArrays{});
+    const ShapeSummary& shapes = shapes_; // measured by the validity check's pass
     auto& st = mesh.statistics;
     shapes.addTo(st);
     st["tetrahedra"] = static_cast<double>(mesh.tets.size());
@@ -1826,6 +1831,7 @@ private:
   OptimiserRun perturbed_, exuded_;
   DihedralImprovementReport improvement_;
   double improvementTime_ = 0.0;
+  ShapeSummary shapes_; ///< of the output's tetrahedra, from the validity check's pass
   double outputTime_ = 0.0, locationTime_ = 0.0, validityTime_ = 0.0; ///< of validatedMesh's phases
   size_t relabelled_ = 0; ///< cells the optimisers left across a boundary (relabelCellsAcrossBoundaries)
 };

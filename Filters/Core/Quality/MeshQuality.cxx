@@ -115,6 +115,7 @@ TetShape tetShape(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d)
   const double shortest = *std::min_element(l, l + 6), longest = *std::max_element(l, l + 6);
   const double volume = std::abs(signedVolume(a, b, c, d));
   s.volume = volume;
+  s.longestEdge = longest;
   s.edgeRatio = longest > 0 ? shortest / longest : 0.0;
   const Vec3 cc = circumcenter(a, b, c, d);
   s.radiusEdge = isFinite(cc) ? norm(cc - a) / shortest : std::numeric_limits<double>::infinity();
@@ -127,7 +128,8 @@ TetShape tetShape(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d)
     const double inradius = 3.0 * volume / (0.5 * (twiceAreas[0] + twiceAreas[1] + twiceAreas[2] + twiceAreas[3]));
     const double ratio = 3.0 * inradius / circumradius;
     s.radiusRatio = std::isfinite(ratio) ? ratio : 0.0;
-    s.meanRatio = 12.0 * std::pow(3.0 * volume, 2.0 / 3.0) / squares;
+    const double root = std::cbrt(3.0 * volume); // (3 |V|)^(2/3), without pow's cost
+    s.meanRatio = 12.0 * root * root / squares;
   }
   return s;
 }

@@ -38,6 +38,7 @@ struct TetShape
   double edgeRatio = 0.0;   ///< shortest / longest edge
   double radiusEdge = 0.0;  ///< radiusEdgeRatio
   double volume = 0.0;      ///< |signedVolume|
+  double longestEdge = 0.0;
 };
 
 /// Every TetShape measure of abcd from one set of face normals and edge lengths (minDihedral,

@@ -81,9 +81,15 @@ std::vector<char> findDuplicates(const std::vector<Vec3>& points, const std::vec
 /// Faces shared by more than two tetrahedra; the tetrahedra holding one are flagged. Faces are
 /// bucketed by their smallest vertex (a counting sort), then each small bucket is sorted by the
 /// other two: linear in the mesh, where one sort of all faces cost more than the rest of the check.
-/// Indices are valid (tetsWithValidIndices); `good` lists the tetrahedra to look at.
-std::size_t countNonManifoldFaces(const std::vector<std::array<int, 4>>& tets, const std::vector<std::size_t>& good,
-  std::size_t pointCount, std::vector<unsigned char>& flags)
+/// Indices are valid (tetsWithValidIndices); `good` lists the tetrahedra to look at. The faces of
+/// one tetrahedron, or of two of different materials, go to `separating` when given (the owner:
+/// the lower material id, the first tetrahedron for equal ids). FaceIndex holds 4 x tetrahedra
+/// (32 bits below a billion tetrahedra: the entries, four per tetrahedron, are the check's
+/// largest array).
+template <typename FaceIndex>
+std::size_t countNonManifoldFaces(const std::vector<std::array<int, 4>>& tets, const std::vector<int>& materials,
+  const std::vector<std::size_t>& good, std::size_t pointCount, std::vector<unsigned char>& flags,
+  std::vector<TetMesh::SeparatingFace>* separating)
 {
   // with its corners sorted, a b c d, a tetrahedron's faces are abc, abd, acd (smallest a) and bcd
   auto sortedCorners = [&tets](std::size_t t) {
@@ -110,21 +116,32 @@ std::size_t countNonManifoldFaces(const std::vector<std::array<int, 4>>& tets, c
     first[v + 1] += first[v];
   struct Entry
   {
-    std::uint64_t rest; // the two larger vertices
-    std::size_t tet;
-    bool operator<(const Entry& o) const { return rest < o.rest; }
+    std::uint32_t b, c; // the two larger vertices
+    FaceIndex face;     // 4 x tetrahedron + its corner not on the face
+    bool operator<(const Entry& o) const { return b != o.b ? b < o.b : c != o.c ? c < o.c : face < o.face; }
+    bool sameFace(const Entry& o) const { return b == o.b && c == o.c; }
   };
   std::vector<Entry> entries(first[pointCount]);
   std::vector<std::size_t> next(first.begin(), first.end() - 1);
-  auto pair = [](int b, int c) { return (static_cast<std::uint64_t>(b) << 32) | static_cast<std::uint32_t>(c); };
+  auto add = [&](int a, int b, int c, std::size_t t, int without) {
+    const auto& k = tets[t];
+    const int corner = k[0] == without ? 0 : k[1] == without ? 1 : k[2] == without ? 2 : 3;
+    entries[next[a]++] = { static_cast<std::uint32_t>(b), static_cast<std::uint32_t>(c),
+      static_cast<FaceIndex>(4 * t + static_cast<std::size_t>(corner)) };
+  };
   for (std::size_t t : good)
   {
     const std::array<int, 4> k = sortedCorners(t);
-    entries[next[k[0]]++] = { pair(k[1], k[2]), t };
-    entries[next[k[0]]++] = { pair(k[1], k[3]), t };
-    entries[next[k[0]]++] = { pair(k[2], k[3]), t };
-    entries[next[k[1]]++] = { pair(k[2], k[3]), t };
+    add(k[0], k[1], k[2], t, k[3]);
+    add(k[0], k[1], k[3], t, k[2]);
+    add(k[0], k[2], k[3], t, k[1]);
+    add(k[1], k[2], k[3], t, k[0]);
   }
+  auto faceOf = [](const Entry& e) { return static_cast<std::size_t>(e.face); };
+  auto materialOf = [&materials](std::size_t f) { return f / 4 < materials.size() ? materials[f / 4] : 0; };
+  auto keep = [separating](std::size_t f, int other) {
+    separating->push_back({ f / 4, static_cast<int>(f % 4), other });
+  };
   std::size_t count = 0;
   for (std::size_t v = 0; v < pointCount; ++v)
   {
@@ -134,13 +151,22 @@ std::size_t countNonManifoldFaces(const std::vector<std::array<int, 4>>& tets, c
     for (auto i = begin; i != end;)
     {
       auto j = i;
-      while (j != end && j->rest == i->rest)
+      while (j != end && j->sameFace(*i))
         ++j;
       if (j - i > 2)
       {
         ++count;
         for (auto k = i; k != j; ++k)
-          flags[k->tet] |= kNonManifoldFace;
+          flags[faceOf(*k) / 4] |= kNonManifoldFace;
+      }
+      else if (separating && j - i == 1)
+        keep(faceOf(*i), -1);
+      else if (separating)
+      {
+        const std::size_t f = faceOf(*i), g = faceOf(*(i + 1));
+        const int a = materialOf(f), b = materialOf(g);
+        if (a != b)
+          a < b ? keep(f, b) : keep(g, a);
       }
       i = j;
     }
@@ -221,14 +247,28 @@ std::vector<std::size_t> tetsWithValidIndices(const TetMesh& mesh, MeshValidity&
 }
 
 /// Micro, flat, inverted (relative to L, see checkMeshValidity), and a material mismatch when all four
-/// corners are inside a material.
+/// corners are inside a material. With `shapes`, the tetrahedron's TetShape goes there too (it
+/// holds the longest edge the check needs).
 unsigned char shapeAndMaterialDefects(const TetMesh& mesh, std::size_t t,
-  const std::function<int(const Vec3&)>& materialAt, const ValidityThresholds& th, double L)
+  const std::function<int(const Vec3&)>& materialAt, const ValidityThresholds& th, double L,
+  const ValidityByproducts& shapes)
 {
   const auto& k = mesh.tets[t];
   const Vec3 &a = mesh.points[k[0]], &b = mesh.points[k[1]], &c = mesh.points[k[2]], &d = mesh.points[k[3]];
-  const double longest = std::max({ norm(b - a), norm(c - a), norm(d - a), norm(c - b), norm(d - b), norm(d - c) });
-  const double v = signedVolume(a, b, c, d);
+  double longest, v;
+  if (shapes.shapes)
+  {
+    const std::array<int, 4> o = orientedCorners(mesh, t, v);
+    const TetShape s = tetShape(mesh.points[o[0]], mesh.points[o[1]], mesh.points[o[2]], mesh.points[o[3]]);
+    writeShape(shapes.shapeArrays, t, s);
+    shapes.shapes->add(t < mesh.tetMaterial.size() ? mesh.tetMaterial[t] : 0, s);
+    longest = s.longestEdge;
+  }
+  else
+  {
+    longest = std::max({ norm(b - a), norm(c - a), norm(d - a), norm(c - b), norm(d - b), norm(d - c) });
+    v = signedVolume(a, b, c, d);
+  }
   unsigned char flags = (longest < th.micro * L ? kMicro : 0) |
     (!(std::abs(v) >= th.flat * longest * longest * longest) ? kFlat : 0) | (v < 0 ? kInverted : 0);
   if (materialAt && t < mesh.tetMaterial.size() && mesh.pointDimension.size() == mesh.points.size())
@@ -279,8 +319,14 @@ double validityLength(double medianEdge, double totalVolume, std::size_t tetrahe
 }
 
 MeshValidity checkMeshValidity(const TetMesh& mesh, const std::function<int(const Vec3&)>& materialAt,
-  const ValidityThresholds& th, std::vector<unsigned char>* tetDefects)
+  const ValidityThresholds& th, std::vector<unsigned char>* tetDefects, const ValidityByproducts& byproducts)
 {
+  std::vector<TetMesh::SeparatingFace>* separating = byproducts.separatingFaces;
+  if (separating)
+    separating->clear();
+  if (byproducts.shapes)
+    *byproducts.shapes = ShapeSummary();
+
   MeshValidity r;
   std::vector<unsigned char> flags(mesh.tets.size(), 0);
   std::vector<char> used(mesh.points.size(), 0);
@@ -288,6 +334,12 @@ MeshValidity checkMeshValidity(const TetMesh& mesh, const std::function<int(cons
   const std::vector<std::size_t> good = tetsWithValidIndices(mesh, r, flags, used, edges);
   for (char u : used)
     r.unusedVertices += !u;
+  if (byproducts.shapes && r.badIndices) // a tetrahedron with bad indices has no shape: 0 in the arrays
+    for (std::size_t t = 0; t < mesh.tets.size(); ++t)
+      if (flags[t] & kBadIndices)
+        for (double* a : { byproducts.shapeArrays.minDihedral, byproducts.shapeArrays.maxDihedral, byproducts.shapeArrays.radiusEdge })
+          if (a)
+            a[t] = 0.0;
   if (edges.empty())
   {
     if (tetDefects)
@@ -310,7 +362,7 @@ MeshValidity checkMeshValidity(const TetMesh& mesh, const std::function<int(cons
   const double L = validityLength(r.medianEdge, volume, good.size());
 
   for (std::size_t t : good)
-    flags[t] |= shapeAndMaterialDefects(mesh, t, materialAt, th, L);
+    flags[t] |= shapeAndMaterialDefects(mesh, t, materialAt, th, L, byproducts);
   const double tol = th.duplicate * L;
   if (tol > 0)
   {
@@ -321,7 +373,9 @@ MeshValidity checkMeshValidity(const TetMesh& mesh, const std::function<int(cons
         if (duplicate[mesh.tets[t][i]])
           flags[t] |= kDuplicateVertex;
   }
-  r.nonManifoldFaces = countNonManifoldFaces(mesh.tets, good, mesh.points.size(), flags);
+  r.nonManifoldFaces = mesh.tets.size() < (std::size_t{ 1 } << 30)
+    ? countNonManifoldFaces<std::uint32_t>(mesh.tets, mesh.tetMaterial, good, mesh.points.size(), flags, separating)
+    : countNonManifoldFaces<std::uint64_t>(mesh.tets, mesh.tetMaterial, good, mesh.points.size(), flags, separating);
   for (unsigned char f : flags)
   {
     r.microTetrahedra += (f & kMicro) != 0;

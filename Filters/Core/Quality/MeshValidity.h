@@ -3,6 +3,7 @@
 // was made. Run by the mesher on every mesh it returns, and on demand on any mesh.
 #pragma once
 
+#include "ShapeSummary.h"
 #include "TetMesh.h"
 
 #include <cstddef>
@@ -105,9 +106,24 @@ enum TetDefect : unsigned char
   kMaterialMismatch = 64
 };
 
+/// What the validity check gives besides its counts, from the passes it makes anyway: the mesher's
+/// one pass over the tetrahedra after refinement and the writers' surface sets need no pass of their
+/// own.
+struct ValidityByproducts
+{
+  /// the faces of one tetrahedron only or of two of different materials, found by the pass that
+  /// looks for faces of more than two (in the order of their vertices, smallest first)
+  std::vector<TetMesh::SeparatingFace>* separatingFaces = nullptr;
+  /// each tetrahedron's TetShape (as summariseShapes measures it) summarised here
+  ShapeSummary* shapes = nullptr;
+  /// and written here, with `shapes` (0 for a tetrahedron with bad indices)
+  TetShapeArrays shapeArrays;
+};
+
 /// Checks `mesh` (tets, tetMaterial, points, segments). `materialAt` (may be empty) is the
 /// oracle's material at a point, for the material check; `pointDimension` is used when present.
 /// `tetDefects`, when given, receives a TetDefect bit set per tetrahedron.
 MeshValidity checkMeshValidity(const TetMesh& mesh, const std::function<int(const Vec3&)>& materialAt = {},
-  const ValidityThresholds& thresholds = {}, std::vector<unsigned char>* tetDefects = nullptr);
+  const ValidityThresholds& thresholds = {}, std::vector<unsigned char>* tetDefects = nullptr,
+  const ValidityByproducts& byproducts = {});
 }

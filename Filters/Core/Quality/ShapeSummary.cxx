@@ -38,33 +38,27 @@ void ShapeSummary::addTo(std::map<std::string, double>& statistics) const
     put(".material_" + std::to_string(m), f);
 }
 
+std::array<int, 4> orientedCorners(const TetMesh& mesh, std::size_t t, double& volume)
+{
+  std::array<int, 4> k = mesh.tets[t];
+  const auto& P = mesh.points;
+  volume = signedVolume(P[k[0]], P[k[1]], P[k[2]], P[k[3]]);
+  if (volume < 0)
+    std::swap(k[0], k[1]);
+  return k;
+}
+
 ShapeSummary summariseShapes(const TetMesh& mesh, const TetShapeArrays& arrays)
 {
   ShapeSummary summary;
   const auto& P = mesh.points;
-  // materials come in long runs: the map is asked only where the material changes
-  int current = 0;
-  ShapeFigures* figures = nullptr;
   for (std::size_t t = 0; t < mesh.tets.size(); ++t)
   {
-    auto k = mesh.tets[t];
-    if (signedVolume(P[k[0]], P[k[1]], P[k[2]], P[k[3]]) < 0)
-      std::swap(k[0], k[1]);
+    double volume;
+    const std::array<int, 4> k = orientedCorners(mesh, t, volume);
     const TetShape s = tetShape(P[k[0]], P[k[1]], P[k[2]], P[k[3]]);
-    if (arrays.minDihedral)
-      arrays.minDihedral[t] = s.minDihedral;
-    if (arrays.maxDihedral)
-      arrays.maxDihedral[t] = s.maxDihedral;
-    if (arrays.radiusEdge)
-      arrays.radiusEdge[t] = s.radiusEdge;
-    const int m = t < mesh.tetMaterial.size() ? mesh.tetMaterial[t] : 0;
-    if (!figures || m != current)
-    {
-      figures = &summary.materials[m];
-      current = m;
-    }
-    figures->add(s);
-    summary.all.add(s);
+    writeShape(arrays, t, s);
+    summary.add(t < mesh.tetMaterial.size() ? mesh.tetMaterial[t] : 0, s);
   }
   return summary;
 }

@@ -4,9 +4,11 @@
 #include "MeshQuality.h"
 #include "TetMesh.h"
 
+#include <array>
 #include <cstddef>
 #include <functional>
 #include <map>
+#include <string>
 
 namespace omesh
 {
@@ -33,15 +35,57 @@ struct ShapeFigures
 };
 
 /// The shape figures of a mesh, per material and all together.
-struct ShapeSummary
+class ShapeSummary
 {
+public:
   std::map<int, ShapeFigures> materials;
   ShapeFigures all;
+
+  ShapeSummary() = default;
+  ShapeSummary(const ShapeSummary& o) : materials(o.materials), all(o.all) {}
+  ShapeSummary& operator=(const ShapeSummary& o)
+  {
+    materials = o.materials;
+    all = o.all;
+    last_ = nullptr;
+    return *this;
+  }
+
+  /// One tetrahedron of `material` (materials come in long runs: the map is asked where it changes).
+  void add(int material, const TetShape& s)
+  {
+    if (!last_ || material != lastMaterial_)
+    {
+      last_ = &materials[material];
+      lastMaterial_ = material;
+    }
+    last_->add(s);
+    all.add(s);
+  }
 
   /// The figures as statistics (shape.* keys of FieldDataKeys.txt, each also per material with
   /// the suffix ".material_<id>").
   void addTo(std::map<std::string, double>& statistics) const;
+
+private:
+  ShapeFigures* last_ = nullptr;
+  int lastMaterial_ = 0;
 };
+
+/// A tetrahedron's corners as the output writes them: positively oriented (the first two swapped
+/// when the volume is negative); `volume` gets the signed volume of the corners as given.
+std::array<int, 4> orientedCorners(const TetMesh& mesh, std::size_t t, double& volume);
+
+/// Writes the measures of tetrahedron `t` to the arrays that are given.
+inline void writeShape(const TetShapeArrays& arrays, std::size_t t, const TetShape& s)
+{
+  if (arrays.minDihedral)
+    arrays.minDihedral[t] = s.minDihedral;
+  if (arrays.maxDihedral)
+    arrays.maxDihedral[t] = s.maxDihedral;
+  if (arrays.radiusEdge)
+    arrays.radiusEdge[t] = s.radiusEdge;
+}
 
 /// One pass over the tetrahedra: each one's TetShape (its corners taken positively oriented, as
 /// the VTK output writes them), written to `arrays` where given, and the summary. The one place

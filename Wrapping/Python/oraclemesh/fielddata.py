@@ -57,7 +57,9 @@ def without_strings(data):
             labels[target_name] = _string_values(array)
     for array in arrays:
         name = array.GetName() or ""
-        if name.startswith(DOMAIN_PREFIX) or (_is_string(array) and LABELLED.get(name) in labels):
+        # the writers' own data (the surface sets' faces), not the files'
+        if name.startswith(DOMAIN_PREFIX) or name == fieldkeys.SEPARATING_FACES or \
+                (_is_string(array) and LABELLED.get(name) in labels):
             continue
         if name in labels:
             row = array.NewInstance()

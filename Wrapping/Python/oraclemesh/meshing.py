@@ -227,6 +227,7 @@ class MeshResult:
         lines, self.quality = report_lines(grid, title, self.material_names, recheck=False)
         self.report = "\n".join(lines)
         self._arrays = None
+        self._separating = separating_faces_of(grid)
 
     def save(self, *paths):
         """Writes the mesh to each path, the format by extension (.vtu, .inp, .msh, .mesh; see
@@ -256,7 +257,7 @@ class MeshResult:
         from .writers import MeshArrays
 
         if self._arrays is None:  # computed once for every save and surface_sets
-            self._arrays = MeshArrays(self.grid, self.material_names)
+            self._arrays = MeshArrays(self.grid, self.material_names, separating=self._separating)
         return self._arrays
 
     @property
@@ -267,6 +268,22 @@ class MeshResult:
     def __repr__(self):
         return (f"<MeshResult: {self.quality['tets']} tetrahedra, {len(self.quality['materials'])} materials, "
                 f"min dihedral {self.quality['min_dihedral']:.1f} deg>")
+
+
+def separating_faces_of(grid):
+    """The mesher's boundary and interface faces (field array SeparatingFaces: found by its validity
+    check) as surfaces.surface_sets takes them, or None when the grid does not carry them for its
+    cells (then the writers find them)."""
+    import numpy as np
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+
+    array = grid.GetFieldData().GetArray(fieldkeys.SEPARATING_FACES)
+    if array is None or array.GetNumberOfComponents() != 2:
+        return None
+    faces = vtk_to_numpy(array).astype(np.int64).reshape(-1, 2)
+    if len(faces) and not (0 <= faces[:, 0].min() and faces[:, 0].max() < 4 * grid.GetNumberOfCells()):
+        return None
+    return faces[:, 0], faces[:, 1]
 
 
 def mesh(scene, strategy=None, progress=None, base_dir=None, updater=update, element_order=None, features=None,

@@ -77,15 +77,21 @@ def _face_keys(faces, n_points):
     return np.unique(s, axis=0, return_inverse=True)[1].ravel()
 
 
-def surface_sets(points, cells, material, names=None):
-    """SurfaceSets of tetrahedra `cells` [m x 4] (ids into `points` [n x 3]) with `material` [m] and
-    {material id: name}.
+def material_ids(material):
+    """The sorted distinct ids of an integer array (a count per id, not a sort of the array)."""
+    material = np.asarray(material, dtype=np.int64)
+    if not len(material):
+        return []
+    low = int(material.min())
+    return (np.flatnonzero(np.bincount(material - low)) + low).tolist()
 
+
+def separating_faces(points, cells, material):
+    """The faces on the boundary or between two materials, as (rows [k]: 4 x owner tetrahedron + its
+    face's TET_FACES index, other [k]: the material on the other side or EXTERIOR), in any order:
+    each face of one tetrahedron, or of two of different materials on the side of the lower id.
     Faces shared by more than two tetrahedra (a broken mesh; the validity check reports them) are
     left out."""
-    points = np.asarray(points, dtype=np.float64)
-    cells = np.asarray(cells, dtype=np.int64)
-    material = np.asarray(material, dtype=np.int64)
     faces = cells[:, TET_FACES].reshape(-1, 3)  # face f of tet t is row 4 t + f
     keys = _face_keys(faces, len(points))
     order = np.argsort(keys, kind="stable")
@@ -101,25 +107,39 @@ def surface_sets(points, cells, material, names=None):
     swap = mat_first > mat_second  # the owner is the lower material id
     owner_rows = np.where(swap, second, first)
     other_mat = np.where(swap, mat_first, mat_second)
+    return (np.concatenate([owner_rows, single]),
+            np.concatenate([other_mat, np.full(len(single), EXTERIOR, dtype=np.int64)]))
 
-    rows = np.concatenate([owner_rows, single])
-    other = np.concatenate([other_mat, np.full(len(single), EXTERIOR, dtype=np.int64)])
+
+def surface_sets(points, cells, material, names=None, separating=None):
+    """SurfaceSets of tetrahedra `cells` [m x 4] (ids into `points` [n x 3]) with `material` [m] and
+    {material id: name}. `separating`: the faces as separating_faces() gives them, when they are
+    known (the mesher's validity check finds them in its pass over the faces: the field array
+    SeparatingFaces of a mesh just made); else they are found here.
+
+    Faces shared by more than two tetrahedra (a broken mesh; the validity check reports them) are
+    left out."""
+    points = np.asarray(points, dtype=np.float64)
+    cells = np.asarray(cells, dtype=np.int64)
+    material = np.asarray(material, dtype=np.int64)
+    rows, other = separating if separating is not None else separating_faces(points, cells, material)
+    rows, other = np.asarray(rows, dtype=np.int64), np.asarray(other, dtype=np.int64)
+    faces = np.take_along_axis(cells[rows // 4], TET_FACES[rows % 4], axis=1)
     owner = rows // 4
     pairs = np.stack([material[owner], other], axis=1)
     # sort faces by pair (EXTERIOR last), then by owner and side: a deterministic order for any input order
     second_key = np.where(pairs[:, 1] == EXTERIOR, np.iinfo(np.int64).max, pairs[:, 1])
     order = np.lexsort((rows % 4, owner, second_key, pairs[:, 0]))
-    rows, owner, pairs = rows[order], owner[order], pairs[order]
+    rows, owner, pairs, faces = rows[order], owner[order], pairs[order], faces[order]
     change = np.r_[True, (pairs[1:] != pairs[:-1]).any(axis=1)] if len(pairs) else np.zeros(0, bool)
     surface = np.cumsum(change) - 1  # faces are sorted by pair: a new surface where the pair changes
     unique_pairs = pairs[change]
 
-    set_names = material_set_names(np.unique(material).tolist(), names)
+    set_names = material_set_names(material_ids(material), names)
     labels = []
     for i, (a, b) in enumerate(unique_pairs.tolist()):
         label = f"{set_names[a]}__{set_names[b] if b != EXTERIOR else EXTERIOR_NAME}"
         labels.append(label if len(label) <= 80 else f"{label[:70]}_{i}")  # Abaqus' limit, kept distinct
-    faces = faces[rows]
     # Oriented by the geometry (an inverted tetrahedron must not flip its face): normal away from the
     # owner's fourth vertex.
     fourth = cells[owner, _OPPOSITE[rows % 4]]

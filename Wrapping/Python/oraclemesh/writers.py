@@ -132,16 +132,17 @@ class MeshArrays:
     the cells, or 10 per 10-node tetrahedron), quadratic, material, {id: name}, the SurfaceSets and
     each surface's tag, face_nodes (the surface triangles' nodes: 3, or 6 for quadratic meshes)."""
 
-    def __init__(self, grid, names=None, source="mesh"):
+    def __init__(self, grid, names=None, source="mesh", separating=None):
+        """`separating`: the boundary and interface faces when known (surfaces.surface_sets)."""
+        from .quadratic import face_nodes
+        from .surfaces import material_ids, surface_sets
+
         self.points, self.nodes, self.material = element_nodes(grid, source)
         self.cells = self.nodes[:, :4]
         self.quadratic = self.nodes.shape[1] == 10
         self.names = dict(names or {})
-        self.ids = sorted(set(self.material.tolist()))
-        from .quadratic import face_nodes
-        from .surfaces import surface_sets
-
-        self.sets = surface_sets(self.points, self.cells, self.material, self.names)
+        self.ids = material_ids(self.material)
+        self.sets = surface_sets(self.points, self.cells, self.material, self.names, separating)
         self.face_nodes = face_nodes(self.sets.faces, self.nodes) if self.quadratic else self.sets.faces
         first = max(self.ids) + 1
         self.tags = [first + i for i in range(len(self.sets))]
