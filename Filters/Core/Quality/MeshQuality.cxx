@@ -95,6 +95,11 @@ bool dihedralAngleRange(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3&
 
 TetShape tetShape(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d)
 {
+  return tetShape(a, b, c, d, std::abs(signedVolume(a, b, c, d)));
+}
+
+TetShape tetShape(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, double volume)
+{
   TetShape s;
   double cosines[6], twiceAreas[4] = { 0, 0, 0, 0 };
   if (dihedralCosines(a, b, c, d, cosines, twiceAreas))
@@ -113,7 +118,6 @@ TetShape tetShape(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d)
       squares += l[e] * l[e];
     }
   const double shortest = *std::min_element(l, l + 6), longest = *std::max_element(l, l + 6);
-  const double volume = std::abs(signedVolume(a, b, c, d));
   s.volume = volume;
   s.longestEdge = longest;
   s.edgeRatio = longest > 0 ? shortest / longest : 0.0;

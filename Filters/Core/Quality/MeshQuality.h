@@ -45,6 +45,8 @@ struct TetShape
 /// maxDihedral and radiusEdge equal minDihedralAngle, maxDihedralAngle and radiusEdgeRatio to the
 /// bit).
 TetShape tetShape(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
+/// The same with the volume known (|signedVolume| of these corners in any order).
+TetShape tetShape(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, double volume);
 
 /// Circumradius divided by the shortest edge (sqrt(6)/4 = 0.61 for the regular tetrahedron;
 /// infinite for a flat one).

@@ -259,7 +259,7 @@ unsigned char shapeAndMaterialDefects(const TetMesh& mesh, std::size_t t,
   if (shapes.shapes)
   {
     const std::array<int, 4> o = orientedCorners(mesh, t, v);
-    const TetShape s = tetShape(mesh.points[o[0]], mesh.points[o[1]], mesh.points[o[2]], mesh.points[o[3]]);
+    const TetShape s = tetShape(mesh.points[o[0]], mesh.points[o[1]], mesh.points[o[2]], mesh.points[o[3]], std::abs(v));
     writeShape(shapes.shapeArrays, t, s);
     shapes.shapes->add(t < mesh.tetMaterial.size() ? mesh.tetMaterial[t] : 0, s);
     longest = s.longestEdge;

@@ -4,6 +4,7 @@
 #include "FieldDataKeys.h"
 
 #include <algorithm>
+#include <cmath>
 #include <string>
 #include <utility>
 
@@ -56,7 +57,7 @@ ShapeSummary summariseShapes(const TetMesh& mesh, const TetShapeArrays& arrays)
   {
     double volume;
     const std::array<int, 4> k = orientedCorners(mesh, t, volume);
-    const TetShape s = tetShape(P[k[0]], P[k[1]], P[k[2]], P[k[3]]);
+    const TetShape s = tetShape(P[k[0]], P[k[1]], P[k[2]], P[k[3]], std::abs(volume));
     writeShape(arrays, t, s);
     summary.add(t < mesh.tetMaterial.size() ? mesh.tetMaterial[t] : 0, s);
   }
