@@ -11,6 +11,7 @@
 #include <CGAL/perturb_mesh_3.h>
 
 #include <algorithm>
+#include <cmath>
 #include <functional>
 #include <vector>
 
@@ -115,12 +116,25 @@ inline double cellMinAngle(const Tr::Cell_handle& c)
     toVec(c->vertex(2)->point().point()), toVec(c->vertex(3)->point().point()));
 }
 
-/// Smallest dihedral angle (degrees) of the cells of the complex.
+/// Smallest dihedral angle (degrees) of the cells of the complex: the same value as the minimum of
+/// cellMinAngle over them, but a cell whose angles are certainly at least the smallest so far
+/// (dihedralAnglesCertainlyAtLeast: no square root, no acos) is not measured.
 inline double complexMinAngle(const C3t3& c3t3)
 {
-  double m = 180.0;
+  double m = 180.0, cosM = -1.0;
   for (auto c = c3t3.cells_in_complex_begin(); c != c3t3.cells_in_complex_end(); ++c)
-    m = std::min(m, cellMinAngle(c));
+  {
+    const Vec3 a = toVec(c->vertex(0)->point().point()), b = toVec(c->vertex(1)->point().point()),
+               d = toVec(c->vertex(2)->point().point()), e = toVec(c->vertex(3)->point().point());
+    if (m < 90.0 && dihedralAnglesCertainlyAtLeast(a, b, d, e, cosM))
+      continue;
+    const double angle = minDihedralAngle(a, b, d, e);
+    if (angle < m)
+    {
+      m = angle;
+      cosM = std::cos(m * M_PI / 180.0);
+    }
+  }
   return m;
 }
 
