@@ -11,8 +11,8 @@ process. Prints, per size, the seconds of refinement and of every phase after it
   output       the complex converted to the output mesh (TetMesh), the triangulation released
   location     the feature segments located as mesh edges
   validity     the independent validity check (duplicates, micro/flat/inverted tetrahedra,
-               non-manifold faces, materials against the oracle)
-  statistics   the run's figures (angles, volumes per material, counters)
+               non-manifold faces, materials against the oracle), whose passes also measure every
+               tetrahedron (the statistics, the cell arrays) and list the separating faces
   checks       the pipeline's checks on the mesh (vanished materials, repaired surfaces)
   vtk          the conversion to the filter's VTK outputs (cells, quality arrays, field data)
   python       the Python door's own work after the filter (the MeshResult: report, quality table;
@@ -39,7 +39,7 @@ import time
 import peer_benchmark
 
 AFTER = (("output", "time.output"), ("location", "time.feature_location"), ("validity", "time.validity"),
-         ("statistics", "time.statistics"), ("checks", "time.input_checks_on_mesh"), ("vtk", "time.vtk_output"))
+         ("checks", "time.input_checks_on_mesh"), ("vtk", "time.vtk_output"))
 
 
 def child(data, h):

@@ -1136,9 +1136,7 @@ private:
     for (const auto& [name, value] : validity.asStatistics())
       mesh.statistics[name] = value;
     validityTime_ = seconds(started);
-    started = Clock::now();
     addStatistics(mesh, coverage);
-    mesh.statistics["time.statistics"] = seconds(started);
     mesh.warnings = std::move(warnings_);
     report(1.0, "done");
     return mesh;

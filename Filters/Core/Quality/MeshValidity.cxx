@@ -257,13 +257,7 @@ unsigned char shapeAndMaterialDefects(const TetMesh& mesh, std::size_t t,
   const Vec3 &a = mesh.points[k[0]], &b = mesh.points[k[1]], &c = mesh.points[k[2]], &d = mesh.points[k[3]];
   double longest, v;
   if (shapes.shapes)
-  {
-    const std::array<int, 4> o = orientedCorners(mesh, t, v);
-    const TetShape s = tetShape(mesh.points[o[0]], mesh.points[o[1]], mesh.points[o[2]], mesh.points[o[3]], std::abs(v));
-    writeShape(shapes.shapeArrays, t, s);
-    shapes.shapes->add(t < mesh.tetMaterial.size() ? mesh.tetMaterial[t] : 0, s);
-    longest = s.longestEdge;
-  }
+    longest = measureTet(mesh, t, *shapes.shapes, shapes.shapeArrays, v).longestEdge;
   else
   {
     longest = std::max({ norm(b - a), norm(c - a), norm(d - a), norm(c - b), norm(d - b), norm(d - c) });

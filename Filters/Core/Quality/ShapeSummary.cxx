@@ -4,6 +4,7 @@
 #include "FieldDataKeys.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <string>
 #include <utility>
@@ -39,28 +40,31 @@ void ShapeSummary::addTo(std::map<std::string, double>& statistics) const
     put(".material_" + std::to_string(m), f);
 }
 
-std::array<int, 4> orientedCorners(const TetMesh& mesh, std::size_t t, double& volume)
+TetShape measureTet(const TetMesh& mesh, std::size_t t, ShapeSummary& summary, const TetShapeArrays& arrays,
+  double& volume)
 {
   std::array<int, 4> k = mesh.tets[t];
   const auto& P = mesh.points;
   volume = signedVolume(P[k[0]], P[k[1]], P[k[2]], P[k[3]]);
   if (volume < 0)
     std::swap(k[0], k[1]);
-  return k;
+  const TetShape s = tetShape(P[k[0]], P[k[1]], P[k[2]], P[k[3]], std::abs(volume));
+  if (arrays.minDihedral)
+    arrays.minDihedral[t] = s.minDihedral;
+  if (arrays.maxDihedral)
+    arrays.maxDihedral[t] = s.maxDihedral;
+  if (arrays.radiusEdge)
+    arrays.radiusEdge[t] = s.radiusEdge;
+  summary.add(t < mesh.tetMaterial.size() ? mesh.tetMaterial[t] : 0, s);
+  return s;
 }
 
 ShapeSummary summariseShapes(const TetMesh& mesh, const TetShapeArrays& arrays)
 {
   ShapeSummary summary;
-  const auto& P = mesh.points;
+  double volume;
   for (std::size_t t = 0; t < mesh.tets.size(); ++t)
-  {
-    double volume;
-    const std::array<int, 4> k = orientedCorners(mesh, t, volume);
-    const TetShape s = tetShape(P[k[0]], P[k[1]], P[k[2]], P[k[3]], std::abs(volume));
-    writeShape(arrays, t, s);
-    summary.add(t < mesh.tetMaterial.size() ? mesh.tetMaterial[t] : 0, s);
-  }
+    measureTet(mesh, t, summary, arrays, volume);
   return summary;
 }
 }

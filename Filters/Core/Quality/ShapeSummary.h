@@ -4,9 +4,7 @@
 #include "MeshQuality.h"
 #include "TetMesh.h"
 
-#include <array>
 #include <cstddef>
-#include <functional>
 #include <map>
 #include <string>
 
@@ -72,20 +70,12 @@ private:
   int lastMaterial_ = 0;
 };
 
-/// A tetrahedron's corners as the output writes them: positively oriented (the first two swapped
-/// when the volume is negative); `volume` gets the signed volume of the corners as given.
-std::array<int, 4> orientedCorners(const TetMesh& mesh, std::size_t t, double& volume);
-
-/// Writes the measures of tetrahedron `t` to the arrays that are given.
-inline void writeShape(const TetShapeArrays& arrays, std::size_t t, const TetShape& s)
-{
-  if (arrays.minDihedral)
-    arrays.minDihedral[t] = s.minDihedral;
-  if (arrays.maxDihedral)
-    arrays.maxDihedral[t] = s.maxDihedral;
-  if (arrays.radiusEdge)
-    arrays.radiusEdge[t] = s.radiusEdge;
-}
+/// Measures tetrahedron `t` of `mesh` with its corners as the output writes them (positively
+/// oriented: the first two swapped when the volume is negative), writes the measures to the
+/// arrays that are given and adds them to `summary`. `signedVolume` gets the signed volume of the
+/// corners as given.
+TetShape measureTet(const TetMesh& mesh, std::size_t t, ShapeSummary& summary, const TetShapeArrays& arrays,
+  double& signedVolume);
 
 /// One pass over the tetrahedra: each one's TetShape (its corners taken positively oriented, as
 /// the VTK output writes them), written to `arrays` where given, and the summary. The one place

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// Private to Meshing/OracleMesher.cxx (the sequential Mesh_3 translation unit): CGAL's protection of the feature lines:
-// the polylines it protects and its stoppable edge size.
+// Private to Meshing/OracleMesher.cxx (the sequential Mesh_3 translation unit): CGAL's protection
+// of the feature lines: the polylines it protects and its stoppable edge size.
 #pragma once
 
 #include "FeatureSegments.h"

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// Private to Meshing/OracleMesher.cxx (the sequential Mesh_3 translation unit): CGAL's perturber and exuder, abortable,
-// with step budgets and a deadline.
+// Private to Meshing/OracleMesher.cxx (the sequential Mesh_3 translation unit): CGAL's perturber
+// and exuder, abortable, with step budgets and a deadline.
 #pragma once
 
 #include "MeshQuality.h"
@@ -109,15 +109,8 @@ private:
   const char* phase_;
 };
 
-/// Smallest dihedral angle (degrees) of one cell.
-inline double cellMinAngle(const Tr::Cell_handle& c)
-{
-  return minDihedralAngle(toVec(c->vertex(0)->point().point()), toVec(c->vertex(1)->point().point()),
-    toVec(c->vertex(2)->point().point()), toVec(c->vertex(3)->point().point()));
-}
-
-/// Smallest dihedral angle (degrees) of the cells of the complex: the same value as the minimum of
-/// cellMinAngle over them, but a cell whose angles are certainly at least the smallest so far
+/// Smallest dihedral angle (degrees) of the cells of the complex: the minimum of minDihedralAngle
+/// over them, but a cell whose angles are certainly at least the smallest so far
 /// (dihedralAnglesCertainlyAtLeast: no square root, no acos) is not measured.
 inline double complexMinAngle(const C3t3& c3t3)
 {
