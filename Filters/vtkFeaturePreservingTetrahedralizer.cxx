@@ -163,7 +163,7 @@ void vtkFeaturePreservingTetrahedralizer::RemoveAllMaterialCriteria()
 }
 
 /// One run of RequestData: the core's inputs and options, then its result.
-struct vtkFeaturePreservingTetrahedralizer::MeshingRun
+struct vtkFeaturePreservingTetrahedralizer::PipelineCall
 {
   std::shared_ptr<omesh::HierarchicalOracle> oracle;
   omesh::PipelineInput input;
@@ -181,7 +181,7 @@ int vtkFeaturePreservingTetrahedralizer::RequestData(
     vtkErrorMacro(<< this->MaterialCriteriaError);
     return 0;
   }
-  MeshingRun run;
+  PipelineCall run;
   try
   {
     this->CheckProperties(); // before any heavy work
@@ -262,7 +262,7 @@ std::array<double, 6> vtkFeaturePreservingTetrahedralizer::GlobalCriteria() cons
     this->EdgeSize };
 }
 
-void vtkFeaturePreservingTetrahedralizer::SetUpOptions(MeshingRun& run)
+void vtkFeaturePreservingTetrahedralizer::SetUpOptions(PipelineCall& run)
 {
   run.options.features = static_cast<omesh::FeatureSource>(this->Features);
   run.options.creaseAngle = this->CreaseAngle;
@@ -296,7 +296,7 @@ void vtkFeaturePreservingTetrahedralizer::SetUpOptions(MeshingRun& run)
   };
 }
 
-void vtkFeaturePreservingTetrahedralizer::GatherInputs(vtkInformationVector** inputVector, MeshingRun& run)
+void vtkFeaturePreservingTetrahedralizer::GatherInputs(vtkInformationVector** inputVector, PipelineCall& run)
 {
   vtkDataObject* oracleData = vtkDataObject::GetData(inputVector[0]);
   vtkDataObject* linesData = vtkDataObject::GetData(inputVector[1]);
@@ -340,7 +340,7 @@ void vtkFeaturePreservingTetrahedralizer::GatherInputs(vtkInformationVector** in
   }
 }
 
-void vtkFeaturePreservingTetrahedralizer::AssembleOutputs(MeshingRun& run, vtkInformationVector* outputVector)
+void vtkFeaturePreservingTetrahedralizer::AssembleOutputs(PipelineCall& run, vtkInformationVector* outputVector)
 {
   const auto started = std::chrono::steady_clock::now();
   const omesh::PipelineResult& result = run.result;

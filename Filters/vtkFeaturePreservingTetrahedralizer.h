@@ -330,13 +330,13 @@ private:
 
   // RequestData: the inputs converted to the core's, the core's pipeline (runMeshingPipeline,
   // MeshingPipeline.h), its result converted back.
-  struct MeshingRun; // the core's inputs, options and result (core types: defined in the .cxx)
+  struct PipelineCall; // the core's inputs, options and result (core types: defined in the .cxx)
   void CheckProperties() const;
   /// The global criteria as the properties spell them (-1: the default; other negatives refused).
   std::array<double, 6> GlobalCriteria() const;
-  void SetUpOptions(MeshingRun& run);
-  void GatherInputs(vtkInformationVector** inputVector, MeshingRun& run);
-  void AssembleOutputs(MeshingRun& run, vtkInformationVector* outputVector);
+  void SetUpOptions(PipelineCall& run);
+  void GatherInputs(vtkInformationVector** inputVector, PipelineCall& run);
+  void AssembleOutputs(PipelineCall& run, vtkInformationVector* outputVector);
 
   std::map<int, std::array<double, 6>> MaterialCriteria;
   int MaterialCriteriaRows = 0;

@@ -14,7 +14,8 @@ Scenes: the demo (Data/demo/scene.json, fewer vertices), a generated bone/implan
 (oraclemesh_cases.cases), a cube with all edges as features, a noisy organic surface with automatic
 sharp edges (Benchmarks/noisy_features.py), a ball cut by a plane with the automatic feature lines
 (its rim) and 10-node tetrahedra (the paths the other four do not take). Exits 1 when any mesh
-differs. `--set` passes `oraclemesh mesh --set` settings to the build's runs only: a new option at
+differs. `--both` passes settings to both builds' runs (e.g. `--both strategy=None`: every scene
+with another strategy); `--set` passes `oraclemesh mesh --set` settings to the build's runs only: a new option at
 the value that should give the reference's meshes (e.g. a new behaviour turned off).
 """
 import argparse
@@ -168,6 +169,8 @@ def main(argv=None):
     parser.add_argument("--scenes", nargs="+", default=list(SCENES), choices=SCENES)
     parser.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
                         help="a scene mesh key for the build's runs only (repeat for several)")
+    parser.add_argument("--both", action="append", default=[], metavar="KEY=VALUE",
+                        help="a scene mesh key for both builds' runs, e.g. strategy=None (repeat for several)")
     args = parser.parse_args(argv)
     if args.snapshot:
         snapshot(args.build, args.snapshot)
@@ -182,7 +185,7 @@ def main(argv=None):
         meshes = {}
         for tag, root in (("reference", args.reference), ("build", args.build)):
             meshes[tag] = os.path.join(work, f"{name}_{tag}.vtu")
-            mesh(root, scene, meshes[tag], args.set if tag == "build" else ())
+            mesh(root, scene, meshes[tag], args.both + (args.set if tag == "build" else []))
         a, b = fingerprint(meshes["reference"]), fingerprint(meshes["build"])
         # statistics only the build writes are new figures, not differences
         new = sorted(k for k in set(b) - set(a) if k.startswith("statistic:"))

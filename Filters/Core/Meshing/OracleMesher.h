@@ -98,14 +98,6 @@ struct MesherOptions
   bool improveAngles = true;
   double improvementMinAngle = 15.0;
   double improvementMaxAngle = 155.0;
-  /// For tests only (no door sets it): undo the exudation as if it had broken a segment or lowered
-  /// the smallest angle, to check that the undo gives back the mesh from before it (real inputs
-  /// rarely take that path).
-  bool undoExudationForTesting = false;
-  /// For tests only: run the segment repair after perturbation as if the first sub-segment had
-  /// been encroached (real runs need it rarely and unpredictably: at radius-edge 1.1 on some
-  /// generated cases), to check that it refines around the broken sub-segments only.
-  bool segmentRepairForTesting = false;
   /// 1: 4-node tetrahedra; 2: 10-node tetrahedra whose mid-edge nodes on interfaces lie on the
   /// oracle's surfaces (makeQuadraticTets in QuadraticTets.h). meshOracle makes the linear mesh either
   /// way; the VTK filter adds the mid-edge nodes.

@@ -482,7 +482,7 @@ private:
   std::shared_ptr<const CriteriaRegion> region_;
 };
 
-/// The criteria of the finishing round after the vertex budget (MeshingRun::finishAfterBudget):
+/// The criteria of the finishing round after the vertex budget (RefinementRounds::finishAfterBudget):
 /// what a valid mesh needs, not what makes it fine. Everywhere: CGAL's topology criterion (every
 /// restricted facet has its three vertices on the surface, T2: the boundary stays a restricted
 /// Delaunay surface) and the rule that refines any cell below `sliverAngle` (flat tetrahedra, at

@@ -47,7 +47,7 @@ using Parallel = MeshTriangulation3<CGAL::Parallel_tag>;
 
 namespace CGAL
 {
-// As for the sequential complex (OracleMesher.cxx): CGAL never writes dump files into a user's folder.
+// As for the sequential complex (SequentialTypes.h): CGAL never writes dump files into a user's folder.
 template <>
 struct Dump_c3t3<omesh::cgal::Parallel::C3t3, true>
 {

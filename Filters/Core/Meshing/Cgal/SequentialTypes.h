@@ -5,6 +5,8 @@
 
 #include "MeshTriangulation3.h"
 
+#include <CGAL/Mesh_3/Dump_c3t3.h>
+
 #include <chrono>
 #include <ctime>
 
@@ -29,4 +31,20 @@ inline double threadCpu()
   clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
   return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
 }
+}
+
+namespace CGAL
+{
+// Before some errors CGAL dumps the complex into the working directory (dump-bug.mesh,
+// dump-bug.binary.cgal): never into a user's.
+template <>
+struct Dump_c3t3<omesh::cgal::sequential::C3t3, true>
+{
+  void dump_c3t3(const omesh::cgal::sequential::C3t3&, std::string) const {}
+};
+template <>
+struct Dump_c3t3<omesh::cgal::sequential::C3t3, false>
+{
+  void dump_c3t3(const omesh::cgal::sequential::C3t3&, std::string) const {}
+};
 }

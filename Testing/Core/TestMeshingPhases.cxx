@@ -1,0 +1,168 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The mesher's phases called one by one (Meshing/Cgal/MeshingRun.h): in order they give
+// meshOracle's mesh; alone they reach the paths real inputs take rarely (the exuder undone, the
+// segment repair after perturbation).
+#include "HierarchicalOracle.h"
+#include "MeshQuality.h"
+#include "MeshingRun.h"
+#include "OracleMesher.h"
+#include "SurfaceDomain.h"
+#include "TestShapes.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <memory>
+#include <set>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace
+{
+using namespace omesh;
+using omesh::cgal::sequential::MeshingRun;
+using omesh::cgal::sequential::Tr;
+
+MesherOptions cubeOptions(double cellSize)
+{
+  MesherOptions o;
+  o.strategy = FeatureStrategy::Conforming;
+  o.criteria.global.cellSize = cellSize;
+  o.criteria.global.facetSize = cellSize;
+  o.criteria.global.facetDistance = cellSize / 20;
+  o.criteria.global.cellRadiusEdgeRatio = 3;
+  o.seed = 7;
+  return o;
+}
+
+HierarchicalOracle unitCube()
+{
+  HierarchicalOracle o;
+  o.add(std::make_shared<SurfaceDomain>(test::cube(0, 1), 1));
+  return o;
+}
+
+bool hasWarning(const TetMesh& m, const std::string& text)
+{
+  return std::any_of(m.warnings.begin(), m.warnings.end(), [&](const std::string& w) { return w.find(text) != std::string::npos; });
+}
+
+/// Each tetrahedron as its sorted corner coordinates and its material: the same mesh compares equal
+/// whatever the numbering of its points and tetrahedra.
+std::vector<std::pair<std::array<std::array<double, 3>, 4>, int>> tetSet(const TetMesh& m)
+{
+  std::vector<std::pair<std::array<std::array<double, 3>, 4>, int>> out;
+  for (size_t t = 0; t < m.tets.size(); ++t)
+  {
+    std::array<std::array<double, 3>, 4> corners;
+    for (int k = 0; k < 4; ++k)
+    {
+      const Vec3& p = m.points[m.tets[t][k]];
+      corners[k] = { p.x, p.y, p.z };
+    }
+    std::sort(corners.begin(), corners.end());
+    out.push_back({ corners, m.tetMaterial[t] });
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+}
+
+TEST(MeshingPhases, OneByOneTheyGiveMeshOraclesMesh)
+{
+  const HierarchicalOracle o = unitCube();
+  const FeatureSegments edges = test::cubeEdges(0, 1);
+  const MesherOptions opt = cubeOptions(0.25);
+  const TetMesh whole = meshOracle(o, edges, {}, opt);
+  MeshingRun run(o, edges, opt);
+  run.initial.run({});
+  ASSERT_TRUE(run.context.conforming);
+  ASSERT_GT(run.context.c3t3->triangulation().number_of_vertices(), 8u) << "the segment points are in";
+  run.refinement.refineAllLevels();
+  const size_t refined = run.context.c3t3->number_of_cells_in_complex();
+  run.optimisation.run();
+  const TetMesh phased = run.finish();
+  EXPECT_GT(refined, 0u);
+  EXPECT_TRUE(tetSet(phased) == tetSet(whole));
+  for (const char* key : { "time.initialisation", "refinement_steps", "optimisation.exudation_steps", "tetrahedra",
+         "validity.defects" })
+    EXPECT_EQ(phased.statistics.count(key), 1u) << key << ": each phase records its statistics";
+  EXPECT_EQ(phased.statistics.at("refinement_steps"), whole.statistics.at("refinement_steps"));
+}
+
+TEST(MeshingPhases, UndoneExudationGivesBackTheMeshFromBeforeIt)
+{
+  // The undo rebuilds the complex from a compact record (ComplexSnapshot.h); real inputs rarely
+  // need it, so it is called here and compared with a run that stops before the exuder.
+  const HierarchicalOracle o = unitCube();
+  const FeatureSegments edges = test::cubeEdges(0, 1);
+  MesherOptions noExuder = cubeOptions(0.2);
+  noExuder.exude = false;
+  noExuder.improveAngles = false; // the comparison is with the complex before the exuder
+  const TetMesh before = meshOracle(o, edges, {}, noExuder);
+  MesherOptions pumped = noExuder;
+  pumped.exudationSliverBound = 0; // pump every cell: the exuder changes the mesh
+  MeshingRun run(o, edges, pumped);
+  run.initial.run({});
+  run.refinement.refineAllLevels();
+  run.optimisation.start();
+  run.optimisation.perturbKeepingSegments();
+  auto exudation = run.optimisation.exude();
+  ASSERT_TRUE(exudation.before.has_value());
+  run.optimisation.undo(exudation, "asked by the test");
+  run.optimisation.finish();
+  const TetMesh undone = run.finish();
+  EXPECT_GT(undone.statistics.at("optimisation.exudation_steps"), 0.0);
+  EXPECT_TRUE(hasWarning(undone, "exudation undone: asked by the test"));
+  EXPECT_FALSE(hasWarning(undone, "incomplete"));
+  EXPECT_EQ(undone.tets.size(), before.tets.size());
+  EXPECT_TRUE(tetSet(undone) == tetSet(before)) << "the undo changed the mesh from before the exuder";
+  EXPECT_EQ(undone.interfaceTriangles.size(), before.interfaceTriangles.size());
+  EXPECT_NEAR(featureCoverage(undone.segments, edges), 1.0, 1e-12);
+  EXPECT_EQ(undone.statistics.at("validity.defects"), 0.0);
+  size_t corners = 0;
+  for (int d : undone.pointDimension)
+    corners += d == 0;
+  EXPECT_EQ(corners, 8u) << "the vertices' dimensions came back";
+
+  // and the exuder itself changed the mesh: the undo had something to undo
+  MeshingRun kept(o, edges, pumped);
+  kept.initial.run({});
+  kept.refinement.refineAllLevels();
+  kept.optimisation.start();
+  kept.optimisation.perturbKeepingSegments();
+  kept.optimisation.exude();
+  kept.optimisation.finish();
+  EXPECT_FALSE(tetSet(kept.finish()) == tetSet(before)) << "the exuder changed nothing: nothing to undo";
+}
+
+TEST(MeshingPhases, SegmentRepairAfterPerturbationRefinesOnlyAroundTheBrokenSubSegments)
+{
+  // The perturber leaves cells above a tight radius-edge bound (it improves angles, not radii); a
+  // run without a repair keeps them. A repair round (called here around one sub-segment, as if
+  // the perturber had broken it) that scanned every element would refine all of them too.
+  const HierarchicalOracle o = unitCube();
+  const FeatureSegments edges = test::cubeEdges(0, 1);
+  MesherOptions tight = cubeOptions(0.15);
+  tight.criteria.global.cellRadiusEdgeRatio = 1.1;
+  tight.exude = false;
+  const TetMesh perturbed = meshOracle(o, edges, {}, tight);
+  ASSERT_EQ(perturbed.statistics.at("refinement_rounds"), 1.0) << "a real repair: the comparison needs none";
+  MeshingRun run(o, edges, tight);
+  run.initial.run({});
+  run.refinement.refineAllLevels();
+  run.optimisation.start();
+  run.optimisation.perturbKeepingSegments();
+  const auto& segments = *run.context.segments;
+  ASSERT_GT(segments.size(), 0u);
+  run.refinement.repairAround({ segments.vertexOf(segments.end(0, 0)), segments.vertexOf(segments.end(0, 1)) });
+  run.optimisation.finish();
+  const TetMesh repaired = run.finish();
+  EXPECT_EQ(repaired.statistics.at("refinement_rounds"), 2.0);
+  EXPECT_EQ(repaired.statistics.at("validity.defects"), 0.0);
+  EXPECT_NEAR(featureCoverage(repaired.segments, edges), 1.0, 1e-12);
+  EXPECT_LE(static_cast<double>(repaired.tets.size()), 1.01 * static_cast<double>(perturbed.tets.size()))
+    << perturbed.tets.size() << " tetrahedra after perturbation, " << repaired.tets.size() << " after the repair";
+}
