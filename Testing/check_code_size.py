@@ -15,8 +15,10 @@ documentation costs its class nothing.
 The C++ is read with a small scanner, not a compiler: comments, strings and preprocessor lines are
 blanked, then braces are matched. A block is a function when the text before its brace ends like a
 function head (a closing parenthesis, then qualifiers or a trailing return type) and it opens at
-namespace or class scope; a class when that text names a class, struct or union. `--list N` prints
-the N longest functions and classes, for whoever shortens them next.
+namespace or class scope; a class when that text names a class, struct or union. Before the real
+check the scanner runs on made-up sources with one function, class and file just over each limit
+(self_test), so a scanner that finds nothing fails. `--list N` prints the N longest functions and
+classes, for whoever shortens them next.
 """
 import os
 import re
@@ -135,14 +137,8 @@ def blocks(path):
     return found
 
 
-def main():
-    args = sys.argv[1:]
-    listing = 0
-    if "--list" in args:
-        k = args.index("--list")
-        listing = int(args[k + 1])
-        del args[k:k + 2]
-    root = os.path.abspath(args[0] if args else os.path.join(os.path.dirname(__file__), ".."))
+def check(root):
+    """Size problems under root/Filters, with every function and class measured."""
     problems, functions = [], []
     class_body, class_where, outside = {}, {}, {}
     files = 0
@@ -173,6 +169,48 @@ def main():
     for size, where, cname in class_sizes:
         if size > MAX_CLASS:
             problems.append(f"{where}: class {cname} has {size} lines with its members (at most {MAX_CLASS})")
+    return problems, functions, class_sizes, files
+
+
+def self_test():
+    """The scanner on made-up sources: a function of 81 lines of code (with a comment, a string
+    holding a brace and a lambda inside), a class of 501 with a member defined outside it, a file
+    of 901 lines; each must be found, and their neighbours within the limits must not."""
+    import tempfile
+
+    body = "\n".join(f"  x += {k}; // {{" for k in range(77))
+    sources = {
+        "long_function.cxx": f"int f(int x)\n{{\n  auto g = [](int y) {{ return y; }};\n  const char* s = \"}}\";\n{body}\n}}\n"
+                             f"int fine(int x)\n{{\n{body[:-30]}\n}}\n",
+        "long_class.h": "class Big\n{\n" + "\n".join(f"  int m{k};" for k in range(479)) + "\n  void f();\n};\n",
+        "long_class.cxx": "void Big::f()\n{\n" + "\n".join(f"  m{k} = 0;" for k in range(17)) + "\n}\n",
+        "long_file.cxx": "\n" * 901,
+    }
+    with tempfile.TemporaryDirectory() as root:
+        os.makedirs(os.path.join(root, "Filters"))
+        for name, text in sources.items():
+            with open(os.path.join(root, "Filters", name), "w") as f:
+                f.write(text)
+        found = check(root)[0]
+    expected = ("function f has 81", "class Big has 501", "long_file.cxx: 901 lines")
+    missing = [e for e in expected if not any(e in p for p in found)]
+    if missing or len(found) != len(expected):
+        print("self-test failed: expected", expected, "found", found)
+        return False
+    return True
+
+
+def main():
+    args = sys.argv[1:]
+    listing = 0
+    if "--list" in args:
+        k = args.index("--list")
+        listing = int(args[k + 1])
+        del args[k:k + 2]
+    root = os.path.abspath(args[0] if args else os.path.join(os.path.dirname(__file__), ".."))
+    if not self_test():
+        return 1
+    problems, functions, class_sizes, files = check(root)
     if listing:
         for size, where, fname in sorted(functions, reverse=True)[:listing]:
             print(f"  function {size:5d}  {fname}  ({where})")
