@@ -26,10 +26,9 @@ enum class FeatureSource
 };
 
 /// The default, the one source of it (the VTK filter, the plugin XML, the scene loader and the
-/// command line take theirs from here): Given, the meshes of before. Not Both (Automatic when no
-/// lines are given), which issue 13 suggests: valid everywhere measured and 1.03x on the demo, but
-/// 1.08-1.33x the tetrahedra on the generated cases (the issue's aim is 1.2x) and every call pays
-/// the search (docs/FEATURE-LINES.md).
+/// command line take theirs from here): Given. Not Both (Automatic when no lines are given): valid
+/// everywhere measured and 1.03x the tetrahedra on the demo, but 1.08-1.33x on the generated cases,
+/// and every call pays the search (docs/FEATURE-LINES.md).
 constexpr FeatureSource kDefaultFeatureSource = FeatureSource::Given;
 
 const char* toString(FeatureSource s);

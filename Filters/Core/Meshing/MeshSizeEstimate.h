@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // How big a mesh the criteria ask for, before any meshing: for refusing, with a clear message, a
-// run whose mesh cannot fit in memory (issue 14: tiny criteria used to end in std::bad_alloc or
-// the kernel's OOM killer after minutes).
+// run whose mesh cannot fit in memory (tiny criteria would otherwise end in std::bad_alloc or the
+// kernel's OOM killer after minutes).
 #pragma once
 
 #include "FeatureSegments.h"
@@ -15,8 +15,8 @@ namespace omesh
 class HierarchicalOracle;
 
 /// Peak bytes per mesh vertex of a meshing run (triangulation, complex, optimisers, the output
-/// mesh and its VTK copy): measured 662 bytes per tetrahedron at ~1M tetrahedra (issue 12's peer
-/// benchmark) at about 6 tetrahedra per vertex, rounded up.
+/// mesh and its VTK copy): about 660 bytes per tetrahedron at ~1M tetrahedra (Benchmarks/peer_benchmark.py) at
+/// about 6 tetrahedra per vertex, rounded up.
 constexpr double kBytesPerMeshVertex = 4096.0;
 
 /// A generous estimate of the vertices the criteria ask for: per material, its volume over the cell

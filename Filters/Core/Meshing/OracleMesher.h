@@ -71,7 +71,7 @@ struct MesherOptions
   double interfaceSliverAngle = 10.0;
   bool perturb = true;
   bool exude = true;
-  /// The optimisation policy (issue 12): each optimiser works where its work pays, in steps, not
+  /// The optimisation policy: each optimiser works where its work pays, in steps, not
   /// seconds, so a seed gives the same mesh on any machine.
   /// The perturber raises a bound on the smallest dihedral angle one degree at a time (CGAL's, up to
   /// 12); at a bound it cannot reach, a vertex that none of its perturbations moves costs all of them.

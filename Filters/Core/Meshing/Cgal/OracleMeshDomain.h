@@ -68,11 +68,10 @@ public:
   /// resolves far below any other place: a dual segment that starts on a face on x = 0 up to
   /// rounding (x = -2.8e-17) crosses it at t = 1e-16, and a + t (b - a) cancels to x = -3e-33 (or
   /// -1.7e-49), where on x = 1.5 it would be 1.5 or an ulp off it. Such a surface vertex lies in the
-  /// material on the other side of the face, and refinement around it ran away (generated CAD
-  /// seed 61 at radius-edge 1.3: a facet's point repeated a vertex, CGAL's error; with the repeat
-  /// dropped, 23k vertices in one cluster). Not a few ulps of the scale: points that rounding put
-  /// 1e-15 off x = 0 elsewhere (feature points) then lay 4e-15 from snapped ones (seed 23: 302
-  /// duplicate vertices).
+  /// material on the other side of the face, and refinement around it runs away (on generated CAD
+  /// parts: a facet's point repeating a vertex, or thousands of vertices in one cluster). Not a few
+  /// ulps of the scale: points that rounding put 1e-15 off x = 0 elsewhere (feature points) would
+  /// then lie 4e-15 from snapped ones, as duplicate vertices.
   Vec3 onCoordinatePlanes(Vec3 p) const
   {
     for (int i = 0; i < 3; ++i)
