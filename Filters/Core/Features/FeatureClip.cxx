@@ -10,6 +10,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace omesh
 {
@@ -186,6 +187,66 @@ Vec3 splitPoint(const HierarchicalOracle& oracle, const Vec3& a, const Vec3& b, 
   }
   return fallback ? *fallback : p;
 }
+
+/// The distance below which two points of `f` are one (1e-10 of its bounding box's diagonal), or
+/// none when `f` is not fit to clip: a point not finite, a segment's index out of range, edge sizes
+/// not one per segment (FeatureSegments::validate and checkEdgeSizes name those).
+std::optional<double> clipRounding(const FeatureSegments& f)
+{
+  const int n = static_cast<int>(f.points.size());
+  BoundingBox box;
+  for (const Vec3& p : f.points)
+  {
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+      return std::nullopt; // validate names it
+    box.add(p);
+  }
+  for (const auto& s : f.segments)
+    if (s[0] < 0 || s[0] >= n || s[1] < 0 || s[1] >= n)
+      return std::nullopt; // validate names it
+  const double rounding = 1e-10 * norm(box.size());
+  if (!f.edgeSizes.empty() && f.edgeSizes.size() != f.segments.size())
+    return std::nullopt; // checkEdgeSizes names it
+  return rounding;
+}
+
+/// The stretches [t0, t1] of ab between consecutive `cuts` (0 first, 1 last) that keepPiece keeps,
+/// consecutive kept pieces joined.
+std::vector<std::pair<double, double>> keptStretches(
+  const HierarchicalOracle& oracle, int owner, const Vec3& a, const Vec3& b, const std::vector<double>& cuts)
+{
+  std::vector<std::pair<double, double>> kept;
+  for (size_t k = 0; k + 1 < cuts.size(); ++k)
+  {
+    if (!keepPiece(oracle, owner, pointAt(a, b, cuts[k]), pointAt(a, b, cuts[k + 1])))
+      continue;
+    if (!kept.empty() && kept.back().second == cuts[k])
+      kept.back().second = cuts[k + 1];
+    else
+      kept.emplace_back(cuts[k], cuts[k + 1]);
+  }
+  return kept;
+}
+
+/// `f` without the points no segment uses, the others in their order.
+FeatureSegments withoutUnusedPoints(FeatureSegments f)
+{
+  std::vector<int> index(f.points.size(), -1);
+  for (const auto& seg : f.segments)
+    index[seg[0]] = index[seg[1]] = 0;
+  FeatureSegments result;
+  for (size_t i = 0; i < f.points.size(); ++i)
+    if (index[i] == 0)
+    {
+      index[i] = static_cast<int>(result.points.size());
+      result.points.push_back(f.points[i]);
+    }
+  for (const auto& seg : f.segments)
+    result.segments.push_back({ index[seg[0]], index[seg[1]] });
+  result.edgeSizes = std::move(f.edgeSizes);
+  result.source = std::move(f.source);
+  return result;
+}
 }
 
 FeatureClipCounts clipFeatureSegments(FeatureSegments& f, const HierarchicalOracle& oracle, const std::vector<int>& owners)
@@ -196,21 +257,11 @@ FeatureClipCounts clipFeatureSegments(FeatureSegments& f, const HierarchicalOrac
   if (!owners.empty() && owners.size() != f.segments.size())
     throw std::logic_error("clipFeatureSegments: " + std::to_string(owners.size()) + " owners for " +
       std::to_string(f.segments.size()) + " segments");
-  const int n = static_cast<int>(f.points.size());
-  BoundingBox box;
-  for (const Vec3& p : f.points)
-  {
-    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
-      return counts; // validate names it
-    box.add(p);
-  }
-  for (const auto& s : f.segments)
-    if (s[0] < 0 || s[0] >= n || s[1] < 0 || s[1] >= n)
-      return counts; // validate names it
-  const double rounding = 1e-10 * norm(box.size());
+  const std::optional<double> fit = clipRounding(f);
+  if (!fit)
+    return counts; // validate or checkEdgeSizes names the problem
+  const double rounding = *fit;
   const bool sized = !f.edgeSizes.empty(), sourced = !f.source.empty();
-  if (sized && f.edgeSizes.size() != f.segments.size())
-    return counts; // checkEdgeSizes names it
 
   FeatureSegments out;
   out.points = f.points;
@@ -233,8 +284,6 @@ FeatureClipCounts clipFeatureSegments(FeatureSegments& f, const HierarchicalOrac
     std::vector<double> cuts = cutParameters(oracle, a, b);
     cuts.insert(cuts.begin(), 0.0);
     cuts.push_back(1.0);
-    // kept stretches [t0, t1], consecutive kept pieces joined
-    std::vector<std::pair<double, double>> kept;
     std::vector<Decision> decisions; // at each interval's midpoint
     for (size_t k = 0; k + 1 < cuts.size(); ++k)
       decisions.push_back(oracle.decide(pointAt(a, b, 0.5 * (cuts[k] + cuts[k + 1]))));
@@ -242,15 +291,7 @@ FeatureClipCounts clipFeatureSegments(FeatureSegments& f, const HierarchicalOrac
       const size_t k = static_cast<size_t>(std::lower_bound(cuts.begin(), cuts.end(), t) - cuts.begin());
       return decisions[beforeT ? k - 1 : k]; // cuts[k] == t, 0 < t < 1
     };
-    for (size_t k = 0; k + 1 < cuts.size(); ++k)
-    {
-      if (!keepPiece(oracle, owner, pointAt(a, b, cuts[k]), pointAt(a, b, cuts[k + 1])))
-        continue;
-      if (!kept.empty() && kept.back().second == cuts[k])
-        kept.back().second = cuts[k + 1];
-      else
-        kept.emplace_back(cuts[k], cuts[k + 1]);
-    }
+    const std::vector<std::pair<double, double>> kept = keptStretches(oracle, owner, a, b, cuts);
     if (kept.size() == 1 && kept[0].first == 0.0 && kept[0].second == 1.0)
     {
       add(f.segments[s][0], f.segments[s][1], s);
@@ -280,22 +321,7 @@ FeatureClipCounts clipFeatureSegments(FeatureSegments& f, const HierarchicalOrac
   }
   if (!counts.changed())
     return counts;
-  // drop the points no segment uses any more
-  std::vector<int> index(out.points.size(), -1);
-  for (const auto& seg : out.segments)
-    index[seg[0]] = index[seg[1]] = 0;
-  FeatureSegments result;
-  for (size_t i = 0; i < out.points.size(); ++i)
-    if (index[i] == 0)
-    {
-      index[i] = static_cast<int>(result.points.size());
-      result.points.push_back(out.points[i]);
-    }
-  for (const auto& seg : out.segments)
-    result.segments.push_back({ index[seg[0]], index[seg[1]] });
-  result.edgeSizes = std::move(out.edgeSizes);
-  result.source = std::move(out.source);
-  f = std::move(result);
+  f = withoutUnusedPoints(std::move(out));
   return counts;
 }
 }

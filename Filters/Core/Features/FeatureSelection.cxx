@@ -34,6 +34,73 @@ namespace
 /// given lines do in simplifyFeatureNetwork (FeatureNetworkTolerances::minAngle).
 constexpr double kTrunkAngle = 30.0;
 
+/// The parameters in (0, 1), ascending, where segment pq passes through some input's boundary: not
+/// region changes, since the line lies on its own input's boundary, which decides all along it (a
+/// closed set).
+std::vector<double> boundaryCrossings(const HierarchicalOracle& oracle, const Vec3& p, const Vec3& q)
+{
+  std::vector<double> ts;
+  for (const auto& d : oracle.domains())
+  {
+    std::vector<double> own;
+    d->crossings(p, q, own);
+    for (double t : own)
+      if (t > 0 && t < 1 && d->material(lerp(p, q, std::max(0.0, t - 1e-7))) != d->material(lerp(p, q, std::min(1.0, t + 1e-7))))
+        ts.push_back(t);
+  }
+  std::sort(ts.begin(), ts.end());
+  return ts;
+}
+
+/// The segment of `A` nearest to x, closer than `reach`; -1: none.
+int nearestSegment(const FeatureSegments& A, const Vec3& x, double reach)
+{
+  int best = -1;
+  double nearest = reach;
+  for (size_t s = 0; s < A.segments.size(); ++s)
+  {
+    const double dist = distanceToSegment(x, A.points[A.segments[s][0]], A.points[A.segments[s][1]]);
+    if (dist < nearest)
+    {
+      nearest = dist;
+      best = static_cast<int>(s);
+    }
+  }
+  return best;
+}
+
+/// The first point of `points` within `same` of x; -1: none.
+int pointNear(const std::vector<Vec3>& points, const Vec3& x, double same)
+{
+  int xi = -1;
+  for (size_t i = 0; i < points.size() && xi < 0; ++i)
+    if (norm(points[i] - x) <= same)
+      xi = static_cast<int>(i);
+  return xi;
+}
+
+/// Splits the automatic segment `best` at the new point x: in the segments (the piece from x on is
+/// appended, with the same source) and in each curve of `automatic.lines` where it passes that
+/// segment (its first pass).
+void splitAutomaticSegment(FeatureLines& automatic, int best, const Vec3& x)
+{
+  auto& A = automatic.segments;
+  const int ai = static_cast<int>(A.points.size());
+  A.points.push_back(x);
+  const int start = A.segments[best][0], end = A.segments[best][1];
+  A.segments[best][1] = ai;
+  A.segments.push_back({ ai, end });
+  if (!A.source.empty())
+    A.source.push_back(A.source[best]);
+  for (FeatureLine& l : automatic.lines)
+    for (size_t k = 0; k + 1 < l.points.size(); ++k)
+      if ((l.points[k] == start && l.points[k + 1] == end) || (l.points[k] == end && l.points[k + 1] == start))
+      {
+        l.points.insert(l.points.begin() + static_cast<long>(k) + 1, ai);
+        break;
+      }
+}
+
 /// Where a given line (a sharp edge of the implant) passes through another input's boundary and an
 /// automatic curve passes nearby (the implant's entry curve), both get that exact point as one
 /// vertex: the given segment is split there, and the curve's nearest segment too.
@@ -47,33 +114,10 @@ void shareCrossings(const HierarchicalOracle& oracle, FeatureSegments& given, Fe
   {
     const Vec3 p = given.points[seg[0]], q = given.points[seg[1]];
     int from = seg[0];
-    // Where the line passes through some input's boundary: not region changes, since the line
-    // lies on its own input's boundary, which decides all along it (a closed set).
-    std::vector<double> ts;
-    for (const auto& d : oracle.domains())
-    {
-      std::vector<double> own;
-      d->crossings(p, q, own);
-      for (double t : own)
-        if (t > 0 && t < 1 && d->material(lerp(p, q, std::max(0.0, t - 1e-7))) != d->material(lerp(p, q, std::min(1.0, t + 1e-7))))
-          ts.push_back(t);
-    }
-    std::sort(ts.begin(), ts.end());
-    for (double t : ts)
+    for (double t : boundaryCrossings(oracle, p, q))
     {
       Vec3 x = lerp(p, q, t);
-      // the nearest automatic segment
-      int best = -1;
-      double nearest = reach;
-      for (size_t s = 0; s < A.segments.size(); ++s)
-      {
-        const double dist = distanceToSegment(x, A.points[A.segments[s][0]], A.points[A.segments[s][1]]);
-        if (dist < nearest)
-        {
-          nearest = dist;
-          best = static_cast<int>(s);
-        }
-      }
+      const int best = nearestSegment(A, x, reach);
       if (best < 0 || norm(x - given.points[from]) <= same || norm(x - q) <= same)
         continue;
       auto& s = A.segments[best];
@@ -84,10 +128,7 @@ void shareCrossings(const HierarchicalOracle& oracle, FeatureSegments& given, Fe
       // at the found end instead, the line had a second vertex 2e-9 beside the corner: the segment
       // level's pieces there, 1/64 of the shortest of which is its split floor, fell to 0.003 and
       // the wedge's 18.4 degree corner refined to micro tetrahedra (Benchmarks/cad_defects item 4).
-      int xi = -1;
-      for (size_t i = 0; i < given.points.size() && xi < 0; ++i)
-        if (norm(given.points[i] - x) <= same)
-          xi = static_cast<int>(i);
+      int xi = pointNear(given.points, x, same);
       split.push_back({ from, xi >= 0 ? xi : static_cast<int>(given.points.size()) });
       if (xi >= 0)
       {
@@ -111,20 +152,7 @@ void shareCrossings(const HierarchicalOracle& oracle, FeatureSegments& given, Fe
         }
         given.points.push_back(x);
       }
-      const int ai = static_cast<int>(A.points.size());
-      A.points.push_back(x);
-      const int start = s[0], end = s[1];
-      s[1] = ai;
-      A.segments.push_back({ ai, end }); // s dangles from here on
-      if (!A.source.empty())
-        A.source.push_back(A.source[best]);
-      for (FeatureLine& l : automatic.lines)
-        for (size_t k = 0; k + 1 < l.points.size(); ++k)
-          if ((l.points[k] == start && l.points[k + 1] == end) || (l.points[k] == end && l.points[k + 1] == start))
-          {
-            l.points.insert(l.points.begin() + static_cast<long>(k) + 1, ai);
-            break;
-          }
+      splitAutomaticSegment(automatic, best, x);
     }
     split.push_back({ from, seg[1] });
   }
