@@ -2,13 +2,17 @@
 #include "BoxDomain.h"
 #include "DihedralImprovement.h"
 #include "HierarchicalOracle.h"
+#include "ImprovementMesh.h"
 #include "LabelMapDomain.h"
 #include "MeshQuality.h"
 #include "MeshValidity.h"
 #include "OracleMesher.h"
+#include "SliverPeeler.h"
 #include "SphereDomain.h"
 #include "SurfaceDomain.h"
 #include "TestShapes.h"
+#include "TetFlips.h"
+#include "VertexMover.h"
 
 #include <gtest/gtest.h>
 
@@ -379,4 +383,80 @@ TEST(DihedralImprovement, ProgressReportsTheStepAndAbortStopsIt)
   };
   EXPECT_THROW(meshOracle(c.oracle, c.edges, {}, c.options), MeshingAborted);
   EXPECT_TRUE(seen);
+}
+
+// The local changes on their own, on the ImprovementMesh they share.
+
+TEST(DihedralImprovementPhases, TetFlipsTurnsTheFlatPairIntoThreeAroundTheApexEdge)
+{
+  TetMesh m;
+  m.points = { { 1, 0, 0 }, { -0.5, 0.8660254, 0 }, { -0.5, -0.8660254, 0 }, { 0, 0, 0.1 }, { 0, 0, -0.1 } };
+  m.pointDimension.assign(5, 0);
+  m.tets = { { 0, 1, 2, 3 }, { 0, 2, 1, 4 } };
+  m.tetMaterial = { 1, 1 };
+  HierarchicalOracle around;
+  around.add(std::make_shared<BoxDomain>(Vec3{ -2, -2, -2 }, Vec3{ 2, 2, 2 }, 1));
+  const DihedralImprovementOptions options;
+  ImprovementMesh state(m, around, options);
+  TetFlips flips(state);
+  EXPECT_FALSE(flips.removeEdge(0, 1)) << "an edge between two held vertices counts as a feature line";
+  const double before = std::min(state.quality(0), state.quality(1));
+  ASSERT_TRUE(flips.removeFace(0, 3)); // triangle 012, opposite apex 3
+  EXPECT_EQ(state.report().faceRemovals, 1u);
+  EXPECT_EQ(state.touched().size(), 3u);
+  EXPECT_GT(state.worstOf(state.touched()), before);
+  state.writeBack();
+  ASSERT_EQ(m.tets.size(), 3u);
+  for (const auto& q : m.tets)
+    EXPECT_TRUE(std::count(q.begin(), q.end(), 3) == 1 && std::count(q.begin(), q.end(), 4) == 1);
+}
+
+TEST(DihedralImprovementPhases, VertexMoverMovesAnInteriorVertexTowardsABetterStar)
+{
+  // an octahedron (its corners held: on no interface, not interior) around an off-centre vertex
+  TetMesh m;
+  m.points = { { 1, 0, 0 }, { -1, 0, 0 }, { 0, 1, 0 }, { 0, -1, 0 }, { 0, 0, 1 }, { 0, 0, -1 }, { 0.45, 0.3, 0.2 } };
+  m.pointDimension = { 2, 2, 2, 2, 2, 2, 3 };
+  for (int x : { 0, 1 })
+    for (int y : { 2, 3 })
+      for (int z : { 4, 5 })
+      {
+        std::array<int, 4> q{ x, y, z, 6 };
+        const auto& p = m.points;
+        if (signedVolume(p[q[0]], p[q[1]], p[q[2]], p[q[3]]) < 0)
+          std::swap(q[0], q[1]);
+        m.tets.push_back(q);
+        m.tetMaterial.push_back(1);
+      }
+  HierarchicalOracle around;
+  around.add(std::make_shared<BoxDomain>(Vec3{ -2, -2, -2 }, Vec3{ 2, 2, 2 }, 1));
+  const DihedralImprovementOptions options;
+  ImprovementMesh state(m, around, options);
+  EXPECT_EQ(state.kind(6), VertexKind::Interior);
+  EXPECT_EQ(state.kind(0), VertexKind::Fixed);
+  VertexMover mover(state);
+  EXPECT_FALSE(mover.moveVertex(0));
+  const double before = state.starQuality(6);
+  ASSERT_TRUE(mover.moveVertex(6));
+  EXPECT_GT(state.starQuality(6), before);
+  EXPECT_EQ(state.report().interiorMoves, 1u);
+  EXPECT_LT(norm(m.points[6]), norm(Vec3{ 0.45, 0.3, 0.2 })) << "towards the centre";
+}
+
+TEST(DihedralImprovementPhases, SliverPeelerPeelsTheFlatTetrahedronOffTheBoundaryRidge)
+{
+  TetMesh m = ridge(false);
+  HierarchicalOracle body;
+  body.add(std::make_shared<BoxDomain>(Vec3{ -2, -2, -2 }, Vec3{ 2, 2, 2 }, 1));
+  const DihedralImprovementOptions options;
+  ImprovementMesh state(m, body, options);
+  TetFlips flips(state);
+  VertexMover mover(state);
+  SliverPeeler peeler(state, flips, mover);
+  EXPECT_FALSE(peeler.peel(1)) << "not thin";
+  ASSERT_TRUE(peeler.peel(0));
+  EXPECT_EQ(state.report().peeled, 1u);
+  state.writeBack();
+  ASSERT_EQ(m.tets.size(), 2u);
+  EXPECT_EQ(interfaces(m), separatingFaces(m)) << "the boundary runs through the peeled one's lower faces";
 }

@@ -6,6 +6,8 @@
 #include "InputError.h"
 #include "LabelSmoothing.h"
 #include "TrilinearCubic.h"
+#include "TrilinearWalk.h"
+#include "VoxelCorners.h"
 
 #include <algorithm>
 #include <cmath>
@@ -16,17 +18,6 @@ namespace omesh
 {
 namespace
 {
-/// floor(x) for x >= -1, as std::floor, without its library call (the x86-64 baseline has no
-/// rounding instruction; the call was 7 % of a label map's meshing): truncation of x + 1 is
-/// floor(x) + 1 or, where the sum rounded up to the next integer, one more.
-inline int floorAboveMinusOne(double x)
-{
-  int i = static_cast<int>(x + 1.0) - 1;
-  if (static_cast<double>(i) > x)
-    --i;
-  return i;
-}
-
 /// floor(x) and ceil(x) of a voxel coordinate (|x| far below 2^31), as doubles, the same values as
 /// std::floor and std::ceil (up to the sign of a zero) without their rounding sequences (the piece
 /// ends' setup per query was ~1.5 % of a coarse label map's refinement): truncation, then a step
@@ -303,140 +294,6 @@ bool LabelMapDomain::firstCrossings(const Vec3& a, const Vec3& b, std::vector<do
   return false;
 }
 
-namespace
-{
-/// The 8 voxel centres around a point: lower corner `lo` (may lie outside the grid; indices are
-/// clamped at the border) and their compact label indices. Within one cell of voxel centres they
-/// do not change, so a walk along a segment loads them once per cell.
-struct Corners
-{
-  int lo[3] = { std::numeric_limits<int>::min(), 0, 0 };
-  uint16_t idx[8] = {};
-  float w[8] = { 1, 1, 1, 1, 1, 1, 1, 1 }; ///< the corners' interface weights (Smooth; else 1)
-  bool uniform = false;
-  // the distinct labels in order of first appearance, and each corner's place among them (a mixed
-  // cell's, once distinctLabels has run: the lead's cubic needs only idx)
-  bool slotted = false;
-  int distinctCount = 0;
-  uint16_t distinct[8] = {};
-  uint8_t slot[8] = {};
-};
-
-/// Lower voxel-centre corner and fractions of u (continuous voxel coordinates, on the grid).
-inline void splitCell(const Vec3& u, int lo[3], double f[3])
-{
-  for (int a = 0; a < 3; ++a)
-  {
-    const double x = u[a] - 0.5;
-    lo[a] = floorAboveMinusOne(x);
-    f[a] = x - lo[a];
-  }
-}
-
-inline bool sameCell(const int a[3], const int b[3]) { return a[0] == b[0] && a[1] == b[1] && a[2] == b[2]; }
-
-/// Voxel offset of a cell's corner 0 (its lower corner lo, clamped to the grid).
-inline size_t lowerCorner(const std::array<int, 3>& dims, const int lo[3])
-{
-  return static_cast<size_t>(std::max(lo[0], 0)) +
-    static_cast<size_t>(dims[0]) *
-    (static_cast<size_t>(std::max(lo[1], 0)) + static_cast<size_t>(dims[1]) * static_cast<size_t>(std::max(lo[2], 0)));
-}
-
-/// Offset of the cell with lower corner lo (-1 .. dims - 1) in the padded clearance array.
-inline size_t clearanceOffset(const std::array<size_t, 3>& stride, const int lo[3])
-{
-  return static_cast<size_t>(lo[0] + 2) + stride[1] * static_cast<size_t>(lo[1] + 2) +
-    stride[2] * static_cast<size_t>(lo[2] + 2);
-}
-
-inline void loadCorners(
-  const std::array<int, 3>& dims, const uint16_t* index, const float* weights, const int lo[3], Corners& k)
-{
-  size_t off[3][2];
-  size_t stride = 1;
-  for (int a = 0; a < 3; ++a)
-  {
-    k.lo[a] = lo[a];
-    off[a][0] = stride * static_cast<size_t>(std::clamp(lo[a], 0, dims[a] - 1));
-    off[a][1] = stride * static_cast<size_t>(std::clamp(lo[a] + 1, 0, dims[a] - 1));
-    stride *= static_cast<size_t>(dims[a]);
-  }
-  for (int c = 0; c < 8; ++c)
-    k.idx[c] = index[off[0][c & 1] + off[1][(c >> 1) & 1] + off[2][(c >> 2) & 1]];
-  k.uniform = std::all_of(k.idx + 1, k.idx + 8, [&](uint16_t i) { return i == k.idx[0]; });
-  if (weights && !k.uniform) // a uniform cell's weights never matter
-    for (int c = 0; c < 8; ++c)
-      k.w[c] = weights[off[0][c & 1] + off[1][(c >> 1) & 1] + off[2][(c >> 2) & 1]];
-  k.slotted = false;
-}
-
-/// Fills k's distinct labels and slots (a mixed cell's; loadCorners leaves them).
-inline void distinctLabels(Corners& k)
-{
-  if (k.slotted || k.uniform)
-    return;
-  k.slotted = true;
-  k.distinctCount = 0;
-  for (int c = 0; c < 8; ++c)
-  {
-    int s = 0;
-    while (s < k.distinctCount && k.distinct[s] != k.idx[c])
-      ++s;
-    if (s == k.distinctCount)
-      k.distinct[k.distinctCount++] = k.idx[c];
-    k.slot[c] = static_cast<uint8_t>(s);
-  }
-}
-
-/// Summed trilinear weight of each distinct label of k at fractions f (sums in corner order).
-inline void labelWeights(const Corners& k, const double f[3], double sums[8])
-{
-  const double g[3] = { 1.0 - f[0], 1.0 - f[1], 1.0 - f[2] };
-  for (int s = 0; s < 8; ++s) // all 8, not distinctCount: a fixed size needs no memset call
-    sums[s] = 0.0;
-  for (int c = 0; c < 8; ++c)
-    sums[k.slot[c]] += ((((c & 1) ? f[0] : g[0]) * ((c & 2) ? f[1] : g[1])) * ((c & 4) ? f[2] : g[2])) * k.w[c];
-}
-
-/// Compact label index with the largest of a mixed cell's summed weights; ties go to the smaller index.
-inline uint16_t pickFromSums(const Corners& k, const double sums[8])
-{
-  uint16_t best = k.distinct[0];
-  double bestWeight = sums[0];
-  for (int s = 1; s < k.distinctCount; ++s)
-    if (sums[s] > bestWeight || (sums[s] == bestWeight && k.distinct[s] < best))
-    {
-      best = k.distinct[s];
-      bestWeight = sums[s];
-    }
-  return best;
-}
-
-/// Compact label index with the largest summed trilinear weight; ties go to the smaller index.
-inline uint16_t pickLabel(const Corners& k, const double f[3])
-{
-  if (k.uniform)
-    return k.idx[0]; // inside one label: the common case
-  double sums[8];
-  labelWeights(k, f, sums);
-  return pickFromSums(k, sums);
-}
-
-/// How far `label` leads the strongest other label (a mixed cell's summed trilinear weights):
-/// positive where it wins. The label change along a piece is a root of this piecewise cubic.
-inline double leadFromSums(const Corners& k, const double sums[8], uint16_t label)
-{
-  double own = 0.0, other = 0.0;
-  for (int s = 0; s < k.distinctCount; ++s)
-    if (k.distinct[s] == label)
-      own = sums[s];
-    else
-      other = std::max(other, sums[s]);
-  return own - other;
-}
-}
-
 uint16_t LabelMapDomain::trilinearIndex(const Vec3& u) const
 {
   int lo[3];
@@ -444,7 +301,7 @@ uint16_t LabelMapDomain::trilinearIndex(const Vec3& u) const
   splitCell(u, lo, f);
   if (clearance_[clearanceOffset(clearanceStride_, lo)] != 0)
     return index_[lowerCorner(dims_, lo)]; // all 8 corners carry one label
-  Corners k;
+  VoxelCorners k;
   loadCorners(dims_, index_.data(), weights_.empty() ? nullptr : weights_.data(), lo, k);
   distinctLabels(k);
   return pickLabel(k, f);
@@ -452,209 +309,6 @@ uint16_t LabelMapDomain::trilinearIndex(const Vec3& u) const
 
 namespace
 {
-/// One segment's walk through the cells of voxel centres (continuous voxel coordinates ua + t d).
-/// The 8 labels around the last point looked at stay loaded: the samples and the search inside
-/// one cell only recompute the weights (the answers are those of trilinearIndex at every point).
-class TrilinearWalk
-{
-public:
-  TrilinearWalk(const std::array<int, 3>& dims, const uint16_t* index, const float* weights, const uint8_t* clearance,
-    const std::array<size_t, 3>& clearanceStride, const Vec3& ua, const Vec3& d)
-    : dims_(dims)
-    , index_(index)
-    , weights_(weights)
-    , clearance_(clearance)
-    , clearanceStride_(clearanceStride)
-    , ua_(ua)
-    , d_(d)
-  {
-  }
-
-  /// The cell of t (its lower corner lo) and t's fractions in it.
-  void cellAt(double t, int lo[3], double f[3]) const
-  {
-    const Vec3 u = ua_ + t * d_;
-    const Vec3 c{ std::clamp(u.x, 0.0, double(dims_[0])), std::clamp(u.y, 0.0, double(dims_[1])),
-      std::clamp(u.z, 0.0, double(dims_[2])) };
-    splitCell(c, lo, f);
-  }
-
-  /// Loads the cell of t; f gets t's fractions in it.
-  void cornersAt(double t, double f[3])
-  {
-    int lo[3];
-    cellAt(t, lo, f);
-    if (!sameCell(lo, cache_.lo))
-      loadCorners(dims_, index_, weights_, lo, cache_);
-    distinctLabels(cache_); // for the weights of its labels
-  }
-
-  /// The clearance of the cell of t (0: mixed) and, when it is not mixed, its one label. lo gets
-  /// the cell's lower corner.
-  int clearanceAt(double t, int lo[3], uint16_t& label) const
-  {
-    double f[3];
-    cellAt(t, lo, f);
-    const int c = clearance_[clearanceOffset(clearanceStride_, lo)];
-    if (c != 0)
-      label = index_[lowerCorner(dims_, lo)];
-    return c;
-  }
-
-  /// Bernstein coefficients of how far `label` leads along the piece [a, b] (in `cell`, the cell
-  /// of its midpoint, which this loads; a mixed cell): the trilinear interpolant of +1 at the corners
-  /// of `label`, -1 at the others, a cubic along the piece. In a cell of two labels, `label` one
-  /// of them, that is exactly its lead over the other (its indicator minus the other's), so the
-  /// label changes where the cubic changes sign: true. With more labels it is 2 chi - 1 (chi its
-  /// indicator), above 0 only where `label` certainly wins: false.
-  bool leadOnPiece(double a, double b, const int cell[3], uint16_t label, double lead[4])
-  {
-    if (!sameCell(cell, cache_.lo))
-      loadCorners(dims_, index_, weights_, cell, cache_);
-    const Corners& k = cache_;
-    double fa[3], fb[3]; // (in a cell at the grid's border the clamped corners repeat along the
-    for (int end = 0; end < 2; ++end) // outer axis: the fractions there do not matter)
-    {
-      const Vec3 u = ua_ + (end == 0 ? a : b) * d_;
-      double* fe = end == 0 ? fa : fb;
-      for (int ax = 0; ax < 3; ++ax)
-        fe[ax] = std::clamp(u[ax] - 0.5 - k.lo[ax], 0.0, 1.0);
-    }
-    // the corners' values, and whether the cell's labels are `label` and one other (the first
-    // corner of another label's), from the corners alone (no list of distinct labels)
-    double v[8];
-    bool has = false, two = true;
-    other_ = label;
-    for (int c = 0; c < 8; ++c)
-    {
-      const uint16_t i = k.idx[c];
-      const bool own = i == label;
-      v[c] = own ? k.w[c] : -k.w[c];
-      has = has || own;
-      if (!own && other_ == label)
-        other_ = i;
-      two = two && (own || i == other_);
-    }
-    trilinear::bernsteinOnLine(v, fa, fb, lead);
-    return has && two && other_ != label;
-  }
-
-  /// The label other than `label` of the cell leadOnPiece loaded last (a cell of two labels, one
-  /// of them `label`).
-  uint16_t otherLabel() const { return other_; }
-
-  /// Where the segment leaves the cube of cells around cell lo that a clearance of D says are of
-  /// one label: the parameter of a plane through voxel centres, computed as PieceEnds computes it.
-  double exitOfCube(const int lo[3], int D) const
-  {
-    double t = std::numeric_limits<double>::infinity();
-    for (int a = 0; a < 3; ++a)
-    {
-      if (d_[a] == 0.0)
-        continue;
-      const double k = static_cast<double>(d_[a] > 0.0 ? lo[a] + D : lo[a] + 1 - D);
-      t = std::min(t, (k + 0.5 - ua_[a]) / d_[a]);
-    }
-    return t;
-  }
-
-  uint16_t labelAt(double t)
-  {
-    double f[3];
-    cornersAt(t, f);
-    return pickLabel(cache_, f);
-  }
-
-  /// The label at t where the walk starts, and whether the segment up to t1 stays in the cube of
-  /// cells of that one label around t's cell (then nothing can change along it).
-  uint16_t labelAtStart(double t, double t1, bool& noChange)
-  {
-    int lo[3];
-    uint16_t label = 0;
-    const int c = clearanceAt(t, lo, label);
-    noChange = c > 0 && exitOfCube(lo, c) >= t1;
-    return c > 0 ? label : labelAt(t);
-  }
-
-  /// The last t where `label` holds between lo (it holds) and hi (it does not), to 1e-12: a
-  /// bracketing search (Illinois regula falsi on the label's lead, a bisection whenever three
-  /// steps do not halve the bracket) that keeps the bisection's answer to its tolerance with about
-  /// a fifth of its label evaluations.
-  double lastOf(uint16_t label, double lo, double hi)
-  {
-    uint16_t at = 0;
-    double gLo = leadAt(lo, label, at), gHi = leadAt(hi, label, at);
-    int side = 0;               // which end the last step moved: -1 lo, +1 hi
-    double reference = hi - lo; // a bisection once 3 steps have not halved the bracket from here
-    int steps = 0;
-    while (hi - lo > 1e-12 * (1.0 + std::abs(hi)))
-    {
-      const double w = hi - lo;
-      if (w <= 0.5 * reference)
-      {
-        reference = w;
-        steps = 0;
-      }
-      double mid = 0.5 * (lo + hi);
-      if (++steps <= 3 && gLo >= 0.0 && gHi <= 0.0)
-        mid = interpolated(lo, hi, gLo, gHi, side, mid);
-      else
-      {
-        reference = w;
-        steps = 0;
-      }
-      const double g = leadAt(mid, label, at);
-      const bool holds = at == label;
-      (holds ? lo : hi) = mid;
-      (holds ? gLo : gHi) = g;
-      if (side == (holds ? -1 : 1))
-        (holds ? gHi : gLo) *= 0.5; // Illinois: the end that stayed twice counts half
-      side = holds ? -1 : 1;
-    }
-    return hi;
-  }
-
-private:
-  /// The label at t and how far `label` leads there.
-  double leadAt(double t, uint16_t label, uint16_t& at)
-  {
-    double f[3];
-    cornersAt(t, f);
-    if (cache_.uniform)
-    {
-      at = cache_.idx[0];
-      return at == label ? 1.0 : -1.0;
-    }
-    double sums[8]; // one set of weights for both answers
-    labelWeights(cache_, f, sums);
-    at = pickFromSums(cache_, sums);
-    return leadFromSums(cache_, sums, label);
-  }
-
-  /// A little past the interpolated root, away from the end that moved last: once the root is
-  /// known to the tolerance, that closes the bracket in one step. A lead of exactly 0 is a tie
-  /// decided by index: the change is most likely right at that end. `fallback` if outside.
-  static double interpolated(double lo, double hi, double gLo, double gHi, int side, double fallback)
-  {
-    const double tol = 1e-12 * (1.0 + std::abs(hi));
-    double x = lo + (hi - lo) * gLo / (gLo - gHi) + 0.5 * tol * (side == -1 ? 1.0 : side == 1 ? -1.0 : 0.0);
-    if (gLo == 0.0)
-      x = lo + 0.5 * tol;
-    else if (gHi == 0.0)
-      x = hi - 0.5 * tol;
-    return x > lo && x < hi ? x : fallback;
-  }
-
-  const std::array<int, 3>& dims_;
-  const uint16_t* index_;
-  const float* weights_; ///< interface weights per voxel (Smooth), or null
-  const uint8_t* clearance_;
-  const std::array<size_t, 3>& clearanceStride_;
-  Vec3 ua_, d_;
-  Corners cache_;
-  uint16_t other_ = 0; ///< leadOnPiece's other label
-};
-
 /// The ends of a walk's pieces in increasing order: t0, t1 and every t in between where ua + t d
 /// crosses a plane through voxel centres (u = k + 0.5), merged from the three axes' arithmetic
 /// sequences (the same values a sorted list of them holds).
@@ -769,6 +423,36 @@ struct WalkCrossings
     labelsBefore.push_back(before);
   }
 };
+
+/// Samples per piece where the lead's cubic does not decide (LabelMapDomain::trilinearCrossings).
+constexpr int kSamples = 4;
+/// How far beyond rounding the lead's cubic must be from 0 to decide (the cubic's coefficients and
+/// the trilinear evaluation differ by a few 1e-14 in voxel grids of ~1000 voxels).
+constexpr double kMargin = 1e-10;
+
+/// The lead's cubic on the piece [a, b] of a mixed cell (lo): a certificate that `previous` holds,
+/// or in a cell of two labels every change along the piece (added to `found`), without samples;
+/// `previous` and `previousT` are then left as the samples would leave them. False when the cubic
+/// cannot decide: the piece is to be sampled.
+bool leadCrossings(TrilinearWalk& walk, double a, double b, const int lo[3], uint16_t& previous, double& previousT,
+  WalkCrossings& found)
+{
+  double lead[4], roots[3];
+  const bool two = walk.leadOnPiece(a, b, lo, previous, lead);
+  const int n = trilinear::allAbove(lead, kMargin) ? 0
+    : two && lead[0] > 0.0                        ? trilinear::signChanges(lead, a, b, kMargin, roots)
+                                                  : -1;
+  if (n < 0)
+    return false;
+  uint16_t other = n > 0 ? walk.otherLabel() : previous;
+  for (int r = 0; r < n; ++r)
+  {
+    found.add(roots[r], previous, other);
+    std::swap(previous, other);
+  }
+  previousT = a + (b - a) * kSamples / kSamples; // the last sample's t, as the samples leave it
+  return true;
+}
 }
 
 bool LabelMapDomain::trilinearCrossings(const Vec3& ua, const Vec3& d, double t0, double t1, int changes,
@@ -798,11 +482,7 @@ bool LabelMapDomain::trilinearCrossings(const Vec3& ua, const Vec3& d, double t0
   labelsBefore.clear();
   WalkCrossings found{ ts, ts.size(), labelsBefore };
   PieceEnds ends(ua, d, t0, t1);
-  constexpr int kSamples = 4;
   double previousT = t0;
-  // how far beyond rounding the lead's cubic must be from 0 to decide (the cubic's coefficients and
-  // the trilinear evaluation differ by a few 1e-14 in voxel grids of ~1000 voxels)
-  constexpr double kMargin = 1e-10;
   bool sampled = false; // a piece's label was sampled, not shown (returns false)
   // Samples the piece [pa, pb] four times and searches every change of label between samples.
   auto sampleAndSearch = [&](double pa, double pb) {
@@ -840,29 +520,8 @@ bool LabelMapDomain::trilinearCrossings(const Vec3& ua, const Vec3& d, double t0
       previousT = b;
       continue;
     }
-    if (clearance == 0)
-    {
-      // the lead's cubic: a certificate that the label holds, or in a cell of two labels every
-      // change along the piece, without samples
-      double lead[4], roots[3];
-      const bool two = walk.leadOnPiece(a, b, lo, previous, lead);
-      const int n = trilinear::allAbove(lead, kMargin) ? 0
-        : two && lead[0] > 0.0                        ? trilinear::signChanges(lead, a, b, kMargin, roots)
-                                                      : -1;
-      if (n >= 0)
-      {
-        uint16_t other = n > 0 ? walk.otherLabel() : previous;
-        for (int r = 0; r < n; ++r)
-        {
-          found.add(roots[r], previous, other);
-          std::swap(previous, other);
-        }
-        previousT = a + (b - a) * kSamples / kSamples; // the last sample's t, as the samples leave it
-      }
-      else
-        sampleAndSearch(a, b);
-    }
-    else
+    // a mixed cell: the lead's cubic decides where it can; elsewhere, and where it cannot, samples
+    if (clearance != 0 || !leadCrossings(walk, a, b, lo, previous, previousT, found))
       sampleAndSearch(a, b);
     // enough changes: the rest of the walk cannot come before them. The piece's end is a
     // candidate too: the material after the last change holds up to it (or the samples would

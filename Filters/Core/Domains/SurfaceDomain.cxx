@@ -7,6 +7,7 @@
 #include "SelfIntersections.h"
 #include "SurfaceDefects.h"
 #include "WindingNumber.h"
+#include "WindingOrientation.h"
 
 #include <CGAL/AABB_face_graph_triangle_primitive.h>
 #include <CGAL/AABB_traits.h>
@@ -27,8 +28,6 @@
 #include <deque>
 #include <numeric>
 #include <optional>
-#include <sstream>
-#include <unordered_map>
 
 namespace omesh
 {
@@ -488,155 +487,6 @@ void SurfaceDomain::Impl::classifyFreeCells()
       });
     }
   }
-}
-
-namespace
-{
-/// Orients every connected component of an oriented soup for the winding number:
-/// orient_polygon_soup makes each component consistent but picks its side at random. A closed
-/// component is turned to bound a positive volume, then flipped again if it lies inside an odd
-/// number of other components (the inner wall of a hollow part bounds a cavity: its triangles face
-/// inward). An open one (a patch, a piece of an unwelded soup, down to a lone triangle) bounds no
-/// volume to go by: it takes the side most of its area had in the input (`input`, whose triangle i
-/// is soup's triangle i), then all open pieces together the side that bounds a positive volume
-/// (pieces of one solid stay consistent, a soup given inside out is turned). Nesting is tested for up to 64 components (beyond, all face outward).
-void orientComponentsForWinding(TriangleSurface& soup, const TriangleSurface& input)
-{
-  const std::vector<Vec3>& points = soup.points;
-  std::vector<std::array<int, 3>>& polygons = soup.triangles;
-  std::vector<std::size_t> parent(points.size());
-  std::iota(parent.begin(), parent.end(), 0);
-  auto find = [&](std::size_t x) {
-    while (parent[x] != x)
-      x = parent[x] = parent[parent[x]];
-    return x;
-  };
-  for (const auto& poly : polygons)
-    for (std::size_t k = 1; k < poly.size(); ++k)
-      parent[find(poly[k])] = find(poly[0]);
-  std::vector<BoundingBox> boxes(points.size());
-  for (const auto& poly : polygons)
-    for (std::size_t v : poly)
-      boxes[find(poly[0])].add(points[v]);
-  // a component is open when one of its edges is used once
-  std::vector<char> open(points.size(), 0);
-  {
-    std::unordered_map<uint64_t, int> edgeUse;
-    edgeUse.reserve(polygons.size() * 2);
-    auto key = [](int a, int b) { return (static_cast<uint64_t>(std::min(a, b)) << 32) | static_cast<uint64_t>(std::max(a, b)); };
-    for (const auto& poly : polygons)
-      for (int e = 0; e < 3; ++e)
-        ++edgeUse[key(poly[e], poly[(e + 1) % 3])];
-    for (const auto& poly : polygons)
-      for (int e = 0; e < 3; ++e)
-        if (edgeUse[key(poly[e], poly[(e + 1) % 3])] == 1)
-          open[find(poly[0])] = 1;
-  }
-  std::vector<double> volume(points.size(), 0.0), agreement(points.size(), 0.0);
-  for (std::size_t t = 0; t < polygons.size(); ++t)
-  {
-    const auto& poly = polygons[t];
-    const std::size_t root = find(poly[0]);
-    const Vec3 c = 0.5 * (boxes[root].min + boxes[root].max);
-    auto at = [&](std::size_t k) {
-      const Vec3& q = points[poly[k]];
-      return Vec3{ q.x - c.x, q.y - c.y, q.z - c.z };
-    };
-    volume[root] += dot(at(0), cross(at(1), at(2)));
-    const auto& given = input.triangles[t];
-    const Vec3& a = input.points[given[0]];
-    agreement[root] += dot(cross(points[poly[1]] - points[poly[0]], points[poly[2]] - points[poly[0]]),
-      cross(input.points[given[1]] - a, input.points[given[2]] - a));
-  }
-  for (auto& poly : polygons)
-  {
-    const std::size_t root = find(poly[0]);
-    if (open[root] ? agreement[root] < 0 : volume[root] < 0)
-      std::reverse(poly.begin(), poly.end());
-  }
-  // the open pieces together take the side that bounds a positive volume (a soup given inside out)
-  BoundingBox all;
-  for (const Vec3& p : points)
-    all.add(p);
-  const Vec3 centre = 0.5 * (all.min + all.max);
-  double openVolume = 0.0;
-  for (const auto& poly : polygons)
-    if (open[find(poly[0])])
-      openVolume += dot(points[poly[0]] - centre, cross(points[poly[1]] - centre, points[poly[2]] - centre));
-  if (openVolume < 0)
-    for (auto& poly : polygons)
-      if (open[find(poly[0])])
-        std::reverse(poly.begin(), poly.end());
-
-  // nesting: component d lies inside component c if c's winding number at a vertex of d is > 1/2
-  std::vector<std::size_t> roots;
-  std::vector<int> componentOf(points.size(), -1);
-  for (const auto& poly : polygons)
-  {
-    const std::size_t r = find(poly[0]);
-    if (componentOf[r] < 0)
-    {
-      componentOf[r] = static_cast<int>(roots.size());
-      roots.push_back(r);
-    }
-  }
-  const size_t k = roots.size();
-  if (k < 2 || k > 64)
-    return;
-  std::vector<std::vector<std::array<int, 3>>> tris(k);
-  for (const auto& poly : polygons)
-    tris[componentOf[find(poly[0])]].push_back(poly);
-  // d is nested in c when c winds around every probe of d (up to 32 corners spread over d), so
-  // components that merely overlap (allowed self-intersections) are not taken as cavities
-  std::vector<std::vector<Vec3>> probes(k);
-  for (size_t c = 0; c < k; ++c)
-  {
-    const size_t step = std::max<size_t>(1, tris[c].size() / 32);
-    for (size_t t = 0; t < tris[c].size(); t += step)
-      probes[c].push_back(points[tris[c][t][0]]);
-  }
-  std::vector<int> depth(k, 0);
-  for (size_t c = 0; c < k; ++c)
-  {
-    const WindingNumber w(points, tris[c]);
-    for (size_t d = 0; d < k; ++d)
-      if (d != c && std::all_of(probes[d].begin(), probes[d].end(), [&](const Vec3& p) { return w(p) > 0.5; }))
-        ++depth[d];
-  }
-  for (auto& poly : polygons)
-    if (depth[componentOf[find(poly[0])]] % 2 == 1 && !open[find(poly[0])])
-      std::reverse(poly.begin(), poly.end());
-}
-
-/// Throws InputError naming `who` when the winding number exceeds 1/2 nowhere near the surface: a
-/// lone open patch or a plane encloses nothing (its winding number only approaches 1/2 on the side
-/// its triangles face away from). Probes just off both sides of up to 4096 triangles (a thousandth
-/// of the triangle's size away, where the triangle itself adds almost 1/2).
-void refuseIfNoVolume(const WindingNumber& w, const TriangleSurface& soup, const std::string& who)
-{
-  const size_t step = std::max<size_t>(1, soup.triangles.size() / 4096);
-  double highest = -1e300;
-  for (size_t t = 0; t < soup.triangles.size(); t += step)
-  {
-    const auto& tri = soup.triangles[t];
-    const Vec3 &a = soup.points[tri[0]], &b = soup.points[tri[1]], &c = soup.points[tri[2]];
-    const Vec3 n = cross(b - a, c - a);
-    const double area2 = norm(n);
-    if (!(area2 > 0))
-      continue;
-    const Vec3 offset = (1e-3 * std::sqrt(0.5 * area2) / area2) * n;
-    const Vec3 centre = (1.0 / 3.0) * (a + b + c);
-    highest = std::max({ highest, w(centre + offset), w(centre - offset) });
-    if (highest > 0.51)
-      return;
-  }
-  std::ostringstream o;
-  o << who << ": surface encloses no volume: the generalized winding number stays at or below " << std::max(highest, 0.0)
-    << " next to its " << soup.triangles.size()
-    << " triangle(s) (inside needs above 1/2): an open patch or a plane, not the boundary of a solid"
-       " (give a cutting plane as an implicit plane domain, a patch as feature lines or a closed surface)";
-  throw InputError(o.str());
-}
 }
 
 void SurfaceDomain::Impl::windingCrossings(const Vec3& a, const Vec3& b, std::vector<double>& ts, size_t firstHit) const

@@ -78,6 +78,21 @@ std::vector<char> findDuplicates(const std::vector<Vec3>& points, const std::vec
   return duplicate;
 }
 
+/// The corners of a tetrahedron in ascending order (a sorting network of five exchanges).
+std::array<int, 4> ascendingCorners(std::array<int, 4> k)
+{
+  auto order = [&k](int i, int j) {
+    if (k[j] < k[i])
+      std::swap(k[i], k[j]);
+  };
+  order(0, 1);
+  order(2, 3);
+  order(0, 2);
+  order(1, 3);
+  order(1, 2);
+  return k;
+}
+
 /// Faces shared by more than two tetrahedra; the tetrahedra holding one are flagged. Faces are
 /// bucketed by their smallest vertex (a counting sort), then each small bucket is sorted by the
 /// other two: linear in the mesh, where one sort of all faces cost more than the rest of the check.
@@ -92,23 +107,10 @@ std::size_t countNonManifoldFaces(const std::vector<std::array<int, 4>>& tets, c
   std::vector<TetMesh::SeparatingFace>* separating)
 {
   // with its corners sorted, a b c d, a tetrahedron's faces are abc, abd, acd (smallest a) and bcd
-  auto sortedCorners = [&tets](std::size_t t) {
-    std::array<int, 4> k = tets[t];
-    auto order = [&k](int i, int j) {
-      if (k[j] < k[i])
-        std::swap(k[i], k[j]);
-    };
-    order(0, 1);
-    order(2, 3);
-    order(0, 2);
-    order(1, 3);
-    order(1, 2);
-    return k;
-  };
   std::vector<std::size_t> first(pointCount + 1, 0);
   for (std::size_t t : good)
   {
-    const std::array<int, 4> k = sortedCorners(t);
+    const std::array<int, 4> k = ascendingCorners(tets[t]);
     first[k[0] + 1] += 3;
     first[k[1] + 1] += 1;
   }
@@ -131,7 +133,7 @@ std::size_t countNonManifoldFaces(const std::vector<std::array<int, 4>>& tets, c
   };
   for (std::size_t t : good)
   {
-    const std::array<int, 4> k = sortedCorners(t);
+    const std::array<int, 4> k = ascendingCorners(tets[t]);
     add(k[0], k[1], k[2], t, k[3]);
     add(k[0], k[1], k[3], t, k[2]);
     add(k[0], k[2], k[3], t, k[1]);
