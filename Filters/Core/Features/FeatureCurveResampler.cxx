@@ -221,10 +221,10 @@ void FeatureCurveResampler::resampleCurve(FeatureSegments& piece, const std::vec
 
 /// The chain `along` with the curve's own points inserted where a chord's midpoint lies farther
 /// than `tolerance` from the curve (the crossing in the plane halfway, as refine does), down to
-/// chords within it: resampling kept the chords near the found points only, and a chord off its
-/// interfaces by more than their facets' tolerance leaves the mesher a gap between the segment
-/// and the surfaces through the curve, which it filled with ever smaller cells (issue 13: random_05
-/// at radius-edge 1.1, chords 0.03-0.1 off a triple line at a grazing angle).
+/// chords within it: resampling alone keeps the chords near the found points only, and a chord
+/// off its interfaces by more than their facets' tolerance leaves the mesher a gap between the
+/// segment and the surfaces through the curve, which it fills with ever smaller cells (at a tight
+/// radius-edge bound, a triple line met at a grazing angle).
 std::vector<Vec3> FeatureCurveResampler::onCurve(const std::vector<Vec3>& along, const Signature& regions, double tolerance) const
 {
   std::vector<Vec3> out;
@@ -248,11 +248,10 @@ std::vector<Vec3> FeatureCurveResampler::onCurve(const std::vector<Vec3>& along,
 /// quarter chord of one is moved onto it, else it is inserted where the chord would pass it
 /// farther than `tolerance` (the bends the chord misses most first, as Douglas-Peucker, until
 /// every bend lies within it; none when `tolerance` is not positive: all of them). The search
-/// kept corners to a 256th of a grid step, which leaves chords beside the interfaces next to
-/// them; with these vertices and the midpoint splits the 1.1 study ended random_04 and random_05
-/// (the splits alone ran random_04 into the vertex budget). Every bend as a vertex cut a bone
-/// rim on a voxel staircase at each cell plane (0.3-0.8 mm chords where its tolerance is 0.2),
-/// and the mesh graded down to those chords (issue 13).
+/// keeps corners to a 256th of a grid step, which leaves chords beside the interfaces next to
+/// them: the midpoint splits alone can run a tight radius-edge bound into the vertex budget. Not
+/// every bend as a vertex: that would cut a bone rim on a voxel staircase at each cell plane
+/// (chords a few times shorter than its tolerance), and the mesh would grade down to them.
 std::vector<Vec3> FeatureCurveResampler::withBends(const std::vector<Vec3>& along, const Signature& regions, double tolerance) const
 {
   std::vector<Vec3> out{ along.front() };

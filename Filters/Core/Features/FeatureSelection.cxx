@@ -276,7 +276,7 @@ FeatureLineOptions featureLineOptions(const HierarchicalOracle& oracle, const Ma
   const MeshCriteria::Values g = criteria.globalValues();
   o.maxSegmentLength = lengthOf(g) > 0 ? lengthOf(g) : norm(oracle.bounds().size()) / 40.0;
   double finest = o.maxSegmentLength;
-  // a tenth of the facet distance (issue 13's aim for the curves' deviation), not the half that
+  // a tenth of the facet distance (the curves' deviation aimed at), not the half that
   // resampling given lines uses: these chords are the mesh's edges on the curve. Per material, so
   // that the implant's 0.1 mm does not make the bone's rims a staircase of 0.01 mm pieces.
   for (const auto& [m, unused] : criteria.perMaterial)
@@ -610,7 +610,7 @@ FeatureSelection selectWithoutEdgeSizes(const HierarchicalOracle& oracle, const 
 /// dropped curve stays a point (mergeFeatureSegments keeps the points when it merges nothing), and
 /// those of the curves found along a given line lie on that line to the search's 1e-10: a point a
 /// hair beside a segment that is no vertex of it, which every split of that segment encroaches
-/// (issue 9: micro tetrahedra on the tray's rim chord at the found vertices). Dropped, in order.
+/// (micro tetrahedra on a rim chord at the found vertices). Dropped, in order.
 void dropUnusedPoints(FeatureSegments& f)
 {
   std::vector<int> renumber(f.points.size(), -1);
@@ -643,8 +643,8 @@ void dropUnusedPoints(FeatureSegments& f)
 /// the found one. A found segment's materials are those of the curve it came from
 /// (FeatureSegments::source, carried through every step above: a piece of a split, a segment whose
 /// end was moved onto another curve and a shared trunk keep theirs), not of the curve nearest its
-/// midpoint: a trunk or a moved end can lie nearer another curve and took that one's materials
-/// (issue 13). The nearest rule remains for a segment without a source. The sources are cleared
+/// midpoint: a trunk or a moved end can lie nearer another curve, whose materials it would take.
+/// The nearest rule remains for a segment without a source. The sources are cleared
 /// afterwards: the network simplification numbers its own.
 void labelOrigins(FeatureSelection& out, const FeatureSegments& given, FeatureSource source, const HierarchicalOracle& oracle)
 {

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// Feature lines that arise where the oracle's inputs meet (issue 13, the paper's future work):
+// Feature lines that arise where the oracle's inputs meet (the paper's future work):
 // found with the oracle's own queries, decide(p) and the domains' exact crossings along segments.
 #pragma once
 
