@@ -8,8 +8,8 @@
 - the reference pages (README.md, docs/*.md; not docs/journal/) carry no dates, sessions or
   branch names.
 
-A date inside a link or path to the journal (docs/journal/2026-12-02-slips.md) is a pointer to the
-history, not history, and is allowed.
+A date in the name of a journal file (docs/journal/2026-12-02-slips.md, a link's text or target)
+is a pointer to the history, not history, and is allowed.
 
     python3 Testing/check_history.py [SOURCE_ROOT]
 
@@ -21,7 +21,7 @@ import re
 import sys
 
 DATE = r"\b20\d\d-[01]\d-[0-3]\d\b"
-JOURNAL_PATH = re.compile(r"journal/20\d\d-[01]\d-[0-3]\d[\w.-]*")
+JOURNAL_PATH = re.compile(r"(?:journal/)?20\d\d-[01]\d-[0-3]\d-[\w.-]+\.md")
 CODE_HISTORY = re.compile(
     r"\bissue[ -]?#?\d+|\bissues? \d+(?:, \d+)*\b|\bseeds? \d+\b|\brandom_\d\d\b|\bsession\b|" + DATE, re.I)
 DOC_HISTORY = re.compile(r"\bsessions?\b|\bbranch `|" + DATE, re.I)
