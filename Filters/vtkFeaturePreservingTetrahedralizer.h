@@ -39,6 +39,13 @@
  * port 2, the constrained segments cut at the mesh vertices on them, cell data Present (1 when the
  * piece is a mesh edge), Origin (0 given, 1 found where the inputs meet) and Materials (4
  * components: the materials a found piece separates, ascending, -2 none).
+ *
+ * @warning Long runs: progress through vtkAlgorithm's ProgressEvent; AbortExecute (ParaView's
+ * abort button) stops meshing at the next step; TimeLimit ends a run with an error naming the
+ * phase. Bad input (an empty oracle, criteria that cannot be met, a mesh that would not fit in
+ * memory) fails the update with an error naming it, never a silently wrong mesh.
+ *
+ * @sa vtkHierarchicalOracle vtkOracleFeatureLines vtkMeshValidityCheck vtkDelaunay3D
  */
 #ifndef vtkFeaturePreservingTetrahedralizer_h
 #define vtkFeaturePreservingTetrahedralizer_h

@@ -10,6 +10,12 @@
  * with its description in field data; block names are the domain names), from which downstream
  * filters rebuild the oracle exactly. This filter does no geometry work; it checks that every
  * input is a domain of a fitting data type.
+ *
+ * @warning The order of the inputs is the priority: reconnecting them reorders the materials'
+ * precedence.
+ *
+ * @sa vtkSurfaceDomain vtkLabelMapDomain vtkSphereDomain vtkImplicitDomain
+ * vtkFeaturePreservingTetrahedralizer vtkOracleSampler
  */
 #ifndef vtkHierarchicalOracle_h
 #define vtkHierarchicalOracle_h

@@ -14,6 +14,8 @@
  * every domain and in scene files). The output is a tessellation of
  * the shape's boundary inside DisplayBounds, for display only, with the domain description in its
  * field data.
+ *
+ * @sa vtkSphereDomain vtkSingleMaterialDomain vtkHierarchicalOracle vtkImplicitFunction
  */
 #ifndef vtkImplicitDomain_h
 #define vtkImplicitDomain_h

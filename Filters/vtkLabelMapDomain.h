@@ -10,6 +10,12 @@
  * With point data each point is the centre of its voxel (as in ITK and CGAL's Image_3); with cell
  * data each cell is a voxel. The image's direction matrix is honoured.
  * Output: the same image with the domain description in its field data.
+ *
+ * @warning With Smooth interpolation the filters that build the oracle from this domain (the
+ * tetrahedralizer, the sampler, the feature lines) first smooth the labels' interfaces: on a large
+ * image that takes seconds, with their progress and abort.
+ *
+ * @sa vtkHierarchicalOracle vtkSurfaceDomain vtkImageData
  */
 #ifndef vtkLabelMapDomain_h
 #define vtkLabelMapDomain_h

@@ -16,6 +16,8 @@
  * 8 inverted, 16 non-manifold face, 32 bad ids, 64 material mismatch) and field data
  * "ValidityNames" / "ValidityValues" (the counts, "validity.defects" their sum). A mesh with defects
  * also gives a warning naming them. GetNumberOfDefects() after an update.
+ *
+ * @sa vtkFeaturePreservingTetrahedralizer vtkMeshQuality vtkCellValidator
  */
 #ifndef vtkMeshValidityCheck_h
 #define vtkMeshValidityCheck_h

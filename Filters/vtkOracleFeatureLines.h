@@ -18,6 +18,8 @@
  * The curves are resampled as the tetrahedralizer's Features option does when MaximumSegmentLength
  * is 0 (the default): to the edge size of the criteria given here (else the facet size, else 1/40
  * of the oracle's diagonal).
+ *
+ * @sa vtkFeaturePreservingTetrahedralizer vtkHierarchicalOracle vtkFeatureEdges
  */
 #ifndef vtkOracleFeatureLines_h
 #define vtkOracleFeatureLines_h

@@ -8,6 +8,8 @@
  * "MaterialVolume" estimates each material's volume (sample count x sample spacing volume; each
  * sample stands for the cell of one spacing around it, so a material touching the sampled box's
  * faces is overcounted by up to d/(d-1) per axis) with "MaterialIds" alongside.
+ *
+ * @sa vtkHierarchicalOracle vtkSampleFunction
  */
 #ifndef vtkOracleSampler_h
 #define vtkOracleSampler_h

@@ -5,6 +5,8 @@
  *
  * Holds the properties they share (MaterialId, MaterialName, Cut) and writes them into the domain
  * description. Not instantiable.
+ *
+ * @sa vtkSurfaceDomain vtkSphereDomain vtkImplicitDomain vtkHierarchicalOracle
  */
 #ifndef vtkSingleMaterialDomain_h
 #define vtkSingleMaterialDomain_h

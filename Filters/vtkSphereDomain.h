@@ -5,6 +5,8 @@
  *
  * The oracle uses the exact ball |p - Center| <= Radius; the output polydata is a tessellation for
  * display only (Resolution), carrying the domain description in its field data.
+ *
+ * @sa vtkImplicitDomain vtkSingleMaterialDomain vtkHierarchicalOracle vtkSphereSource
  */
 #ifndef vtkSphereDomain_h
 #define vtkSphereDomain_h

@@ -17,6 +17,12 @@
  * first intersecting pair of triangles; WindingNumber accepts holes with a warning. Any other data
  * type on the port, an empty surface, NaN, infinite or absurd (beyond 1e15) coordinates, and a
  * surface that encloses no volume (an open patch, a plane) are errors naming the domain.
+ *
+ * @warning Surfaces with holes, borders or self-intersections are meshed by the winding number
+ * under the automatic inside test, with a warning naming what was found: a mesh of such a surface
+ * follows the surface where it exists and closes its holes.
+ *
+ * @sa vtkHierarchicalOracle vtkLabelMapDomain vtkSingleMaterialDomain vtkFeatureEdges
  */
 #ifndef vtkSurfaceDomain_h
 #define vtkSurfaceDomain_h
