@@ -115,16 +115,22 @@ def main():
               (h, om["tets"], om["refine"], om["after"], 100 * om["after"] / om["refine"]), file=sys.stderr)
     cols = [name for name, _ in AFTER] + ["python", "sets"]
     print("| h | tets OM / CGAL | refine s OM / CGAL | " + " | ".join(cols) +
-          " | after refinement s | share of OM's refinement | share of CGAL's | optimise + quality step s | call s |")
-    print("|" + "---|" * (len(cols) + 8))
+          " | after refinement s | share of OM's refinement | share of CGAL's | optimise + quality step s | call s |"
+          " peak MiB OM / CGAL | peak bytes per tet OM / CGAL (ratio) |")
+    print("|" + "---|" * (len(cols) + 10))
     for h, om, cg in rows:
         cgal_tets = "%s" % format(int(cg["tets"]), ",") if cg else "–"
         cgal_refine = "%.2f" % cg["refine"] if cg else "–"
         share_cgal = "%.1f %%" % (100 * om["after"] / cg["refine"] * cg["tets"] / om["tets"]) if cg else "–"
+        om_bytes = om["peak_rss"] / om["tets"]
+        peak = "%.0f / %s" % (om["peak_rss"] / 2**20, "%.0f" % (cg["peak_rss"] / 2**20) if cg else "–")
+        per_tet = "%.0f / %s" % (om_bytes, "%.0f (%.2fx)" % (cg["peak_rss"] / cg["tets"], om_bytes / (cg["peak_rss"] / cg["tets"]))
+                                 if cg else "–")
         print("| %g | %s / %s | %.2f / %s | " % (h, format(om["tets"], ","), cgal_tets, om["refine"], cgal_refine) +
               " | ".join("%.3f" % om[c] for c in cols) +
-              " | %.2f | %.1f %% | %s | %.2f + %.2f | %.2f |" % (om["after"], 100 * om["after"] / om["refine"], share_cgal,
-                                                                  om["optimise"], om["improve"], om["call"]))
+              " | %.2f | %.1f %% | %s | %.2f + %.2f | %.2f | %s | %s |" % (
+                  om["after"], 100 * om["after"] / om["refine"], share_cgal, om["optimise"], om["improve"], om["call"],
+                  peak, per_tet))
     print("\nshare of CGAL's: the after-refinement seconds per tetrahedron over CGAL's refinement seconds per "
           "tetrahedron; %d run(s) per configuration (medians); load average %.1f" % (a.repeat, os.getloadavg()[0]))
 
