@@ -20,7 +20,7 @@ namespace
 {
 /// floor(x) and ceil(x) of a voxel coordinate (|x| far below 2^31), as doubles, the same values as
 /// std::floor and std::ceil (up to the sign of a zero) without their rounding sequences (the piece
-/// ends' setup per query was ~1.5 % of a coarse label map's refinement): truncation, then a step
+/// ends' setup per query would cost ~1.5 % of a coarse label map's refinement): truncation, then a step
 /// towards the rounding direction where it went the other way.
 inline double floorOf(double x)
 {

@@ -81,7 +81,7 @@ struct MaterialCriteria
   double finestFacetDistance() const;
 
   /// Every material's resolved criteria, computed once: the mesher's criteria ask for them per
-  /// facet and cell (of() resolving each time was ~4 % of a coarse label map's refinement).
+  /// facet and cell (of() resolving each time costs ~4 % of a coarse label map's refinement).
   class Resolved
   {
   public:

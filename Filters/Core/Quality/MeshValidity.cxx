@@ -19,8 +19,8 @@ namespace
 /// a grid of 8 `tol` that holds them; each is compared with the vertices of its own cell and of
 /// the neighbouring cells it lies within `tol` of (about two cells on average, not 27). Such
 /// cells hold few vertices that are not duplicates (a vertex stops at its first duplicate),
-/// wherever the vertices crowd: with cells of the median edge, a cluster of tiny tetrahedra was a
-/// quadratic search. Keys count from the smallest coordinates in cells of at least 1e-12 of the
+/// wherever the vertices crowd: with cells of the median edge, a cluster of tiny tetrahedra would
+/// make it a quadratic search. Keys count from the smallest coordinates in cells of at least 1e-12 of the
 /// extent, so that they fit.
 std::vector<char> findDuplicates(const std::vector<Vec3>& points, const std::vector<char>& used, double tol)
 {

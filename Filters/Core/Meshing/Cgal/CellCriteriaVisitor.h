@@ -10,8 +10,8 @@ namespace omesh::cgal
 /// (Cell_criteria_visitor_with_features) first sorts a cell's weighted vertices with four filtered
 /// predicates (interval arithmetic) for its own size and radius-edge criteria, which the mesher
 /// does not add (MaterialCellCriterion handles protecting balls itself); any other criterion it
-/// visits exactly as this one does. That sorting was ~0.7k instructions a tetrahedron of a coarse
-/// label map's refinement.
+/// visits exactly as this one does. That sorting costs ~0.7k instructions a tetrahedron of a
+/// coarse label map's refinement.
 template <class Tr>
 class CellCriteriaVisitor : public CGAL::Mesh_3::Criterion_visitor<Tr, typename Tr::Cell_handle>
 {

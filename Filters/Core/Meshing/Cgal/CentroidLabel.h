@@ -22,8 +22,8 @@ namespace omesh::cgal
 /// Mesh_3's cell level asks only the cells of the complex, so the label rule
 /// (MaterialCellCriterion::labelQuality) never sees these: at a part's acute edge on the outer
 /// boundary the cells from one face to the other have their circumcentres outside, and the edge
-/// was no edge of any output tetrahedron (an 18.4-degree wedge alone: 384 pieces split to the
-/// floor and still missing, -2.2 % of its volume).
+/// would be no edge of any output tetrahedron (on an 18.4-degree wedge alone, hundreds of pieces
+/// split to the floor and still missing, 2 % of its volume lost).
 template <class C3t3>
 int subdomainByCentroid(const C3t3& c3t3, const typename C3t3::Triangulation::Cell_handle& c, const HierarchicalOracle& oracle)
 {

@@ -2,7 +2,7 @@
 // Private to the mesher (includes CGAL). The parallel refinement's complex on its way back into the
 // sequential one (ParallelRefinement.cxx), packed into plain arrays so the concurrent triangulation
 // can be freed before the sequential one is built: copied directly (copy_tds), both triangulations
-// were alive at once, and that was the peak of a run with threads (twice the sequential run's).
+// would be alive at once, the peak of a run with threads (twice the sequential run's).
 //
 // What is kept is what copyComplex copies: the triangulation's vertices and cells with their
 // adjacency and Mesh_3 data (vertex dimension, index, ball size; cell subdomain, visited facets, and
