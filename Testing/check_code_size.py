@@ -157,7 +157,7 @@ def check(root):
                 if kind == "function":
                     functions.append((size, f"{where}:{first}", name_))
                     if not in_class and "::" in name_:
-                        owner = name_.rsplit("::", 2)[-2]
+                        owner = re.sub(r"<.*>", "", name_.rsplit("::", 2)[-2])  # Foo<T>::f is a member of Foo
                         outside[owner] = outside.get(owner, 0) + size
                 elif not in_class:  # nested classes count with their outer class
                     class_body[name_] = class_body.get(name_, 0) + size
