@@ -5,6 +5,7 @@
 // and cell bases, so a complex can be copied from one to the other (ParallelRefinement.cxx, PackedComplex.h).
 #pragma once
 
+#include "CellRefinementQueue.h"
 #include "MesherCriteria3.h"
 #include "OracleMeshDomain.h"
 
