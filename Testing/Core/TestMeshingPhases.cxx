@@ -13,6 +13,7 @@
 
 #include <algorithm>
 #include <array>
+#include <map>
 #include <memory>
 #include <set>
 #include <string>
@@ -165,4 +166,48 @@ TEST(MeshingPhases, SegmentRepairAfterPerturbationRefinesOnlyAroundTheBrokenSubS
   EXPECT_NEAR(featureCoverage(repaired.segments, edges), 1.0, 1e-12);
   EXPECT_LE(static_cast<double>(repaired.tets.size()), 1.01 * static_cast<double>(perturbed.tets.size()))
     << perturbed.tets.size() << " tetrahedra after perturbation, " << repaired.tets.size() << " after the repair";
+}
+
+TEST(MeshingPhases, TheOutputIsTheComplexInSpaceOrder)
+{
+  const HierarchicalOracle o = unitCube();
+  const FeatureSegments edges = test::cubeEdges(0, 1);
+  MeshingRun run(o, edges, cubeOptions(0.1));
+  run.initial.run({});
+  run.refinement.refineAllLevels();
+  // the complex's cells, as tetSet takes them
+  TetMesh complex;
+  const auto& c3t3 = *run.context.c3t3;
+  std::map<Tr::Vertex_handle, int> index;
+  for (auto c = c3t3.cells_in_complex_begin(); c != c3t3.cells_in_complex_end(); ++c)
+  {
+    std::array<int, 4> k;
+    for (int i = 0; i < 4; ++i)
+    {
+      const auto [at, added] = index.emplace(c->vertex(i), static_cast<int>(complex.points.size()));
+      if (added)
+        complex.points.push_back(cgal::toVec(c->vertex(i)->point().point()));
+      k[i] = at->second;
+    }
+    complex.tets.push_back(k);
+    complex.tetMaterial.push_back(cgal::materialOf(c3t3.subdomain_index(c)));
+  }
+  const TetMesh mesh = run.output.convert();
+  ASSERT_GT(mesh.tets.size(), 1000u);
+  EXPECT_TRUE(tetSet(mesh) == tetSet(complex)) << "the same tetrahedra and materials";
+  EXPECT_EQ(mesh.points.size(), complex.points.size()) << "every point used, none twice";
+  EXPECT_EQ(c3t3.triangulation().number_of_vertices(), 0u) << "the complex is released";
+  auto smallest = [&](size_t t) { return *std::min_element(mesh.tets[t].begin(), mesh.tets[t].end()); };
+  for (size_t t = 1; t < mesh.tets.size(); ++t)
+    ASSERT_LE(smallest(t - 1), smallest(t)) << "tetrahedra in the order of their smallest point, at " << t;
+  // points along a space-filling curve: consecutive ones are near, much nearer than in the
+  // complex's own order
+  auto meanStep = [](const std::vector<Vec3>& p) {
+    double sum = 0.0;
+    for (size_t k = 1; k < p.size(); ++k)
+      sum += norm(p[k] - p[k - 1]);
+    return sum / static_cast<double>(p.size() - 1);
+  };
+  EXPECT_LT(meanStep(mesh.points), 0.5 * meanStep(complex.points));
+  EXPECT_LT(meanStep(mesh.points), 0.2) << "about an edge length (cell size 0.1)";
 }

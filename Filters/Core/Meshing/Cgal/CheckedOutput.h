@@ -6,11 +6,13 @@
 #include "ComplexToTetMesh.h"
 #include "DihedralImprovement.h"
 #include "FieldDataKeys.h"
+#include "FreedMemory.h"
 #include "MeshQuality.h"
 #include "MeshValidity.h"
 #include "MeshingContext.h"
 #include "RefinementRounds.h"
 #include "ShapeSummary.h"
+#include "TetMeshOrder.h"
 
 #include <algorithm>
 #include <map>
@@ -54,8 +56,9 @@ public:
   }
 
   /// The complex as a TetMesh; the complex is cleared: only the output is needed from here on,
-  /// and the triangulation's memory goes back before the checks build their own tables (else
-  /// both at once were the run's peak).
+  /// and the triangulation's memory goes back to the system before the tetrahedra are ordered and
+  /// the quality step and the checks build their own tables (else they all stack on it at the
+  /// run's peak).
   TetMesh convert()
   {
     const auto started = Clock::now();
@@ -64,6 +67,8 @@ public:
     outputVertices_ = mesh.points.size();
     outputTets_ = mesh.tets.size();
     run_.c3t3->clear();
+    returnFreedMemory();
+    orderTetsByPoints(mesh);
     outputTime_ = seconds(started);
     return mesh;
   }

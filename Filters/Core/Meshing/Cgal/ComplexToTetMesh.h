@@ -8,7 +8,12 @@
 #include "SequentialTypes.h"
 #include "TetMesh.h"
 
+#include <CGAL/Spatial_sort_traits_adapter_3.h>
+#include <CGAL/hilbert_sort.h>
+#include <CGAL/property_map.h>
+
 #include <algorithm>
+#include <numeric>
 #include <unordered_map>
 #include <utility>
 #include <vector>
@@ -33,32 +38,46 @@ inline std::vector<std::pair<Tr::Cell_handle, int>> cellsInsideByCentroid(
   return taken;
 }
 
+/// Gives each vertex in `stamped` (time stamps of vertices, -1 = unused) an output id, in Hilbert
+/// order of the points: neighbours in space get neighbouring ids, so every later pass over the
+/// output (the quality step, the validity check, the VTK arrays, the writers) reads memory nearly in
+/// order; the complex's own order scatters a tetrahedron's corners across the mesh, and from about
+/// a million tetrahedra those passes wait on memory. Writes the points and their dimensions.
+inline void numberVerticesSpatially(const C3t3& c3t3, const std::vector<Tr::Vertex_handle>& used,
+  std::vector<int>& ids, TetMesh& out)
+{
+  std::vector<K::Point_3> points;
+  points.reserve(used.size());
+  for (const Tr::Vertex_handle& v : used)
+    points.push_back(v->point().point());
+  std::vector<std::size_t> order(used.size());
+  std::iota(order.begin(), order.end(), std::size_t{ 0 });
+  using Traits = CGAL::Spatial_sort_traits_adapter_3<K, CGAL::Pointer_property_map<K::Point_3>::type>;
+  if (!order.empty()) // the middle policy reads the first point for the bounding box
+    CGAL::hilbert_sort(order.begin(), order.end(), Traits(CGAL::make_property_map(points)), CGAL::Hilbert_sort_middle_policy());
+  out.points.resize(used.size());
+  out.pointDimension.resize(used.size());
+  for (std::size_t k = 0; k < order.size(); ++k)
+  {
+    const Tr::Vertex_handle v = used[order[k]];
+    ids[v->time_stamp()] = static_cast<int>(k);
+    out.points[k] = toVec(points[order[k]]);
+    const int dim = c3t3.in_dimension(v);
+    out.pointDimension[k] = dim < 0 ? 3 : dim;
+  }
+}
+
 /// Converts the complex to the output mesh: its cells, and the cells outside it that lie inside a
 /// material by their centroid (cellsInsideByCentroid); interface triangles are the complex's
-/// facets, and around the cells taken the faces between different materials.
+/// facets, and around the cells taken the faces between different materials. Points are in
+/// Hilbert order (numberVerticesSpatially), tetrahedra in the complex's order: the caller orders
+/// them (orderTetsByPoints) once the complex is released, so the copy that takes is not on top of
+/// the complex at the run's peak. One pass over the complex's cells reads everything it needs of them: at a million
+/// tetrahedra each pass over CGAL's cells costs as much as the whole validity check.
 inline TetMesh toTetMesh(const C3t3& c3t3, const HierarchicalOracle& oracle, const std::vector<Tr::Cell_handle>& candidates)
 {
   TetMesh out;
   const Tr& tr = c3t3.triangulation();
-  // Output ids in the order the cells first use the vertices, looked up by the vertices' time
-  // stamps (unique, below the number of vertices ever created): an array, not a hash map.
-  std::size_t stamps = 0;
-  for (auto v = tr.finite_vertices_begin(); v != tr.finite_vertices_end(); ++v)
-    stamps = std::max(stamps, v->time_stamp() + 1);
-  std::vector<int> ids(stamps, -1);
-  out.points.reserve(tr.number_of_vertices());
-  out.pointDimension.reserve(tr.number_of_vertices());
-  auto id = [&](Tr::Vertex_handle v) {
-    int& at = ids[v->time_stamp()];
-    if (at < 0)
-    {
-      at = static_cast<int>(out.points.size());
-      out.points.push_back(toVec(v->point().point()));
-      const int dim = c3t3.in_dimension(v);
-      out.pointDimension.push_back(dim < 0 ? 3 : dim);
-    }
-    return at;
-  };
   const std::vector<std::pair<Tr::Cell_handle, int>> taken = cellsInsideByCentroid(c3t3, oracle, candidates);
   std::unordered_map<Tr::Cell_handle, std::size_t> takenAt; // position in `taken`
   for (std::size_t k = 0; k < taken.size(); ++k)
@@ -71,51 +90,83 @@ inline TetMesh toTetMesh(const C3t3& c3t3, const HierarchicalOracle& oracle, con
     const auto it = takenAt.find(c);
     return it == takenAt.end() ? 0 : taken[it->second].second;
   };
+  // Time stamps are unique and below the number of vertices ever created: an array, not a hash map.
+  // Until the vertices are numbered, tetrahedra and triangles hold time stamps.
+  std::size_t stamps = 0;
+  for (auto v = tr.finite_vertices_begin(); v != tr.finite_vertices_end(); ++v)
+    stamps = std::max(stamps, v->time_stamp() + 1);
+  std::vector<int> ids(stamps, -1);
+  std::vector<Tr::Vertex_handle> used;
+  used.reserve(tr.number_of_vertices());
+  auto stamp = [&](Tr::Vertex_handle v) {
+    int& at = ids[v->time_stamp()];
+    if (at < 0)
+    {
+      at = 0;
+      used.push_back(v);
+    }
+    return static_cast<int>(v->time_stamp());
+  };
   auto addTet = [&](Tr::Cell_handle c, int index) {
-    out.tets.push_back({ id(c->vertex(0)), id(c->vertex(1)), id(c->vertex(2)), id(c->vertex(3)) });
+    out.tets.push_back({ stamp(c->vertex(0)), stamp(c->vertex(1)), stamp(c->vertex(2)), stamp(c->vertex(3)) });
     out.tetMaterial.push_back(materialOf(index));
   };
-  out.tets.reserve(c3t3.number_of_cells_in_complex() + taken.size());
-  out.tetMaterial.reserve(out.tets.capacity());
-  for (auto c = c3t3.cells_in_complex_begin(); c != c3t3.cells_in_complex_end(); ++c)
-    addTet(c, c3t3.subdomain_index(c));
-  for (const auto& [c, index] : taken)
-    addTet(c, index);
   auto addTriangle = [&](Tr::Cell_handle c, int i, int first, int second) {
     std::array<int, 3> tri;
     for (int k = 0; k < 3; ++k)
-      tri[k] = id(c->vertex((i + 1 + k) & 3));
+      tri[k] = stamp(c->vertex((i + 1 + k) & 3));
     out.interfaceTriangles.push_back(tri);
     out.interfaceMaterials.push_back({ materialOf(first), materialOf(second) });
   };
-  std::size_t dangling = 0;
-  for (auto f = c3t3.facets_in_complex_begin(); f != c3t3.facets_in_complex_end(); ++f)
+  out.tets.reserve(c3t3.number_of_cells_in_complex() + taken.size());
+  out.tetMaterial.reserve(out.tets.capacity());
+  // A restricted facet is written once, from a cell of the complex beside it (the lower handle
+  // when both are); around the cells taken, below. A facet with no tetrahedron of the complex on
+  // either side (a patch between two outside regions, e.g. the cut-away part and the exterior)
+  // bounds nothing: kept, its corners would be nodes no element uses, which finite-element codes
+  // reject or leave singular.
+  std::size_t reached = 0, besideTaken = 0;
+  for (auto c = c3t3.cells_in_complex_begin(); c != c3t3.cells_in_complex_end(); ++c)
   {
-    const Tr::Cell_handle other = f->first->neighbor(f->second);
-    if (!takenAt.empty() && (takenAt.count(f->first) || takenAt.count(other)))
-      continue; // around the cells taken: below
-    // A restricted facet with no tetrahedron of the complex on either side (a patch between two
-    // outside regions, e.g. the cut-away part and the exterior) bounds nothing: kept, its corners
-    // would be nodes no element uses, which finite-element codes reject or leave singular.
-    if (!c3t3.is_in_complex(f->first) && !c3t3.is_in_complex(other))
+    addTet(c, c3t3.subdomain_index(c));
+    for (int i = 0; i < 4; ++i)
     {
-      ++dangling;
-      continue;
+      if (!c->is_facet_on_surface(i))
+        continue;
+      const Tr::Cell_handle other = c->neighbor(i);
+      if (c3t3.is_in_complex(other) && !(Tr::Cell_handle(c) < other))
+        continue;
+      ++reached;
+      if (!takenAt.empty() && takenAt.count(other))
+        continue; // around the cells taken: below
+      const auto patch = c3t3.surface_patch_index(c, i);
+      addTriangle(c, i, patch.first, patch.second);
     }
-    const auto patch = c3t3.surface_patch_index(*f);
-    addTriangle(f->first, f->second, patch.first, patch.second);
   }
+  for (const auto& [c, index] : taken)
+    addTet(c, index);
   for (std::size_t k = 0; k < taken.size(); ++k)
     for (int i = 0; i < 4; ++i)
     {
       const auto [c, index] = taken[k];
       const Tr::Cell_handle other = c->neighbor(i);
+      const auto it = takenAt.find(other);
+      // the complex's facets between a cell taken and another outside the complex (once per face)
+      if (c->is_facet_on_surface(i) && !c3t3.is_in_complex(other) && !(it != takenAt.end() && it->second < k))
+        ++besideTaken;
       const int beyond = subdomain(other);
       // once per face: a face between two cells taken is written from the first of them
-      const auto it = takenAt.find(other);
       if (beyond != index && !(it != takenAt.end() && it->second < k))
         addTriangle(c, i, index, beyond);
     }
+  numberVerticesSpatially(c3t3, used, ids, out);
+  for (auto& t : out.tets)
+    for (int& v : t)
+      v = ids[static_cast<std::size_t>(v)];
+  for (auto& t : out.interfaceTriangles)
+    for (int& v : t)
+      v = ids[static_cast<std::size_t>(v)];
+  const std::size_t dangling = c3t3.number_of_facets_in_complex() - reached - besideTaken;
   out.statistics["interface_triangles_without_tetrahedra"] = static_cast<double>(dangling);
   out.statistics["output.cells_inside_by_centroid"] = static_cast<double>(taken.size());
   return out;
