@@ -77,13 +77,17 @@ def _face_keys(faces, n_points):
     return np.unique(s, axis=0, return_inverse=True)[1].ravel()
 
 
-def material_ids(material):
-    """The sorted distinct ids of an integer array (a count per id, not a sort of the array)."""
-    material = np.asarray(material, dtype=np.int64)
+def material_ids(material, block_rows=1 << 20):
+    """The sorted distinct ids of an integer array: each id marked present, a block of the array at a
+    time (no sort, no converted copy of the array)."""
+    material = np.asarray(material)
     if not len(material):
         return []
     low = int(material.min())
-    return (np.flatnonzero(np.bincount(material - low)) + low).tolist()
+    present = np.zeros(int(material.max()) - low + 1, dtype=bool)
+    for start in range(0, len(material), block_rows):
+        present[material[start:start + block_rows].astype(np.int64) - low] = True
+    return (np.flatnonzero(present) + low).tolist()
 
 
 def separating_faces(points, cells, material):
@@ -121,7 +125,7 @@ def surface_sets(points, cells, material, names=None, separating=None):
     left out."""
     points = np.asarray(points, dtype=np.float64)
     cells = np.asarray(cells, dtype=np.int64)
-    material = np.asarray(material, dtype=np.int64)
+    material = np.asarray(material)  # any integer type: read where needed, not copied to int64
     rows, other = separating if separating is not None else separating_faces(points, cells, material)
     rows, other = np.asarray(rows, dtype=np.int64), np.asarray(other, dtype=np.int64)
     faces = np.take_along_axis(cells[rows // 4], TET_FACES[rows % 4], axis=1)
