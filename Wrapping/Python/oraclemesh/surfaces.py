@@ -69,12 +69,22 @@ class SurfaceSets:
         return self.surface == index
 
 
-def _face_keys(faces, n_points):
-    """An integer key per face (any vertex order), equal for equal faces."""
-    s = np.sort(faces, axis=1).astype(np.int64)
-    if n_points < 2 ** 21:  # three 21-bit ids fit one int64: a single fast sort
-        return (s[:, 0] << 42) | (s[:, 1] << 21) | s[:, 2]
-    return np.unique(s, axis=0, return_inverse=True)[1].ravel()
+def _face_keys(cells, n_points, block_rows=1 << 18):
+    """An integer key per face of the tetrahedra `cells` (face f of tetrahedron t at 4 t + f, any
+    vertex order), equal for equal faces."""
+    if n_points >= 2 ** 21:
+        faces = np.sort(cells[:, TET_FACES].reshape(-1, 3), axis=1)
+        return np.unique(faces, axis=0, return_inverse=True)[1].ravel()
+    # three 21-bit ids fit one int64: a single fast sort. Made from the cells' columns a block at a
+    # time: the keys (8 bytes a face) are all that is held for the whole mesh, not its [4m x 3] faces.
+    keys = np.empty((len(cells), 4), dtype=np.int64)
+    for start in range(0, len(cells), block_rows):
+        block = np.asarray(cells[start:start + block_rows], dtype=np.int64)
+        for f, (i, j, k) in enumerate(TET_FACES):
+            a, b, c = block[:, i], block[:, j], block[:, k]
+            low, high = np.minimum(np.minimum(a, b), c), np.maximum(np.maximum(a, b), c)
+            keys[start:start + len(block), f] = (low << 42) | ((a + b + c - low - high) << 21) | high
+    return keys.ravel()
 
 
 def material_ids(material, block_rows=1 << 20):
@@ -96,12 +106,12 @@ def separating_faces(points, cells, material):
     each face of one tetrahedron, or of two of different materials on the side of the lower id.
     Faces shared by more than two tetrahedra (a broken mesh; the validity check reports them) are
     left out."""
-    faces = cells[:, TET_FACES].reshape(-1, 3)  # face f of tet t is row 4 t + f
-    keys = _face_keys(faces, len(points))
+    keys = _face_keys(cells, len(points))  # face f of tet t is row 4 t + f
     order = np.argsort(keys, kind="stable")
     sorted_keys = keys[order]
+    del keys
     starts = np.flatnonzero(np.r_[True, sorted_keys[1:] != sorted_keys[:-1]])
-    counts = np.diff(np.r_[starts, len(keys)])
+    counts = np.diff(np.r_[starts, len(sorted_keys)])
 
     single = order[starts[counts == 1]]
     first, second = order[starts[counts == 2]], order[starts[counts == 2] + 1]
