@@ -2,10 +2,11 @@
 """The text mesh formats (.inp, .msh, .mesh; ``writers.py`` says what each file holds) written in
 blocks of rows.
 
-Each block of rows (``BLOCK_ROWS``, or the caller's number) becomes Python numbers, is formatted with
-one printf-style pattern repeated once per row and is written before the next block is made: a file
-costs one block's numbers and text beside the mesh, never a converted copy of its nodes, elements
-or materials, nor the whole file's text. The block size changes nothing in the file.
+Each block of rows (about ``BLOCK_VALUES`` numbers, or the caller's number of rows) becomes Python
+numbers, is formatted with one printf-style pattern repeated once per row and is written before the
+next block is made: a file costs one block's numbers and text beside the mesh, never a converted
+copy of its nodes, elements or materials, nor the whole file's text. The block size changes nothing
+in the file.
 
 The text is what meshio 5.0's Abaqus and Gmsh 2.2 (ASCII) writers and numpy's ``savetxt`` make of
 the same arrays: the same number formats, separators, element numbering and set lists, so the files
@@ -17,8 +18,9 @@ import numpy as np
 
 from .surfaces import material_set_names
 
-# Rows formatted at a time: for 4-6 numbers a row, some 15-25 MB of Python numbers and text, ~0.1 s.
-BLOCK_ROWS = 100_000
+# Numbers formatted at a time, as whole rows (100,000 rows of a 4-node element): some 30 MB of Python
+# numbers and text whatever the row's width, ~0.1 s.
+BLOCK_VALUES = 500_000
 # 13 significant digits: 19 characters at most; CalculiX's reader takes 20 per number and stops at
 # longer ones ("*ERROR reading *NODE").
 ABAQUS_FLOAT = "%.12e"
@@ -34,11 +36,16 @@ def _columns(block):
     return block.T.tolist()
 
 
+def _block(block_rows, width):
+    """Rows of `width` numbers formatted at a time: the caller's, else about BLOCK_VALUES numbers."""
+    return block_rows or max(1, BLOCK_VALUES // width)
+
+
 def write_rows(f, pattern, count, columns, block_rows=None):
     """Writes `count` rows to the text file `f`, each formatted with the printf-style `pattern` (a
     row with its newline); columns(start, stop) gives the columns of rows [start, stop) as sequences
     of Python numbers (ranges, lists)."""
-    block_rows = block_rows or BLOCK_ROWS
+    block_rows = _block(block_rows, pattern.count("%"))
     for start in range(0, count, block_rows):
         stop = min(start + block_rows, count)
         values = tuple(itertools.chain.from_iterable(zip(*columns(start, stop))))
@@ -68,18 +75,19 @@ def write_id_lines(f, chunks, per_line=ABAQUS_PER_LINE):
 
 def _matching(values, wanted, block_rows):
     """The 1-based positions of `wanted` in `values`, a block of `values` at a time."""
+    block_rows = _block(block_rows, 1)
     for start in range(0, len(values), block_rows):
         yield np.flatnonzero(values[start:start + block_rows] == wanted) + (start + 1)
 
 
 def _slices(array, block_rows):
+    block_rows = _block(block_rows, 1)
     return (array[start:start + block_rows] for start in range(0, len(array), block_rows))
 
 
 def write_inp(f, arrays, block_rows=None):
     """Abaqus: *NODE, *ELEMENT (C3D4 or C3D10), an *ELSET per material, an *NSET per surface, then
     the material comments and a *SURFACE per surface. `arrays`: a writers.MeshArrays."""
-    block_rows = block_rows or BLOCK_ROWS
     f.write("*HEADING\nAbaqus DataFile Version 6.14\nwritten by OracleMesh\n*NODE\n")
     points, nodes = arrays.points, arrays.nodes
     write_rows(f, "%d, " + ", ".join([ABAQUS_FLOAT] * 3) + "\n", len(points),
@@ -124,7 +132,6 @@ def gmsh_physical_names(arrays):
 def write_msh(f, arrays, block_rows=None):
     """Gmsh 2.2 ASCII: $PhysicalNames, $Nodes, $Elements (the tetrahedra with their material as
     physical and elementary tag, then the surface triangles with their surface tag)."""
-    block_rows = block_rows or BLOCK_ROWS
     names = gmsh_physical_names(arrays)
     f.write(f"$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$PhysicalNames\n{len(names)}\n")
     f.writelines(f'{dimension} {tag} "{name}"\n' for dimension, tag, name in names)
@@ -156,7 +163,6 @@ def write_msh(f, arrays, block_rows=None):
 def write_medit(f, arrays, block_rows=None):
     """Medit: name comments, Vertices, Triangles (surface tags) and Tetrahedra (material ids), the P2
     keywords for 10-node tetrahedra."""
-    block_rows = block_rows or BLOCK_ROWS
     f.write("# OracleMesh: tetrahedron references are material ids, triangle references surface tags\n")
     if arrays.quadratic:
         f.write("# OracleMesh: P2 nodes: corners, then the mid-edge nodes of edges 12 23 31 (triangles), "

@@ -250,8 +250,8 @@ def write_mesh(grid, path, material_names=None, arrays=None, block_rows=None):
     interface surfaces to `path`, the format chosen by the extension (one of MESH_FORMATS), and
     returns the files written (a .vtu has its ``_surfaces.vtu``). `material_names`: {material id:
     name}; `arrays`: a MeshArrays of the grid, to share the work between several formats;
-    `block_rows`: rows of a text format formatted at a time (default meshtext.BLOCK_ROWS; the file
-    is the same for any)."""
+    `block_rows`: rows of a text format formatted at a time (default: about meshtext.BLOCK_VALUES
+    numbers' worth; the file is the same for any)."""
     ext = _extension(path)
     if ext not in MESH_FORMATS:
         raise OracleMeshError(f"{path}: unknown mesh format '{ext}' (use one of {', '.join(MESH_FORMATS)})")
