@@ -19,7 +19,7 @@ PKGS=(
   clang libclang-rt-14-dev llvm-14
   # tests: gmsh's own reader checks the .msh files (gmsh -check); CalculiX solves the .inp files
   gmsh calculix-ccx
-  # command line: finite-element mesh formats (meshio) and the report's histogram picture
+  # command line: the report reads the finite-element formats back (meshio; the writers need none), its histogram picture
   python3-meshio python3-matplotlib
   # batch on a Dask cluster (--scheduler, --workers)
   python3-distributed

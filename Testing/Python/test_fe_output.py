@@ -398,27 +398,25 @@ class Writers(unittest.TestCase):
         self.assertEqual(material_names(grid), names, "the grid in memory is left as it was")
 
     def test_a_failed_write_keeps_the_previous_file_and_names_the_path(self):
-        import meshio
-
+        from oraclemesh import meshtext
         from oraclemesh.writers import write_mesh
 
         path = os.path.join(self.tmp.name, "good.inp")
         write_mesh(_two_tetrahedra((1, 2)), path)
         with open(path) as f:
             before = f.read()
-        original = meshio.abaqus.write
+        original = meshtext.write_rows
 
-        def interrupted(filename, mesh, **options):
-            with open(filename, "w") as f:
-                f.write("*HEADING\nhalf a fi")
-            raise KeyboardInterrupt  # as if the run were stopped while writing
+        def interrupted(f, *args, **options):
+            f.write("half a ro")
+            raise KeyboardInterrupt  # as if the run were stopped while writing, after the heading
 
-        meshio.abaqus.write = interrupted
+        meshtext.write_rows = interrupted
         try:
             with self.assertRaises(KeyboardInterrupt):
                 write_mesh(_two_tetrahedra((1, 3)), path)
         finally:
-            meshio.abaqus.write = original
+            meshtext.write_rows = original
         with open(path) as f:
             self.assertEqual(f.read(), before)
         self.assertEqual(self.leftovers(), [])
@@ -514,6 +512,166 @@ class PythonApi(unittest.TestCase):
         with self.assertRaises(om.OracleMeshError) as ctx:
             result.save("x.stl")
         self.assertIn("x.stl: unknown mesh format '.stl'", str(ctx.exception))
+
+
+KUHN = [[0, 1 << a, (1 << a) | (1 << b), 7] for a, b in ((0, 1), (0, 2), (1, 0), (1, 2), (2, 0), (2, 1))]
+VTK_EDGES = ((0, 1), (1, 2), (2, 0), (0, 3), (1, 3), (2, 3))  # mid-edge nodes 4..9 of a 10-node tetrahedron
+BLOCK_NAMES = {1: "block", 2: "post", 3: "top"}
+BLOCK_SETS = {1: "BLOCK", 2: "POST", 3: "TOP", -1: "EXTERIOR"}
+
+
+def _cube_block(n, order=1):
+    """n^3 cubes of six tetrahedra each (around the cube's diagonal: conforming), materials 3 (the top
+    layer), 2 (a post in one quarter below it) and 1; for order 2 a mid-edge node per edge. Returns
+    (grid, points, nodes [m x 4 or 10] in VTK's order, material)."""
+    from vtkmodules.util.numpy_support import numpy_to_vtk
+    from vtkmodules.util.vtkConstants import VTK_ID_TYPE, VTK_QUADRATIC_TETRA, VTK_TETRA
+    from vtkmodules.vtkCommonCore import vtkPoints
+    from vtkmodules.vtkCommonDataModel import vtkCellArray, vtkUnstructuredGrid
+
+    bits = np.array([(b & 1, (b >> 1) & 1, (b >> 2) & 1) for b in range(8)])
+    ijk = np.array([(i, j, k) for k in range(n + 1) for j in range(n + 1) for i in range(n + 1)])
+    points = ijk * 0.7 + np.sin(ijk.sum(axis=1) * 1.3)[:, None] * 0.05  # coordinates with all their digits
+    cubes = np.array([(i, j, k) for k in range(n) for j in range(n) for i in range(n)])
+    corner = bits @ [1, n + 1, (n + 1) ** 2]
+    nodes = ((cubes @ [1, n + 1, (n + 1) ** 2])[:, None, None] + corner[np.array(KUHN)]).reshape(-1, 4)
+    p = points[nodes]
+    negative = np.einsum("ij,ij->i", np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]), p[:, 3] - p[:, 0]) < 0
+    nodes[negative] = nodes[negative][:, [0, 2, 1, 3]]
+    material = np.where(cubes[:, 2] == n - 1, 3, np.where((cubes[:, 0] < n // 2) & (cubes[:, 1] < n // 2), 2, 1))
+    material = np.repeat(material, 6).astype(np.int32)
+    if order == 2:
+        mids, extra = {}, []
+        for cell in nodes.tolist():
+            for i, j in VTK_EDGES:
+                key = (min(cell[i], cell[j]), max(cell[i], cell[j]))
+                if key not in mids:
+                    mids[key] = len(points) + len(extra)
+                    extra.append((points[key[0]] + points[key[1]]) / 2)
+        nodes = np.array([c + [mids[min(c[i], c[j]), max(c[i], c[j])] for i, j in VTK_EDGES]
+                          for c in nodes.tolist()])
+        points = np.concatenate([points, extra])
+    grid = vtkUnstructuredGrid()
+    vtk_points = vtkPoints()
+    vtk_points.SetData(numpy_to_vtk(points, deep=True))
+    grid.SetPoints(vtk_points)
+    cells = vtkCellArray()
+    cells.SetData(numpy_to_vtk(np.arange(0, nodes.size + 1, nodes.shape[1]), deep=True, array_type=VTK_ID_TYPE),
+                  numpy_to_vtk(nodes.ravel(), deep=True, array_type=VTK_ID_TYPE))
+    grid.SetCells(VTK_QUADRATIC_TETRA if order == 2 else VTK_TETRA, cells)
+    array = numpy_to_vtk(material, deep=True)
+    array.SetName("Material")
+    grid.GetCellData().AddArray(array)
+    return grid, points, nodes, material
+
+
+class StreamedWriting(unittest.TestCase):
+    """The text formats are written a block of rows at a time and the mesh is not copied: files that
+    meshio reads back as the mesh with its sets (sets found here from the tetrahedra alone), the same
+    bytes for any block size, and the arrays the writers read are the grid's own."""
+
+    def setUp(self):
+        self.tmp = tempfile.TemporaryDirectory()
+
+    def tearDown(self):
+        self.tmp.cleanup()
+
+    def write(self, grid, name, **options):
+        from oraclemesh.writers import write_mesh
+
+        path = os.path.join(self.tmp.name, name)
+        write_mesh(grid, path, BLOCK_NAMES, **options)
+        return path
+
+    def expected_sets(self, nodes, material):
+        """{surface name: set of its sorted corner triples}, {surface name: set of its nodes}."""
+        faces = expected_faces(nodes[:, :4], material)
+        mid = {}
+        if nodes.shape[1] == 10:
+            for cell in nodes.tolist():
+                mid.update({frozenset((cell[i], cell[j])): cell[4 + e] for e, (i, j) in enumerate(VTK_EDGES)})
+        triangles, node_sets = collections.defaultdict(set), collections.defaultdict(set)
+        for face, tets in faces.items():
+            pair = sorted(int(material[t]) for t in tets) if len(tets) == 2 else [int(material[tets[0]]), -1]
+            name = f"{BLOCK_SETS[pair[0]]}__{BLOCK_SETS[pair[1]]}"
+            triangles[name].add(face)
+            node_sets[name] |= set(face) | {mid[frozenset(e)] for e in ((face[0], face[1]), (face[1], face[2]),
+                                                                         (face[0], face[2])) if mid}
+        return triangles, node_sets
+
+    def test_meshio_reads_back_the_mesh_and_its_sets(self):
+        import meshio
+
+        for order in (1, 2):
+            grid, points, nodes, material = _cube_block(3, order)
+            kind = "tetra10" if order == 2 else "tetra"
+            triangles, node_sets = self.expected_sets(nodes, material)
+            self.assertEqual(set(triangles), {"BLOCK__POST", "BLOCK__TOP", "POST__TOP", "BLOCK__EXTERIOR",
+                                              "POST__EXTERIOR", "TOP__EXTERIOR"})
+            inp = meshio.read(self.write(grid, f"m{order}.inp"))
+            np.testing.assert_allclose(inp.points, points, rtol=1e-12, atol=1e-12)
+            np.testing.assert_array_equal(inp.cells_dict[kind], nodes)
+            self.assertEqual({k: v[0].tolist() for k, v in inp.cell_sets.items()},
+                             {BLOCK_SETS[m]: np.flatnonzero(material == m).tolist() for m in (1, 2, 3)})
+            self.assertEqual({k: set(v.tolist()) for k, v in inp.point_sets.items()}, dict(node_sets))
+            msh = meshio.read(self.write(grid, f"m{order}.msh"))
+            np.testing.assert_array_equal(msh.points, points)  # 17 significant digits: exact
+            np.testing.assert_array_equal(msh.cells_dict[kind], nodes)
+            tags = msh.cell_data_dict["gmsh:physical"]
+            np.testing.assert_array_equal(tags[kind], material)
+            names = {int(v[0]): name for name, v in msh.field_data.items() if int(v[1]) == 2}
+            found = collections.defaultdict(set)
+            face_kind = "triangle6" if order == 2 else "triangle"
+            for triangle, tag in zip(msh.cells_dict[face_kind], tags[face_kind]):
+                found[names[int(tag)]].add(tuple(sorted(triangle[:3].tolist())))
+            self.assertEqual(dict(found), dict(triangles))
+            vtu = meshio.read(self.write(grid, f"m{order}.vtu"))
+            np.testing.assert_array_equal(vtu.points, points)
+            np.testing.assert_array_equal(vtu.cells_dict[kind], nodes)
+            np.testing.assert_array_equal(vtu.cell_data_dict["Material"][kind], material)
+            if order == 1:  # meshio 5.0 reads no P2 Medit keywords
+                medit = meshio.read(self.write(grid, "m1.mesh"))
+                np.testing.assert_array_equal(medit.points, points)
+                np.testing.assert_array_equal(medit.cells_dict["tetra"], nodes)
+                np.testing.assert_array_equal(medit.cell_data_dict["medit:ref"]["tetra"], material)
+                self.assertEqual(len(medit.cells_dict["triangle"]), sum(map(len, triangles.values())))
+
+    def test_the_block_size_changes_nothing(self):
+        for order in (1, 2):
+            grid = _cube_block(3, order)[0]  # 162 tetrahedra, sets of 8 to 60 ids
+            for ext in (".inp", ".msh", ".mesh"):
+                with open(self.write(grid, "whole" + ext, block_rows=10 ** 6), "rb") as f:
+                    whole = f.read()
+                for rows in (1, 2, 3, 7, 8, 9, 50):
+                    with open(self.write(grid, f"{rows}{ext}", block_rows=rows), "rb") as f:
+                        self.assertEqual(f.read(), whole, f"order {order}, {ext}, {rows} rows a block")
+
+    def test_abaqus_id_lists_break_as_one_list(self):
+        import io
+
+        from oraclemesh.meshtext import write_id_lines
+
+        for count in (1, 7, 8, 9, 16, 17, 30):
+            ids = list(range(1, count + 1))
+            expected = ",\n".join(",".join(map(str, ids[i:i + 8])) for i in range(0, count, 8)) + "\n"
+            for size in (1, 3, 8, 100):
+                out = io.StringIO()
+                write_id_lines(out, (np.array(ids[i:i + size]) for i in range(0, count, size)))
+                self.assertEqual(out.getvalue(), expected, f"{count} ids in chunks of {size}")
+
+    def test_the_writers_read_the_grid_own_arrays(self):
+        from vtkmodules.util.numpy_support import vtk_to_numpy
+
+        from oraclemesh.writers import MeshArrays
+
+        for order in (1, 2):
+            grid = _cube_block(2, order)[0]
+            arrays = MeshArrays(grid, BLOCK_NAMES)
+            for mine, theirs in ((arrays.points, grid.GetPoints().GetData()),
+                                 (arrays.nodes, grid.GetCells().GetConnectivityArray()),
+                                 (arrays.material, grid.GetCellData().GetArray("Material"))):
+                self.assertTrue(np.shares_memory(mine, vtk_to_numpy(theirs)), f"order {order}: a copy")
+                self.assertFalse(mine.flags.writeable, "the writers leave the mesh as it is")
 
 
 if __name__ == "__main__":

@@ -47,19 +47,28 @@ def volumes(points, nodes):
     return np.abs(total) / 6
 
 
-def face_nodes(faces, nodes):
+def _edge_table():
+    """[4, 4]: the index in EDGES of the edge between corners i and j of a tetrahedron."""
+    table = np.full((4, 4), -1)
+    for e, (i, j) in enumerate(EDGES):
+        table[i, j] = table[j, i] = e
+    return table
+
+
+_EDGE = _edge_table()
+
+
+def face_nodes(faces, nodes, owner):
     """The 6 nodes of each triangle of `faces` [k, 3] (corner ids, in their order): the corners, then
-    the mid-edge nodes of its edges 01, 12, 20, looked up in the tetrahedra `nodes` [m, 10]."""
+    the mid-edge nodes of its edges 01, 12, 20, taken from the tetrahedron `owner` [k] (of `nodes`
+    [m, 10]) the face belongs to: work and memory in proportion to the faces, not the mesh."""
     faces = np.asarray(faces, dtype=np.int64)
-    ends = np.concatenate([np.sort(nodes[:, list(e)], axis=1) for e in EDGES])
-    mids = np.concatenate([nodes[:, 4 + e] for e in range(6)])
-    n = int(nodes.max()) + 1 if nodes.size else 1
-    keys = ends[:, 0] * n + ends[:, 1]
-    order = np.argsort(keys, kind="stable")
-    keys, mids = keys[order], mids[order]
+    tets = np.asarray(nodes[np.asarray(owner, dtype=np.int64)], dtype=np.int64)
+    # which of its owner's corners each face vertex is
+    corner = np.argmax(tets[:, None, :4] == faces[:, :, None], axis=2)
     out = np.empty((len(faces), 6), dtype=np.int64)
     out[:, :3] = faces
+    rows = np.arange(len(faces))
     for k, (i, j) in enumerate(TRIANGLE_EDGES):
-        a, b = np.minimum(faces[:, i], faces[:, j]), np.maximum(faces[:, i], faces[:, j])
-        out[:, 3 + k] = mids[np.searchsorted(keys, a * n + b)]
+        out[:, 3 + k] = tets[rows, 4 + _EDGE[corner[:, i], corner[:, j]]]
     return out

@@ -69,21 +69,35 @@ class SurfaceSets:
         return self.surface == index
 
 
-def _face_keys(faces, n_points):
-    """An integer key per face (any vertex order), equal for equal faces."""
-    s = np.sort(faces, axis=1).astype(np.int64)
-    if n_points < 2 ** 21:  # three 21-bit ids fit one int64: a single fast sort
-        return (s[:, 0] << 42) | (s[:, 1] << 21) | s[:, 2]
-    return np.unique(s, axis=0, return_inverse=True)[1].ravel()
+def _face_keys(cells, n_points, block_rows=1 << 18):
+    """An integer key per face of the tetrahedra `cells` (face f of tetrahedron t at 4 t + f, any
+    vertex order), equal for equal faces."""
+    if n_points >= 2 ** 21:
+        faces = np.sort(cells[:, TET_FACES].reshape(-1, 3), axis=1)
+        return np.unique(faces, axis=0, return_inverse=True)[1].ravel()
+    # three 21-bit ids fit one int64: a single fast sort. Made from the cells' columns a block at a
+    # time: the keys (8 bytes a face) are all that is held for the whole mesh, not its [4m x 3] faces.
+    keys = np.empty((len(cells), 4), dtype=np.int64)
+    for start in range(0, len(cells), block_rows):
+        block = np.asarray(cells[start:start + block_rows], dtype=np.int64)
+        for f, (i, j, k) in enumerate(TET_FACES):
+            a, b, c = block[:, i], block[:, j], block[:, k]
+            low, high = np.minimum(np.minimum(a, b), c), np.maximum(np.maximum(a, b), c)
+            keys[start:start + len(block), f] = (low << 42) | ((a + b + c - low - high) << 21) | high
+    return keys.ravel()
 
 
-def material_ids(material):
-    """The sorted distinct ids of an integer array (a count per id, not a sort of the array)."""
-    material = np.asarray(material, dtype=np.int64)
+def material_ids(material, block_rows=1 << 20):
+    """The sorted distinct ids of an integer array: each id marked present, a block of the array at a
+    time (no sort, no converted copy of the array)."""
+    material = np.asarray(material)
     if not len(material):
         return []
     low = int(material.min())
-    return (np.flatnonzero(np.bincount(material - low)) + low).tolist()
+    present = np.zeros(int(material.max()) - low + 1, dtype=bool)
+    for start in range(0, len(material), block_rows):
+        present[material[start:start + block_rows].astype(np.int64) - low] = True
+    return (np.flatnonzero(present) + low).tolist()
 
 
 def separating_faces(points, cells, material):
@@ -92,12 +106,12 @@ def separating_faces(points, cells, material):
     each face of one tetrahedron, or of two of different materials on the side of the lower id.
     Faces shared by more than two tetrahedra (a broken mesh; the validity check reports them) are
     left out."""
-    faces = cells[:, TET_FACES].reshape(-1, 3)  # face f of tet t is row 4 t + f
-    keys = _face_keys(faces, len(points))
+    keys = _face_keys(cells, len(points))  # face f of tet t is row 4 t + f
     order = np.argsort(keys, kind="stable")
     sorted_keys = keys[order]
+    del keys
     starts = np.flatnonzero(np.r_[True, sorted_keys[1:] != sorted_keys[:-1]])
-    counts = np.diff(np.r_[starts, len(keys)])
+    counts = np.diff(np.r_[starts, len(sorted_keys)])
 
     single = order[starts[counts == 1]]
     first, second = order[starts[counts == 2]], order[starts[counts == 2] + 1]
@@ -121,7 +135,7 @@ def surface_sets(points, cells, material, names=None, separating=None):
     left out."""
     points = np.asarray(points, dtype=np.float64)
     cells = np.asarray(cells, dtype=np.int64)
-    material = np.asarray(material, dtype=np.int64)
+    material = np.asarray(material)  # any integer type: read where needed, not copied to int64
     rows, other = separating if separating is not None else separating_faces(points, cells, material)
     rows, other = np.asarray(rows, dtype=np.int64), np.asarray(other, dtype=np.int64)
     faces = np.take_along_axis(cells[rows // 4], TET_FACES[rows % 4], axis=1)

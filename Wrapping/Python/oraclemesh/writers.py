@@ -26,6 +26,11 @@ keywords; node order corners, then edges 12 23 31 (14 24 34), said in a comment;
 
 Surface tags are the largest material id + 1, + 2, ... in the surfaces' order (sorted by material
 pair, the exterior last), the same in every format. Every file is written atomically (``atomic.py``).
+
+A large mesh is written beside itself, not copied: MeshArrays reads the grid's own points,
+connectivity and Material (read-only views where the types match, as in the mesher's meshes), the
+.vtu goes to VTK's writer as a shallow copy, and .inp, .msh and .mesh are formatted a block of rows
+at a time (``meshtext.py``); what they add is one block's text and the surfaces' arrays.
 """
 import os
 
@@ -98,7 +103,8 @@ def write_vtk_xml(data, path, writer_class):
 
 def element_nodes(grid, source="mesh"):
     """(points [n x 3], element nodes [m x 4] or, for 10-node tetrahedra, [m x 10] point ids (VTK
-    order), Material [m]) of a tetrahedral vtkUnstructuredGrid: all linear or all quadratic."""
+    order), Material [m]) of a tetrahedral vtkUnstructuredGrid: all linear or all quadratic. Read-only
+    arrays, views of the grid's where the types allow (float64, int64, Material's integer type)."""
     import numpy as np
     from vtkmodules.util.numpy_support import vtk_to_numpy
     from vtkmodules.util.vtkConstants import VTK_QUADRATIC_TETRA, VTK_TETRA
@@ -114,10 +120,22 @@ def element_nodes(grid, source="mesh"):
     material = grid.GetCellData().GetArray(fieldkeys.MATERIAL)
     if material is None:
         raise OracleMeshError(f"{source}: no cell array '{fieldkeys.MATERIAL}' (write meshes with 'oraclemesh mesh')")
-    points = vtk_to_numpy(grid.GetPoints().GetData()).astype(np.float64)
     width = 10 if kind == VTK_QUADRATIC_TETRA else 4
-    nodes = vtk_to_numpy(grid.GetCells().GetConnectivityArray()).reshape(-1, width).astype(np.int64)
-    return points, nodes, vtk_to_numpy(material).astype(np.int64)
+    material = vtk_to_numpy(material)
+    return (_read_only(vtk_to_numpy(grid.GetPoints().GetData()), np.float64),
+            _read_only(vtk_to_numpy(grid.GetCells().GetConnectivityArray()).reshape(-1, width), np.int64),
+            _read_only(material, material.dtype if np.issubdtype(material.dtype, np.integer) else np.int64))
+
+
+def _read_only(array, dtype):
+    """`array` as `dtype`: the mesh's own memory when it has that type already (a mesh from the mesher:
+    float64 points, int64 connectivity), so a large mesh is not held twice; read-only, as what reads
+    it must leave the mesh as it is."""
+    import numpy as np
+
+    array = np.asarray(array, dtype=dtype)
+    array.flags.writeable = False
+    return array
 
 
 def tetrahedra(grid, source="mesh"):
@@ -143,7 +161,8 @@ class MeshArrays:
         self.names = dict(names or {})
         self.ids = material_ids(self.material)
         self.sets = surface_sets(self.points, self.cells, self.material, self.names, separating)
-        self.face_nodes = face_nodes(self.sets.faces, self.nodes) if self.quadratic else self.sets.faces
+        self.face_nodes = face_nodes(self.sets.faces, self.nodes, self.sets.owner) if self.quadratic \
+            else self.sets.faces
         first = max(self.ids) + 1
         self.tags = [first + i for i in range(len(self.sets))]
 
@@ -198,119 +217,46 @@ def _write_vtu(grid, path, arrays):
     return [path, companion]
 
 
-def _abaqus_surfaces(arrays):
-    """The *SURFACE sections and the material-id comments appended to meshio's Abaqus file."""
-    sets, set_names = arrays.sets, material_set_names(arrays.ids, arrays.names)
-    lines = ["** OracleMesh: element sets per material (id, set, name); per surface *SURFACE (faces of "
-             "the first-named material's elements) and *NSET of the same name"]
-    lines += [f"** OracleMesh material {m} {set_names[m]} {arrays.names.get(m, '')}".rstrip().replace("\n", " ")
-              for m in arrays.ids]
-    for i, name in enumerate(sets.names):
-        rows = sets.select(i)
-        lines.append(f"*SURFACE, NAME={name}, TYPE=ELEMENT")
-        lines += [f"{e + 1}, S{s}" for e, s in zip(sets.owner[rows].tolist(), sets.side[rows].tolist())]
-    return "\n".join(lines) + "\n"
-
-
-def _plain_c3d10(path):
-    """meshio names 10-node tetrahedra C3D10MH (hybrid, modified: the last of its aliases); the plain
-    C3D10 is what a user asking for quadratic tetrahedra expects."""
-    with open(path, encoding="utf-8") as f:
-        text = f.read()
-    with open(path, "w", encoding="utf-8") as f:
-        f.write(text.replace("*ELEMENT, TYPE=C3D10MH\n", "*ELEMENT, TYPE=C3D10\n", 1))
-
-
-ABAQUS_FLOAT_FORMAT = ".12e"
-
-
-def _write_inp(path, arrays):
-    import meshio
-    import numpy as np
-
-    set_names = material_set_names(arrays.ids, arrays.names)
-    cell_sets = {set_names[m]: [np.flatnonzero(arrays.material == m)] for m in arrays.ids}
-    point_sets = {name: np.unique(arrays.face_nodes[arrays.sets.select(i)])
-                  for i, name in enumerate(arrays.sets.names)}
-    kind = "tetra10" if arrays.quadratic else "tetra"
-    mesh = meshio.Mesh(arrays.points, [(kind, arrays.nodes)], cell_sets=cell_sets, point_sets=point_sets)
-    with atomic_output(path) as temporary:
-        # 13 significant digits: 19 characters at most; CalculiX's reader takes 20 per number and
-        # stops at longer ones ("*ERROR reading *NODE")
-        meshio.abaqus.write(temporary, mesh, float_fmt=ABAQUS_FLOAT_FORMAT)
-        if arrays.quadratic:
-            _plain_c3d10(temporary)
-        with open(temporary, "a", encoding="utf-8") as f:
-            f.write(_abaqus_surfaces(arrays))
+def _write_text(path, arrays, write, block_rows):
+    """Writes a text format with meshtext's `write` (file, MeshArrays, block_rows) atomically."""
+    with atomic_output(path) as temporary, open(temporary, "w", encoding="utf-8") as f:
+        write(f, arrays, block_rows)
     return [path]
 
 
-def _write_msh(path, arrays):
-    import meshio
-    import numpy as np
+def _write_inp(path, arrays, block_rows=None):
+    from . import meshtext
+
+    return _write_text(path, arrays, meshtext.write_inp, block_rows)
+
+
+def _write_msh(path, arrays, block_rows=None):
+    from . import meshtext
 
     if arrays.ids[0] <= 0:
         raise OracleMeshError(f"{path}: material {arrays.ids[0]} cannot be a Gmsh physical tag (they are "
                               f"positive); renumber it in the scene to write .msh")
-    field_data = {}
-    for m in arrays.ids:
-        # $PhysicalNames are quoted, one per line
-        name = (arrays.names.get(m) or f"material_{m}").replace('"', "'").replace("\n", " ")
-        field_data[name if name not in field_data else f"{name}_{m}"] = np.array([m, 3])
-    for tag, name in zip(arrays.tags, arrays.sets.names):
-        field_data[name if name not in field_data else f"{name}_{tag}"] = np.array([tag, 2])
-    tets, tris = arrays.material.astype(np.int32), arrays.surface_tag().astype(np.int32)
-    volume, face = ("tetra10", "triangle6") if arrays.quadratic else ("tetra", "triangle")
-    mesh = meshio.Mesh(arrays.points, [(volume, arrays.nodes), (face, arrays.face_nodes)],
-                       cell_data={"gmsh:physical": [tets, tris], "gmsh:geometrical": [tets, tris]},
-                       field_data=field_data)
-    with atomic_output(path) as temporary:
-        meshio.write(temporary, mesh, file_format="gmsh22", binary=False)
-    return [path]
+    return _write_text(path, arrays, meshtext.write_msh, block_rows)
 
 
-def _write_medit(path, arrays):
-    import numpy as np
+def _write_medit(path, arrays, block_rows=None):
+    from . import meshtext
 
-    def block(f, keyword, rows, fmt):
-        f.write(f"{keyword}\n{len(rows)}\n")
-        np.savetxt(f, rows, fmt=fmt)
-
-    with atomic_output(path) as temporary, open(temporary, "w", encoding="utf-8") as f:
-        f.write("# OracleMesh: tetrahedron references are material ids, triangle references surface tags\n")
-        if arrays.quadratic:
-            f.write("# OracleMesh: P2 nodes: corners, then the mid-edge nodes of edges 12 23 31 (triangles), "
-                    "12 23 31 14 24 34 (tetrahedra)\n")
-        for m in arrays.ids:
-            f.write(f"# material {m} {arrays.names.get(m, '')}".rstrip().replace("\n", " ") + "\n")
-        for tag, name in zip(arrays.tags, arrays.sets.names):
-            f.write(f"# surface {tag} {name}\n")
-        f.write("MeshVersionFormatted 2\nDimension 3\n")
-        block(f, "Vertices", np.column_stack([arrays.points, np.zeros(len(arrays.points))]),
-              ["%.17g"] * 3 + ["%d"])
-        p2 = "P2" if arrays.quadratic else ""  # libMeshb's keywords of 6-node triangles, 10-node tetrahedra
-        block(f, "Triangles" + p2, np.column_stack([arrays.face_nodes + 1, arrays.surface_tag()]), "%d")
-        block(f, "Tetrahedra" + p2, np.column_stack([arrays.nodes + 1, arrays.material]), "%d")
-        f.write("End\n")
-    return [path]
+    return _write_text(path, arrays, meshtext.write_medit, block_rows)
 
 
-def write_mesh(grid, path, material_names=None, arrays=None):
+def write_mesh(grid, path, material_names=None, arrays=None, block_rows=None):
     """Writes a tetrahedral mesh (vtkUnstructuredGrid with cell array Material) with its boundary and
     interface surfaces to `path`, the format chosen by the extension (one of MESH_FORMATS), and
     returns the files written (a .vtu has its ``_surfaces.vtu``). `material_names`: {material id:
-    name}; `arrays`: a MeshArrays of the grid, to share the work between several formats."""
+    name}; `arrays`: a MeshArrays of the grid, to share the work between several formats;
+    `block_rows`: rows of a text format formatted at a time (default: about meshtext.BLOCK_VALUES
+    numbers' worth; the file is the same for any)."""
     ext = _extension(path)
     if ext not in MESH_FORMATS:
         raise OracleMeshError(f"{path}: unknown mesh format '{ext}' (use one of {', '.join(MESH_FORMATS)})")
     arrays = arrays or MeshArrays(grid, material_names, path)
     if ext == ".vtu":
         return _write_vtu(grid, path, arrays)
-    if ext == ".mesh":
-        return _write_medit(path, arrays)
-    try:
-        import meshio  # noqa: F401
-    except ImportError:
-        raise OracleMeshError(f"{path}: writing '{ext}' needs meshio (Debian: apt-get install python3-meshio)") \
-            from None
-    return _write_inp(path, arrays) if ext == ".inp" else _write_msh(path, arrays)
+    write = {".inp": _write_inp, ".msh": _write_msh, ".mesh": _write_medit}[ext]
+    return write(path, arrays, block_rows)
