@@ -67,13 +67,55 @@ inline void numberVerticesSpatially(const C3t3& c3t3, const std::vector<Tr::Vert
   }
 }
 
+/// The vertices the output uses, by time stamp (unique, below the number of vertices ever created:
+/// an array, not a hash map). Until they are numbered, the output's tetrahedra and triangles hold
+/// time stamps.
+struct UsedVertices
+{
+  std::vector<int> ids; ///< by time stamp: -1 unused, then the output id
+  std::vector<Tr::Vertex_handle> used;
+
+  explicit UsedVertices(const Tr& tr)
+  {
+    std::size_t stamps = 0;
+    for (auto v = tr.finite_vertices_begin(); v != tr.finite_vertices_end(); ++v)
+      stamps = std::max(stamps, v->time_stamp() + 1);
+    ids.assign(stamps, -1);
+    used.reserve(tr.number_of_vertices());
+  }
+  /// Marks `v` used; its time stamp.
+  int stamp(Tr::Vertex_handle v)
+  {
+    int& at = ids[v->time_stamp()];
+    if (at < 0)
+    {
+      at = 0;
+      used.push_back(v);
+    }
+    return static_cast<int>(v->time_stamp());
+  }
+  /// Numbers the vertices (numberVerticesSpatially) and puts the ids into the output's
+  /// tetrahedra and triangles in place of the time stamps.
+  void number(const C3t3& c3t3, TetMesh& out)
+  {
+    numberVerticesSpatially(c3t3, used, ids, out);
+    for (auto& t : out.tets)
+      for (int& v : t)
+        v = ids[static_cast<std::size_t>(v)];
+    for (auto& t : out.interfaceTriangles)
+      for (int& v : t)
+        v = ids[static_cast<std::size_t>(v)];
+  }
+};
+
 /// Converts the complex to the output mesh: its cells, and the cells outside it that lie inside a
 /// material by their centroid (cellsInsideByCentroid); interface triangles are the complex's
 /// facets, and around the cells taken the faces between different materials. Points are in
 /// Hilbert order (numberVerticesSpatially), tetrahedra in the complex's order: the caller orders
 /// them (orderTetsByPoints) once the complex is released, so the copy that takes is not on top of
-/// the complex at the run's peak. One pass over the complex's cells reads everything it needs of them: at a million
-/// tetrahedra each pass over CGAL's cells costs as much as the whole validity check.
+/// the complex at the run's peak. One pass over the complex's cells reads everything it needs of
+/// them: at a million tetrahedra each pass over CGAL's cells costs as much as the whole validity
+/// check.
 inline TetMesh toTetMesh(const C3t3& c3t3, const HierarchicalOracle& oracle, const std::vector<Tr::Cell_handle>& candidates)
 {
   TetMesh out;
@@ -90,23 +132,8 @@ inline TetMesh toTetMesh(const C3t3& c3t3, const HierarchicalOracle& oracle, con
     const auto it = takenAt.find(c);
     return it == takenAt.end() ? 0 : taken[it->second].second;
   };
-  // Time stamps are unique and below the number of vertices ever created: an array, not a hash map.
-  // Until the vertices are numbered, tetrahedra and triangles hold time stamps.
-  std::size_t stamps = 0;
-  for (auto v = tr.finite_vertices_begin(); v != tr.finite_vertices_end(); ++v)
-    stamps = std::max(stamps, v->time_stamp() + 1);
-  std::vector<int> ids(stamps, -1);
-  std::vector<Tr::Vertex_handle> used;
-  used.reserve(tr.number_of_vertices());
-  auto stamp = [&](Tr::Vertex_handle v) {
-    int& at = ids[v->time_stamp()];
-    if (at < 0)
-    {
-      at = 0;
-      used.push_back(v);
-    }
-    return static_cast<int>(v->time_stamp());
-  };
+  UsedVertices vertices(tr);
+  auto stamp = [&vertices](Tr::Vertex_handle v) { return vertices.stamp(v); };
   auto addTet = [&](Tr::Cell_handle c, int index) {
     out.tets.push_back({ stamp(c->vertex(0)), stamp(c->vertex(1)), stamp(c->vertex(2)), stamp(c->vertex(3)) });
     out.tetMaterial.push_back(materialOf(index));
@@ -159,13 +186,7 @@ inline TetMesh toTetMesh(const C3t3& c3t3, const HierarchicalOracle& oracle, con
       if (beyond != index && !(it != takenAt.end() && it->second < k))
         addTriangle(c, i, index, beyond);
     }
-  numberVerticesSpatially(c3t3, used, ids, out);
-  for (auto& t : out.tets)
-    for (int& v : t)
-      v = ids[static_cast<std::size_t>(v)];
-  for (auto& t : out.interfaceTriangles)
-    for (int& v : t)
-      v = ids[static_cast<std::size_t>(v)];
+  vertices.number(c3t3, out);
   const std::size_t dangling = c3t3.number_of_facets_in_complex() - reached - besideTaken;
   out.statistics["interface_triangles_without_tetrahedra"] = static_cast<double>(dangling);
   out.statistics["output.cells_inside_by_centroid"] = static_cast<double>(taken.size());
