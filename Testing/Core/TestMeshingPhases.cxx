@@ -172,7 +172,8 @@ TEST(MeshingPhases, TheOutputIsTheComplexInSpaceOrder)
 {
   const HierarchicalOracle o = unitCube();
   const FeatureSegments edges = test::cubeEdges(0, 1);
-  MeshingRun run(o, edges, cubeOptions(0.1));
+  const MesherOptions opt = cubeOptions(0.1); // the run keeps a reference: not a temporary
+  MeshingRun run(o, edges, opt);
   run.initial.run({});
   run.refinement.refineAllLevels();
   // the complex's cells, as tetSet takes them
