@@ -217,32 +217,18 @@ def _write_vtu(grid, path, arrays):
     return [path, companion]
 
 
-def _write_text(path, arrays, write, block_rows):
-    """Writes a text format with meshtext's `write` (file, MeshArrays, block_rows) atomically."""
+def _write_text(path, arrays, block_rows):
+    """Writes .inp, .msh or .mesh with meshtext's writer of the format, atomically."""
+    from . import meshtext
+
+    ext = _extension(path)
+    if ext == ".msh" and arrays.ids[0] <= 0:
+        raise OracleMeshError(f"{path}: material {arrays.ids[0]} cannot be a Gmsh physical tag (they are "
+                              f"positive); renumber it in the scene to write .msh")
+    write = {".inp": meshtext.write_inp, ".msh": meshtext.write_msh, ".mesh": meshtext.write_medit}[ext]
     with atomic_output(path) as temporary, open(temporary, "w", encoding="utf-8") as f:
         write(f, arrays, block_rows)
     return [path]
-
-
-def _write_inp(path, arrays, block_rows=None):
-    from . import meshtext
-
-    return _write_text(path, arrays, meshtext.write_inp, block_rows)
-
-
-def _write_msh(path, arrays, block_rows=None):
-    from . import meshtext
-
-    if arrays.ids[0] <= 0:
-        raise OracleMeshError(f"{path}: material {arrays.ids[0]} cannot be a Gmsh physical tag (they are "
-                              f"positive); renumber it in the scene to write .msh")
-    return _write_text(path, arrays, meshtext.write_msh, block_rows)
-
-
-def _write_medit(path, arrays, block_rows=None):
-    from . import meshtext
-
-    return _write_text(path, arrays, meshtext.write_medit, block_rows)
 
 
 def write_mesh(grid, path, material_names=None, arrays=None, block_rows=None):
@@ -258,5 +244,4 @@ def write_mesh(grid, path, material_names=None, arrays=None, block_rows=None):
     arrays = arrays or MeshArrays(grid, material_names, path)
     if ext == ".vtu":
         return _write_vtu(grid, path, arrays)
-    write = {".inp": _write_inp, ".msh": _write_msh, ".mesh": _write_medit}[ext]
-    return write(path, arrays, block_rows)
+    return _write_text(path, arrays, block_rows)

@@ -38,8 +38,8 @@ inline std::vector<std::pair<Tr::Cell_handle, int>> cellsInsideByCentroid(
   return taken;
 }
 
-/// Gives each vertex in `stamped` (time stamps of vertices, -1 = unused) an output id, in Hilbert
-/// order of the points: neighbours in space get neighbouring ids, so every later pass over the
+/// Gives each vertex of `used` an output id (in `ids`, indexed by time stamp), in Hilbert order of
+/// the points: neighbours in space get neighbouring ids, so every later pass over the
 /// output (the quality step, the validity check, the VTK arrays, the writers) reads memory nearly in
 /// order; the complex's own order scatters a tetrahedron's corners across the mesh, and from about
 /// a million tetrahedra those passes wait on memory. Writes the points and their dimensions.
@@ -133,15 +133,15 @@ inline TetMesh toTetMesh(const C3t3& c3t3, const HierarchicalOracle& oracle, con
     return it == takenAt.end() ? 0 : taken[it->second].second;
   };
   UsedVertices vertices(tr);
-  auto stamp = [&vertices](Tr::Vertex_handle v) { return vertices.stamp(v); };
   auto addTet = [&](Tr::Cell_handle c, int index) {
-    out.tets.push_back({ stamp(c->vertex(0)), stamp(c->vertex(1)), stamp(c->vertex(2)), stamp(c->vertex(3)) });
+    out.tets.push_back(
+      { vertices.stamp(c->vertex(0)), vertices.stamp(c->vertex(1)), vertices.stamp(c->vertex(2)), vertices.stamp(c->vertex(3)) });
     out.tetMaterial.push_back(materialOf(index));
   };
   auto addTriangle = [&](Tr::Cell_handle c, int i, int first, int second) {
     std::array<int, 3> tri;
     for (int k = 0; k < 3; ++k)
-      tri[k] = stamp(c->vertex((i + 1 + k) & 3));
+      tri[k] = vertices.stamp(c->vertex((i + 1 + k) & 3));
     out.interfaceTriangles.push_back(tri);
     out.interfaceMaterials.push_back({ materialOf(first), materialOf(second) });
   };
