@@ -64,14 +64,19 @@ bool dihedralCosines(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d,
 }
 }
 
-double minDihedralAngle(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d)
+double largestDihedralCosine(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d)
 {
   double cosines[6];
   if (!dihedralCosines(a, b, c, d, cosines))
-    return 0.0;
+    return 1.0;
+  return *std::max_element(cosines, cosines + 6);
+}
+
+double minDihedralAngle(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d)
+{
   // the smallest angle has the largest cosine: one acos instead of six (acos is monotonic, so the
-  // result is the same to the bit)
-  return std::acos(*std::max_element(cosines, cosines + 6)) * 180.0 / M_PI;
+  // result is the same to the bit); acos(1) = 0 for a flat one
+  return std::acos(largestDihedralCosine(a, b, c, d)) * 180.0 / M_PI;
 }
 
 double maxDihedralAngle(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d)
@@ -98,6 +103,29 @@ TetShape tetShape(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d)
   return tetShape(a, b, c, d, std::abs(signedVolume(a, b, c, d)));
 }
 
+namespace
+{
+/// The six edge lengths of abcd: ab, ac, ad, bc, bd, cd (edge e and edge 5 - e are opposite).
+void edgeLengths(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, double l[6])
+{
+  const Vec3 p[4] = { a, b, c, d };
+  for (int i = 0, e = 0; i < 4; ++i)
+    for (int j = i + 1; j < 4; ++j, ++e)
+      l[e] = norm(p[j] - p[i]);
+}
+
+/// Circumradius from the products of opposite edges' lengths (a tetrahedron's Heron) and the
+/// volume; infinite for a flat tetrahedron. No circumcentre (a solve) is needed.
+double circumradiusOf(const double l[6], double volume)
+{
+  if (!(volume > 0))
+    return std::numeric_limits<double>::infinity();
+  const double x = l[0] * l[5], y = l[1] * l[4], z = l[2] * l[3];
+  const double product = std::max(0.0, (x + y + z) * (x + y - z) * (x - y + z) * (-x + y + z));
+  return std::sqrt(product) / (24.0 * volume);
+}
+}
+
 TetShape tetShape(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, double volume)
 {
   TetShape s;
@@ -109,26 +137,17 @@ TetShape tetShape(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, do
     s.minDihedral = std::acos(*hi) * 180.0 / M_PI;
     s.maxDihedral = std::acos(*lo) * 180.0 / M_PI;
   }
-  const Vec3 p[4] = { a, b, c, d };
-  double l[6], squares = 0.0;
-  for (int i = 0, e = 0; i < 4; ++i)
-    for (int j = i + 1; j < 4; ++j, ++e)
-    {
-      l[e] = norm(p[j] - p[i]);
-      squares += l[e] * l[e];
-    }
+  double l[6];
+  edgeLengths(a, b, c, d, l);
+  const double squares = l[0] * l[0] + l[1] * l[1] + l[2] * l[2] + l[3] * l[3] + l[4] * l[4] + l[5] * l[5];
   const double shortest = *std::min_element(l, l + 6), longest = *std::max_element(l, l + 6);
   s.volume = volume;
   s.longestEdge = longest;
   s.edgeRatio = longest > 0 ? shortest / longest : 0.0;
-  const Vec3 cc = circumcenter(a, b, c, d);
-  s.radiusEdge = isFinite(cc) ? norm(cc - a) / shortest : std::numeric_limits<double>::infinity();
+  const double circumradius = circumradiusOf(l, volume);
+  s.radiusEdge = circumradius / shortest; // as radiusEdgeRatio
   if (volume > 0)
   {
-    // the circumradius from the products of opposite edges' lengths (a tetrahedron's Heron)
-    const double x = l[0] * l[5], y = l[1] * l[4], z = l[2] * l[3];
-    const double product = std::max(0.0, (x + y + z) * (x + y - z) * (x - y + z) * (-x + y + z));
-    const double circumradius = std::sqrt(product) / (24.0 * volume);
     const double inradius = 3.0 * volume / (0.5 * (twiceAreas[0] + twiceAreas[1] + twiceAreas[2] + twiceAreas[3]));
     const double ratio = 3.0 * inradius / circumradius;
     s.radiusRatio = std::isfinite(ratio) ? ratio : 0.0;
@@ -180,12 +199,9 @@ Vec3 circumcenter(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d)
 
 double radiusEdgeRatio(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d)
 {
-  const Vec3 cc = circumcenter(a, b, c, d);
-  if (!isFinite(cc))
-    return std::numeric_limits<double>::infinity();
-  const double r = norm(cc - a);
-  const double e = std::min({ norm(b - a), norm(c - a), norm(d - a), norm(c - b), norm(d - b), norm(d - c) });
-  return r / e;
+  double l[6];
+  edgeLengths(a, b, c, d, l);
+  return circumradiusOf(l, std::abs(signedVolume(a, b, c, d))) / *std::min_element(l, l + 6);
 }
 
 std::map<int, double> materialVolumes(const TetMesh& mesh)

@@ -12,6 +12,10 @@ namespace omesh
 /// Smallest of the six dihedral angles of tetrahedron abcd, in degrees (0 for a flat one).
 double minDihedralAngle(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
 
+/// Cosine of the smallest dihedral angle of abcd (1 for a flat one): minDihedralAngle is its acos
+/// in degrees, so the smallest angle of many tetrahedra needs one acos, of the largest cosine.
+double largestDihedralCosine(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
+
 /// Largest of the six dihedral angles of tetrahedron abcd, in degrees (180 for a flat one): near
 /// 180 degrees spoils gradients and stresses as much as small angles spoil the conditioning.
 double maxDihedralAngle(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);

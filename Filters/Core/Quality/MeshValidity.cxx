@@ -9,6 +9,8 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
+#include <limits>
 #include <sstream>
 
 namespace omesh
@@ -153,8 +155,13 @@ std::size_t countNonManifoldFaces(const std::vector<std::array<int, 4>>& tets, c
     // buckets hold about 20 faces: an insertion sort beats std::sort's set-up on them
     if (end - begin <= 32)
       for (auto i = begin + (begin != end); i < end; ++i)
-        for (auto j = i; j != begin && *j < *(j - 1); --j)
-          std::swap(*j, *(j - 1));
+      {
+        const Entry e = *i; // shifted into place: one move per step, not a swap's three
+        auto j = i;
+        for (; j != begin && e < *(j - 1); --j)
+          *j = *(j - 1);
+        *j = e;
+      }
     else
       std::sort(begin, end);
     for (auto i = begin; i != end;)
@@ -219,15 +226,79 @@ std::vector<std::pair<std::string, double>> MeshValidity::asStatistics() const
 
 namespace
 {
+/// The exact median and the shortest of the tetrahedra's edge lengths (an edge once per
+/// tetrahedron holding it), without a list of them (six per tetrahedron, the check's largest array
+/// and its slowest step once ordered): the lengths are counted in bins of their leading bits (the
+/// exponent and 5 bits of the mantissa, in the order of the values for non-negative doubles), then
+/// a second pass collects only the median's bin and orders that.
+class EdgeLengthMedian
+{
+public:
+  EdgeLengthMedian() : bins_(kBins, 0) {}
+
+  void add(double length)
+  {
+    ++bins_[bin(length)];
+    ++count_;
+    shortest_ = std::min(shortest_, length);
+  }
+  std::size_t count() const { return count_; }
+  double shortest() const { return shortest_; }
+
+  /// The bin of the median (the length of rank count / 2, as std::nth_element picks it) and its
+  /// rank within the bin.
+  void locate()
+  {
+    std::size_t before = 0, rank = count_ / 2;
+    for (medianBin_ = 0; before + bins_[medianBin_] <= rank; ++medianBin_)
+      before += bins_[medianBin_];
+    rankInBin_ = rank - before;
+    candidates_.reserve(bins_[medianBin_]);
+  }
+  /// Second pass: the same lengths again.
+  void collect(double length)
+  {
+    if (bin(length) == medianBin_)
+      candidates_.push_back(length);
+  }
+  double median()
+  {
+    std::nth_element(candidates_.begin(), candidates_.begin() + static_cast<std::ptrdiff_t>(rankInBin_), candidates_.end());
+    return candidates_[rankInBin_];
+  }
+
+private:
+  static constexpr std::size_t kBins = std::size_t{ 1 } << 16;
+  static std::size_t bin(double length)
+  {
+    std::uint64_t bits;
+    std::memcpy(&bits, &length, sizeof bits);
+    return std::min<std::size_t>(bits >> 47, kBins - 1); // a negative or NaN length (bad points) counts as the largest
+  }
+  std::vector<std::uint32_t> bins_;
+  std::vector<double> candidates_;
+  std::size_t count_ = 0, medianBin_ = 0, rankInBin_ = 0;
+  double shortest_ = std::numeric_limits<double>::infinity();
+};
+
+/// Calls f with each of the six edge lengths of tetrahedron t.
+template <typename F>
+void forEachEdgeLength(const TetMesh& mesh, std::size_t t, F&& f)
+{
+  const auto& k = mesh.tets[t];
+  for (int i = 0; i < 4; ++i)
+    for (int j = i + 1; j < 4; ++j)
+      f(norm(mesh.points[k[i]] - mesh.points[k[j]]));
+}
+
 /// The tetrahedra with valid indices (four distinct points of the mesh); the others are counted and
-/// flagged. Marks the points the good ones use and lists their edge lengths.
+/// flagged. Marks the points the good ones use, counts their edge lengths and sums their volumes.
 std::vector<std::size_t> tetsWithValidIndices(const TetMesh& mesh, MeshValidity& r, std::vector<unsigned char>& flags,
-  std::vector<char>& used, std::vector<double>& edges)
+  std::vector<char>& used, EdgeLengthMedian& edges, double& volume)
 {
   const int n = static_cast<int>(mesh.points.size());
   std::vector<std::size_t> good;
   good.reserve(mesh.tets.size());
-  edges.reserve(6 * mesh.tets.size());
   for (std::size_t t = 0; t < mesh.tets.size(); ++t)
   {
     const auto& k = mesh.tets[t];
@@ -246,13 +317,29 @@ std::vector<std::size_t> tetsWithValidIndices(const TetMesh& mesh, MeshValidity&
     }
     good.push_back(t);
     for (int i = 0; i < 4; ++i)
-    {
       used[k[i]] = 1;
-      for (int j = i + 1; j < 4; ++j)
-        edges.push_back(norm(mesh.points[k[i]] - mesh.points[k[j]]));
-    }
+    forEachEdgeLength(mesh, t, [&edges](double l) { edges.add(l); });
+    volume += std::abs(signedVolume(mesh.points[k[0]], mesh.points[k[1]], mesh.points[k[2]], mesh.points[k[3]]));
   }
   return good;
+}
+
+/// The median of the edge lengths `edges` counted (the second pass over the tetrahedra).
+double medianEdgeLength(const TetMesh& mesh, const std::vector<std::size_t>& good, EdgeLengthMedian& edges)
+{
+  edges.locate();
+  for (std::size_t t : good)
+    forEachEdgeLength(mesh, t, [&edges](double l) { edges.collect(l); });
+  return edges.median();
+}
+
+void zeroShapesOfBadTets(const std::vector<unsigned char>& flags, const TetShapeArrays& arrays)
+{
+  for (std::size_t t = 0; t < flags.size(); ++t)
+    if (flags[t] & kBadIndices)
+      for (double* a : { arrays.minDihedral, arrays.maxDihedral, arrays.radiusEdge })
+        if (a)
+          a[t] = 0.0;
 }
 
 /// Micro, flat, inverted (relative to L, see checkMeshValidity), and a material mismatch when all four
@@ -333,39 +420,41 @@ MeshValidity checkMeshValidity(const TetMesh& mesh, const std::function<int(cons
   MeshValidity r;
   std::vector<unsigned char> flags(mesh.tets.size(), 0);
   std::vector<char> used(mesh.points.size(), 0);
-  std::vector<double> edges;
-  const std::vector<std::size_t> good = tetsWithValidIndices(mesh, r, flags, used, edges);
+  EdgeLengthMedian edges;
+  double volume = 0.0;
+  const std::vector<std::size_t> good = tetsWithValidIndices(mesh, r, flags, used, edges, volume);
   for (char u : used)
     r.unusedVertices += !u;
   if (byproducts.shapes && r.badIndices) // a tetrahedron with bad indices has no shape: 0 in the arrays
-    for (std::size_t t = 0; t < mesh.tets.size(); ++t)
-      if (flags[t] & kBadIndices)
-        for (double* a : { byproducts.shapeArrays.minDihedral, byproducts.shapeArrays.maxDihedral, byproducts.shapeArrays.radiusEdge })
-          if (a)
-            a[t] = 0.0;
-  if (edges.empty())
+    zeroShapesOfBadTets(flags, byproducts.shapeArrays);
+  if (edges.count() == 0)
   {
     if (tetDefects)
       *tetDefects = std::move(flags);
     return r;
   }
-  r.shortestEdge = *std::min_element(edges.begin(), edges.end());
-  std::nth_element(edges.begin(), edges.begin() + edges.size() / 2, edges.end());
-  r.medianEdge = edges[edges.size() / 2];
+  r.shortestEdge = edges.shortest();
+  r.medianEdge = medianEdgeLength(mesh, good, edges);
   // A cluster of tiny tetrahedra that is most of the mesh pulls the median down with it (a run
   // stopped at the vertex budget with 300k vertices around one point, edges of 1e-8 against a
   // median of 1e-4, read "no defects"): L is at least the edge of a regular tetrahedron of the
   // mesh's mean volume.
-  double volume = 0.0;
-  for (std::size_t t : good)
-  {
-    const auto& k = mesh.tets[t];
-    volume += std::abs(signedVolume(mesh.points[k[0]], mesh.points[k[1]], mesh.points[k[2]], mesh.points[k[3]]));
-  }
   const double L = validityLength(r.medianEdge, volume, good.size());
 
+  // one pass: shapes, the material check inside materials and the tetrahedra across boundaries
+  // (every vertex on an interface or line: never both)
+  const bool across = materialAt && th.facetDistanceOf && mesh.pointDimension.size() == mesh.points.size();
   for (std::size_t t : good)
+  {
     flags[t] |= shapeAndMaterialDefects(mesh, t, materialAt, th, L, byproducts);
+    if (across && t < mesh.tetMaterial.size() && acrossBoundary(mesh, t, materialAt, th.facetDistanceOf))
+    {
+      const auto& k = mesh.tets[t];
+      ++r.acrossBoundaryTetrahedra;
+      r.acrossBoundaryVolume +=
+        std::abs(signedVolume(mesh.points[k[0]], mesh.points[k[1]], mesh.points[k[2]], mesh.points[k[3]]));
+    }
+  }
   const double tol = th.duplicate * L;
   if (tol > 0)
   {
@@ -388,15 +477,6 @@ MeshValidity checkMeshValidity(const TetMesh& mesh, const std::function<int(cons
   }
   for (const auto& s : mesh.segments)
     r.missingSegmentPieces += th.segmentsRequired && !s.present;
-  if (materialAt && th.facetDistanceOf && mesh.pointDimension.size() == mesh.points.size())
-    for (std::size_t t : good)
-      if (t < mesh.tetMaterial.size() && acrossBoundary(mesh, t, materialAt, th.facetDistanceOf))
-      {
-        const auto& k = mesh.tets[t];
-        ++r.acrossBoundaryTetrahedra;
-        r.acrossBoundaryVolume +=
-          std::abs(signedVolume(mesh.points[k[0]], mesh.points[k[1]], mesh.points[k[2]], mesh.points[k[3]]));
-      }
   if (tetDefects)
     *tetDefects = std::move(flags);
   return r;

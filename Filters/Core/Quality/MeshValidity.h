@@ -13,8 +13,6 @@
 
 namespace omesh
 {
-/// Thresholds relative to a length L of the mesh: its median edge, or the edge of a regular
-/// tetrahedron of its mean volume where that is longer.
 /// The length L the thresholds are relative to: the median edge, or the edge of a regular
 /// tetrahedron of the mean volume (`totalVolume` / `tetrahedra`) where that is longer (a cluster of
 /// tiny tetrahedra that is most of the mesh must not pull L down with it).

@@ -137,7 +137,7 @@ private:
     for (const Facet& f : internal_)
       result.encroaches = result.encroaches || f.first->is_facet_on_surface(f.second);
     const Vec3 a = toVec(p);
-    result.worstAngle = 180.0;
+    double worstCosine = -1.0; // one acos at the end, of the largest cosine (acos decreases)
     for (const Facet& f : boundary_)
     {
       const Cell_handle c = f.first;
@@ -153,9 +153,10 @@ private:
         const Point& centre = c->get_facet_surface_center(i);
         result.encroaches = result.encroaches || CGAL::squared_distance(centre, p) <= CGAL::squared_distance(centre, q);
       }
-      result.worstAngle = std::min(result.worstAngle,
-        minDihedralAngle(a, toVec(q), toVec(tr_.point(c, (i + 2) & 3).point()), toVec(tr_.point(c, (i + 3) & 3).point())));
+      worstCosine = std::max(worstCosine,
+        largestDihedralCosine(a, toVec(q), toVec(tr_.point(c, (i + 2) & 3).point()), toVec(tr_.point(c, (i + 3) & 3).point())));
     }
+    result.worstAngle = worstCosine > -1.0 ? std::acos(worstCosine) * 180.0 / M_PI : 180.0; // as minDihedralAngle
     return result;
   }
 
