@@ -131,6 +131,14 @@ def main():
               " | %.2f | %.1f %% | %s | %.2f + %.2f | %.2f | %s | %s |" % (
                   om["after"], 100 * om["after"] / om["refine"], share_cgal, om["optimise"], om["improve"], om["call"],
                   peak, per_tet))
+    # the peak's growth per tetrahedron between two sizes: what the mesh costs, without the
+    # process's fixed part (the interpreter, numpy, VTK and the package: about 83 MiB before meshing)
+    for (h0, om0, cg0), (h1, om1, cg1) in zip(rows, rows[1:]):
+        if cg0 and cg1 and om1["tets"] != om0["tets"] and cg1["tets"] != cg0["tets"]:
+            slope_om = (om1["peak_rss"] - om0["peak_rss"]) / (om1["tets"] - om0["tets"])
+            slope_cg = (cg1["peak_rss"] - cg0["peak_rss"]) / (cg1["tets"] - cg0["tets"])
+            print("\npeak growth from h %g to h %g: %.0f bytes per added tetrahedron, CGAL %.0f (%.2fx)" %
+                  (h0, h1, slope_om, slope_cg, slope_om / slope_cg))
     print("\nshare of CGAL's: the after-refinement seconds per tetrahedron over CGAL's refinement seconds per "
           "tetrahedron; %d run(s) per configuration (medians); load average %.1f" % (a.repeat, os.getloadavg()[0]))
 

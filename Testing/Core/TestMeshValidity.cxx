@@ -337,3 +337,42 @@ TEST(MeshQuality, SmallestAltitudeIsTheHeightOverTheLargestFace)
   EXPECT_NEAR(smallestAltitude(o, x, y, 0.01 * z), 0.01 / std::sqrt(1.0 + 2.0 * 1e-4) * 1.0, 1e-6);
   EXPECT_EQ(smallestAltitude(o, x, y, Vec3{ 1, 1, 0 }), 0.0); // flat
 }
+
+TEST(MeshValidity, MedianAndShortestEdgeAreThoseOfAllEdgeLengths)
+{
+  // random tetrahedra over eight orders of magnitude of size, with many equal lengths (a copy of
+  // each tetrahedron): the check's binned median must be the element of rank n/2 of the lengths
+  std::mt19937 random(7);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  for (int round = 0; round < 20; ++round)
+  {
+    TetMesh m;
+    const int count = 1 + round * 37;
+    for (int t = 0; t < count; ++t)
+    {
+      const double size = std::pow(10.0, -4.0 + 8.0 * unit(random));
+      const Vec3 o{ unit(random) * 100, unit(random) * 100, unit(random) * 100 };
+      const int base = static_cast<int>(m.points.size());
+      m.points.push_back(o);
+      m.points.push_back(o + Vec3{ size, 0, 0 });
+      m.points.push_back(o + Vec3{ 0, size * (0.5 + unit(random)), 0 });
+      m.points.push_back(o + Vec3{ 0, 0, size * (0.5 + unit(random)) });
+      m.tets.push_back({ base, base + 1, base + 2, base + 3 });
+      m.tetMaterial.push_back(1);
+      if (t % 3 == 0)
+      {
+        m.tets.push_back({ base, base + 1, base + 2, base + 3 }); // the same edges again
+        m.tetMaterial.push_back(1);
+      }
+    }
+    std::vector<double> lengths;
+    for (const auto& k : m.tets)
+      for (int i = 0; i < 4; ++i)
+        for (int j = i + 1; j < 4; ++j)
+          lengths.push_back(norm(m.points[k[i]] - m.points[k[j]]));
+    std::sort(lengths.begin(), lengths.end());
+    const MeshValidity v = checkMeshValidity(m);
+    EXPECT_EQ(v.medianEdge, lengths[lengths.size() / 2]) << "round " << round;
+    EXPECT_EQ(v.shortestEdge, lengths.front()) << "round " << round;
+  }
+}
