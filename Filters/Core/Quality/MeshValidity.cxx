@@ -227,10 +227,10 @@ std::vector<std::pair<std::string, double>> MeshValidity::asStatistics() const
 namespace
 {
 /// The exact median and the shortest of the tetrahedra's edge lengths (an edge once per
-/// tetrahedron holding it), without a list of them (six per tetrahedron, the check's largest array
-/// and its slowest step once ordered): the lengths are counted in bins of their leading bits (the
-/// exponent and 5 bits of the mantissa, in the order of the values for non-negative doubles), then
-/// a second pass collects only the median's bin and orders that.
+/// tetrahedron holding it), without a list of them (six doubles per tetrahedron: 480 MB at 10M
+/// tetrahedra): the lengths are counted in bins of their leading bits (the exponent and 5 bits of
+/// the mantissa, in the order of the values for non-negative doubles), then a second pass collects
+/// only the median's bin and orders that.
 class EdgeLengthMedian
 {
 public:

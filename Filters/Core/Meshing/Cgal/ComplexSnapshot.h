@@ -43,22 +43,28 @@ public:
     bool any() const { return vertices || cells || facets || edges || corners; }
   };
 
-  explicit ComplexSnapshot(const C3t3& c3t3)
+  /// Records `c3t3`; `visitCell` is called with each cell of the complex, in the record's one
+  /// pass over the cells (for what else the caller measures on them).
+  template <class CellVisitor>
+  ComplexSnapshot(const C3t3& c3t3, CellVisitor&& visitCell)
   {
     const Tr& tr = c3t3.triangulation();
-    // vertex numbers: the order of the triangulation's vertices (a map only while recording)
-    std::unordered_map<Vertex_handle, std::uint32_t> number;
-    number.reserve(tr.number_of_vertices());
+    // vertex numbers: the order of the triangulation's vertices, looked up by time stamp (unique
+    // per vertex ever created, so a vector rather than a hash map)
+    std::size_t stamps = 0;
+    for (auto v = tr.finite_vertices_begin(); v != tr.finite_vertices_end(); ++v)
+      stamps = std::max(stamps, v->time_stamp() + 1);
+    std::vector<std::uint32_t> number(stamps, 0);
     vertices_.reserve(tr.number_of_vertices());
     for (auto v = tr.finite_vertices_begin(); v != tr.finite_vertices_end(); ++v)
     {
-      number.emplace(v, static_cast<std::uint32_t>(vertices_.size()));
+      number[v->time_stamp()] = static_cast<std::uint32_t>(vertices_.size());
       vertices_.push_back({ tr.point(v), v->in_dimension(), c3t3.index(v) });
     }
-    auto id = [&](Vertex_handle v) { return number.find(v)->second; };
+    auto id = [&](Vertex_handle v) { return number[v->time_stamp()]; };
 
     // One pass over the cells (the complex's own iterators would walk them twice); a facet is
-    // met from both of its cells, and kept once.
+    // met from both of its cells and recorded twice until restore() orders the records.
     cells_.reserve(c3t3.number_of_cells_in_complex());
     facets_.reserve(2 * c3t3.number_of_facets_in_complex());
     for (auto c = tr.finite_cells_begin(); c != tr.finite_cells_end(); ++c)
@@ -71,7 +77,10 @@ public:
         continue;
       const std::array<std::uint32_t, 4> ids{ id(c->vertex(0)), id(c->vertex(1)), id(c->vertex(2)), id(c->vertex(3)) };
       if (inComplex)
+      {
         cells_.push_back({ sorted<4>(ids), c3t3.subdomain_index(c) });
+        visitCell(Cell_handle(c));
+      }
       for (int j = 0; j < 4; ++j)
       {
         if (!c3t3.is_in_complex(c, j))
@@ -83,11 +92,6 @@ public:
         facets_.push_back({ sorted<3>(k), c3t3.surface_patch_index(c, j) });
       }
     }
-    std::sort(cells_.begin(), cells_.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
-    std::sort(facets_.begin(), facets_.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
-    facets_.erase(std::unique(facets_.begin(), facets_.end(), [](const auto& a, const auto& b) { return a.first == b.first; }),
-      facets_.end());
-    facets_.shrink_to_fit();
 
     // edges_in_complex walks every edge of the triangulation (most of the record's time when it
     // has none, as Conforming's complexes)
@@ -98,10 +102,16 @@ public:
       corners_.push_back({ id(v), c3t3.corner_index(v) });
   }
 
+  explicit ComplexSnapshot(const C3t3& c3t3)
+    : ComplexSnapshot(c3t3, [](const Cell_handle&) {})
+  {
+  }
+
   /// Empties `c3t3` (same object: references to it and its triangulation stay valid) and rebuilds
   /// it from the record. Vertex handles into the old triangulation are invalid afterwards.
-  Lost restore(C3t3& c3t3) const
+  Lost restore(C3t3& c3t3)
   {
+    orderRecords();
     c3t3.clear();
     Lost lost;
     const Handles h = reinsertVertices(c3t3, lost);
@@ -113,6 +123,16 @@ public:
   }
 
 private:
+  /// The cell and facet records ordered for the lookups of restoreCellsAndFacets, each facet once.
+  /// Done here, not while recording: most records are never restored.
+  void orderRecords()
+  {
+    std::sort(cells_.begin(), cells_.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    std::sort(facets_.begin(), facets_.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    facets_.erase(std::unique(facets_.begin(), facets_.end(), [](const auto& a, const auto& b) { return a.first == b.first; }),
+      facets_.end());
+  }
+
   /// Record number -> new handle (null where a vertex did not come back) and back.
   struct Handles
   {

@@ -109,26 +109,40 @@ private:
   const char* phase_;
 };
 
-/// Smallest dihedral angle (degrees) of the cells of the complex: the minimum of minDihedralAngle
+/// Smallest dihedral angle (degrees) of the cells given to it: the minimum of minDihedralAngle
 /// over them, but a cell whose angles are certainly at least the smallest so far
-/// (dihedralAnglesCertainlyAtLeast: no square root, no acos) is not measured.
-inline double complexMinAngle(const C3t3& c3t3)
+/// (dihedralAnglesCertainlyAtLeast: no square root, no acos) is not measured. The result does not
+/// depend on the order of the cells.
+class SmallestCellAngle
 {
-  double m = 180.0, cosM = -1.0;
-  for (auto c = c3t3.cells_in_complex_begin(); c != c3t3.cells_in_complex_end(); ++c)
+public:
+  template <class Cell_handle>
+  void add(const Cell_handle& c)
   {
     const Vec3 a = toVec(c->vertex(0)->point().point()), b = toVec(c->vertex(1)->point().point()),
                d = toVec(c->vertex(2)->point().point()), e = toVec(c->vertex(3)->point().point());
-    if (m < 90.0 && dihedralAnglesCertainlyAtLeast(a, b, d, e, cosM))
-      continue;
+    if (smallest_ < 90.0 && dihedralAnglesCertainlyAtLeast(a, b, d, e, cosSmallest_))
+      return;
     const double angle = minDihedralAngle(a, b, d, e);
-    if (angle < m)
+    if (angle < smallest_)
     {
-      m = angle;
-      cosM = std::cos(m * M_PI / 180.0);
+      smallest_ = angle;
+      cosSmallest_ = std::cos(smallest_ * M_PI / 180.0);
     }
   }
-  return m;
+  double degrees() const { return smallest_; }
+
+private:
+  double smallest_ = 180.0, cosSmallest_ = -1.0;
+};
+
+/// Smallest dihedral angle (degrees) of the cells of the complex (SmallestCellAngle).
+inline double complexMinAngle(const C3t3& c3t3)
+{
+  SmallestCellAngle smallest;
+  for (auto c = c3t3.cells_in_complex_begin(); c != c3t3.cells_in_complex_end(); ++c)
+    smallest.add(c);
+  return smallest.degrees();
 }
 
 /// How one optimiser ended.

@@ -99,8 +99,9 @@ public:
     run_.report(0.8, "exudation");
     Exudation e;
     e.missingBefore = run_.conforming ? run_.segments->countNotEdges() : 0;
-    e.worstBefore = complexMinAngle(*run_.c3t3);
-    e.before.emplace(*run_.c3t3);
+    SmallestCellAngle worst; // measured in the record's pass over the cells
+    e.before.emplace(*run_.c3t3, [&worst](const auto& cell) { worst.add(cell); });
+    e.worstBefore = worst.degrees();
     // The budget also ends CGAL's exuder where it cycles (seen next to protecting balls); it stops
     // between two cells, where the mesh is consistent. Without a budget, 10 pumps per cell still
     // end a cycle.
