@@ -103,9 +103,6 @@ TetShape tetShape(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d)
   return tetShape(a, b, c, d, std::abs(signedVolume(a, b, c, d)));
 }
 
-namespace
-{
-/// The six edge lengths of abcd: ab, ac, ad, bc, bd, cd (edge e and edge 5 - e are opposite).
 void edgeLengths(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, double l[6])
 {
   const Vec3 p[4] = { a, b, c, d };
@@ -114,6 +111,8 @@ void edgeLengths(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, dou
       l[e] = norm(p[j] - p[i]);
 }
 
+namespace
+{
 /// Circumradius from the products of opposite edges' lengths (a tetrahedron's Heron) and the
 /// volume; infinite for a flat tetrahedron. No circumcentre (a solve) is needed.
 double circumradiusOf(const double l[6], double volume)

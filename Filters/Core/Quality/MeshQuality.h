@@ -52,6 +52,9 @@ TetShape tetShape(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
 /// The same with the volume known (|signedVolume| of these corners in any order).
 TetShape tetShape(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, double volume);
 
+/// The six edge lengths of abcd: ab, ac, ad, bc, bd, cd (edge e and edge 5 - e are opposite).
+void edgeLengths(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, double l[6]);
+
 /// Circumradius divided by the shortest edge (sqrt(6)/4 = 0.61 for the regular tetrahedron;
 /// infinite for a flat one).
 double radiusEdgeRatio(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);

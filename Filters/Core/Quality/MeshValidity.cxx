@@ -286,9 +286,10 @@ template <typename F>
 void forEachEdgeLength(const TetMesh& mesh, std::size_t t, F&& f)
 {
   const auto& k = mesh.tets[t];
-  for (int i = 0; i < 4; ++i)
-    for (int j = i + 1; j < 4; ++j)
-      f(norm(mesh.points[k[i]] - mesh.points[k[j]]));
+  double l[6];
+  edgeLengths(mesh.points[k[0]], mesh.points[k[1]], mesh.points[k[2]], mesh.points[k[3]], l);
+  for (double length : l)
+    f(length);
 }
 
 /// The tetrahedra with valid indices (four distinct points of the mesh); the others are counted and
@@ -356,7 +357,9 @@ unsigned char shapeAndMaterialDefects(const TetMesh& mesh, std::size_t t,
     longest = measureTet(mesh, t, *shapes.shapes, shapes.shapeArrays, v).longestEdge;
   else
   {
-    longest = std::max({ norm(b - a), norm(c - a), norm(d - a), norm(c - b), norm(d - b), norm(d - c) });
+    double l[6];
+    edgeLengths(a, b, c, d, l);
+    longest = *std::max_element(l, l + 6);
     v = signedVolume(a, b, c, d);
   }
   unsigned char flags = (longest < th.micro * L ? kMicro : 0) |

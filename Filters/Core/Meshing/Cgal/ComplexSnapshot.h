@@ -12,6 +12,7 @@
 #pragma once
 
 #include "ExactCoordinates.h"
+#include "VertexTimeStamps.h"
 
 #include <algorithm>
 #include <array>
@@ -51,10 +52,7 @@ public:
     const Tr& tr = c3t3.triangulation();
     // vertex numbers: the order of the triangulation's vertices, looked up by time stamp (unique
     // per vertex ever created, so a vector rather than a hash map)
-    std::size_t stamps = 0;
-    for (auto v = tr.finite_vertices_begin(); v != tr.finite_vertices_end(); ++v)
-      stamps = std::max(stamps, v->time_stamp() + 1);
-    std::vector<std::uint32_t> number(stamps, 0);
+    std::vector<std::uint32_t> number(vertexTimeStampBound(tr), 0);
     vertices_.reserve(tr.number_of_vertices());
     for (auto v = tr.finite_vertices_begin(); v != tr.finite_vertices_end(); ++v)
     {
@@ -100,11 +98,6 @@ public:
         edges_.push_back({ id(e->first->vertex(e->second)), id(e->first->vertex(e->third)), c3t3.curve_index(*e) });
     for (auto v = c3t3.vertices_in_complex_begin(); v != c3t3.vertices_in_complex_end(); ++v)
       corners_.push_back({ id(v), c3t3.corner_index(v) });
-  }
-
-  explicit ComplexSnapshot(const C3t3& c3t3)
-    : ComplexSnapshot(c3t3, [](const Cell_handle&) {})
-  {
   }
 
   /// Empties `c3t3` (same object: references to it and its triangulation stay valid) and rebuilds

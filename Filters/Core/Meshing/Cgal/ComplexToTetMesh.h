@@ -7,6 +7,7 @@
 #include "HierarchicalOracle.h"
 #include "SequentialTypes.h"
 #include "TetMesh.h"
+#include "VertexTimeStamps.h"
 
 #include <CGAL/Spatial_sort_traits_adapter_3.h>
 #include <CGAL/hilbert_sort.h>
@@ -77,10 +78,7 @@ struct UsedVertices
 
   explicit UsedVertices(const Tr& tr)
   {
-    std::size_t stamps = 0;
-    for (auto v = tr.finite_vertices_begin(); v != tr.finite_vertices_end(); ++v)
-      stamps = std::max(stamps, v->time_stamp() + 1);
-    ids.assign(stamps, -1);
+    ids.assign(vertexTimeStampBound(tr), -1);
     used.reserve(tr.number_of_vertices());
   }
   /// Marks `v` used; its time stamp.
