@@ -122,10 +122,15 @@ struct SurfaceDomain::Impl
   /// nothing when an end lies on a triangle's plane or the segment passes through an edge.
   std::optional<int> signedCrossings(const Point& from, const Point& to, size_t c, size_t d) const;
 
+  /// The winding number that defines inside (WindingNumber::approximate: the exact sum is some ten
+  /// times dearer on large surfaces); every answer of the domain is taken from it.
+  double windingAt(const Vec3& p) const { return winding->approximate(p); }
+  /// The error of windingAt against the true winding number, which the gradient bound is about.
+  static constexpr double kApproximation = WindingNumber::kApproximationError;
   bool exact(const Vec3& p) const
   {
     if (winding)
-      return (*winding)(p) > 0.5;
+      return windingAt(p) > 0.5;
     return (*side)(toCgal(p)) != CGAL::ON_UNBOUNDED_SIDE;
   }
   /// Where the winding number passes 1/2 between the triangle hits of segment ab (across holes).
@@ -156,13 +161,16 @@ struct SurfaceDomain::Impl
   std::optional<bool> crossesOddly(const Point& from, const Point& to, size_t c, bool toIsReference = false) const;
   /// The side of the cell's reference point (kReferenceUnusable where no query could use it).
   uint8_t findReferenceSide(int i, int j, int k) const;
-  /// The winding number at p, evaluated (`error` 0).
+  /// The winding number at p, evaluated (within `error` = kApproximation of the true one).
   double evaluate(const Vec3& p, double& error) const
   {
-    error = 0.0;
-    return (*winding)(p);
+    error = kApproximation;
+    return windingAt(p);
   }
-  /// The winding number at p from its cell's data, within `error` (0 where it evaluated it).
+  /// Whether windingAt(p) lies on the side of 1/2 that `w`, an estimate of the true winding number
+  /// within `error`, shows.
+  static bool decides(double w, double error) { return std::abs(w - 0.5) > error + kApproximation; }
+  /// The winding number at p from its cell's data, within `error` (kApproximation where it evaluated it).
   double windingEstimate(const Vec3& p, double& error) const;
   /// w(p) > 1/2: from the estimate where its error allows, else evaluated.
   bool windingInside(const Vec3& p) const;
@@ -317,9 +325,9 @@ bool SurfaceDomain::Impl::windingInside(const Vec3& p) const
 {
   double error = 0.0;
   const double w = windingEstimate(p, error);
-  if (std::abs(w - 0.5) > error)
+  if (decides(w, error))
     return w > 0.5;
-  return (*winding)(p) > 0.5;
+  return windingAt(p) > 0.5;
 }
 
 void SurfaceDomain::Impl::buildWindingGrid(size_t numTriangles)
@@ -523,9 +531,9 @@ void SurfaceDomain::Impl::passes(const Vec3& a, const Vec3& b, double length, Sa
   constexpr int kMaxDepth = 2; // 4 pieces where the bound cannot rule a pass out
   // w changes by at most L |dt| along the piece: no pass when both ends lie certainly on one side
   // and |w - 1/2| at the ends adds up to more than that
-  auto certain = [](const Sample& s) { return std::abs(s.w - 0.5) - s.error; };
+  auto certain = [](const Sample& s) { return std::abs(s.w - 0.5) - s.error - kApproximation; };
   auto sharpen = [&](Sample& s) {
-    if (s.error > 0)
+    if (s.error > kApproximation)
       s.w = evaluate(lerp(a, b, s.t), s.error);
   };
   for (int round = 0; round < 2; ++round)
@@ -538,7 +546,7 @@ void SurfaceDomain::Impl::passes(const Vec3& a, const Vec3& b, double length, Sa
       if (certain(lo) + certain(hi) > winding->gradientBound(piece) * (hi.t - lo.t) * length)
         return;
     }
-    if (lo.error == 0 && hi.error == 0)
+    if (lo.error <= kApproximation && hi.error <= kApproximation)
       break;
     sharpen(lo); // the grid's estimates could not decide: evaluations
     sharpen(hi);
@@ -552,7 +560,7 @@ void SurfaceDomain::Impl::passes(const Vec3& a, const Vec3& b, double length, Sa
     return;
   }
   auto side = [&](const Sample& s) {
-    return std::abs(s.w - 0.5) > s.error ? s.w > 0.5 : (*winding)(lerp(a, b, s.t)) > 0.5;
+    return decides(s.w, s.error) ? s.w > 0.5 : windingAt(lerp(a, b, s.t)) > 0.5;
   };
   const bool insideLo = side(lo);
   if (insideLo == side(hi))
@@ -561,7 +569,7 @@ void SurfaceDomain::Impl::passes(const Vec3& a, const Vec3& b, double length, Sa
   while (y - x > 1e-12 * (1.0 + std::abs(y)))
   {
     const double mid = 0.5 * (x + y);
-    (((*winding)(lerp(a, b, mid)) > 0.5) == insideLo ? x : y) = mid;
+    ((windingAt(lerp(a, b, mid)) > 0.5) == insideLo ? x : y) = mid;
   }
   ts.push_back(y);
 }

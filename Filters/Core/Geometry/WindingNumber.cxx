@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <map>
 
 namespace omesh
 {
@@ -12,6 +11,11 @@ namespace omesh
 namespace
 {
 constexpr int kLeafSize = 8;
+/// approximate(): a node is far when its area centroid lies more than this many radii from the
+/// point (Barill et al.'s beta)
+constexpr double kFarRatio = 2.0;
+/// The index pairs (k, l) of FarField::second's six columns.
+constexpr int kPair[6][2] = { { 0, 0 }, { 1, 1 }, { 2, 2 }, { 0, 1 }, { 0, 2 }, { 1, 2 } };
 
 /// Signed solid angle of triangle abc seen from p (Van Oosterom & Strackee's formula).
 double solidAngle(const Vec3& p, const Vec3& a0, const Vec3& b0, const Vec3& c0)
@@ -37,6 +41,7 @@ WindingNumber::WindingNumber(const std::vector<Vec3>& points, const std::vector<
   if (triangles_.empty())
     return;
   nodes_.reserve(2 * triangles_.size() / kLeafSize + 2);
+  far_.reserve(nodes_.capacity());
   build(0, static_cast<int>(triangles_.size()));
   const Vec3 size = nodes_[0].box.size();
   margin_ = 1e-9 * norm(size);
@@ -113,6 +118,7 @@ int WindingNumber::build(int first, int count)
 {
   const int index = static_cast<int>(nodes_.size());
   nodes_.emplace_back();
+  far_.emplace_back();
   {
     Node& n = nodes_.back();
     n.first = first;
@@ -122,28 +128,16 @@ int WindingNumber::build(int first, int count)
         n.box.add(points_[v]);
     n.centre = 0.5 * (n.box.min + n.box.max);
   }
-  // directed edges that no other triangle of the node runs the opposite way: the node's border
-  std::map<std::pair<int, int>, int> directed;
-  for (int t = first; t < first + count; ++t)
-    for (int e = 0; e < 3; ++e)
-    {
-      const int a = triangles_[t][e], b = triangles_[t][(e + 1) % 3];
-      auto opposite = directed.find({ b, a });
-      if (opposite != directed.end() && opposite->second > 0)
-      {
-        if (--opposite->second == 0)
-          directed.erase(opposite);
-      }
-      else
-        ++directed[{ a, b }];
-    }
-  nodes_[index].borderFirst = static_cast<int>(borders_.size());
-  for (const auto& [edge, times] : directed)
-    for (int k = 0; k < times; ++k)
-      borders_.push_back({ edge.first, edge.second });
-  nodes_[index].borderCount = static_cast<int>(borders_.size()) - nodes_[index].borderFirst;
+  std::vector<std::array<int, 2>> edges;
   if (count <= kLeafSize)
+  {
+    for (int t = first; t < first + count; ++t)
+      for (int e = 0; e < 3; ++e)
+        edges.push_back({ triangles_[t][e], triangles_[t][(e + 1) % 3] });
+    setBorder(index, edges);
+    buildFarField(nodes_[index], far_[index]);
     return index;
+  }
   // split at the median centroid along the longest axis of the centroids' box
   BoundingBox centroids;
   auto centroid = [&](const std::array<int, 3>& t) {
@@ -160,7 +154,135 @@ int WindingNumber::build(int first, int count)
   const int right = build(first + half, count - half);
   nodes_[index].child[0] = left;
   nodes_[index].child[1] = right;
+  // the node's border is its children's, less the edges one runs opposite to the other
+  for (int child : { left, right })
+    edges.insert(edges.end(), borders_.begin() + nodes_[child].borderFirst,
+      borders_.begin() + nodes_[child].borderFirst + nodes_[child].borderCount);
+  setBorder(index, edges);
+  far_[index] = mergedFarField(far_[left], far_[right], nodes_[index].centre);
   return index;
+}
+
+void WindingNumber::setBorder(int index, std::vector<std::array<int, 2>>& edges)
+{
+  // directed edges that no other edge runs the opposite way: per undirected edge, the count one
+  // way less the count the other way, in the direction that is left over
+  std::sort(edges.begin(), edges.end(), [](const std::array<int, 2>& a, const std::array<int, 2>& b) {
+    return std::minmax(a[0], a[1]) < std::minmax(b[0], b[1]);
+  });
+  nodes_[index].borderFirst = static_cast<int>(borders_.size());
+  for (size_t i = 0; i < edges.size();)
+  {
+    const auto key = std::minmax(edges[i][0], edges[i][1]);
+    int net = 0;
+    for (; i < edges.size() && std::minmax(edges[i][0], edges[i][1]) == key; ++i)
+      net += edges[i][0] < edges[i][1] ? 1 : -1;
+    for (int k = 0; k < std::abs(net); ++k)
+      borders_.push_back(net > 0 ? std::array<int, 2>{ key.first, key.second } : std::array<int, 2>{ key.second, key.first });
+  }
+  nodes_[index].borderCount = static_cast<int>(borders_.size()) - nodes_[index].borderFirst;
+}
+
+void WindingNumber::buildFarField(const Node& node, FarField& f) const
+{
+  Vec3 weighted{ 0, 0, 0 };
+  for (int t = node.first; t < node.first + node.count; ++t)
+  {
+    const Vec3 &a = points_[triangles_[t][0]], &b = points_[triangles_[t][1]], &c = points_[triangles_[t][2]];
+    const double area = 0.5 * norm(cross(b - a, c - a));
+    f.area += area;
+    weighted = weighted + (area / 3.0) * (a + b + c);
+  }
+  f.centre = f.area > 0.0 ? (1.0 / f.area) * weighted : node.centre;
+  f.normal = { 0, 0, 0 };
+  for (int t = node.first; t < node.first + node.count; ++t)
+  {
+    const Vec3 v[3] = { points_[triangles_[t][0]] - f.centre, points_[triangles_[t][1]] - f.centre,
+      points_[triangles_[t][2]] - f.centre };
+    const Vec3 vectorArea = 0.5 * cross(v[1] - v[0], v[2] - v[0]); // n dA over the triangle
+    const Vec3 sum = v[0] + v[1] + v[2];
+    f.normal = f.normal + vectorArea;
+    for (const Vec3& corner : v)
+      f.radius = std::max(f.radius, norm(corner));
+    for (int j = 0; j < 3; ++j)
+    {
+      for (int k = 0; k < 3; ++k)
+        f.first[3 * j + k] += vectorArea[j] * sum[k] / 3.0;
+      // the integral of s_k s_l over a triangle with corners v (about any origin): area / 12 *
+      // (sum of v_k v_l over the corners + their sums' product)
+      for (int kl = 0; kl < 6; ++kl)
+      {
+        const int k = kPair[kl][0], l = kPair[kl][1];
+        const double corners = v[0][k] * v[0][l] + v[1][k] * v[1][l] + v[2][k] * v[2][l];
+        f.second[6 * j + kl] += vectorArea[j] * (corners + sum[k] * sum[l]) / 12.0;
+      }
+    }
+  }
+}
+
+WindingNumber::FarField WindingNumber::mergedFarField(const FarField& a, const FarField& b, const Vec3& boxCentre)
+{
+  FarField f;
+  f.area = a.area + b.area;
+  f.centre = f.area > 0.0 ? (1.0 / f.area) * (a.area * a.centre + b.area * b.centre) : boxCentre;
+  f.normal = a.normal + b.normal;
+  for (const FarField* child : { &a, &b })
+  {
+    // moments about the child's centroid moved to the node's: s = s_child + delta
+    const Vec3 delta = child->centre - f.centre;
+    f.radius = std::max(f.radius, child->radius + norm(delta)); // a ball holding the child's ball
+    for (int j = 0; j < 3; ++j)
+    {
+      for (int k = 0; k < 3; ++k)
+        f.first[3 * j + k] += child->first[3 * j + k] + child->normal[j] * delta[k];
+      for (int kl = 0; kl < 6; ++kl)
+      {
+        const int k = kPair[kl][0], l = kPair[kl][1];
+        f.second[6 * j + kl] += child->second[6 * j + kl] + child->first[3 * j + k] * delta[l] +
+          child->first[3 * j + l] * delta[k] + child->normal[j] * delta[k] * delta[l];
+      }
+    }
+  }
+  return f;
+}
+
+double WindingNumber::approximate(int index, const Vec3& p) const
+{
+  const Node& n = nodes_[index];
+  const FarField& f = far_[index];
+  const Vec3 y = f.centre - p;
+  const double d2 = dot(y, y);
+  if (d2 > kFarRatio * kFarRatio * f.radius * f.radius)
+  {
+    // the solid angle is the integral of n . G(x - p) dA, G(y) = y / |y|^3, with G expanded about
+    // y = centre - p to second order in s = x - centre
+    const double inv2 = 1.0 / d2, inv3 = inv2 / std::sqrt(d2), inv5 = inv3 * inv2, inv7 = inv5 * inv2;
+    const std::array<double, 9>& m1 = f.first;
+    double yM1y = 0.0, a1 = 0.0, a3 = 0.0, a4 = 0.0;
+    for (int j = 0; j < 3; ++j)
+    {
+      const double* s = f.second.data() + 6 * j; // [j][kl], kl = xx yy zz xy xz yz
+      const double jl[3] = { j == 0 ? s[0] : (j == 1 ? s[3] : s[4]), j == 0 ? s[3] : (j == 1 ? s[1] : s[5]),
+        j == 0 ? s[4] : (j == 1 ? s[5] : s[2]) }; // [j][j l], l = x y z
+      yM1y += y[j] * (m1[3 * j] * y.x + m1[3 * j + 1] * y.y + m1[3 * j + 2] * y.z);
+      a1 += jl[0] * y.x + jl[1] * y.y + jl[2] * y.z;
+      a3 += y[j] * (s[0] + s[1] + s[2]);
+      a4 += y[j] * (s[0] * y.x * y.x + s[1] * y.y * y.y + s[2] * y.z * y.z +
+                     2.0 * (s[3] * y.x * y.y + s[4] * y.x * y.z + s[5] * y.y * y.z));
+    }
+    const double order0 = dot(f.normal, y) * inv3;
+    const double order1 = (m1[0] + m1[4] + m1[8]) * inv3 - 3.0 * yM1y * inv5; // dG/dy: I/d^3 - 3 y y^T/d^5
+    const double order2 = 0.5 * (-3.0 * (2.0 * a1 + a3) * inv5 + 15.0 * a4 * inv7);
+    return order0 + order1 + order2;
+  }
+  if (n.child[0] < 0 || (n.borderCount == 0 && strictlyOutside(n.box, p, margin_)))
+    return evaluate(index, p); // a leaf's triangles; or closed and not around p: 0
+  return approximate(n.child[0], p) + approximate(n.child[1], p);
+}
+
+double WindingNumber::approximate(const Vec3& p) const
+{
+  return nodes_.empty() ? 0.0 : approximate(0, p) / (4.0 * M_PI);
 }
 
 double WindingNumber::evaluate(int index, const Vec3& p) const

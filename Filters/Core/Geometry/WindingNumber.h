@@ -28,6 +28,15 @@ public:
 
   /// The winding number at p (about 0.5 on the surface itself).
   double operator()(const Vec3& p) const;
+  /// The winding number at p with the nodes far from p (their area centroid more than 2 of their
+  /// radii away) taken by a second-order expansion of their solid angle (Barill et al. 2018, as
+  /// libigl's and fTetWild's fast winding number): about ten times cheaper than operator() on a
+  /// 100k-triangle surface. The nodes near p and their triangles are summed exactly, so it jumps
+  /// by 1 across a triangle as operator() does. Its error is not bounded rigorously (a rigorous
+  /// bound of the remainder is some thousand times the error and would decide nothing):
+  /// measured at most 7e-3 (`kApproximationError`, 1/16, leaves a margin of nine).
+  double approximate(const Vec3& p) const;
+  static constexpr double kApproximationError = 0.0625;
   /// The plain sum over every triangle (for tests).
   double bruteForce(const Vec3& p) const;
 
@@ -50,13 +59,29 @@ private:
     int first = 0, count = 0;             ///< triangles [first, first + count) of order_
     int borderFirst = 0, borderCount = 0; ///< directed border edges of the node's triangles
   };
+  /// A node's triangles seen from afar: about their area centroid, the moments of n dA (n the unit
+  /// normal) of order 0 to 2, the radius of a ball around the centroid holding them, their area.
+  struct FarField
+  {
+    Vec3 centre;
+    double radius = 0.0, area = 0.0;
+    Vec3 normal;                     ///< sum of n dA
+    std::array<double, 9> first{};   ///< [j][k]: sum of n_j (x - centre)_k dA
+    std::array<double, 18> second{}; ///< [j][kl], kl = xx yy zz xy xz yz: sum of n_j (x - c)_k (x - c)_l dA
+  };
   int build(int first, int count);
+  /// Stores the node's border from `edges` (its triangles' or its children's border edges).
+  void setBorder(int node, std::vector<std::array<int, 2>>& edges);
+  void buildFarField(const Node& node, FarField& far) const;
+  static FarField mergedFarField(const FarField& a, const FarField& b, const Vec3& boxCentre);
   double evaluate(int node, const Vec3& p) const;
+  double approximate(int node, const Vec3& p) const;
 
   std::vector<Vec3> points_;
   std::vector<std::array<int, 3>> triangles_; ///< reordered so that every node is a range
   std::vector<std::array<int, 2>> borders_;
   std::vector<Node> nodes_;
+  std::vector<FarField> far_; ///< one per node
   double margin_ = 0.0;
   struct BorderCluster
   {
