@@ -41,8 +41,20 @@ WindingNumber::WindingNumber(const std::vector<Vec3>& points, const std::vector<
   if (triangles_.empty())
     return;
   nodes_.reserve(2 * triangles_.size() / kLeafSize + 2);
-  far_.reserve(nodes_.capacity());
-  build(0, static_cast<int>(triangles_.size()));
+  std::vector<FarField> far;
+  far.reserve(nodes_.capacity());
+  build(0, static_cast<int>(triangles_.size()), far);
+  expansions_.resize(far.size());
+  for (size_t i = 0; i < far.size(); ++i)
+  {
+    Expansion& e = expansions_[i];
+    e.centre = far[i].centre;
+    e.farRadius2 = kFarRatio * kFarRatio * far[i].radius * far[i].radius;
+    for (int j = 0; j < 3; ++j)
+      e.moments[j] = static_cast<float>(far[i].normal[j]);
+    std::copy(far[i].first.begin(), far[i].first.end(), e.moments.begin() + 3);
+    std::copy(far[i].second.begin(), far[i].second.end(), e.moments.begin() + 12);
+  }
   const Vec3 size = nodes_[0].box.size();
   margin_ = 1e-9 * norm(size);
   // the border in at most 64 groups of neighbouring edges (sorted along a grid's cells, z-major)
@@ -114,11 +126,11 @@ double WindingNumber::gradientBound(const BoundingBox& region) const
   return bound / (4.0 * M_PI);
 }
 
-int WindingNumber::build(int first, int count)
+int WindingNumber::build(int first, int count, std::vector<FarField>& far)
 {
   const int index = static_cast<int>(nodes_.size());
   nodes_.emplace_back();
-  far_.emplace_back();
+  far.emplace_back();
   {
     Node& n = nodes_.back();
     n.first = first;
@@ -135,7 +147,7 @@ int WindingNumber::build(int first, int count)
       for (int e = 0; e < 3; ++e)
         edges.push_back({ triangles_[t][e], triangles_[t][(e + 1) % 3] });
     setBorder(index, edges);
-    buildFarField(nodes_[index], far_[index]);
+    buildFarField(nodes_[index], far[index]);
     return index;
   }
   // split at the median centroid along the longest axis of the centroids' box
@@ -150,8 +162,8 @@ int WindingNumber::build(int first, int count)
   const int half = count / 2;
   std::nth_element(triangles_.begin() + first, triangles_.begin() + first + half, triangles_.begin() + first + count,
     [&](const std::array<int, 3>& a, const std::array<int, 3>& b) { return centroid(a)[axis] < centroid(b)[axis]; });
-  const int left = build(first, half);
-  const int right = build(first + half, count - half);
+  const int left = build(first, half, far);
+  const int right = build(first + half, count - half, far);
   nodes_[index].child[0] = left;
   nodes_[index].child[1] = right;
   // the node's border is its children's, less the edges one runs opposite to the other
@@ -159,7 +171,7 @@ int WindingNumber::build(int first, int count)
     edges.insert(edges.end(), borders_.begin() + nodes_[child].borderFirst,
       borders_.begin() + nodes_[child].borderFirst + nodes_[child].borderCount);
   setBorder(index, edges);
-  far_[index] = mergedFarField(far_[left], far_[right], nodes_[index].centre);
+  far[index] = mergedFarField(far[left], far[right], nodes_[index].centre);
   return index;
 }
 
@@ -248,35 +260,37 @@ WindingNumber::FarField WindingNumber::mergedFarField(const FarField& a, const F
 
 double WindingNumber::approximate(int index, const Vec3& p) const
 {
-  const Node& n = nodes_[index];
-  const FarField& f = far_[index];
+  const Expansion& f = expansions_[index];
   const Vec3 y = f.centre - p;
   const double d2 = dot(y, y);
-  if (d2 > kFarRatio * kFarRatio * f.radius * f.radius)
+  if (d2 > f.farRadius2)
   {
     // the solid angle is the integral of n . G(x - p) dA, G(y) = y / |y|^3, with G expanded about
     // y = centre - p to second order in s = x - centre
     const double inv2 = 1.0 / d2, inv3 = inv2 / std::sqrt(d2), inv5 = inv3 * inv2, inv7 = inv5 * inv2;
-    const std::array<double, 9>& m1 = f.first;
+    const float* normal = f.moments.data();
+    const float* m1 = normal + 3; // [j][k]
     double yM1y = 0.0, a1 = 0.0, a3 = 0.0, a4 = 0.0;
     for (int j = 0; j < 3; ++j)
     {
-      const double* s = f.second.data() + 6 * j; // [j][kl], kl = xx yy zz xy xz yz
+      const float* s = m1 + 9 + 6 * j; // [j][kl], kl = xx yy zz xy xz yz
       const double jl[3] = { j == 0 ? s[0] : (j == 1 ? s[3] : s[4]), j == 0 ? s[3] : (j == 1 ? s[1] : s[5]),
         j == 0 ? s[4] : (j == 1 ? s[5] : s[2]) }; // [j][j l], l = x y z
       yM1y += y[j] * (m1[3 * j] * y.x + m1[3 * j + 1] * y.y + m1[3 * j + 2] * y.z);
       a1 += jl[0] * y.x + jl[1] * y.y + jl[2] * y.z;
-      a3 += y[j] * (s[0] + s[1] + s[2]);
+      a3 += y[j] * (static_cast<double>(s[0]) + s[1] + s[2]);
       a4 += y[j] * (s[0] * y.x * y.x + s[1] * y.y * y.y + s[2] * y.z * y.z +
                      2.0 * (s[3] * y.x * y.y + s[4] * y.x * y.z + s[5] * y.y * y.z));
     }
-    const double order0 = dot(f.normal, y) * inv3;
-    const double order1 = (m1[0] + m1[4] + m1[8]) * inv3 - 3.0 * yM1y * inv5; // dG/dy: I/d^3 - 3 y y^T/d^5
+    const double order0 = (normal[0] * y.x + normal[1] * y.y + normal[2] * y.z) * inv3;
+    const double order1 = (static_cast<double>(m1[0]) + m1[4] + m1[8]) * inv3 - 3.0 * yM1y * inv5; // dG/dy: I/d^3 - 3 y y^T/d^5
     const double order2 = 0.5 * (-3.0 * (2.0 * a1 + a3) * inv5 + 15.0 * a4 * inv7);
     return order0 + order1 + order2;
   }
+  const Node& n = nodes_[index];
   if (n.child[0] < 0 || (n.borderCount == 0 && strictlyOutside(n.box, p, margin_)))
     return evaluate(index, p); // a leaf's triangles; or closed and not around p: 0
+  __builtin_prefetch(&expansions_[n.child[1]]); // (the left child follows its parent in memory)
   return approximate(n.child[0], p) + approximate(n.child[1], p);
 }
 

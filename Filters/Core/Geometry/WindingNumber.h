@@ -69,7 +69,7 @@ private:
     std::array<double, 9> first{};   ///< [j][k]: sum of n_j (x - centre)_k dA
     std::array<double, 18> second{}; ///< [j][kl], kl = xx yy zz xy xz yz: sum of n_j (x - c)_k (x - c)_l dA
   };
-  int build(int first, int count);
+  int build(int first, int count, std::vector<FarField>& far);
   /// Stores the node's border from `edges` (its triangles' or its children's border edges).
   void setBorder(int node, std::vector<std::array<int, 2>>& edges);
   void buildFarField(const Node& node, FarField& far) const;
@@ -81,7 +81,15 @@ private:
   std::vector<std::array<int, 3>> triangles_; ///< reordered so that every node is a range
   std::vector<std::array<int, 2>> borders_;
   std::vector<Node> nodes_;
-  std::vector<FarField> far_; ///< one per node
+  /// FarField as approximate() reads it, one per node: the test for "far" first, the moments in
+  /// single precision (their rounding, ~1e-7 relative, is far below the expansion's error)
+  struct Expansion
+  {
+    Vec3 centre;
+    double farRadius2 = 0.0;   ///< squared distance beyond which the node is far
+    std::array<float, 30> moments{}; ///< normal (3), first (9), second (18)
+  };
+  std::vector<Expansion> expansions_;
   double margin_ = 0.0;
   struct BorderCluster
   {
