@@ -527,3 +527,41 @@ TEST(SurfaceHoles, GradientBoundHoldsOffTheSurface)
   near.add({ 9.6, 0.1, 0.1 });
   EXPECT_EQ(WindingNumber(closed.points, closed.triangles).gradientBound(near), 0.0);
 }
+
+TEST(SurfaceHoles, GradientBoundOfAnUnweldedSoupCountsItsSeamsByTheirGap)
+{
+  // every edge of a jittered soup is a border edge, but its seams' two sides pull w in opposite
+  // ways: the bound holds (finite differences) and is small off the surface, where counting each
+  // edge by its length would allow w to change by more than 1 over a unit step
+  const TriangleSurface sphere = test::icosphere({ 0, 0, 0 }, 10.0, 3);
+  const TriangleSurface soup = soupOf(sphere, 1e-4, 3);
+  const WindingNumber w(soup.points, soup.triangles);
+  ASSERT_TRUE(w.hasBorder());
+  std::mt19937 rng(43);
+  std::uniform_real_distribution<double> u(-12, 12), step(-0.05, 0.05);
+  int checked = 0;
+  for (int n = 0; n < 3000; ++n)
+  {
+    const Vec3 x{ u(rng), u(rng), u(rng) };
+    const Vec3 y = x + Vec3{ step(rng), step(rng), step(rng) };
+    if (std::abs(norm(x) - 10.0) < 0.5 || std::abs(norm(y) - 10.0) < 0.5)
+      continue; // the step might cross the surface
+    BoundingBox box;
+    box.add(x);
+    box.add(y);
+    const double bound = w.gradientBound(box);
+    ASSERT_TRUE(std::isfinite(bound));
+    ASSERT_LE(std::abs(w(x) - w(y)), bound * norm(y - x) + 1e-12) << x.x << " " << x.y << " " << x.z;
+    ++checked;
+  }
+  EXPECT_GT(checked, 2000);
+  double length = 0.0; // what the unpaired edges would allow at 2 units from the surface
+  for (const auto& t : soup.triangles)
+    for (int e = 0; e < 3; ++e)
+      length += norm(soup.points[t[(e + 1) % 3]] - soup.points[t[e]]);
+  BoundingBox inner;
+  inner.add({ 7.9, 0, 0 });
+  inner.add({ 8.0, 0.1, 0.1 });
+  EXPECT_GT(length / (4.0 * M_PI * 4.0), 10.0);
+  EXPECT_LT(w.gradientBound(inner), 0.01);
+}

@@ -148,6 +148,11 @@ struct SurfaceDomain::Impl
   {
     return static_cast<size_t>(i) + static_cast<size_t>(n[0]) * (static_cast<size_t>(j) + static_cast<size_t>(n[1]) * k);
   }
+  Vec3 referencePoint(size_t c) const
+  {
+    return referencePoint(static_cast<int>(c % n[0]), static_cast<int>((c / n[0]) % n[1]),
+      static_cast<int>(c / (static_cast<size_t>(n[0]) * n[1])));
+  }
   Vec3 referencePoint(int i, int j, int k) const
   {
     return { origin.x + (i + kReferenceOffset[0]) * cell.x, origin.y + (j + kReferenceOffset[1]) * cell.y,
@@ -174,6 +179,11 @@ struct SurfaceDomain::Impl
   double windingEstimate(const Vec3& p, double& error) const;
   /// w(p) > 1/2: from the estimate where its error allows, else evaluated.
   bool windingInside(const Vec3& p) const;
+  /// windingSlope of every cell.
+  void boundWindingSlopes();
+  /// Carries w from cell c's reference point to neighbour d's (buildWindingGrid); false where the
+  /// error would grow too large or a crossing is degenerate.
+  bool carryWinding(size_t c, size_t d);
   BoundingBox cellBox(int i, int j, int k, double grow) const
   {
     BoundingBox b;
@@ -339,47 +349,77 @@ void SurfaceDomain::Impl::buildWindingGrid(size_t numTriangles)
   windingError.assign(cells, std::numeric_limits<float>::infinity());
   windingSlope.assign(cells, 0.0f);
   if (winding->hasBorder())
-    for (int k = 0; k < n[2]; ++k)
-      for (int j = 0; j < n[1]; ++j)
-        for (int i = 0; i < n[0]; ++i)
-          windingSlope[cellIndex(i, j, k)] = static_cast<float>(winding->gradientBound(cellBox(i, j, k, cellEps)));
-  // Walk from cell 0, carrying w across faces; an evaluation restarts the error where it would pass
-  // kMaxError and come within kMaxError of 1/2 (near holes), or at a degenerate crossing.
-  constexpr float kMaxError = 0.2f;
+    boundWindingSlopes();
+  // Walk from cell 0, carrying w across faces (from any neighbour that has a value, where the first
+  // cannot); an evaluation restarts the error where it would pass kMaxError and come within
+  // kMaxError of 1/2 (near holes), or at a degenerate crossing. A cell whose bound is infinite (the
+  // border passes through it) cannot use its reference point: no evaluation there.
   std::vector<char> seen(cells, 0);
   std::deque<size_t> queue{ 0 };
   seen[0] = 1;
-  double error0 = 0.0;
-  windingAtReference[0] = evaluate(referencePoint(0, 0, 0), error0);
-  windingError[0] = static_cast<float>(error0);
+  auto evaluateReference = [&](size_t c) {
+    double error = 0.0;
+    if (std::isfinite(windingSlope[c]))
+    {
+      windingAtReference[c] = evaluate(referencePoint(c), error);
+      windingError[c] = static_cast<float>(error);
+    }
+  };
+  evaluateReference(0);
   while (!queue.empty())
   {
     const size_t c = queue.front();
     queue.pop_front();
-    const Vec3 from = referencePoint(static_cast<int>(c % n[0]), static_cast<int>((c / n[0]) % n[1]),
-      static_cast<int>(c / (static_cast<size_t>(n[0]) * n[1])));
-    forEachFaceNeighbour(c, [&](size_t d, const int* q) {
+    forEachFaceNeighbour(c, [&](size_t d, const int*) {
       if (seen[d])
         return;
       seen[d] = 1;
       queue.push_back(d);
-      const Vec3 to = referencePoint(q[0], q[1], q[2]);
-      const float error = windingError[c] + std::max(windingSlope[c], windingSlope[d]) * static_cast<float>(norm(to - from));
-      const std::optional<int> crossed = signedCrossings(toCgal(from), toCgal(to), c, d);
-      // the error may grow while it cannot take w across 1/2 (far from holes w stays near 0 or 1)
-      if (crossed && error <= std::max(kMaxError, static_cast<float>(std::abs(windingAtReference[c] + *crossed - 0.5)) - kMaxError))
-      {
-        windingAtReference[d] = windingAtReference[c] + *crossed;
-        windingError[d] = error;
-      }
-      else
-      {
-        double evaluated = 0.0;
-        windingAtReference[d] = evaluate(to, evaluated);
-        windingError[d] = static_cast<float>(evaluated);
-      }
+      if (carryWinding(c, d))
+        return;
+      bool carried = false;
+      forEachFaceNeighbour(d, [&](size_t e, const int*) { carried = carried || (e != c && seen[e] && carryWinding(e, d)); });
+      if (!carried)
+        evaluateReference(d);
     });
   }
+}
+
+bool SurfaceDomain::Impl::carryWinding(size_t c, size_t d)
+{
+  constexpr float kMaxError = 0.2f;
+  const Vec3 from = referencePoint(c), to = referencePoint(d);
+  const float error = windingError[c] + std::max(windingSlope[c], windingSlope[d]) * static_cast<float>(norm(to - from));
+  if (!std::isfinite(error))
+    return false;
+  const std::optional<int> crossed = signedCrossings(toCgal(from), toCgal(to), c, d);
+  // the error may grow while it cannot take w across 1/2 (far from holes w stays near 0 or 1)
+  if (!crossed || error > std::max(kMaxError, static_cast<float>(std::abs(windingAtReference[c] + *crossed - 0.5)) - kMaxError))
+    return false;
+  windingAtReference[d] = windingAtReference[c] + *crossed;
+  windingError[d] = error;
+  return true;
+}
+
+void SurfaceDomain::Impl::boundWindingSlopes()
+{
+  // a bound over a block of 4^3 cells holds in each of them: one call per block, and per cell only
+  // in blocks where it is infinite (the border passes through them)
+  constexpr int kBlock = 4;
+  for (int k0 = 0; k0 < n[2]; k0 += kBlock)
+    for (int j0 = 0; j0 < n[1]; j0 += kBlock)
+      for (int i0 = 0; i0 < n[0]; i0 += kBlock)
+      {
+        const int i1 = std::min(i0 + kBlock, n[0]) - 1, j1 = std::min(j0 + kBlock, n[1]) - 1, k1 = std::min(k0 + kBlock, n[2]) - 1;
+        BoundingBox block = cellBox(i0, j0, k0, cellEps);
+        block.add(cellBox(i1, j1, k1, cellEps));
+        const double blockBound = winding->gradientBound(block);
+        for (int k = k0; k <= k1; ++k)
+          for (int j = j0; j <= j1; ++j)
+            for (int i = i0; i <= i1; ++i)
+              windingSlope[cellIndex(i, j, k)] = static_cast<float>(
+                std::isfinite(blockBound) ? blockBound : winding->gradientBound(cellBox(i, j, k, cellEps)));
+      }
 }
 
 void SurfaceDomain::Impl::buildGrid(size_t numTriangles)

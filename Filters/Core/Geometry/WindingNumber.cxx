@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <unordered_map>
 
 namespace omesh
 {
@@ -57,73 +58,168 @@ WindingNumber::WindingNumber(const std::vector<Vec3>& points, const std::vector<
   }
   const Vec3 size = nodes_[0].box.size();
   margin_ = 1e-9 * norm(size);
-  // the border in at most 64 groups of neighbouring edges (sorted along a grid's cells, z-major)
+  clusterBorder();
+}
+
+std::vector<WindingNumber::BorderItem> WindingNumber::pairedBorder() const
+{
+  // a directed border edge a -> b and one that runs b' -> a' with |a - a'|, |b - b'| at most a tenth
+  // of the shorter one (the first such found) (an unwelded crack, a jittered soup's seam) pull w in nearly opposite ways:
+  // as a pair they count by their gap (see gradientBound)
   const Node& root = nodes_[0];
-  std::vector<std::array<int, 2>> edges(borders_.begin() + root.borderFirst, borders_.begin() + root.borderFirst + root.borderCount);
-  if (edges.empty())
-    return;
-  const int cells = 8;
-  auto cellOf = [&](const std::array<int, 2>& e) {
-    const Vec3 m = 0.5 * (points_[e[0]] + points_[e[1]]);
-    int key = 0;
-    for (int a = 2; a >= 0; --a)
-    {
-      const double f = size[a] > 0 ? (m[a] - root.box.min[a]) / size[a] : 0.0;
-      key = key * cells + std::clamp(static_cast<int>(f * cells), 0, cells - 1);
-    }
-    return key;
+  const int first = root.borderFirst, count = root.borderCount;
+  double longest = 0.0;
+  for (int e = first; e < first + count; ++e)
+    longest = std::max(longest, norm(points_[borders_[e][1]] - points_[borders_[e][0]]));
+  const double cell = longest > 0.0 ? longest : 1.0;
+  auto key = [&](const Vec3& m) {
+    const auto q = [&](double v) { return static_cast<int64_t>(std::floor(v / cell)) & 0x1fffff; };
+    return (q(m.x) << 42) | (q(m.y) << 21) | q(m.z);
   };
-  std::stable_sort(edges.begin(), edges.end(), [&](const auto& x, const auto& y) { return cellOf(x) < cellOf(y); });
-  const size_t group = std::max<size_t>(8, (edges.size() + 63) / 64);
-  for (size_t first = 0; first < edges.size(); first += group)
+  std::unordered_multimap<int64_t, int> byCell;
+  for (int e = first; e < first + count; ++e)
+    byCell.emplace(key(0.5 * (points_[borders_[e][0]] + points_[borders_[e][1]])), e);
+  std::vector<char> used(count, 0);
+  std::vector<BorderItem> items;
+  for (int e = first; e < first + count; ++e)
   {
-    BorderCluster c;
-    c.first = static_cast<int>(first);
-    c.count = static_cast<int>(std::min(edges.size(), first + group) - first);
-    for (size_t e = first; e < first + c.count; ++e)
+    if (used[e - first])
+      continue;
+    used[e - first] = 1;
+    const Vec3 &a = points_[borders_[e][0]], &b = points_[borders_[e][1]];
+    const Vec3 m = 0.5 * (a + b);
+    BorderItem item{ borders_[e] };
+    int partner = -1;
+    // the partner's midpoint lies within a tenth of an edge of this one's: in its cell, mostly
+    for (int n = 0; n < 27 && partner < 0; ++n)
     {
-      c.box.add(points_[edges[e][0]]);
-      c.box.add(points_[edges[e][1]]);
-      c.length += norm(points_[edges[e][1]] - points_[edges[e][0]]);
+      const int dx = n == 0 ? 0 : (n - 1) % 3 - 1, dy = n == 0 ? 0 : ((n - 1) / 3) % 3 - 1, dz = n == 0 ? 0 : (n - 1) / 9 - 1;
+      if (n > 0 && dx == 0 && dy == 0 && dz == 0)
+        continue;
+      const auto range = byCell.equal_range(key(m + Vec3{ dx * cell, dy * cell, dz * cell }));
+      for (auto it = range.first; it != range.second && partner < 0; ++it)
+      {
+        const int o = it->second;
+        if (used[o - first])
+          continue;
+        const Vec3 &c = points_[borders_[o][0]], &d = points_[borders_[o][1]]; // c ~ b, d ~ a
+        const double gap = std::max(norm(c - b), norm(d - a));
+        if (gap <= 0.1 * std::min(norm(b - a), norm(d - c)))
+        {
+          partner = o;
+          item.partner = borders_[o];
+          item.gap = gap;
+        }
+      }
     }
-    clusters_.push_back(c);
+    if (partner >= 0)
+      used[partner - first] = 1;
+    items.push_back(item);
   }
-  clusterEdges_ = std::move(edges);
+  return items;
+}
+
+void WindingNumber::clusterBorder()
+{
+  if (nodes_[0].borderCount == 0)
+    return;
+  borderItems_ = pairedBorder();
+  borderTree_.reserve(2 * borderItems_.size() / kLeafSize + 2);
+  buildBorderTree(0, static_cast<int>(borderItems_.size()));
+}
+
+int WindingNumber::buildBorderTree(int first, int count)
+{
+  const int index = static_cast<int>(borderTree_.size());
+  borderTree_.emplace_back();
+  BorderNode node;
+  node.first = first;
+  node.count = count;
+  for (int i = first; i < first + count; ++i)
+  {
+    const BorderItem& item = borderItems_[i];
+    const double length = norm(points_[item.edge[1]] - points_[item.edge[0]]);
+    node.box.add(points_[item.edge[0]]);
+    node.box.add(points_[item.edge[1]]);
+    if (item.partner[0] < 0)
+    {
+      node.length += length;
+      continue;
+    }
+    node.box.add(points_[item.partner[0]]);
+    node.box.add(points_[item.partner[1]]);
+    node.gap += item.gap;
+    node.gapLength += item.gap * std::max(length, norm(points_[item.partner[1]] - points_[item.partner[0]]));
+  }
+  if (count > kLeafSize)
+  {
+    // split at the median midpoint along the box's longest axis
+    const Vec3 size = node.box.size();
+    const int axis = size.x >= size.y && size.x >= size.z ? 0 : (size.y >= size.z ? 1 : 2);
+    auto mid = [&](const BorderItem& item) { return points_[item.edge[0]][axis] + points_[item.edge[1]][axis]; };
+    std::nth_element(borderItems_.begin() + first, borderItems_.begin() + first + count / 2,
+      borderItems_.begin() + first + count, [&](const BorderItem& x, const BorderItem& y) { return mid(x) < mid(y); });
+    node.child[0] = buildBorderTree(first, count / 2);
+    node.child[1] = buildBorderTree(first + count / 2, count - count / 2);
+  }
+  borderTree_[index] = node;
+  return index;
 }
 
 double WindingNumber::gradientBound(const BoundingBox& region) const
 {
-  double bound = 0.0;
-  for (const BorderCluster& c : clusters_)
+  if (borderTree_.empty())
+    return 0.0;
+  return borderBound(0, region, 0.5 * (region.min + region.max), 0.5 * norm(region.size())) / (4.0 * M_PI);
+}
+
+double WindingNumber::borderBound(int index, const BoundingBox& region, const Vec3& centre, double reach) const
+{
+  // a pair (a -> b, b' -> a', ends at most eps apart, the longer of length L) pulls at distance r
+  // by at most 2 eps / r^2 + 2 L eps / r^3: the difference of its two line integrals of
+  // dl x y / |y|^3 is the integral of d(dl) x K plus dl x dK, |d(dl)| <= 2 eps, |K| <= 1 / r^2,
+  // |grad K| <= 2 / r^3 (K(y) = y / |y|^3; r measured to the pair's hull)
+  const BorderNode& node = borderTree_[index];
+  double d2 = 0.0;
+  for (int a = 0; a < 3; ++a)
   {
-    double d2 = 0.0;
-    for (int a = 0; a < 3; ++a)
+    const double gap = std::max({ node.box.min[a] - region.max[a], region.min[a] - node.box.max[a], 0.0 });
+    d2 += gap * gap;
+  }
+  if (d2 > dot(node.box.size(), node.box.size()))
+    return (node.length + 2.0 * node.gap) / d2 + 2.0 * node.gapLength / (d2 * std::sqrt(d2)); // far: as a whole
+  if (node.child[0] >= 0)
+  {
+    const double left = borderBound(node.child[0], region, centre, reach);
+    return std::isfinite(left) ? left + borderBound(node.child[1], region, centre, reach) : left;
+  }
+  // a leaf near the region: item by item, from the region's centre less its half diagonal
+  auto distance = [&](const std::array<int, 2>& e) {
+    const Vec3& a = points_[e[0]];
+    const Vec3 ab = points_[e[1]] - a;
+    const double along = std::clamp(dot(centre - a, ab) / std::max(dot(ab, ab), 1e-300), 0.0, 1.0);
+    return norm(centre - (a + along * ab));
+  };
+  double bound = 0.0;
+  for (int i = node.first; i < node.first + node.count; ++i)
+  {
+    const BorderItem& item = borderItems_[i];
+    const double length = norm(points_[item.edge[1]] - points_[item.edge[0]]);
+    if (item.partner[0] < 0)
     {
-      const double gap = std::max({ c.box.min[a] - region.max[a], region.min[a] - c.box.max[a], 0.0 });
-      d2 += gap * gap;
-    }
-    if (!(d2 > 0.0))
-      return std::numeric_limits<double>::infinity();
-    if (d2 > dot(c.box.size(), c.box.size()) || c.count > 32)
-    {
-      bound += c.length / d2; // far (or many edges, as a soup's): the cluster as a whole
-      continue;
-    }
-    // near: edge by edge, from the region's centre less its half diagonal
-    const Vec3 centre = 0.5 * (region.min + region.max);
-    const double reach = 0.5 * norm(region.size());
-    for (int e = c.first; e < c.first + c.count; ++e)
-    {
-      const Vec3& a = points_[clusterEdges_[e][0]];
-      const Vec3 ab = points_[clusterEdges_[e][1]] - a;
-      const double along = std::clamp(dot(centre - a, ab) / std::max(dot(ab, ab), 1e-300), 0.0, 1.0);
-      const double gap = norm(centre - (a + along * ab)) - reach;
+      const double gap = distance(item.edge) - reach;
       if (!(gap > 0.0))
         return std::numeric_limits<double>::infinity();
-      bound += norm(ab) / (gap * gap);
+      bound += length / (gap * gap);
+      continue;
     }
+    const double r = std::min(distance(item.edge), distance(item.partner)) - item.gap - reach;
+    if (!(r > 0.0))
+      return std::numeric_limits<double>::infinity();
+    const double longest = std::max(length, norm(points_[item.partner[1]] - points_[item.partner[0]]));
+    bound += 2.0 * item.gap / (r * r) + 2.0 * longest * item.gap / (r * r * r);
   }
-  return bound / (4.0 * M_PI);
+  return bound;
 }
 
 int WindingNumber::build(int first, int count, std::vector<FarField>& far)

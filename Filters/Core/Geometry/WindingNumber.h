@@ -45,7 +45,9 @@ public:
   /// An upper bound of |grad w| over `region` away from the triangles: off the surface the
   /// gradient of a solid angle is a line integral over the surface's border alone (Biot-Savart), so
   /// |grad w(x)| <= sum over border edges of length / (4 pi dist(x, edge)^2). Summed over clusters
-  /// of border edges by box distance, edge by edge for clusters near the region; infinite where an
+  /// of border edges (a tree) by box distance, edge by edge near the region; two border edges
+  /// that run opposite ways with ends at most a tenth of their length apart (an unwelded seam, a
+  /// jittered soup) count as a pair, by their gap eps: 2 eps / r^2 + 2 L eps / r^3; infinite where an
   /// edge may meet the region, 0 for a closed surface. Between two points joined by a segment that crosses no triangle, w changes by
   /// at most this bound times their distance.
   double gradientBound(const BoundingBox& region) const;
@@ -91,13 +93,27 @@ private:
   };
   std::vector<Expansion> expansions_;
   double margin_ = 0.0;
-  struct BorderCluster
+  /// A border edge, or a pair of border edges running opposite ways at most `gap` apart.
+  struct BorderItem
+  {
+    std::array<int, 2> edge{};
+    std::array<int, 2> partner{ -1, -1 };
+    double gap = 0.0;
+  };
+  std::vector<BorderItem> pairedBorder() const;
+  void clusterBorder();
+  /// A tree over the root's border items: per node the unpaired edges' length, the pairs' gaps and
+  /// gaps x lengths, for the bound of far nodes as a whole.
+  struct BorderNode
   {
     BoundingBox box;
-    double length = 0.0;
-    int first = 0, count = 0; ///< its edges in clusterEdges_
+    double length = 0.0, gap = 0.0, gapLength = 0.0;
+    int first = 0, count = 0; ///< its items in borderItems_
+    int child[2] = { -1, -1 };
   };
-  std::vector<BorderCluster> clusters_;             ///< the root's border edges in spatial groups
-  std::vector<std::array<int, 2>> clusterEdges_;    ///< those edges, cluster by cluster
+  int buildBorderTree(int first, int count);
+  double borderBound(int node, const BoundingBox& region, const Vec3& centre, double reach) const;
+  std::vector<BorderItem> borderItems_;
+  std::vector<BorderNode> borderTree_;
 };
 }
