@@ -58,7 +58,7 @@ WindingNumber::WindingNumber(const std::vector<Vec3>& points, const std::vector<
   }
   const Vec3 size = nodes_[0].box.size();
   margin_ = 1e-9 * norm(size);
-  clusterBorder();
+  indexBorder();
 }
 
 std::vector<WindingNumber::BorderItem> WindingNumber::pairedBorder() const
@@ -119,7 +119,7 @@ std::vector<WindingNumber::BorderItem> WindingNumber::pairedBorder() const
   return items;
 }
 
-void WindingNumber::clusterBorder()
+void WindingNumber::indexBorder()
 {
   if (nodes_[0].borderCount == 0)
     return;

@@ -101,7 +101,7 @@ private:
     double gap = 0.0;
   };
   std::vector<BorderItem> pairedBorder() const;
-  void clusterBorder();
+  void indexBorder();
   /// A tree over the root's border items: per node the unpaired edges' length, the pairs' gaps and
   /// gaps x lengths, for the bound of far nodes as a whole.
   struct BorderNode
