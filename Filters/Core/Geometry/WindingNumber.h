@@ -44,8 +44,8 @@ public:
 
   /// An upper bound of |grad w| over `region` away from the triangles: off the surface the
   /// gradient of a solid angle is a line integral over the surface's border alone (Biot-Savart), so
-  /// |grad w(x)| <= sum over border edges of length / (4 pi dist(x, edge)^2). Summed over clusters
-  /// of border edges (a tree) by box distance, edge by edge near the region; two border edges
+  /// |grad w(x)| <= sum over border edges of length / (4 pi dist(x, edge)^2). Summed over a tree
+  /// of the border edges, a node far from the region as a whole, edge by edge near it; two border edges
   /// that run opposite ways with ends at most a tenth of their length apart (an unwelded seam, a
   /// jittered soup) count as a pair, by their gap eps: 2 eps / r^2 + 2 L eps / r^3; infinite where an
   /// edge may meet the region, 0 for a closed surface. Between two points joined by a segment that crosses no triangle, w changes by
@@ -101,6 +101,7 @@ private:
     double gap = 0.0;
   };
   std::vector<BorderItem> pairedBorder() const;
+  /// The root's border as items in a tree, for gradientBound.
   void indexBorder();
   /// A tree over the root's border items: per node the unpaired edges' length, the pairs' gaps and
   /// gaps x lengths, for the bound of far nodes as a whole.
