@@ -219,6 +219,38 @@ TEST(LabelSmoothing, AThinShellKeepsItsVolumeAndStaysOneLayer)
   EXPECT_LT(sum / 6.0, 0.03);
 }
 
+TEST(LabelSmoothing, SmallPiecesKeepTheirVoxelVolume)
+{
+  // a block of 4 x 4 x 3 voxels and a ball of radius 3 on a CT-like grid (2.4 voxels along z):
+  // smoothing alone rounds their edges and corners away (a twentieth and a tenth of their volume);
+  // each piece keeps its voxel count's volume, and every voxel centre its label. Off, the ball
+  // shrinks.
+  const SampledMap block({ 12, 12, 11 }, { 1, 1, 1 }, [](const Vec3& p) {
+    return p.x >= 4 && p.x <= 7 && p.y >= 4 && p.y <= 7 && p.z >= 4 && p.z <= 6 ? 5 : 0;
+  });
+  const Vec3 c{ 8.8, 8.6, 9.4 };
+  const SampledMap ball({ 36, 36, 16 }, { 0.5, 0.5, 1.25 }, [&](const Vec3& p) {
+    const double r = norm(p - c);
+    return r < 3.0 ? 2 : r < 6.5 ? 1 : 0;
+  });
+  for (const auto& [m, label] : { std::pair<const SampledMap*, int>{ &block, 5 }, { &ball, 2 } })
+  {
+    const double voxels = static_cast<double>(std::count(m->labels.begin(), m->labels.end(), label)) *
+      m->spacing.x * m->spacing.y * m->spacing.z;
+    const auto domain = m->domain(LabelInterpolation::Smooth);
+    EXPECT_NEAR(sampledVolume(*domain, *m, label, 6), voxels, 0.02 * voxels) << "label " << label;
+    for (int k = 0; k < m->dims[2]; ++k)
+      for (int j = 0; j < m->dims[1]; ++j)
+        for (int i = 0; i < m->dims[0]; ++i)
+          ASSERT_EQ(domain->material(m->centre(i, j, k)),
+            m->labels[i + m->dims[0] * (j + static_cast<size_t>(m->dims[1]) * k)] == 0 ? -1 : m->labels[i + m->dims[0] * (j + static_cast<size_t>(m->dims[1]) * k)]);
+  }
+  LabelSmoothingOptions off;
+  off.smallPieceVoxels = 0;
+  const double ballVoxels = static_cast<double>(std::count(ball.labels.begin(), ball.labels.end(), 2)) * 0.5 * 0.5 * 1.25;
+  EXPECT_LT(sampledVolume(*ball.domain(LabelInterpolation::Smooth, off), ball, 2, 6), 0.92 * ballVoxels);
+}
+
 TEST(LabelSmoothing, AnisotropicVoxelsFollowTheSurfaceBetterThanTrilinear)
 {
   // a CT-like grid (0.5 x 0.5 x 1.25 mm) sampling a ball of radius 5 mm: Smooth's interfaces at

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "LabelSmoothing.h"
 
+#include "SmallPieceVolumes.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -26,6 +28,7 @@
 //     of L, the filter mixes both of its sides: the other label tells better), and log w is the
 //     least-squares fit of log(w_a / w_b) = log(t / (1 - t)) over these edges, held to the
 //     voxel's own psi.
+//  4. Pieces of a label a few voxels across keep their voxel volume (keepSmallPieceVolumes).
 namespace omesh
 {
 namespace
@@ -535,6 +538,10 @@ std::vector<float> labelInterfaceWeights(const std::array<int, 3>& dims, const s
   const std::vector<double> x = fitLogWeights(dims, boundary, crossings);
   for (size_t bi = 0; bi < boundary.size(); ++bi)
     weights[boundary[bi]] = static_cast<float>(std::exp(x[bi]) / field.hMin());
+  std::vector<size_t>().swap(boundary);
+  keepSmallPieceVolumes(dims, index, weights, options.smallPieceVoxels, [&](double fraction) {
+    return !options.progress || options.progress(0.95 + 0.05 * fraction);
+  });
   if (options.progress && !options.progress(1.0))
     throw LabelSmoothingAborted();
   return weights;

@@ -16,6 +16,9 @@ struct LabelSmoothingOptions
   double sigma = 1.0;
   /// Filter-and-constrain rounds per label (see the .cxx).
   int iterations = 3;
+  /// Pieces of a label of at most this many voxels keep their voxel volume (keepSmallPieceVolumes,
+  /// SmallPieceVolumes.h); 0 = none.
+  int smallPieceVoxels = 4000;
   /// Called with the fraction done; returning false stops the work (LabelSmoothingAborted).
   std::function<bool(double)> progress;
 };

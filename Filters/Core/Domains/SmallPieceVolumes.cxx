@@ -1,0 +1,206 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "SmallPieceVolumes.h"
+
+#include "LabelSmoothing.h"
+#include "VoxelCorners.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace omesh
+{
+namespace
+{
+constexpr int kSamples = 4; ///< per axis and cell of voxel centres
+constexpr int kRounds = 3;  ///< of corrections over all small pieces
+
+enum : uint8_t
+{
+  kUnseen = 0,
+  kQueued = 1,
+  kLarge = 2, ///< in a piece too large, or touching the border
+  kDone = 3
+};
+
+/// One piece of a label: its voxels, and the cells of voxel centres with a corner among them.
+class Piece
+{
+public:
+  Piece(const std::array<int, 3>& dims, const std::vector<uint16_t>& index, std::vector<float>& weights)
+    : dims_(dims)
+    , index_(index)
+    , weights_(weights)
+  {
+  }
+
+  /// Grows the piece of voxel `seed` over `state`; false when it has more than `maxVoxels`
+  /// voxels, touches the border or meets a voxel already known to lie in a large piece (then
+  /// every voxel it reached is marked kLarge).
+  bool grow(size_t seed, int maxVoxels, std::vector<uint8_t>& state)
+  {
+    voxels_.assign(1, seed);
+    state[seed] = kQueued;
+    bool small = true;
+    for (size_t next = 0; next < voxels_.size() && small; ++next)
+    {
+      int p[3];
+      coordinates(voxels_[next], p);
+      if (p[0] == 0 || p[1] == 0 || p[2] == 0 || p[0] == dims_[0] - 1 || p[1] == dims_[1] - 1 || p[2] == dims_[2] - 1)
+        small = false;
+      for (int n = 0; n < 27 && small; ++n)
+      {
+        const size_t u = offset(p[0] + n % 3 - 1, p[1] + (n / 3) % 3 - 1, p[2] + n / 9 - 1);
+        if (index_[u] != index_[seed] || state[u] == kQueued)
+          continue;
+        if (state[u] == kLarge)
+          small = false;
+        else
+        {
+          state[u] = kQueued;
+          voxels_.push_back(u);
+          small = voxels_.size() <= static_cast<size_t>(maxVoxels);
+        }
+      }
+    }
+    for (size_t v : voxels_)
+      state[v] = small ? kDone : kLarge;
+    return small;
+  }
+
+  /// The voxels grow() found.
+  const std::vector<size_t>& voxels() const { return voxels_; }
+
+  /// Scales the weights of the piece of `voxels` so that its volume is its voxel count's within
+  /// that count's own uncertainty (see keepSmallPieceVolumes).
+  void keepVolume(const std::vector<size_t>& voxels)
+  {
+    voxels_ = voxels;
+    listCells();
+    boundary_.clear();
+    original_.clear();
+    for (size_t v : voxels_)
+      if (hasOtherNeighbour(v)) // a boundary voxel: its weight counts
+      {
+        boundary_.push_back(v);
+        original_.push_back(weights_[v]);
+      }
+    // each boundary voxel puts the count off by up to half a voxel either way (variance 1/12 of a
+    // voxel): within half a standard deviation of it the smooth volume stays as it is
+    const double target = static_cast<double>(voxels_.size());
+    if (std::abs(volumeAt(0.0) - target) <= 0.5 * std::sqrt(static_cast<double>(boundary_.size()) / 12.0))
+      return;
+    double lo = -3.0, hi = 3.0; // ln of the factor
+    for (int step = 0; step < 16; ++step)
+    {
+      const double mid = 0.5 * (lo + hi);
+      (volumeAt(mid) < target ? lo : hi) = mid;
+    }
+    volumeAt(0.5 * (lo + hi));
+  }
+
+private:
+  void coordinates(size_t v, int p[3]) const
+  {
+    p[0] = static_cast<int>(v % static_cast<size_t>(dims_[0]));
+    p[1] = static_cast<int>((v / static_cast<size_t>(dims_[0])) % static_cast<size_t>(dims_[1]));
+    p[2] = static_cast<int>(v / (static_cast<size_t>(dims_[0]) * static_cast<size_t>(dims_[1])));
+  }
+  size_t offset(int x, int y, int z) const
+  {
+    return static_cast<size_t>(x) + static_cast<size_t>(dims_[0]) * (static_cast<size_t>(y) + static_cast<size_t>(dims_[1]) * static_cast<size_t>(z));
+  }
+  bool hasOtherNeighbour(size_t v) const
+  {
+    int p[3];
+    coordinates(v, p);
+    for (int n = 0; n < 27; ++n)
+      if (index_[offset(p[0] + n % 3 - 1, p[1] + (n / 3) % 3 - 1, p[2] + n / 9 - 1)] != index_[v])
+        return true;
+    return false;
+  }
+
+  /// The lower corners of the cells with a corner in the piece (none at the border: grow() kept
+  /// the piece one voxel away from it).
+  void listCells()
+  {
+    cells_.clear();
+    for (size_t v : voxels_)
+    {
+      int p[3];
+      coordinates(v, p);
+      for (int c = 0; c < 8; ++c)
+        cells_.push_back(offset(p[0] - (c & 1), p[1] - ((c >> 1) & 1), p[2] - ((c >> 2) & 1)));
+    }
+    std::sort(cells_.begin(), cells_.end());
+    cells_.erase(std::unique(cells_.begin(), cells_.end()), cells_.end());
+  }
+
+  /// The piece's volume (voxels) with its boundary weights scaled by exp(lnFactor).
+  double volumeAt(double lnFactor)
+  {
+    const float factor = static_cast<float>(std::exp(lnFactor));
+    for (size_t i = 0; i < boundary_.size(); ++i)
+      weights_[boundary_[i]] = original_[i] * factor;
+    const uint16_t label = index_[voxels_.front()];
+    double volume = 0.0;
+    for (size_t cell : cells_)
+    {
+      int lo[3];
+      coordinates(cell, lo);
+      VoxelCorners k;
+      loadCorners(dims_, index_.data(), weights_.data(), lo, k);
+      if (k.uniform) // all eight corners in the piece (26-connected: one piece per label and cell)
+      {
+        volume += 1.0;
+        continue;
+      }
+      distinctLabels(k);
+      int inside = 0;
+      for (int s = 0; s < kSamples * kSamples * kSamples; ++s)
+      {
+        const double f[3] = { (s % kSamples + 0.5) / kSamples, ((s / kSamples) % kSamples + 0.5) / kSamples,
+          (s / (kSamples * kSamples) + 0.5) / kSamples };
+        inside += pickLabel(k, f) == label;
+      }
+      volume += static_cast<double>(inside) / (kSamples * kSamples * kSamples);
+    }
+    return volume;
+  }
+
+  const std::array<int, 3>& dims_;
+  const std::vector<uint16_t>& index_;
+  std::vector<float>& weights_;
+  std::vector<size_t> voxels_, cells_, boundary_;
+  std::vector<float> original_;
+};
+}
+
+void keepSmallPieceVolumes(const std::array<int, 3>& dims, const std::vector<uint16_t>& index,
+  std::vector<float>& weights, int maxVoxels, const std::function<bool(double)>& progress)
+{
+  if (maxVoxels <= 0)
+    return;
+  std::vector<uint8_t> state(index.size(), kUnseen);
+  const size_t slice = static_cast<size_t>(dims[0]) * static_cast<size_t>(dims[1]);
+  Piece piece(dims, index, weights);
+  std::vector<std::vector<size_t>> pieces;
+  for (size_t v = 0; v < index.size(); ++v)
+  {
+    if (progress && v % slice == 0 && !progress(0.5 * static_cast<double>(v) / static_cast<double>(index.size())))
+      throw LabelSmoothingAborted();
+    // seeds: the voxels with a fitted weight (labelInterfaceWeights leaves 1 exactly on every
+    // voxel away from other labels, and every piece has boundary voxels)
+    if (weights[v] != 1.0f && state[v] == kUnseen && piece.grow(v, maxVoxels, state))
+      pieces.push_back(piece.voxels());
+  }
+  std::vector<uint8_t>().swap(state);
+  // pieces that share an interface (nested labels) trade volume: a few rounds settle them
+  for (int round = 0; round < kRounds; ++round)
+    for (size_t i = 0; i < pieces.size(); ++i)
+    {
+      if (progress && !progress(0.5 + 0.5 * (round + static_cast<double>(i) / pieces.size()) / kRounds))
+        throw LabelSmoothingAborted();
+      piece.keepVolume(pieces[i]);
+    }
+}
+}
