@@ -64,8 +64,9 @@ WindingNumber::WindingNumber(const std::vector<Vec3>& points, const std::vector<
 std::vector<WindingNumber::BorderItem> WindingNumber::pairedBorder() const
 {
   // a directed border edge a -> b and one that runs b' -> a' with |a - a'|, |b - b'| at most a tenth
-  // of the shorter one (the first such found) (an unwelded crack, a jittered soup's seam) pull w in nearly opposite ways:
-  // as a pair they count by their gap (see gradientBound)
+  // of the shorter one (an unwelded crack, a jittered soup's seam) pull w in nearly opposite ways:
+  // as a pair they count by their gap (see gradientBound); each edge takes the first such partner
+  // found
   const Node& root = nodes_[0];
   const int first = root.borderFirst, count = root.borderCount;
   double longest = 0.0;
