@@ -6,12 +6,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace omesh
 {
 namespace
 {
 constexpr int kSamples = 4; ///< per axis and cell of voxel centres
+constexpr int kPerCell = kSamples * kSamples * kSamples;
 constexpr int kRounds = 3;  ///< of corrections over all small pieces
 
 enum : uint8_t
@@ -70,8 +72,8 @@ public:
   /// The voxels grow() found.
   const std::vector<size_t>& voxels() const { return voxels_; }
 
-  /// Scales the weights of the piece of `voxels` so that its volume is its voxel count's within
-  /// that count's own uncertainty (see keepSmallPieceVolumes).
+  /// Scales the weights of the piece of `voxels` so that its volume is its voxel count's (see
+  /// keepSmallPieceVolumes): the factor found from every sample's threshold at once.
   void keepVolume(const std::vector<size_t>& voxels)
   {
     voxels_ = voxels;
@@ -87,15 +89,29 @@ public:
     // each boundary voxel puts the count off by up to half a voxel either way (variance 1/12 of a
     // voxel): within half a standard deviation of it the smooth volume stays as it is
     const double target = static_cast<double>(voxels_.size());
-    if (std::abs(volumeAt(0.0) - target) <= 0.5 * std::sqrt(static_cast<double>(boundary_.size()) / 12.0))
+    thresholds();
+    const double volume = whole_ + static_cast<double>(std::count_if(threshold_.begin(), threshold_.end(),
+                                     [](double t) { return t < 1.0; })) / kPerCell;
+    if (std::abs(volume - target) <= 0.5 * std::sqrt(static_cast<double>(boundary_.size()) / 12.0))
       return;
-    double lo = -3.0, hi = 3.0; // ln of the factor
-    for (int step = 0; step < 16; ++step)
+    // the factor that puts target - whole of the samples on the piece's side: between the k-th and
+    // the (k+1)-th smallest threshold
+    const long k = std::lround((target - whole_) * kPerCell);
+    const long n = static_cast<long>(threshold_.size());
+    double factor;
+    if (k <= 0)
+      factor = std::exp(-3.0);
+    else if (k >= n)
+      factor = std::exp(3.0);
+    else
     {
-      const double mid = 0.5 * (lo + hi);
-      (volumeAt(mid) < target ? lo : hi) = mid;
+      std::nth_element(threshold_.begin(), threshold_.begin() + k, threshold_.end());
+      const double above = threshold_[static_cast<size_t>(k)];
+      const double below = *std::max_element(threshold_.begin(), threshold_.begin() + k);
+      factor = std::clamp(std::sqrt(below * above), std::exp(-3.0), std::exp(3.0));
     }
-    volumeAt(0.5 * (lo + hi));
+    for (size_t i = 0; i < boundary_.size(); ++i)
+      weights_[boundary_[i]] = original_[i] * static_cast<float>(factor);
   }
 
 private:
@@ -135,14 +151,15 @@ private:
     cells_.erase(std::unique(cells_.begin(), cells_.end()), cells_.end());
   }
 
-  /// The piece's volume (voxels) with its boundary weights scaled by exp(lnFactor).
-  double volumeAt(double lnFactor)
+  /// For every sample point of the piece's mixed cells, the factor on the piece's weights above
+  /// which its label wins there (the others' largest summed weight over its own: its corners in
+  /// such a cell are all boundary voxels of the piece, scaled alike); whole_ gets the cells all of
+  /// whose corners are the piece's.
+  void thresholds()
   {
-    const float factor = static_cast<float>(std::exp(lnFactor));
-    for (size_t i = 0; i < boundary_.size(); ++i)
-      weights_[boundary_[i]] = original_[i] * factor;
     const uint16_t label = index_[voxels_.front()];
-    double volume = 0.0;
+    threshold_.clear();
+    whole_ = 0.0;
     for (size_t cell : cells_)
     {
       int lo[3];
@@ -151,20 +168,25 @@ private:
       loadCorners(dims_, index_.data(), weights_.data(), lo, k);
       if (k.uniform) // all eight corners in the piece (26-connected: one piece per label and cell)
       {
-        volume += 1.0;
+        whole_ += 1.0;
         continue;
       }
       distinctLabels(k);
-      int inside = 0;
-      for (int s = 0; s < kSamples * kSamples * kSamples; ++s)
+      for (int s = 0; s < kPerCell; ++s)
       {
         const double f[3] = { (s % kSamples + 0.5) / kSamples, ((s / kSamples) % kSamples + 0.5) / kSamples,
           (s / (kSamples * kSamples) + 0.5) / kSamples };
-        inside += pickLabel(k, f) == label;
+        double sums[8];
+        labelWeights(k, f, sums);
+        double own = 0.0, other = 0.0;
+        for (int d = 0; d < k.distinctCount; ++d)
+          if (k.distinct[d] == label)
+            own = sums[d];
+          else
+            other = std::max(other, sums[d]);
+        threshold_.push_back(own > 0.0 ? other / own : std::numeric_limits<double>::infinity());
       }
-      volume += static_cast<double>(inside) / (kSamples * kSamples * kSamples);
     }
-    return volume;
   }
 
   const std::array<int, 3>& dims_;
@@ -172,6 +194,8 @@ private:
   std::vector<float>& weights_;
   std::vector<size_t> voxels_, cells_, boundary_;
   std::vector<float> original_;
+  std::vector<double> threshold_;
+  double whole_ = 0.0;
 };
 }
 

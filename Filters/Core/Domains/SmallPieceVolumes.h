@@ -18,9 +18,10 @@ namespace omesh
 /// (its smooth volume is about as close to the true one as its voxel count).
 ///
 /// `index`: compact labels, x fastest; `weights`: labelInterfaceWeights' (scaled in place: all the
-/// piece's boundary voxels by one factor, found by bisection on the volume, which the factor
-/// raises monotonically; every voxel centre keeps its own label). The volume is sampled on 4^3
-/// points per cell of voxel centres that the piece's labels share with others. `progress` as
+/// piece's boundary voxels by one factor; every voxel centre keeps its own label). The volume is
+/// sampled on 4^3 points per cell of voxel centres that the piece's label shares with others: at
+/// each, the piece's label wins above one factor (the others' summed weight over its own), so the
+/// factor that gives the voxel count's volume comes from these thresholds in one pass. `progress` as
 /// LabelSmoothingOptions' (returning false stops: LabelSmoothingAborted).
 void keepSmallPieceVolumes(const std::array<int, 3>& dims, const std::vector<uint16_t>& index,
   std::vector<float>& weights, int maxVoxels = 4000, const std::function<bool(double)>& progress = {});
