@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <unordered_map>
 
 namespace omesh
 {
@@ -199,6 +200,30 @@ private:
 };
 }
 
+namespace
+{
+/// Per piece, whether a voxel of another piece is among its voxels' 26 neighbours (the two share a
+/// cell of voxel centres); pieces lie off the border, so every neighbour is in the grid.
+std::vector<char> sharingPieces(const std::array<int, 3>& dims, const std::vector<std::vector<size_t>>& pieces)
+{
+  std::unordered_map<size_t, size_t> pieceOf;
+  for (size_t i = 0; i < pieces.size(); ++i)
+    for (size_t v : pieces[i])
+      pieceOf.emplace(v, i);
+  const long sy = dims[0], sz = static_cast<long>(dims[0]) * dims[1];
+  std::vector<char> shares(pieces.size(), 0);
+  for (size_t i = 0; i < pieces.size(); ++i)
+    for (size_t v : pieces[i])
+      for (int n = 0; n < 27 && !shares[i]; ++n)
+      {
+        const long u = static_cast<long>(v) + (n % 3 - 1) + sy * ((n / 3) % 3 - 1) + sz * (n / 9 - 1);
+        const auto it = pieceOf.find(static_cast<size_t>(u));
+        shares[i] = it != pieceOf.end() && it->second != i;
+      }
+  return shares;
+}
+}
+
 void keepSmallPieceVolumes(const std::array<int, 3>& dims, const std::vector<uint16_t>& index,
   std::vector<float>& weights, int maxVoxels, const std::function<bool(double)>& progress)
 {
@@ -218,13 +243,16 @@ void keepSmallPieceVolumes(const std::array<int, 3>& dims, const std::vector<uin
       pieces.push_back(piece.voxels());
   }
   std::vector<uint8_t>().swap(state);
-  // pieces that share an interface (nested labels) trade volume: a few rounds settle them
+  // pieces that share a cell (nested labels) trade volume: a few rounds settle them; the others
+  // (isolated blobs, speckle) are done after one
+  const std::vector<char> shares = sharingPieces(dims, pieces);
   for (int round = 0; round < kRounds; ++round)
     for (size_t i = 0; i < pieces.size(); ++i)
     {
       if (progress && !progress(0.5 + 0.5 * (round + static_cast<double>(i) / pieces.size()) / kRounds))
         throw LabelSmoothingAborted();
-      piece.keepVolume(pieces[i]);
+      if (round == 0 || shares[i])
+        piece.keepVolume(pieces[i]);
     }
 }
 }
