@@ -179,12 +179,8 @@ private:
           (s / (kSamples * kSamples) + 0.5) / kSamples };
         double sums[8];
         labelWeights(k, f, sums);
-        double own = 0.0, other = 0.0;
-        for (int d = 0; d < k.distinctCount; ++d)
-          if (k.distinct[d] == label)
-            own = sums[d];
-          else
-            other = std::max(other, sums[d]);
+        double own, other;
+        ownAndStrongestOther(k, sums, label, own, other);
         threshold_.push_back(own > 0.0 ? other / own : std::numeric_limits<double>::infinity());
       }
     }
@@ -198,10 +194,7 @@ private:
   std::vector<double> threshold_;
   double whole_ = 0.0;
 };
-}
 
-namespace
-{
 /// Per piece, whether a voxel of another piece is among its voxels' 26 neighbours (the two share a
 /// cell of voxel centres); pieces lie off the border, so every neighbour is in the grid.
 std::vector<char> sharingPieces(const std::array<int, 3>& dims, const std::vector<std::vector<size_t>>& pieces)

@@ -143,16 +143,24 @@ inline uint16_t pickLabel(const VoxelCorners& k, const double f[3])
   return pickFromSums(k, sums);
 }
 
-/// How far `label` leads the strongest other label (a mixed cell's summed trilinear weights):
-/// positive where it wins. The label change along a piece is a root of this piecewise cubic.
-inline double leadFromSums(const VoxelCorners& k, const double sums[8], uint16_t label)
+/// The summed trilinear weight of `label` and the largest of the other labels' (a mixed cell's).
+inline void ownAndStrongestOther(const VoxelCorners& k, const double sums[8], uint16_t label, double& own, double& other)
 {
-  double own = 0.0, other = 0.0;
+  own = 0.0;
+  other = 0.0;
   for (int s = 0; s < k.distinctCount; ++s)
     if (k.distinct[s] == label)
       own = sums[s];
     else
       other = std::max(other, sums[s]);
+}
+
+/// How far `label` leads the strongest other label (a mixed cell's summed trilinear weights):
+/// positive where it wins. The label change along a piece is a root of this piecewise cubic.
+inline double leadFromSums(const VoxelCorners& k, const double sums[8], uint16_t label)
+{
+  double own, other;
+  ownAndStrongestOther(k, sums, label, own, other);
   return own - other;
 }
 }
