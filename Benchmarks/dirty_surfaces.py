@@ -4,7 +4,8 @@
 defaults (inside test `automatic`) beside the clean shape.
 
 Every case is generated with a fixed seed from a clean shape (a sphere, a box, a capped cylinder):
-holes punched out, an unwelded soup (jittered below and above the weld tolerance), flipped
+holes punched out, an unwelded soup (jittered below and above the weld tolerance, and beyond the
+seam weld's limit), flipped
 triangles, two overlapping closed shells in one file, a tube open at both ends, two boxes sharing an
 edge (non-manifold), a box of unwelded quads as CAD exporters write it (with its sharp edges as
 feature lines), a noisy organic surface with dense sharp edges, and two that enclose no volume (a
@@ -43,6 +44,7 @@ CASES = {
     "holes": ("sphere", "holes", 0.01),
     "soup_welded": ("sphere", "soup_small_jitter", 0.01),
     "soup_unwelded": ("sphere", "soup_large_jitter", 0.01),
+    "soup_cracked": ("sphere", "soup_crack_jitter", 0.01),
     "flipped": ("sphere", "flip", 0.01),
     "overlapping_shells": ("two_spheres", "none", 0.01),
     "open_tube": ("cylinder", "open_ends", 0.05),
@@ -192,10 +194,11 @@ def damage(kind, clean, rng):
         for c in centres:
             keep &= np.linalg.norm(cent - c, axis=1) > rng.uniform(0.8, 2.0)
         faces = [f for f, k in zip(faces, keep) if k]
-    elif kind in ("soup_small_jitter", "soup_large_jitter"):
+    elif kind in ("soup_small_jitter", "soup_large_jitter", "soup_crack_jitter"):
         # every triangle its own three points, moved at random: 1e-8 of the diagonal (welded by the
-        # default tolerance, 1e-6) or 1e-5 (beyond it: stays a soup)
-        jitter = (1e-8 if kind == "soup_small_jitter" else 1e-5) * diag
+        # default merge tolerance, 1e-6), 1e-5 (beyond it: welded by the automatic test's seam weld)
+        # or 1e-3 (most seams wider than that weld's limit: stays a soup, the winding number decides)
+        jitter = {"soup_small_jitter": 1e-8, "soup_large_jitter": 1e-5, "soup_crack_jitter": 1e-3}[kind] * diag
         soup = np.concatenate([pts[f] for f in faces]) + rng.uniform(-jitter, jitter, (3 * len(faces), 3))
         pts, faces = soup, [[3 * t, 3 * t + 1, 3 * t + 2] for t in range(len(faces))]
     elif kind == "flip":

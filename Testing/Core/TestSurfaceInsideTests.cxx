@@ -427,8 +427,9 @@ TEST(SurfaceAutomatic, BoxesSharingAnEdgeAreNamedNonManifoldAndBothInside)
 
 TEST(SurfaceAutomatic, UnweldedSoupsAreMeshedAsTheSolidTheyTrace)
 {
-  // beyond any weld: every triangle alone, its corners moved by 1e-6 of the radius; orientation
-  // as given (outward), and with the whole soup given inside out (turned: the same solid)
+  // every triangle alone, its corners moved by 1e-6 of the radius (50 times the VTK door's merge
+  // tolerance): the seams are welded, the exact test decides; orientation as given (outward), and
+  // with the whole soup given inside out (turned: the same solid)
   const TriangleSurface sphere = test::icosphere({ 0, 0, 0 }, 5.0, 3);
   SurfaceDomain reference(sphere, 1, "sphere", closedTest());
   for (bool inward : { false, true })
@@ -438,11 +439,22 @@ TEST(SurfaceAutomatic, UnweldedSoupsAreMeshedAsTheSolidTheyTrace)
       for (auto& t : soup.triangles)
         std::swap(t[1], t[2]);
     SurfaceDomain d(soup, 1, "soup");
-    EXPECT_TRUE(d.usesWindingNumber());
+    EXPECT_FALSE(d.usesWindingNumber());
     ASSERT_EQ(d.warnings().size(), 1u);
-    EXPECT_NE(d.warnings()[0].find("not welded? a larger merge tolerance"), std::string::npos) << d.warnings()[0];
+    const std::string edges = std::to_string(3 * sphere.triangles.size());
+    EXPECT_NE(d.warnings()[0].find("soup: welded " + edges + " unwelded seam edge(s) (of " + edges + " border edges)"),
+      std::string::npos)
+      << d.warnings()[0];
+    EXPECT_EQ(d.surfacePoints().size(), sphere.points.size());
     EXPECT_GT(agreement(d, reference, 4000, 5), 0.999) << inward;
   }
+  // seams wider than the weld's limit (a thousandth of the diagonal) stay cracks: the winding
+  // number closes them, and the warning suggests welding
+  SurfaceDomain wide(soupOf(sphere, 0.03, 12), 1, "wide");
+  EXPECT_TRUE(wide.usesWindingNumber());
+  ASSERT_FALSE(wide.warnings().empty());
+  EXPECT_NE(wide.warnings().back().find("not welded? a larger merge tolerance"), std::string::npos) << wide.warnings().back();
+  EXPECT_GT(agreement(wide, reference, 4000, 5), 0.99);
 }
 
 TEST(SurfaceAutomatic, SurfacesThatEncloseNoVolumeAreRefusedSayingSo)
@@ -468,7 +480,7 @@ TEST(SurfaceAutomatic, GridAnswersAreTheExactWindingNumbers)
   // the grid's answers (carried from cell to cell with the gradient bound) against the winding
   // number itself, at random points and at points just off the triangles
   const std::vector<TriangleSurface> surfaces{ sphereWithHole(10.0, 4, 9.0), merged(test::cube(0, 2), test::cube(1, 3)),
-    soupOf(test::icosphere({ 0, 0, 0 }, 5.0, 3), 5e-6, 2), merged(sphereWithHole(10.0, 3, 9.8), test::icosphere({ 0, 0, 0 }, 5.0, 3)) };
+    soupOf(test::icosphere({ 0, 0, 0 }, 5.0, 3), 0.03, 2), merged(sphereWithHole(10.0, 3, 9.8), test::icosphere({ 0, 0, 0 }, 5.0, 3)) };
   std::mt19937 rng(23);
   for (size_t s = 0; s < surfaces.size(); ++s)
   {

@@ -4,6 +4,7 @@
 
 #include "InputError.h"
 #include "OrientedTriangles.h"
+#include "SeamWelding.h"
 #include "SelfIntersections.h"
 #include "SurfaceDefects.h"
 #include "WindingNumber.h"
@@ -78,6 +79,24 @@ std::optional<int> crossing(const Point& a, const Point& b, const Point& c, cons
   if (e0 != e1 || e1 != e2)
     return 0;
   return of == CGAL::POSITIVE ? 1 : -1;
+}
+
+/// Unwelded seams farther apart than this fraction of the diagonal are not welded (they stay
+/// cracks, which the winding number closes): far below any facet distance a mesh is made with.
+constexpr double kSeamWeldLimit = 1e-3;
+
+/// The automatic inside test's input: `surface` validated, its unwelded seams welded (an
+/// exporter's soup, copies of points not merged), which a warning reports.
+const TriangleSurface& weldForAutomatic(
+  const TriangleSurface& surface, const std::string& name, std::optional<SeamWelding>& weld, std::vector<std::string>& warnings)
+{
+  surface.validateTriangles(name);
+  weld = weldSeams(surface, kSeamWeldLimit * norm(surface.bounds().size()));
+  if (!weld->welded())
+    return surface;
+  warnings.push_back(name + ": " + weld->describe() + " (a triangle soup, or copies of points not merged?); " +
+    "the mesh follows the welded surface");
+  return weld->surface;
 }
 
 /// Where in its cell the reference point lies (fractions of the cell): off the centre, so that the
@@ -624,14 +643,15 @@ SurfaceDomain::SurfaceDomain(
   checkMaterialId(materialId, name);
   bool winding = options.insideTest == InsideTest::WindingNumber;
   std::optional<OrientedTriangles> oriented; // one orientation for the defects and the structures
+  std::optional<SeamWelding> weld;
+  const TriangleSurface& input = options.insideTest == InsideTest::Automatic ? weldForAutomatic(surface, name, weld, warnings_) : surface;
   if (options.insideTest == InsideTest::Automatic)
   {
-    surface.validateTriangles(name);
-    oriented = orientTriangles(surface);
-    const SurfaceDefects defects = findSurfaceDefects(surface, *oriented);
+    oriented = orientTriangles(input);
+    const SurfaceDefects defects = findSurfaceDefects(input, *oriented);
     winding = !defects.none();
     if (winding)
-      warnings_.push_back(name + ": surface does not bound a volume by itself: " + defects.describe(surface) +
+      warnings_.push_back(name + ": surface does not bound a volume by itself: " + defects.describe(input) +
         "; inside is where the generalized winding number exceeds 1/2 (holes closed smoothly, overlaps inside)");
   }
   else if (winding)
@@ -650,16 +670,15 @@ SurfaceDomain::SurfaceDomain(
   // Ray parity ignores orientation, but a halfedge mesh needs a consistent one; non-manifold
   // vertices get duplicated here, which the parity test does not mind.
   if (!oriented)
-    oriented = orientTriangles(surface);
+    oriented = orientTriangles(input);
   if (!oriented->halfedgeMesh)
     throw InputError(name + ": surface cannot be oriented consistently (is it self-intersecting or non-orientable?)");
   if (winding)
-    orientComponentsForWinding(oriented->surface, surface);
+    orientComponentsForWinding(oriented->surface, input);
   PMP::polygon_soup_to_polygon_mesh(oriented->surface.points, oriented->surface.triangles, impl_->mesh,
     CGAL::parameters::point_map(boost::make_function_property_map<Vec3>(&toCgal)));
 
-  for (const auto& p : surface.points)
-    impl_->box.add(p);
+  impl_->box = input.bounds();
   // Zero-area triangles (collinear or coincident corners, as CAD exports have) hold no interior
   // that a ray could cross, and their edges are their neighbours' edges: leave them out of the
   // tree. Side_of_triangle_mesh shot random rays forever from a point on one (found by fuzzing).
@@ -682,16 +701,16 @@ SurfaceDomain::SurfaceDomain(
   // A closed surface that does not intersect itself (checked above) has winding number 1 exactly
   // where ray parity says inside: the fast test with the grid gives the same answers.
   const bool parityAgrees = options.insideTest == InsideTest::WindingNumber && !options.allowSelfIntersections &&
-    surface.borderLoops().empty();
+    input.borderLoops().empty();
   if (winding && !parityAgrees)
   {
     impl_->winding = std::make_unique<WindingNumber>(oriented->surface.points, oriented->surface.triangles);
     refuseIfNoVolume(*impl_->winding, oriented->surface, name);
-    impl_->buildWindingGrid(surface.triangles.size());
+    impl_->buildWindingGrid(input.triangles.size());
     return;
   }
   impl_->side = std::make_unique<SideOf>(*impl_->tree);
-  impl_->buildGrid(surface.triangles.size());
+  impl_->buildGrid(input.triangles.size());
 }
 
 bool SurfaceDomain::usesWindingNumber() const

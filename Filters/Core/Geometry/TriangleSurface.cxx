@@ -94,7 +94,7 @@ void TriangleSurface::validateClosed(const std::string& who) const
   throw InputError(msg.str());
 }
 
-std::vector<BorderLoop> TriangleSurface::borderLoops() const
+std::vector<std::array<int, 2>> TriangleSurface::borderEdges() const
 {
   // undirected edge -> number of triangles using it
   std::unordered_map<uint64_t, int> edgeUse;
@@ -110,6 +110,12 @@ std::vector<BorderLoop> TriangleSurface::borderLoops() const
     if (uses == 1)
       border.push_back({ static_cast<int>(k >> 32), static_cast<int>(k & 0xffffffffu) });
   std::sort(border.begin(), border.end()); // deterministic order
+  return border;
+}
+
+std::vector<BorderLoop> TriangleSurface::borderLoops() const
+{
+  const std::vector<std::array<int, 2>> border = borderEdges();
   std::unordered_map<int, std::vector<size_t>> at; // vertex -> border edges
   for (size_t e = 0; e < border.size(); ++e)
   {
@@ -173,6 +179,14 @@ std::string TriangleSurface::describeHoles(const std::vector<BorderLoop>& loops)
   if (loops.size() > 5)
     o << "; ...";
   return o.str();
+}
+
+BoundingBox TriangleSurface::bounds() const
+{
+  BoundingBox box;
+  for (const Vec3& p : points)
+    box.add(p);
+  return box;
 }
 
 double TriangleSurface::signedVolume() const

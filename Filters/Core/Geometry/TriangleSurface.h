@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 
+#include "BoundingBox.h"
 #include "Vec3.h"
 
 #include <array>
@@ -33,12 +34,19 @@ struct TriangleSurface
   /// points, and the holes: number of border loops, their lengths and centres).
   void validateClosed(const std::string& who) const;
 
+  /// The edges used by exactly one triangle, as (lower index, higher index), sorted. Needs valid
+  /// indices (validateTriangles).
+  std::vector<std::array<int, 2>> borderEdges() const;
+
   /// The border edges (used by exactly one triangle) chained into loops, longest first. Needs
   /// valid indices (validateTriangles).
   std::vector<BorderLoop> borderLoops() const;
 
   /// "2 hole(s) (border loops): 4 edges, length 0.3 around (1, 2, 3); ..." (the first five).
   static std::string describeHoles(const std::vector<BorderLoop>& loops);
+
+  /// The box around the points.
+  BoundingBox bounds() const;
 
   /// Signed volume (divergence theorem); positive for outward-oriented closed surfaces.
   double signedVolume() const;

@@ -1,10 +1,11 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "WindingNumber.h"
 
+#include "SeamPairs.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <unordered_map>
 
 namespace omesh
 {
@@ -63,60 +64,22 @@ WindingNumber::WindingNumber(const std::vector<Vec3>& points, const std::vector<
 
 std::vector<WindingNumber::BorderItem> WindingNumber::pairedBorder() const
 {
-  // a directed border edge a -> b and one that runs b' -> a' with |a - a'|, |b - b'| at most a tenth
-  // of the shorter one (an unwelded crack, a jittered soup's seam) pull w in nearly opposite ways:
-  // as a pair they count by their gap (see gradientBound); each edge takes the first such partner
-  // found
+  // a directed border edge a -> b and one that runs b' -> a' close by (an unwelded crack, a
+  // jittered soup's seam) pull w in nearly opposite ways: as a pair they count by their gap (see
+  // gradientBound)
   const Node& root = nodes_[0];
-  const int first = root.borderFirst, count = root.borderCount;
-  double longest = 0.0;
-  for (int e = first; e < first + count; ++e)
-    longest = std::max(longest, norm(points_[borders_[e][1]] - points_[borders_[e][0]]));
-  const double cell = longest > 0.0 ? longest : 1.0;
-  auto key = [&](const Vec3& m) {
-    const auto q = [&](double v) { return static_cast<int64_t>(std::floor(v / cell)) & 0x1fffff; };
-    return (q(m.x) << 42) | (q(m.y) << 21) | q(m.z);
-  };
-  std::unordered_multimap<int64_t, int> byCell;
-  for (int e = first; e < first + count; ++e)
-    byCell.emplace(key(0.5 * (points_[borders_[e][0]] + points_[borders_[e][1]])), e);
-  std::vector<char> used(count, 0);
+  const std::vector<std::array<int, 2>> edges(
+    borders_.begin() + root.borderFirst, borders_.begin() + root.borderFirst + root.borderCount);
+  std::vector<char> paired(edges.size(), 0);
   std::vector<BorderItem> items;
-  for (int e = first; e < first + count; ++e)
+  for (const SeamPair& pair : pairSeams(points_, edges, true, false))
   {
-    if (used[e - first])
-      continue;
-    used[e - first] = 1;
-    const Vec3 &a = points_[borders_[e][0]], &b = points_[borders_[e][1]];
-    const Vec3 m = 0.5 * (a + b);
-    BorderItem item{ borders_[e] };
-    int partner = -1;
-    // the partner's midpoint lies within a tenth of an edge of this one's: in its cell, mostly
-    for (int n = 0; n < 27 && partner < 0; ++n)
-    {
-      const int dx = n == 0 ? 0 : (n - 1) % 3 - 1, dy = n == 0 ? 0 : ((n - 1) / 3) % 3 - 1, dz = n == 0 ? 0 : (n - 1) / 9 - 1;
-      if (n > 0 && dx == 0 && dy == 0 && dz == 0)
-        continue;
-      const auto range = byCell.equal_range(key(m + Vec3{ dx * cell, dy * cell, dz * cell }));
-      for (auto it = range.first; it != range.second && partner < 0; ++it)
-      {
-        const int o = it->second;
-        if (used[o - first])
-          continue;
-        const Vec3 &c = points_[borders_[o][0]], &d = points_[borders_[o][1]]; // c ~ b, d ~ a
-        const double gap = std::max(norm(c - b), norm(d - a));
-        if (gap <= 0.1 * std::min(norm(b - a), norm(d - c)))
-        {
-          partner = o;
-          item.partner = borders_[o];
-          item.gap = gap;
-        }
-      }
-    }
-    if (partner >= 0)
-      used[partner - first] = 1;
-    items.push_back(item);
+    items.push_back({ edges[pair.first], edges[pair.second], pair.gap });
+    paired[pair.first] = paired[pair.second] = 1;
   }
+  for (size_t e = 0; e < edges.size(); ++e)
+    if (!paired[e])
+      items.push_back({ edges[e] });
   return items;
 }
 

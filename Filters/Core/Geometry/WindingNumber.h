@@ -46,7 +46,7 @@ public:
   /// gradient of a solid angle is a line integral over the surface's border alone (Biot-Savart), so
   /// |grad w(x)| <= sum over border edges of length / (4 pi dist(x, edge)^2). Summed over a tree
   /// of the border edges, a node far from the region as a whole, edge by edge near it; two border edges
-  /// that run opposite ways with ends at most a tenth of their length apart (an unwelded seam, a
+  /// that run opposite ways with ends at most a third of their length apart (an unwelded seam, a
   /// jittered soup) count as a pair, by their gap eps: 2 eps / r^2 + 2 L eps / r^3; infinite where an
   /// edge may meet the region, 0 for a closed surface. Between two points joined by a segment that crosses no triangle, w changes by
   /// at most this bound times their distance.
