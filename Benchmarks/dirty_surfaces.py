@@ -197,8 +197,8 @@ def damage(kind, clean, rng):
     elif kind in ("soup_small_jitter", "soup_large_jitter", "soup_crack_jitter"):
         # every triangle its own three points, moved at random: 1e-8 of the diagonal (welded by the
         # default merge tolerance, 1e-6), 1e-5 (beyond it: welded by the automatic test's seam weld)
-        # or 1e-3 (most seams wider than that weld's limit: stays a soup, the winding number decides)
-        jitter = {"soup_small_jitter": 1e-8, "soup_large_jitter": 1e-5, "soup_crack_jitter": 1e-3}[kind] * diag
+        # or 6e-4 (many seams wider than that weld's limit: closed by strips, the winding number decides)
+        jitter = {"soup_small_jitter": 1e-8, "soup_large_jitter": 1e-5, "soup_crack_jitter": 6e-4}[kind] * diag
         soup = np.concatenate([pts[f] for f in faces]) + rng.uniform(-jitter, jitter, (3 * len(faces), 3))
         pts, faces = soup, [[3 * t, 3 * t + 1, 3 * t + 2] for t in range(len(faces))]
     elif kind == "flip":
