@@ -127,3 +127,22 @@ TEST(SeamWelding, ClosedSurfacesAndSeamsWiderThanTheLimitAreLeftAlone)
   EXPECT_FALSE(none.welded());
   EXPECT_EQ(none.surface.triangles, soup.triangles);
 }
+
+TEST(SeamWelding, TinyEdgesFarFromTheOriginAreHandled)
+{
+  // edges 1e-300 long at 1e14 from the origin: their cells' indices would overflow a cast
+  const TriangleSurface cube = test::cube(0, 1);
+  TriangleSurface soup = soupOf(cube, 0.0, 1);
+  const int first = static_cast<int>(soup.points.size());
+  for (const Vec3& p : { Vec3{ 1e14, 1e14, 1e14 }, Vec3{ 1e14, 1e14, 1e14 + 1e-2 }, Vec3{ 1e14, 1e14 + 1e-2, 1e14 } })
+    soup.points.push_back(p);
+  soup.points.push_back({ 1e-300, 0, 0 });
+  soup.points.push_back({ 0, 2e-300, 0 });
+  soup.points.push_back({ 0, 0, 3e-300 });
+  soup.triangles.push_back({ first, first + 1, first + 2 });
+  soup.triangles.push_back({ first + 3, first + 4, first + 5 });
+  const SeamWelding w = weldSeams(soup, 1.0);
+  EXPECT_EQ(w.surface.triangles.size(), soup.triangles.size());
+  EXPECT_EQ(w.surface.points.size() + w.mergedPoints, soup.points.size());
+  EXPECT_NO_THROW(w.surface.validateTriangles("welded"));
+}

@@ -44,11 +44,18 @@ double cellSize(int lengthClass) { return std::ldexp(1.0, lengthClass + 1) * 2.0
 
 int lengthClassOf(double length) { return std::ilogb(length); }
 
+/// The cell index of coordinate v, clamped where an edge is tiny against its coordinates (the
+/// distances still decide; the cast alone would overflow).
+int64_t cellIndex(double v, double h)
+{
+  constexpr double kLimit = 4.0e18;
+  return static_cast<int64_t>(std::clamp(std::floor(v / h), -kLimit, kLimit));
+}
+
 CellKey keyOf(const Vec3& m, int lengthClass)
 {
   const double h = cellSize(lengthClass);
-  return { lengthClass, static_cast<int64_t>(std::floor(m.x / h)), static_cast<int64_t>(std::floor(m.y / h)),
-    static_cast<int64_t>(std::floor(m.z / h)) };
+  return { lengthClass, cellIndex(m.x, h), cellIndex(m.y, h), cellIndex(m.z, h) };
 }
 
 /// The 2 x 2 x 2 cells of `lengthClass` nearest to m: its own and, per axis, the neighbour on the
