@@ -7,8 +7,8 @@ Every case is generated with a fixed seed from a clean shape (a sphere, a box, a
 holes punched out, an unwelded soup (jittered below and above the weld tolerance, and beyond the
 seam weld's limit), flipped
 triangles, two overlapping closed shells in one file, a tube open at both ends, two boxes sharing an
-edge (non-manifold), a box of unwelded quads as CAD exporters write it (with its sharp edges as
-feature lines), a noisy organic surface with dense sharp edges, and two that enclose no volume (a
+edge (non-manifold), a box of unwelded quads as CAD exporters write it and the same box as a
+jittered triangle soup (both with their sharp edges as feature lines), a noisy organic surface with dense sharp edges, and two that enclose no volume (a
 flat patch, a half-plane strip) which must be refused with a clear error.
 
 Per case it prints: meshed or refused (and the first line of the error), tetrahedra, the material
@@ -27,7 +27,7 @@ refused exactly the cases that enclose no volume, with "encloses no volume" in t
 validity defect; volume within 1% of the clean shape's mesh (5% for the open tube); the input
 within 2 facet distances of the mesh boundary, or as close as the clean shape's input to its mesh
 (+10%; the overlapping shells' inner parts lie inside); 100% feature coverage; 12 of 12 edges of
-the CAD box.
+the CAD box, quads or soup.
 """
 import argparse
 import json
@@ -50,6 +50,7 @@ CASES = {
     "open_tube": ("cylinder", "open_ends", 0.05),
     "nonmanifold_boxes": ("two_boxes", "none", 0.01),
     "cad_quads": ("box", "quads", 0.01),
+    "cad_soup": ("box", "soup_large_jitter", 0.01),
     "noisy_organic": ("noisy_sphere", "none", 0.01),
     "patch": ("patch", "none", None),
     "strip": ("strip", "none", None),
@@ -236,7 +237,7 @@ def write_case(folder, name, size):
     criteria = {"facet_angle": 25, "facet_size": h, "facet_distance": h / 10, "cell_size": h,
                 "cell_radius_edge_ratio": 2.0, "edge_size": h}
     mesh = {"criteria": criteria, "seed": 1}
-    sharp = kind == "quads" or shape == "noisy_sphere"
+    sharp = shape in ("box", "noisy_sphere")
     if sharp:
         mesh["features"] = {"from_surface": "part", "feature_angle": 60.0}
         mesh["strategy"] = "Conforming"
@@ -431,7 +432,7 @@ def main(argv=None):
                                f"(the clean shape's {r['clean_input_to_mesh']:.2f})")
                 if r["coverage"] < 1.0 - 1e-9:
                     bad.append(f"{name}: feature coverage {100 * r['coverage']:.2f}%")
-                if name == "cad_quads" and r["segments"] < 12:
+                if name in ("cad_quads", "cad_soup") and r["segments"] < 12:
                     bad.append(f"{name}: {r['segments']} feature segments, the box has 12 edges")
     print(f"work folder: {work}")
     for b in bad:

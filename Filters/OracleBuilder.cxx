@@ -389,6 +389,7 @@ std::shared_ptr<omesh::Domain> OracleBuilder::BuildDomain(
         : test == 1                  ? omesh::InsideTest::WindingNumber
                                      : omesh::InsideTest::Automatic;
     }
+    options.weldedBefore = md.SeamWeld;
     auto d = std::make_shared<omesh::SurfaceDomain>(
       ToTriangleSurface(vtkPolyData::SafeDownCast(data), who), md.MaterialId, who, options);
     d->setCut(md.Cut);

@@ -27,6 +27,7 @@ const char* const kInterpolation = "OracleMesh_LabelInterpolation";
 const char* const kCriteria = "OracleMesh_Criteria";
 const char* const kLabelValues = "OracleMesh_LabelValues";
 const char* const kLabelNames = "OracleMesh_LabelNames";
+const char* const kSeamWeld = "OracleMesh_SeamWeld";
 const char* const kVersion = OracleDomainMetadata::VersionArray;
 
 void putString(vtkFieldData* fd, const char* key, const std::string& v)
@@ -93,6 +94,10 @@ void OracleDomainMetadata::WriteTo(vtkFieldData* fd) const
     putDoubles(fd, kCriteria, { Criteria.begin(), Criteria.end() });
   else
     fd->RemoveArray(kCriteria);
+  if (!SeamWeld.empty())
+    putString(fd, kSeamWeld, SeamWeld);
+  else
+    fd->RemoveArray(kSeamWeld);
   if (Kind == "LabelMap")
   {
     putString(fd, kLabelArray, LabelArray);
@@ -134,6 +139,7 @@ bool OracleDomainMetadata::ReadFrom(vtkFieldData* fd, OracleDomainMetadata& out)
   if (!criteria.empty() && criteria.size() != 6)
     throw omesh::InputError("domain '" + out.Name + "': " + kCriteria + " must hold 6 numbers");
   std::copy(criteria.begin(), criteria.end(), out.Criteria.begin());
+  out.SeamWeld = getString(fd, kSeamWeld);
   if (out.Kind == "LabelMap")
   {
     out.LabelArray = getString(fd, kLabelArray);

@@ -28,6 +28,10 @@ struct OracleDomainMetadata
   /// Optional world-to-local affine map, 3x4 row-major (the implicit function's VTK transform).
   std::vector<double> Transform;
 
+  /// Surfaces only: what vtkSurfaceDomain welded of the surface's seams (SeamWelding::describe),
+  /// empty when nothing; the mesher reports it among the input warnings.
+  std::string SeamWeld;
+
   // Label maps only
   std::string LabelArray;
   bool CellLabels = false;

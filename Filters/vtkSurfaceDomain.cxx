@@ -3,6 +3,7 @@
 
 #include "InputError.h"
 #include "OracleBuilder.h"
+#include "SeamWelding.h"
 #include "SelfIntersections.h"
 #include "TriangleSurface.h"
 
@@ -16,7 +17,9 @@
 #include <vtkNew.h>
 #include <vtkObjectFactory.h>
 #include <vtkPointData.h>
+#include <vtkPoints.h>
 #include <vtkPolyData.h>
+#include <vtkSmartPointer.h>
 #include <vtkStaticCleanPolyData.h>
 #include <vtkTriangleFilter.h>
 
@@ -42,6 +45,74 @@ bool onlyTriangles(vtkPolyData* pd)
   }
   return true;
 }
+
+/// Throws omesh::InputError naming `who` for a property out of its range.
+void checkProperties(const std::string& who, int materialId, double mergeTolerance, int insideTest)
+{
+  if (materialId < 0)
+    throw omesh::InputError(who + ": MaterialId " + std::to_string(materialId) + " is negative");
+  if (!(mergeTolerance >= 0 && mergeTolerance <= 1))
+  {
+    std::ostringstream o;
+    o << who << ": MergeTolerance " << mergeTolerance << " must be between 0 and 1 (a fraction of the bounding-box diagonal)";
+    throw omesh::InputError(o.str());
+  }
+  if (insideTest != vtkSurfaceDomain::CLOSED && insideTest != vtkSurfaceDomain::WINDING_NUMBER &&
+    insideTest != vtkSurfaceDomain::AUTOMATIC)
+    throw omesh::InputError(who + ": InsideTest " + std::to_string(insideTest) +
+      " is not one of 0 (Closed), 1 (WindingNumber) and 2 (Automatic)");
+}
+
+/// `surface` with its unwelded seams welded (omesh::weldSeams; `triangles` its triangles), or
+/// itself when none is; `description` says what was welded.
+vtkSmartPointer<vtkPolyData> weldedSeams(vtkPolyData* surface, const omesh::TriangleSurface& triangles, std::string& description);
+
+/// `surface` (triangles only) with the welded seams' points merged: each welded group's point data
+/// from its first member, the triangles' cell data kept (weld.surface keeps their order).
+vtkSmartPointer<vtkPolyData> weldedCopy(vtkPolyData* surface, const omesh::SeamWelding& weld)
+{
+  auto out = vtkSmartPointer<vtkPolyData>::New();
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  points->SetNumberOfPoints(static_cast<vtkIdType>(weld.surface.points.size()));
+  for (size_t i = 0; i < weld.surface.points.size(); ++i)
+  {
+    const omesh::Vec3& p = weld.surface.points[i];
+    points->SetPoint(static_cast<vtkIdType>(i), p.x, p.y, p.z);
+  }
+  out->SetPoints(points);
+  vtkPointData* from = surface->GetPointData();
+  out->GetPointData()->CopyAllocate(from, points->GetNumberOfPoints());
+  std::vector<char> done(weld.surface.points.size(), 0);
+  for (size_t v = 0; v < weld.pointIndex.size(); ++v)
+    if (!done[weld.pointIndex[v]])
+    {
+      done[weld.pointIndex[v]] = 1;
+      out->GetPointData()->CopyData(from, static_cast<vtkIdType>(v), weld.pointIndex[v]);
+    }
+  vtkNew<vtkCellArray> polys;
+  for (const auto& t : weld.surface.triangles)
+  {
+    const vtkIdType ids[3] = { t[0], t[1], t[2] };
+    polys->InsertNextCell(3, ids);
+  }
+  out->SetPolys(polys);
+  const vtkIdType firstPoly = surface->GetNumberOfVerts() + surface->GetNumberOfLines();
+  out->GetCellData()->CopyAllocate(surface->GetCellData(), polys->GetNumberOfCells());
+  for (vtkIdType c = 0; c < polys->GetNumberOfCells(); ++c)
+    out->GetCellData()->CopyData(surface->GetCellData(), firstPoly + c, c);
+  return out;
+}
+
+vtkSmartPointer<vtkPolyData> weldedSeams(vtkPolyData* surface, const omesh::TriangleSurface& triangles, std::string& description)
+{
+  const omesh::SeamWelding weld =
+    omesh::weldSeams(triangles, omesh::kSeamWeldLimit * omesh::norm(triangles.bounds().size()));
+  if (!weld.welded())
+    return surface;
+  description = weld.describe();
+  return weldedCopy(surface, weld);
+}
 }
 
 vtkSurfaceDomain::vtkSurfaceDomain()
@@ -64,6 +135,7 @@ int vtkSurfaceDomain::RequestData(
   vtkPolyData* output = vtkPolyData::GetData(outputVector);
   const std::string who = this->Describe();
   vtkSmartPointer<vtkPolyData> surface = input;
+  std::string seamWeld; // what the automatic test welded, for the mesher's input warnings
   try
   {
     if (!data)
@@ -72,18 +144,7 @@ int vtkSurfaceDomain::RequestData(
       throw omesh::InputError(who + ": input port 0 needs a surface (vtkPolyData), got " +
         std::string(data->GetClassName()) +
         (data->IsA("vtkImageData") ? "; a label image goes to vtkLabelMapDomain" : ""));
-    if (this->MaterialId < 0)
-      throw omesh::InputError(who + ": MaterialId " + std::to_string(this->MaterialId) + " is negative");
-    if (!(this->MergeTolerance >= 0 && this->MergeTolerance <= 1))
-    {
-      std::ostringstream o;
-      o << who << ": MergeTolerance " << this->MergeTolerance
-        << " must be between 0 and 1 (a fraction of the bounding-box diagonal)";
-      throw omesh::InputError(o.str());
-    }
-    if (this->InsideTest != CLOSED && this->InsideTest != WINDING_NUMBER && this->InsideTest != AUTOMATIC)
-      throw omesh::InputError(who + ": InsideTest " + std::to_string(this->InsideTest) +
-        " is not one of 0 (Closed), 1 (WindingNumber) and 2 (Automatic)");
+    checkProperties(who, this->MaterialId, this->MergeTolerance, this->InsideTest);
     if (input->GetNumberOfPoints() == 0)
       throw omesh::InputError(who + ": surface is empty (no points)");
     // Refuse NaN and absurd coordinates before any filter computes bounds or tolerances from them.
@@ -112,7 +173,11 @@ int vtkSurfaceDomain::RequestData(
     // Automatic: what the surface lacks is found once, where the oracle builds it (its warning
     // reaches the mesher's input warnings); here only what no inside test can work with.
     if (this->InsideTest == AUTOMATIC)
+    {
+      // unwelded seams welded here, so that the output's sharp edges (vtkFeatureEdges) are there
       triangles.validateTriangles(who);
+      surface = weldedSeams(surface, triangles, seamWeld);
+    }
     else if (this->InsideTest == WINDING_NUMBER)
     {
       triangles.validateTriangles(who);
@@ -138,6 +203,7 @@ int vtkSurfaceDomain::RequestData(
   OracleDomainMetadata md;
   this->FillMetadata("Surface", md);
   md.Parameters = { this->AllowSelfIntersections ? 1.0 : 0.0, static_cast<double>(this->InsideTest) };
+  md.SeamWeld = seamWeld;
   md.WriteTo(output->GetFieldData());
   return 1;
 }

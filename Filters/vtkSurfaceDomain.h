@@ -5,9 +5,11 @@
  *
  * Input: vtkPolyData of polygons bounding a volume. Polygons, quads and strips are triangulated
  * (vtkTriangleFilter) and points closer than MergeTolerance x the bounding-box diagonal are merged
- * (unwelded corners, as STL and many exporters write them). Output: the triangulated, merged
- * surface, with the domain description in its field data (docs/REFERENCE.md, "Domain format"); its sharp
- * edges are what vtkFeatureEdges should be given (the input's unwelded corners have none).
+ * (unwelded corners, as STL and many exporters write them); with InsideTest Automatic, unwelded
+ * seams beyond that tolerance are welded too (omesh::weldSeams: border edges that pair up, at most
+ * 1/1000 of the diagonal apart). Output: the triangulated, merged surface, with the domain
+ * description in its field data (docs/REFERENCE.md, "Domain format"); its sharp edges are what
+ * vtkFeatureEdges should be given (the input's unwelded corners have none).
  *
  * InsideTest Automatic (default) meshes what it is given: a closed, manifold surface free of
  * self-intersections is tested by exact ray parity, anything else (holes, borders, non-manifold

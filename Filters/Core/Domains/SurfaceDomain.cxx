@@ -31,24 +31,21 @@ namespace
 {
 namespace PMP = CGAL::Polygon_mesh_processing;
 
-/// Unwelded seams farther apart than this fraction of the diagonal are not welded (they stay
-/// cracks, which the winding number closes): far below any facet distance a mesh is made with.
-constexpr double kSeamWeldLimit = 1e-3;
-
 /// The automatic inside test's input: `surface` validated, its unwelded seams welded (an
-/// exporter's soup, copies of points not merged), which a warning reports.
-const TriangleSurface& weldForAutomatic(
-  const TriangleSurface& surface, const std::string& name, std::optional<SeamWelding>& weld, std::vector<std::string>& warnings)
+/// exporter's soup, copies of points not merged), which a warning reports (as it does what an
+/// earlier step welded).
+const TriangleSurface& weldForAutomatic(const TriangleSurface& surface, const std::string& name,
+  const std::string& weldedBefore, std::optional<SeamWelding>& weld, std::vector<std::string>& warnings)
 {
   surface.validateTriangles(name);
+  if (!weldedBefore.empty())
+    warnings.push_back(seamWeldWarning(name, weldedBefore));
   weld = weldSeams(surface, kSeamWeldLimit * norm(surface.bounds().size()));
   if (!weld->welded())
     return surface;
-  warnings.push_back(name + ": " + weld->describe() + " (a triangle soup, or copies of points not merged?); " +
-    "the mesh follows the welded surface");
+  warnings.push_back(seamWeldWarning(name, weld->describe()));
   return weld->surface;
 }
-
 }
 
 std::optional<bool> SurfaceDomain::Impl::crossesOddly(const Point& from, const Point& to, size_t c, bool toIsReference) const
@@ -249,7 +246,9 @@ SurfaceDomain::SurfaceDomain(
   bool winding = options.insideTest == InsideTest::WindingNumber;
   std::optional<OrientedTriangles> oriented; // one orientation for the defects and the structures
   std::optional<SeamWelding> weld;
-  const TriangleSurface& input = options.insideTest == InsideTest::Automatic ? weldForAutomatic(surface, name, weld, warnings_) : surface;
+  const TriangleSurface& input = options.insideTest == InsideTest::Automatic
+    ? weldForAutomatic(surface, name, options.weldedBefore, weld, warnings_)
+    : surface;
   if (options.insideTest == InsideTest::Automatic)
   {
     oriented = orientTriangles(input);

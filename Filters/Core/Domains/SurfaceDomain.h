@@ -29,6 +29,9 @@ struct SurfaceOptions
   /// decides where it overlaps). Automatic accepts it anyway (with the winding number).
   bool allowSelfIntersections = false;
   InsideTest insideTest = InsideTest::Automatic;
+  /// Automatic: what an earlier step (the VTK door's vtkSurfaceDomain) welded of the surface's
+  /// seams (SeamWelding::describe), reported among the warnings as a weld here would be.
+  std::string weldedBefore;
 };
 
 /// The region bounded by a closed triangle surface, one material. Inside tests are exact (CGAL's

@@ -572,9 +572,15 @@ std::pair<FeatureSegments, double> withoutShortPieces(const FeatureSegments& f, 
 }
 
 /// Whether segment ab stays in the domain: every interior sample (at most h / 8 apart) lies in
-/// it or within a thousandth of the segment's length of it (the mesher's own margin).
+/// it or within a thousandth of the segment's length of it (the mesher's own margin): along an
+/// axis, or on a ring of 16 directions across the segment (on the edge of a box whose faces are a
+/// little off the axes, as a welded soup's are, every axis probe may miss its wedge).
 bool staysInDomain(const Vec3& a, const Vec3& b, const FeatureNetworkTolerances& tol)
 {
+  const Vec3 w = (1.0 / norm(b - a)) * (b - a);
+  Vec3 e{ 0, 0, 0 };
+  e[std::abs(w.x) <= std::abs(w.y) && std::abs(w.x) <= std::abs(w.z) ? 0 : std::abs(w.y) <= std::abs(w.z) ? 1 : 2] = 1.0;
+  const Vec3 u = (1.0 / norm(cross(w, e))) * cross(w, e), v = cross(w, u);
   const auto near = [&](const Vec3& p, double eps) {
     if (tol.inDomain(p))
       return true;
@@ -586,6 +592,13 @@ bool staysInDomain(const Vec3& a, const Vec3& b, const FeatureNetworkTolerances&
         if (tol.inDomain(q))
           return true;
       }
+    constexpr int kRing = 16;
+    for (int k = 0; k < kRing; ++k)
+    {
+      const double phi = 2.0 * M_PI * (k + 0.5) / kRing;
+      if (tol.inDomain(p + (eps * std::cos(phi)) * u + (eps * std::sin(phi)) * v))
+        return true;
+    }
     return false;
   };
   const double length = norm(b - a);
