@@ -146,3 +146,44 @@ TEST(SeamWelding, TinyEdgesFarFromTheOriginAreHandled)
   EXPECT_EQ(w.surface.points.size() + w.mergedPoints, soup.points.size());
   EXPECT_NO_THROW(w.surface.validateTriangles("welded"));
 }
+
+TEST(SeamWelding, RandomSoupsGiveValidSurfaces)
+{
+  // random triangles over few points (shared edges, non-manifold fans, slivers, repeated points),
+  // jittered copies: whatever is welded, the result is a valid surface whose points each stand
+  // for input points within the limit
+  std::mt19937 rng(31);
+  for (int round = 0; round < 200; ++round)
+  {
+    const int points = 4 + static_cast<int>(rng() % 12);
+    std::uniform_real_distribution<double> u(-1, 1), jitter(-1e-3, 1e-3);
+    TriangleSurface base;
+    for (int i = 0; i < points; ++i)
+      base.points.push_back({ u(rng), u(rng), round % 3 == 0 ? 0.0 : u(rng) });
+    for (int t = 0; t < 3 + static_cast<int>(rng() % 20); ++t)
+    {
+      int a = static_cast<int>(rng() % points), b = static_cast<int>(rng() % points), c = static_cast<int>(rng() % points);
+      if (a != b && b != c && a != c)
+        base.triangles.push_back({ a, b, c });
+    }
+    if (base.triangles.empty())
+      continue;
+    TriangleSurface soup = round % 2 ? soupOf(base, 0.0, 1) : base;
+    for (Vec3& p : soup.points)
+      p = p + Vec3{ jitter(rng), jitter(rng), jitter(rng) };
+    const double limit = 0.01;
+    const SeamWelding w = weldSeams(soup, limit);
+    ASSERT_NO_THROW(w.surface.validateTriangles("welded")) << round;
+    ASSERT_EQ(w.surface.triangles.size(), soup.triangles.size()) << round;
+    ASSERT_EQ(w.pointIndex.size(), soup.points.size()) << round;
+    for (size_t v = 0; v < soup.points.size(); ++v)
+    {
+      ASSERT_GE(w.pointIndex[v], 0);
+      ASSERT_LT(w.pointIndex[v], static_cast<int>(w.surface.points.size()));
+      EXPECT_LE(norm(w.surface.points[w.pointIndex[v]] - soup.points[v]), limit + 1e-12) << round;
+    }
+    for (size_t t = 0; t < soup.triangles.size(); ++t)
+      for (int k = 0; k < 3; ++k)
+        ASSERT_EQ(w.surface.triangles[t][k], w.pointIndex[soup.triangles[t][k]]) << round;
+  }
+}

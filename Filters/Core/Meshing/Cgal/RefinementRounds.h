@@ -188,6 +188,8 @@ public:
   /// Refinement steps so far, and the vertices of a running parallel refinement as last seen (0
   /// when none runs), for the time limit's message.
   size_t steps() const { return steps_; }
+  /// Whether refinement stopped at the vertex budget (the criteria not met everywhere).
+  bool budgetHit() const { return budgetHit_; }
   size_t parallelVertices() const { return parallelVertices_; }
   /// Wall seconds of the refinement (the optimisers' default time limit).
   double refinementSeconds() const { return refineTime_; }
