@@ -13,22 +13,6 @@ using namespace omesh;
 
 namespace
 {
-/// Every triangle of `s` alone, its corners moved by up to `jitter` per coordinate.
-TriangleSurface soupOf(const TriangleSurface& s, double jitter, unsigned seed)
-{
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> u(-jitter, jitter);
-  TriangleSurface soup;
-  for (const auto& t : s.triangles)
-  {
-    const int first = static_cast<int>(soup.points.size());
-    for (int v : t)
-      soup.points.push_back(s.points[v] + Vec3{ u(rng), u(rng), u(rng) });
-    soup.triangles.push_back({ first, first + 1, first + 2 });
-  }
-  return soup;
-}
-
 /// A latitude-longitude sphere: near its poles the edges along a latitude are far shorter than
 /// those along a meridian, the fans of many thin triangles an exporter writes.
 TriangleSurface uvSphere(double r, int rings, int segments)
@@ -76,7 +60,7 @@ TEST(SeamWelding, TheCopiesOfEachPointOfASoupBecomeOne)
 {
   const TriangleSurface sphere = test::icosphere({ 0, 0, 0 }, 5.0, 3);
   const double jitter = 1e-4;
-  const TriangleSurface soup = soupOf(sphere, jitter, 3);
+  const TriangleSurface soup = test::soupOf(sphere, jitter, 3);
   const SeamWelding w = weldSeams(soup, 1e-3 * 10.0 * std::sqrt(3.0));
   EXPECT_EQ(w.borderEdges, soup.triangles.size() * 3);
   EXPECT_EQ(w.pairedEdges, w.borderEdges);
@@ -100,7 +84,7 @@ TEST(SeamWelding, CopiesOfDifferentPointsAreNeverMerged)
   const TriangleSurface sphere = uvSphere(10.0, 60, 240);
   for (double jitter : { 1e-4, 1e-3, 4e-3 })
   {
-    const TriangleSurface soup = soupOf(sphere, jitter, 7);
+    const TriangleSurface soup = test::soupOf(sphere, jitter, 7);
     const SeamWelding w = weldSeams(soup, 1e-3 * 20.0 * std::sqrt(3.0));
     EXPECT_TRUE(mergesOnlyCopies(sphere, w)) << jitter;
     EXPECT_NO_THROW(w.surface.validateTriangles("welded")) << jitter;
@@ -117,7 +101,7 @@ TEST(SeamWelding, ClosedSurfacesAndSeamsWiderThanTheLimitAreLeftAlone)
   EXPECT_EQ(closed.borderEdges, 0u);
   EXPECT_EQ(closed.surface.points.size(), cube.points.size());
   // jitter 0.01 per coordinate, limit 0.005: only the few seams that happen to be narrower close
-  const TriangleSurface soup = soupOf(test::icosphere({ 0, 0, 0 }, 5.0, 2), 0.01, 5);
+  const TriangleSurface soup = test::soupOf(test::icosphere({ 0, 0, 0 }, 5.0, 2), 0.01, 5);
   const SeamWelding wide = weldSeams(soup, 0.005);
   EXPECT_LT(wide.pairedEdges, wide.borderEdges / 10);
   EXPECT_LE(wide.widestGap, 0.005);
@@ -132,7 +116,7 @@ TEST(SeamWelding, TinyEdgesFarFromTheOriginAreHandled)
 {
   // edges 1e-300 long at 1e14 from the origin: their cells' indices would overflow a cast
   const TriangleSurface cube = test::cube(0, 1);
-  TriangleSurface soup = soupOf(cube, 0.0, 1);
+  TriangleSurface soup = test::soupOf(cube, 0.0, 1);
   const int first = static_cast<int>(soup.points.size());
   for (const Vec3& p : { Vec3{ 1e14, 1e14, 1e14 }, Vec3{ 1e14, 1e14, 1e14 + 1e-2 }, Vec3{ 1e14, 1e14 + 1e-2, 1e14 } })
     soup.points.push_back(p);
@@ -168,7 +152,7 @@ TEST(SeamWelding, RandomSoupsGiveValidSurfaces)
     }
     if (base.triangles.empty())
       continue;
-    TriangleSurface soup = round % 2 ? soupOf(base, 0.0, 1) : base;
+    TriangleSurface soup = round % 2 ? test::soupOf(base, 0.0, 1) : base;
     for (Vec3& p : soup.points)
       p = p + Vec3{ jitter(rng), jitter(rng), jitter(rng) };
     const double limit = 0.01;

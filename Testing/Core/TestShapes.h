@@ -10,6 +10,7 @@
 #include <array>
 #include <cmath>
 #include <map>
+#include <random>
 #include <utility>
 #include <vector>
 
@@ -92,6 +93,23 @@ inline TriangleSurface lPrism(double s, const Vec3& t)
     std::swap(m.triangles[f][1], m.triangles[f][2]); // y = 1 cap points +y
   orientOutward(m);
   return m;
+}
+
+/// Every triangle its own three points (an unwelded soup, as STL files are), moved at random by up
+/// to `jitter` per coordinate.
+inline TriangleSurface soupOf(const TriangleSurface& s, double jitter, unsigned seed)
+{
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-jitter, jitter);
+  TriangleSurface soup;
+  for (const auto& t : s.triangles)
+  {
+    const int first = static_cast<int>(soup.points.size());
+    for (int v : t)
+      soup.points.push_back(s.points[v] + Vec3{ u(rng), u(rng), u(rng) });
+    soup.triangles.push_back({ first, first + 1, first + 2 });
+  }
+  return soup;
 }
 
 /// Subdivided octahedron projected to a sphere (a closed polyhedron with many degenerate-ray cases).

@@ -323,23 +323,6 @@ TEST(SurfaceHoles, SphereWithAHoleMeshesToTheClosedSphereVolume)
 
 namespace
 {
-/// Every triangle its own three points (an unwelded soup, as STL files are), moved at random by up
-/// to `jitter`.
-TriangleSurface soupOf(const TriangleSurface& s, double jitter, unsigned seed)
-{
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> u(-jitter, jitter);
-  TriangleSurface soup;
-  for (const auto& t : s.triangles)
-  {
-    const int first = static_cast<int>(soup.points.size());
-    for (int v : t)
-      soup.points.push_back(s.points[v] + Vec3{ u(rng), u(rng), u(rng) });
-    soup.triangles.push_back({ first, first + 1, first + 2 });
-  }
-  return soup;
-}
-
 /// Fraction of `n` random points in the box around `a` where both domains answer alike.
 double agreement(const SurfaceDomain& a, const SurfaceDomain& b, int n, unsigned seed)
 {
@@ -434,7 +417,7 @@ TEST(SurfaceAutomatic, UnweldedSoupsAreMeshedAsTheSolidTheyTrace)
   SurfaceDomain reference(sphere, 1, "sphere", closedTest());
   for (bool inward : { false, true })
   {
-    TriangleSurface soup = soupOf(sphere, 5e-6, 11);
+    TriangleSurface soup = test::soupOf(sphere, 5e-6, 11);
     if (inward)
       for (auto& t : soup.triangles)
         std::swap(t[1], t[2]);
@@ -450,7 +433,7 @@ TEST(SurfaceAutomatic, UnweldedSoupsAreMeshedAsTheSolidTheyTrace)
   }
   // seams wider than the weld's limit (a thousandth of the diagonal) stay cracks: the winding
   // number closes them, and the warning suggests welding
-  SurfaceDomain wide(soupOf(sphere, 0.03, 12), 1, "wide");
+  SurfaceDomain wide(test::soupOf(sphere, 0.03, 12), 1, "wide");
   EXPECT_TRUE(wide.usesWindingNumber());
   ASSERT_FALSE(wide.warnings().empty());
   EXPECT_NE(wide.warnings().back().find("not welded? a larger merge tolerance"), std::string::npos) << wide.warnings().back();
@@ -480,7 +463,7 @@ TEST(SurfaceAutomatic, GridAnswersAreTheExactWindingNumbers)
   // the grid's answers (carried from cell to cell with the gradient bound) against the winding
   // number itself, at random points and at points just off the triangles
   const std::vector<TriangleSurface> surfaces{ sphereWithHole(10.0, 4, 9.0), merged(test::cube(0, 2), test::cube(1, 3)),
-    soupOf(test::icosphere({ 0, 0, 0 }, 5.0, 3), 0.03, 2), merged(sphereWithHole(10.0, 3, 9.8), test::icosphere({ 0, 0, 0 }, 5.0, 3)) };
+    test::soupOf(test::icosphere({ 0, 0, 0 }, 5.0, 3), 0.03, 2), merged(sphereWithHole(10.0, 3, 9.8), test::icosphere({ 0, 0, 0 }, 5.0, 3)) };
   std::mt19937 rng(23);
   for (size_t s = 0; s < surfaces.size(); ++s)
   {
@@ -553,7 +536,7 @@ TEST(SurfaceHoles, GradientBoundOfAnUnweldedSoupCountsItsSeamsByTheirGap)
   // ways: the bound holds and is small off the surface, where counting each edge by its length
   // would allow w to change by more than 1 over a unit step
   const TriangleSurface sphere = test::icosphere({ 0, 0, 0 }, 10.0, 3);
-  const TriangleSurface soup = soupOf(sphere, 1e-4, 3);
+  const TriangleSurface soup = test::soupOf(sphere, 1e-4, 3);
   const WindingNumber w(soup.points, soup.triangles);
   ASSERT_TRUE(w.hasBorder());
   EXPECT_GT(checkGradientBound(w, 0.5, 3000, 43, true), 2000);
