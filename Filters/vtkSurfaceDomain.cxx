@@ -63,10 +63,6 @@ void checkProperties(const std::string& who, int materialId, double mergeToleran
       " is not one of 0 (Closed), 1 (WindingNumber) and 2 (Automatic)");
 }
 
-/// `surface` with its unwelded seams welded (omesh::weldSeams; `triangles` its triangles), or
-/// itself when none is; `description` says what was welded.
-vtkSmartPointer<vtkPolyData> weldedSeams(vtkPolyData* surface, const omesh::TriangleSurface& triangles, std::string& description);
-
 /// `surface` (triangles only) with the welded seams' points merged: each welded group's point data
 /// from its first member, the triangles' cell data kept (weld.surface keeps their order).
 vtkSmartPointer<vtkPolyData> weldedCopy(vtkPolyData* surface, const omesh::SeamWelding& weld)
@@ -104,6 +100,8 @@ vtkSmartPointer<vtkPolyData> weldedCopy(vtkPolyData* surface, const omesh::SeamW
   return out;
 }
 
+/// `surface` with its unwelded seams welded (omesh::weldSeams; `triangles` its triangles), or
+/// itself when none is; `description` says what was welded.
 vtkSmartPointer<vtkPolyData> weldedSeams(vtkPolyData* surface, const omesh::TriangleSurface& triangles, std::string& description)
 {
   const omesh::SeamWelding weld =

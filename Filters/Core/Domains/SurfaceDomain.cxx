@@ -23,7 +23,6 @@
 #include <deque>
 #include <numeric>
 #include <optional>
-#include <sstream>
 
 namespace omesh
 {

@@ -48,14 +48,8 @@ bool anyProbe(const Vec3& m, const Vec3& d, Seen seen)
       if (seen(p))
         return true;
     }
-  const Vec3 w = (1.0 / length) * d;
-  // u: perpendicular to w, from the axis least aligned with it
-  Vec3 e{ 0, 0, 0 };
-  const double ax = std::abs(w.x), ay = std::abs(w.y), az = std::abs(w.z);
-  e[ax <= ay && ax <= az ? 0 : ay <= az ? 1 : 2] = 1.0;
-  Vec3 u = cross(w, e);
-  u = (1.0 / norm(u)) * u;
-  const Vec3 v = cross(w, u);
+  Vec3 u, v;
+  perpendicularPair((1.0 / length) * d, u, v);
   constexpr int kDirections = 64;
   for (int k = 0; k < kDirections; ++k)
   {

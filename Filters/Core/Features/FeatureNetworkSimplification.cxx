@@ -577,10 +577,8 @@ std::pair<FeatureSegments, double> withoutShortPieces(const FeatureSegments& f, 
 /// little off the axes, as a welded soup's are, every axis probe may miss its wedge).
 bool staysInDomain(const Vec3& a, const Vec3& b, const FeatureNetworkTolerances& tol)
 {
-  const Vec3 w = (1.0 / norm(b - a)) * (b - a);
-  Vec3 e{ 0, 0, 0 };
-  e[std::abs(w.x) <= std::abs(w.y) && std::abs(w.x) <= std::abs(w.z) ? 0 : std::abs(w.y) <= std::abs(w.z) ? 1 : 2] = 1.0;
-  const Vec3 u = (1.0 / norm(cross(w, e))) * cross(w, e), v = cross(w, u);
+  Vec3 u, v;
+  perpendicularPair((1.0 / norm(b - a)) * (b - a), u, v);
   const auto near = [&](const Vec3& p, double eps) {
     if (tol.inDomain(p))
       return true;

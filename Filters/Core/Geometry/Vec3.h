@@ -32,6 +32,17 @@ inline Vec3 cross(const Vec3& a, const Vec3& b)
   return { a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x };
 }
 inline double norm(const Vec3& a) { return std::sqrt(dot(a, a)); }
+/// Two unit vectors u, v perpendicular to the unit vector w and to each other (u from the axis
+/// least aligned with w): a ring of probes around a line.
+inline void perpendicularPair(const Vec3& w, Vec3& u, Vec3& v)
+{
+  Vec3 e{ 0, 0, 0 };
+  const double ax = std::abs(w.x), ay = std::abs(w.y), az = std::abs(w.z);
+  e[ax <= ay && ax <= az ? 0 : ay <= az ? 1 : 2] = 1.0;
+  u = cross(w, e);
+  u = (1.0 / norm(u)) * u;
+  v = cross(w, u);
+}
 inline bool isFinite(const Vec3& a)
 {
   return std::isfinite(a.x) && std::isfinite(a.y) && std::isfinite(a.z);

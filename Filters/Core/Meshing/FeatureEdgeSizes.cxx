@@ -36,14 +36,8 @@ std::vector<int> materialsAroundSegment(const HierarchicalOracle& oracle, const 
 {
   const Vec3 d = b - a;
   const double length = norm(d);
-  // two unit vectors perpendicular to ab
-  const Vec3 axis = std::abs(d.x) <= std::abs(d.y) && std::abs(d.x) <= std::abs(d.z) ? Vec3{ 1, 0, 0 }
-    : std::abs(d.y) <= std::abs(d.z)                                               ? Vec3{ 0, 1, 0 }
-                                                                                   : Vec3{ 0, 0, 1 };
-  Vec3 u = cross(d, axis);
-  u = (1.0 / norm(u)) * u;
-  Vec3 v = cross(d, u);
-  v = (1.0 / norm(v)) * v;
+  Vec3 u, v;
+  perpendicularPair((1.0 / length) * d, u, v);
   const double r = 1e-3 * length;
   std::vector<int> out;
   auto add = [&](const Vec3& p) {

@@ -93,8 +93,7 @@ public:
     o.maxAngle = run_.options.improvementMaxAngle;
     o.cellSizeOf = [this](int material) { return run_.options.criteria.of(material).cellSize; };
     // Stopped at the vertex budget, the mesh is coarse everywhere and its criteria unmet: its long
-    // edges make each move's oracle queries dear (the demo's at 4,000 vertices: 6 rounds 41 s
-    // against 1 s of refinement), so one round.
+    // edges make each move's oracle queries dear, many times the refinement's time, so one round.
     if (refinement_.budgetHit())
       o.rounds = std::min(o.rounds, 1);
     o.progress = [this](double f) {
