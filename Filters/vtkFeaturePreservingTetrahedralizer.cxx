@@ -9,6 +9,7 @@
 #include "OracleBuilder.h"
 #include "OracleMesher.h"
 #include "TetMeshOutput.h"
+#include "WorkerThreads.h"
 
 #include <vtkCellArray.h>
 #include <vtkCellArrayIterator.h>
@@ -170,6 +171,7 @@ struct vtkFeaturePreservingTetrahedralizer::PipelineCall
   omesh::PipelineOptions options;
   omesh::PipelineResult result;
   TetShapeCellArrays shapes; ///< the cell arrays the mesher's measuring pass writes
+  double oracleSeconds = 0.0; ///< the oracle's making from the inputs (a label map's smoothing)
 };
 
 int vtkFeaturePreservingTetrahedralizer::RequestData(
@@ -185,8 +187,11 @@ int vtkFeaturePreservingTetrahedralizer::RequestData(
   try
   {
     this->CheckProperties(); // before any heavy work
-    this->GatherInputs(inputVector, run);
-    run.result = omesh::runMeshingPipeline(*run.oracle, std::move(run.input), run.options);
+    // every parallel loop of the call (a label map's smoothing, the output's passes) on Threads
+    omesh::runOnThreads(this->Threads, [&] {
+      this->GatherInputs(inputVector, run);
+      run.result = omesh::runMeshingPipeline(*run.oracle, std::move(run.input), run.options);
+    });
   }
   catch (const omesh::InputError& e)
   {
@@ -314,10 +319,12 @@ void vtkFeaturePreservingTetrahedralizer::GatherInputs(vtkInformationVector** in
       seedsData->GetClassName());
   this->SetUpOptions(run);
   run.input.lines = OracleBuilder::ToFeatureSegments(lines, &run.input.owners);
+  const auto oracleStarted = std::chrono::steady_clock::now();
   run.oracle = OracleBuilder::BuildOracle(oracleData, [this](double f) {
     this->UpdateProgress(0.02 * f); // a label map's smoothing: before the feature search's tenth
     return !this->GetAbortExecute();
   });
+  run.oracleSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - oracleStarted).count();
   // The merge rule of MeshCriteria.h: global < the domains' own < this filter's table.
   const omesh::CriteriaLevel domainLevel = OracleBuilder::DomainCriteria(oracleData, *run.oracle);
   omesh::CriteriaLevel tableLevel;
@@ -352,6 +359,7 @@ void vtkFeaturePreservingTetrahedralizer::AssembleOutputs(PipelineCall& run, vtk
   TetMeshOutput::FillInterfaces(vtkPolyData::GetData(outputVector, 1), result.mesh, grid);
   // the mesher's pieces name the selection's segments, also where it resampled them
   TetMeshOutput::FillSegments(vtkPolyData::GetData(outputVector, 2), result.mesh, result.selection);
+  TetMeshOutput::AddStatistic(grid->GetFieldData(), "time.oracle", run.oracleSeconds);
   TetMeshOutput::AddStatistic(grid->GetFieldData(), "time.vtk_output",
     std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
 }

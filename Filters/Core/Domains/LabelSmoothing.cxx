@@ -2,6 +2,7 @@
 #include "LabelSmoothing.h"
 
 #include "SmallPieceVolumes.h"
+#include "WorkerThreads.h"
 
 #include <algorithm>
 #include <cmath>
@@ -110,6 +111,22 @@ struct Box
   int longest() const { return std::max({ n[0], n[1], n[2] }); }
 };
 
+/// Box b (lo[0] = INT_MAX: empty) grown to hold the voxels from lo to hi (both included).
+void growBox(Box& b, const std::array<int, 3>& lo, const std::array<int, 3>& hi)
+{
+  if (b.lo[0] == std::numeric_limits<int>::max())
+  {
+    b.lo = lo;
+    b.hi = hi;
+    return;
+  }
+  for (int a = 0; a < 3; ++a)
+  {
+    b.lo[a] = std::min(b.lo[a], lo[a]);
+    b.hi[a] = std::max(b.hi[a], hi[a]);
+  }
+}
+
 /// Calls fn(line start, stride, length, scratch) for every line of `box` along `axis`, the lines
 /// shared among threads (TBB), each thread with its own scratch.
 template <class Fn>
@@ -121,6 +138,16 @@ void forEachLine(const Box& box, int axis, Fn&& fn)
     for (int j = rows.begin(); j < rows.end(); ++j)
       for (int i = 0; i < box.n[a1]; ++i)
         fn(box.stride[a1] * i + box.stride[a2] * j, box.stride[axis], box.n[axis], scratch);
+  });
+}
+
+/// Calls fn(i) for every i in [0, n), in chunks on the threads runOnThreads allows.
+template <class Fn>
+void forEachVoxel(size_t n, Fn&& fn)
+{
+  forEachChunk(n, chunkCount(n, 1 << 16), [&fn](size_t, size_t begin, size_t end) {
+    for (size_t i = begin; i < end; ++i)
+      fn(i);
   });
 }
 
@@ -241,40 +268,50 @@ private:
 };
 
 /// Boundary voxels (a differently labelled voxel among their 26 neighbours), in increasing order,
-/// and per label the box of its own boundary voxels (lo[0] = INT_MAX where it has none).
+/// and per label the box of its own boundary voxels (lo[0] = INT_MAX where it has none). Slabs of
+/// z in parallel, concatenated in order.
 void findBoundary(const std::array<int, 3>& dims, const std::vector<uint16_t>& index, std::vector<size_t>& boundary,
   std::vector<Box>& boxes)
 {
   const size_t sy = static_cast<size_t>(dims[0]), sz = sy * dims[1];
-  for (Box& b : boxes)
+  const auto noBox = [] {
+    Box b;
     b.lo = { std::numeric_limits<int>::max(), 0, 0 };
-  for (int z = 0; z < dims[2]; ++z)
-    for (int y = 0; y < dims[1]; ++y)
-      for (int x = 0; x < dims[0]; ++x)
-      {
-        const size_t v = x + sy * y + sz * z;
-        const uint16_t own = index[v];
-        bool mixed = false;
-        for (int dz = std::max(z - 1, 0); dz <= std::min(z + 1, dims[2] - 1) && !mixed; ++dz)
-          for (int dy = std::max(y - 1, 0); dy <= std::min(y + 1, dims[1] - 1) && !mixed; ++dy)
-          {
-            const uint16_t* row = index.data() + sy * dy + sz * dz;
-            for (int dx = std::max(x - 1, 0); dx <= std::min(x + 1, dims[0] - 1); ++dx)
-              mixed = mixed || row[dx] != own;
-          }
-        if (!mixed)
-          continue;
-        boundary.push_back(v);
-        Box& b = boxes[own];
-        const int p[3] = { x, y, z };
-        if (b.lo[0] == std::numeric_limits<int>::max())
-          b.lo = b.hi = { x, y, z };
-        for (int a = 0; a < 3; ++a)
+    return b;
+  };
+  for (Box& b : boxes)
+    b = noBox();
+  const size_t slabs = chunkCount(static_cast<size_t>(dims[2]), 2);
+  std::vector<std::vector<size_t>> found(slabs);
+  std::vector<std::vector<Box>> slabBoxes(slabs, std::vector<Box>(boxes.size(), noBox()));
+  forEachChunk(static_cast<size_t>(dims[2]), slabs, [&](size_t slab, size_t zBegin, size_t zEnd) {
+    for (int z = static_cast<int>(zBegin); z < static_cast<int>(zEnd); ++z)
+      for (int y = 0; y < dims[1]; ++y)
+        for (int x = 0; x < dims[0]; ++x)
         {
-          b.lo[a] = std::min(b.lo[a], p[a]);
-          b.hi[a] = std::max(b.hi[a], p[a]);
+          const size_t v = x + sy * y + sz * z;
+          const uint16_t own = index[v];
+          bool mixed = false;
+          for (int dz = std::max(z - 1, 0); dz <= std::min(z + 1, dims[2] - 1) && !mixed; ++dz)
+            for (int dy = std::max(y - 1, 0); dy <= std::min(y + 1, dims[1] - 1) && !mixed; ++dy)
+            {
+              const uint16_t* row = index.data() + sy * dy + sz * dz;
+              for (int dx = std::max(x - 1, 0); dx <= std::min(x + 1, dims[0] - 1); ++dx)
+                mixed = mixed || row[dx] != own;
+            }
+          if (!mixed)
+            continue;
+          found[slab].push_back(v);
+          growBox(slabBoxes[slab][own], { x, y, z }, { x, y, z });
         }
-      }
+  });
+  for (size_t slab = 0; slab < slabs; ++slab)
+  {
+    boundary.insert(boundary.end(), found[slab].begin(), found[slab].end());
+    for (size_t label = 0; label < boxes.size(); ++label)
+      if (slabBoxes[slab][label].lo[0] != std::numeric_limits<int>::max())
+        growBox(boxes[label], slabBoxes[slab][label].lo, slabBoxes[slab][label].hi);
+  }
 }
 
 /// What the labels say about each boundary voxel: per direction (+x, -x, +y, -y, +z, -z) the
@@ -333,22 +370,26 @@ public:
   {
     const size_t sy = static_cast<size_t>(dims_[0]), sz = sy * dims_[1];
     inside_.resize(box.size);
-    for (int z = 0; z < box.n[2]; ++z)
-      for (int y = 0; y < box.n[1]; ++y)
-      {
-        const uint16_t* row = index_.data() + box.lo[0] + sy * (box.lo[1] + y) + sz * (box.lo[2] + z);
-        uint8_t* in = inside_.data() + box.stride[1] * y + box.stride[2] * z;
-        for (int x = 0; x < box.n[0]; ++x)
-          in[x] = row[x] == label;
-      }
+    const size_t slices = static_cast<size_t>(box.n[2]);
+    forEachChunk(slices, chunkCount(slices, 2), [&](size_t, size_t zBegin, size_t zEnd) {
+      for (int z = static_cast<int>(zBegin); z < static_cast<int>(zEnd); ++z)
+        for (int y = 0; y < box.n[1]; ++y)
+        {
+          const uint16_t* row = index_.data() + box.lo[0] + sy * (box.lo[1] + y) + sz * (box.lo[2] + z);
+          uint8_t* in = inside_.data() + box.stride[1] * y + box.stride[2] * z;
+          for (int x = 0; x < box.n[0]; ++x)
+            in[x] = row[x] == label;
+        }
+    });
     squaredDistances(box, inside_, h_, tmp_); // to the label's centres
     for (uint8_t& i : inside_)
       i = !i;
     squaredDistances(box, inside_, h_, psi_); // to the others'
     for (uint8_t& i : inside_)
       i = !i;
-    for (size_t i = 0; i < box.size; ++i)
+    forEachVoxel(box.size, [this](size_t i) {
       psi_[i] = static_cast<float>(inside_[i] ? std::sqrt(psi_[i]) - 0.5 * hMin_ : -(std::sqrt(tmp_[i]) - 0.5 * hMin_));
+    });
     // how deep the label reaches near each of its boundary voxels: the largest distance inside
     // it within the filter's reach
     tmp_ = psi_;
@@ -382,8 +423,7 @@ private:
   void constrain()
   {
     const float d = static_cast<float>(delta_);
-    for (size_t i = 0; i < psi_.size(); ++i)
-      psi_[i] = inside_[i] ? std::max(psi_[i], d) : std::min(psi_[i], -d);
+    forEachVoxel(psi_.size(), [this, d](size_t i) { psi_[i] = inside_[i] ? std::max(psi_[i], d) : std::min(psi_[i], -d); });
   }
 
   void collect(const Box& box, const std::vector<size_t>& boundary, const std::vector<uint32_t>& own,
@@ -391,8 +431,8 @@ private:
   {
     const size_t strides[3] = { 1, static_cast<size_t>(dims_[0]), static_cast<size_t>(dims_[0]) * dims_[1] };
     const double pinned = 1.000001 * delta_;
-    for (size_t i = 0; i < own.size(); ++i)
-    {
+    // each boundary voxel is written by its own label's pass only: the voxels in parallel
+    forEachVoxel(own.size(), [&](size_t i) {
       const uint32_t bi = own[i];
       const size_t v = boundary[bi];
       const int p[3] = { static_cast<int>(v % strides[1]), static_cast<int>((v / strides[1]) % dims_[1]),
@@ -420,7 +460,7 @@ private:
           out.tSum[6 * bi + 2 * a + side] += static_cast<float>(trust * pa / (pa - pb));
           out.tWeight[6 * bi + 2 * a + side] += static_cast<float>(trust);
         }
-    }
+    });
   }
 
   /// beta: a staircase distance's zero set lies about beta h^2 times the mean curvature (1 / R on

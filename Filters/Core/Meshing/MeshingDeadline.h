@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 
+#include <atomic>
 #include <chrono>
 #include <cstddef>
 #include <functional>
@@ -55,7 +56,7 @@ public:
   /// As check(), reading the clock only every 256th call: for loops whose steps take microseconds.
   void tick(const char* phase) const
   {
-    if ((++ticks_ & 255u) == 0)
+    if (((ticks_.fetch_add(1, std::memory_order_relaxed) + 1) & 255u) == 0) // also from parallel passes
       check(phase);
   }
 
@@ -66,6 +67,6 @@ private:
   double seconds_;
   Clock::time_point start_, end_;
   Measure measure_;
-  mutable std::size_t ticks_ = 0;
+  mutable std::atomic<std::size_t> ticks_{ 0 };
 };
 }

@@ -119,6 +119,10 @@ std::string emptyMeshMessage(const std::vector<std::string>& notes, const std::v
 
 PipelineResult runMeshingPipeline(const HierarchicalOracle& oracle, PipelineInput input, PipelineOptions options)
 {
+  const auto started = std::chrono::steady_clock::now();
+  const auto since = [](std::chrono::steady_clock::time_point t) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+  };
   PipelineResult out;
   std::vector<std::string> notes; // the pipeline's warnings, listed before the mesher's
   std::vector<std::string>& inputNotes = out.inputWarnings;
@@ -147,6 +151,8 @@ PipelineResult runMeshingPipeline(const HierarchicalOracle& oracle, PipelineInpu
 
   // The lines to keep: given, found where the inputs meet, or both. The search runs under the
   // run's time limit (the mesher gets what is left) and takes the first tenth of the progress.
+  const double warningsSeconds = since(started);
+  const auto selectionStarted = std::chrono::steady_clock::now();
   const bool searching = options.features == FeatureSource::Automatic || options.features == FeatureSource::Both;
   const MeshingDeadline deadline(effectiveTimeLimit(mesher));
   const auto progress = mesher.progress;
@@ -164,9 +170,17 @@ PipelineResult runMeshingPipeline(const HierarchicalOracle& oracle, PipelineInpu
   }
   notes.insert(notes.end(), out.selection.warnings.begin(), out.selection.warnings.end());
 
+  const double selectionSeconds = since(selectionStarted);
+  const auto sizeStarted = std::chrono::steady_clock::now();
   const double asked = checkSize(oracle, out.selection.segments, mesher);
+  const double sizeSeconds = since(sizeStarted);
   out.mesh = meshOracle(oracle, out.selection.segments, input.seedPoints, mesher);
   out.mesh.statistics["estimated_vertices"] = asked;
+  // the pipeline's steps before the mesher: the lines' clip and merge with the input checks, the
+  // feature selection (the automatic search when asked), the size and memory estimate
+  out.mesh.statistics["time.input_checks"] = warningsSeconds;
+  out.mesh.statistics["time.feature_selection"] = selectionSeconds;
+  out.mesh.statistics["time.size_estimate"] = sizeSeconds;
   if (out.mesh.tets.empty())
     throw InputError(emptyMeshMessage(notes, inputNotes, out.mesh.warnings));
   if (mesher.elementOrder == 2)

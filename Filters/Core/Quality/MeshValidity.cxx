@@ -4,6 +4,8 @@
 #include "FieldDataKeys.h"
 #include "BoundingBox.h"
 #include "MeshQuality.h"
+#include "ShapeSummary.h"
+#include "WorkerThreads.h"
 
 #include <algorithm>
 #include <array>
@@ -388,6 +390,47 @@ bool acrossBoundary(const TetMesh& mesh, std::size_t t, const std::function<int(
 }
 }
 
+namespace
+{
+/// The pass over the good tetrahedra, in chunks on the threads runOnThreads allows (each chunk its
+/// own shape summary and counts, merged in chunk order): shapes, the material check inside
+/// materials and the tetrahedra across boundaries (every vertex on an interface or line: never
+/// both). The oracle's queries are most of the check's time.
+void checkShapesAndMaterials(const TetMesh& mesh, const std::vector<std::size_t>& good,
+  const std::function<int(const Vec3&)>& materialAt, const ValidityThresholds& th, double L,
+  const ValidityByproducts& byproducts, std::vector<unsigned char>& flags, MeshValidity& r)
+{
+  const bool across = materialAt && th.facetDistanceOf && mesh.pointDimension.size() == mesh.points.size();
+  const std::size_t chunks = chunkCount(good.size(), kTetsPerChunk);
+  std::vector<ShapeSummary> shapes(byproducts.shapes ? chunks : 0);
+  std::vector<std::size_t> acrossCount(chunks, 0);
+  std::vector<double> acrossVolume(chunks, 0.0);
+  forEachChunk(good.size(), chunks, [&](std::size_t c, std::size_t begin, std::size_t end) {
+    ValidityByproducts mine = byproducts;
+    mine.shapes = byproducts.shapes ? &shapes[c] : nullptr;
+    for (std::size_t i = begin; i < end; ++i)
+    {
+      const std::size_t t = good[i];
+      flags[t] |= shapeAndMaterialDefects(mesh, t, materialAt, th, L, mine);
+      if (across && t < mesh.tetMaterial.size() && acrossBoundary(mesh, t, materialAt, th.facetDistanceOf))
+      {
+        const auto& k = mesh.tets[t];
+        ++acrossCount[c];
+        acrossVolume[c] +=
+          std::abs(signedVolume(mesh.points[k[0]], mesh.points[k[1]], mesh.points[k[2]], mesh.points[k[3]]));
+      }
+    }
+  });
+  for (std::size_t c = 0; c < chunks; ++c)
+  {
+    if (byproducts.shapes)
+      byproducts.shapes->merge(shapes[c]);
+    r.acrossBoundaryTetrahedra += acrossCount[c];
+    r.acrossBoundaryVolume += acrossVolume[c];
+  }
+}
+}
+
 double acrossBoundaryBy(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, int own,
   const std::function<double(int)>& facetDistanceOf, const std::function<int(const Vec3&)>& materialAt)
 {
@@ -446,18 +489,7 @@ MeshValidity checkMeshValidity(const TetMesh& mesh, const std::function<int(cons
 
   // one pass: shapes, the material check inside materials and the tetrahedra across boundaries
   // (every vertex on an interface or line: never both)
-  const bool across = materialAt && th.facetDistanceOf && mesh.pointDimension.size() == mesh.points.size();
-  for (std::size_t t : good)
-  {
-    flags[t] |= shapeAndMaterialDefects(mesh, t, materialAt, th, L, byproducts);
-    if (across && t < mesh.tetMaterial.size() && acrossBoundary(mesh, t, materialAt, th.facetDistanceOf))
-    {
-      const auto& k = mesh.tets[t];
-      ++r.acrossBoundaryTetrahedra;
-      r.acrossBoundaryVolume +=
-        std::abs(signedVolume(mesh.points[k[0]], mesh.points[k[1]], mesh.points[k[2]], mesh.points[k[3]]));
-    }
-  }
+  checkShapesAndMaterials(mesh, good, materialAt, th, L, byproducts, flags, r);
   const double tol = th.duplicate * L;
   if (tol > 0)
   {

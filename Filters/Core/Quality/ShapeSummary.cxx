@@ -2,12 +2,14 @@
 #include "ShapeSummary.h"
 
 #include "FieldDataKeys.h"
+#include "WorkerThreads.h"
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <string>
 #include <utility>
+#include <vector>
 
 namespace omesh
 {
@@ -21,6 +23,26 @@ void ShapeFigures::add(const TetShape& s)
   worstRadiusRatio = std::min(worstRadiusRatio, s.radiusRatio);
   worstMeanRatio = std::min(worstMeanRatio, s.meanRatio);
   worstEdgeRatio = std::min(worstEdgeRatio, s.edgeRatio);
+}
+
+void ShapeFigures::merge(const ShapeFigures& o)
+{
+  tetrahedra += o.tetrahedra;
+  volume += o.volume;
+  minDihedral = std::min(minDihedral, o.minDihedral);
+  sumMinDihedral += o.sumMinDihedral;
+  maxDihedral = std::max(maxDihedral, o.maxDihedral);
+  worstRadiusRatio = std::min(worstRadiusRatio, o.worstRadiusRatio);
+  worstMeanRatio = std::min(worstMeanRatio, o.worstMeanRatio);
+  worstEdgeRatio = std::min(worstEdgeRatio, o.worstEdgeRatio);
+}
+
+void ShapeSummary::merge(const ShapeSummary& o)
+{
+  for (const auto& [m, f] : o.materials)
+    materials[m].merge(f);
+  all.merge(o.all);
+  last_ = nullptr; // the map may have grown
 }
 
 void ShapeSummary::addTo(std::map<std::string, double>& statistics) const
@@ -61,10 +83,16 @@ TetShape measureTet(const TetMesh& mesh, std::size_t t, ShapeSummary& summary, c
 
 ShapeSummary summariseShapes(const TetMesh& mesh, const TetShapeArrays& arrays)
 {
+  const std::size_t chunks = chunkCount(mesh.tets.size(), kTetsPerChunk);
+  std::vector<ShapeSummary> parts(chunks);
+  forEachChunk(mesh.tets.size(), chunks, [&](std::size_t c, std::size_t begin, std::size_t end) {
+    double volume;
+    for (std::size_t t = begin; t < end; ++t)
+      measureTet(mesh, t, parts[c], arrays, volume);
+  });
   ShapeSummary summary;
-  double volume;
-  for (std::size_t t = 0; t < mesh.tets.size(); ++t)
-    measureTet(mesh, t, summary, arrays, volume);
+  for (const ShapeSummary& part : parts)
+    summary.merge(part);
   return summary;
 }
 }

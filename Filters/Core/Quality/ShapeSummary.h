@@ -10,6 +10,9 @@
 
 namespace omesh
 {
+/// The smallest chunk of tetrahedra the passes over a finished mesh give one thread (forEachChunk).
+constexpr std::size_t kTetsPerChunk = 8192;
+
 /// Where summariseShapes writes each tetrahedron's measures, in the caller's own buffers (the VTK
 /// adapter's cell arrays): each pointer null or to one value per tetrahedron.
 struct TetShapeArrays
@@ -29,6 +32,8 @@ struct ShapeFigures
   double worstRadiusRatio = 1.0, worstMeanRatio = 1.0, worstEdgeRatio = 1.0;
 
   void add(const TetShape& s);
+  /// Adds another group's figures (as if its tetrahedra had been added one by one, sums aside).
+  void merge(const ShapeFigures& o);
   double meanMinDihedral() const { return tetrahedra ? sumMinDihedral / static_cast<double>(tetrahedra) : 0.0; }
 };
 
@@ -61,6 +66,9 @@ public:
     all.add(s);
   }
 
+  /// Adds another summary's figures (per material and all together).
+  void merge(const ShapeSummary& o);
+
   /// The figures as statistics (shape.* keys of FieldDataKeys.txt, each also per material with
   /// the suffix ".material_<id>").
   void addTo(std::map<std::string, double>& statistics) const;
@@ -78,7 +86,8 @@ TetShape measureTet(const TetMesh& mesh, std::size_t t, ShapeSummary& summary, c
   double& signedVolume);
 
 /// One pass over the tetrahedra: each one's TetShape (its corners taken positively oriented, as
-/// the VTK output writes them), written to `arrays` where given, and the summary. The one place
-/// that measures every tetrahedron after meshing: statistics, report and cell arrays share it.
+/// the VTK output writes them), written to `arrays` where given, and the summary; in chunks of
+/// the tetrahedra on the threads runOnThreads allows, the chunks' summaries merged in order (the
+/// figures the same on any number of threads). The validity check's pass measures the same way.
 ShapeSummary summariseShapes(const TetMesh& mesh, const TetShapeArrays& arrays = {});
 }
