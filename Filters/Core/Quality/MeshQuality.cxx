@@ -347,21 +347,34 @@ std::vector<TetMesh::Segment> locateFeatureSegments(
   std::vector<TetMesh::Segment> pieces;
   if (features.empty())
     return pieces;
-  std::unordered_set<uint64_t> edges;
-  edges.reserve(mesh.tets.size() * 4);
   std::vector<char> used(mesh.points.size(), 0);
   for (const auto& t : mesh.tets)
-    for (int i = 0; i < 4; ++i)
-    {
-      used[t[i]] = 1;
-      for (int j = i + 1; j < 4; ++j)
-        edges.insert(edgeKey(t[i], t[j]));
-    }
+    for (int v : t)
+      used[v] = 1;
   // Hash the vertices of tetrahedra on a grid of the mean segment length.
   double total = 0.0;
   for (size_t s = 0; s < features.segments.size(); ++s)
     total += features.length(s);
   const UsedVertexGrid grid(mesh, used, std::max(total / features.segments.size(), 1e-12));
+  // The mesh vertices on each segment; only edges between such vertices are ever asked for, so
+  // only those are hashed (not the mesh's every edge).
+  std::vector<std::vector<std::pair<double, int>>> onSegment(features.segments.size());
+  std::vector<char> onLine(mesh.points.size(), 0);
+  for (size_t s = 0; s < features.segments.size(); ++s)
+  {
+    const Vec3 a = features.points[features.segments[s][0]], b = features.points[features.segments[s][1]];
+    const double len = features.length(s);
+    onSegment[s] = grid.onSegment(a, b, len, tolerance * len);
+    for (const auto& station : onSegment[s])
+      onLine[station.second] = 1;
+  }
+  std::unordered_set<uint64_t> edges;
+  for (const auto& t : mesh.tets)
+    for (int i = 0; i < 4; ++i)
+      if (onLine[t[i]])
+        for (int j = i + 1; j < 4; ++j)
+          if (onLine[t[j]])
+            edges.insert(edgeKey(t[i], t[j]));
 
   std::vector<std::pair<size_t, size_t>> piecesOf(features.segments.size()); // first piece, count
   for (size_t s = 0; s < features.segments.size(); ++s)
@@ -369,7 +382,7 @@ std::vector<TetMesh::Segment> locateFeatureSegments(
     piecesOf[s].first = pieces.size();
     const Vec3 a = features.points[features.segments[s][0]], b = features.points[features.segments[s][1]];
     const double len = features.length(s), tol = tolerance * len;
-    const std::vector<std::pair<double, int>> on = grid.onSegment(a, b, len, tol);
+    const std::vector<std::pair<double, int>>& on = onSegment[s];
     // Pieces between consecutive stations: the segment's ends (mesh vertices or not) and the
     // mesh vertices on it.
     std::vector<std::pair<double, int>> stations;
