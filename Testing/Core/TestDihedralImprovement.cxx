@@ -3,6 +3,7 @@
 #include "DihedralImprovement.h"
 #include "HierarchicalOracle.h"
 #include "ImprovementMesh.h"
+#include "InterfaceCollapse.h"
 #include "LabelMapDomain.h"
 #include "MeshQuality.h"
 #include "MeshValidity.h"
@@ -459,4 +460,52 @@ TEST(DihedralImprovementPhases, SliverPeelerPeelsTheFlatTetrahedronOffTheBoundar
   state.writeBack();
   ASSERT_EQ(m.tets.size(), 2u);
   EXPECT_EQ(interfaces(m), separatingFaces(m)) << "the boundary runs through the peeled one's lower faces";
+}
+
+TEST(DihedralImprovementPhases, InterfaceCollapseKeepsTheMeshValidItsInterfacesAndVolumes)
+{
+  BallInCube c;
+  MesherOptions off = c.options;
+  off.improveAngles = false;
+  TetMesh m = meshOracle(c.oracle, c.edges, {}, off);
+  m.segments = locateFeatureSegments(m, c.edges);
+  const std::size_t points = m.points.size();
+  const auto volumes = materialVolumes(m);
+  DihedralImprovementOptions options;
+  options.facetDistanceOf = [](int) { return 0.01; }; // the case's facet distance
+  ImprovementMesh state(m, c.oracle, options);
+  InterfaceCollapse collapse(state);
+  // every tenth vertex of the ball's interface, into the first neighbour on it that may take it
+  std::size_t collapsed = 0, tried = 0;
+  for (int v = 0; v < static_cast<int>(points); ++v)
+  {
+    if (state.kind(v) != VertexKind::Interface || state.sides(v) != std::array<int, 2>{ 1, 2 } || ++tried % 10)
+      continue;
+    std::vector<int> neighbours;
+    for (int k : state.interfacesAt(v))
+      for (int u : m.interfaceTriangles[static_cast<std::size_t>(k)])
+        if (u != v)
+          neighbours.push_back(u);
+    for (int u : neighbours)
+      if (collapse.collapse(v, u))
+      {
+        ++collapsed;
+        break;
+      }
+  }
+  EXPECT_GT(collapsed, 5u) << "the case no longer tests collapses";
+  EXPECT_EQ(state.report().interfaceCollapses, collapsed);
+  state.writeBack();
+  EXPECT_EQ(m.points.size(), points - collapsed) << "each collapsed vertex leaves the points";
+  const auto validity = checkMeshValidity(m);
+  EXPECT_TRUE(validity.valid()) << validity.describe();
+  EXPECT_EQ(validity.unusedVertices, 0u);
+  EXPECT_EQ(interfaces(m), separatingFaces(m)) << "the interface triangles are the faces between the materials";
+  const auto after = materialVolumes(m);
+  for (int material : { 1, 2 })
+    EXPECT_NEAR(after.at(material), volumes.at(material), 0.01 * volumes.at(material)) << material;
+  EXPECT_NEAR(featureCoverage(locateFeatureSegments(m, c.edges), c.edges), 1.0, 1e-12) << "the cube's edges stay";
+  for (const auto& piece : m.segments) // renumbered with the points
+    if (piece.aId >= 0)
+      EXPECT_EQ(norm(piece.a - m.points[static_cast<std::size_t>(piece.aId)]), 0.0);
 }

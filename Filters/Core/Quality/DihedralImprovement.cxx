@@ -2,6 +2,7 @@
 #include "DihedralImprovement.h"
 
 #include "EdgeSplitter.h"
+#include "InterfaceCollapse.h"
 #include "ImprovementMesh.h"
 #include "MeshQuality.h"
 #include "SliverPeeler.h"
@@ -19,7 +20,7 @@ namespace
 {
 /// Raises the worst tetrahedra by flips and vertex moves (see improveDihedralAngles): rounds over
 /// the bad tetrahedra, worst first, each given to the local changes in turn (flips, vertex moves,
-/// peeling, edge splits) until one pays.
+/// peeling, edge splits, interface collapses) until one pays.
 class DihedralImprover
 {
 public:
@@ -29,6 +30,7 @@ public:
     , mover_(state_)
     , splitter_(state_, flips_, mover_)
     , peeler_(state_, flips_, mover_)
+    , collapse_(state_)
   {
   }
 
@@ -120,7 +122,7 @@ private:
     for (const auto& e : edges)
       if (splitter_.splitEdge(e.second.first, e.second.second))
         return true;
-    return false;
+    return collapse_.collapseAround(t);
   }
 
   ImprovementMesh state_;
@@ -128,6 +130,7 @@ private:
   VertexMover mover_;
   EdgeSplitter splitter_;
   SliverPeeler peeler_;
+  InterfaceCollapse collapse_;
 };
 }
 

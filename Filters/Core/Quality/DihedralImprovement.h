@@ -21,6 +21,9 @@ struct DihedralImprovementOptions
   /// The circumradius bound of a material's tetrahedra (its cell size; <= 0: none): no change
   /// makes a tetrahedron larger than its material allows. Unset: no bound.
   std::function<double(int)> cellSizeOf;
+  /// The facet distance of a material (<= 0: none): an interface collapse moves the interface by
+  /// no more than the finer of its two materials'. Unset: 1/20 of the collapsed edge.
+  std::function<double(int)> facetDistanceOf;
   /// Called between tetrahedra with the fraction of the work done (may throw to abort).
   std::function<void(double)> progress;
 };
@@ -38,6 +41,7 @@ struct DihedralImprovementReport
   std::size_t faceRemovals = 0;   ///< interior faces removed (2-3 flips)
   std::size_t edgeSplits = 0;     ///< interior vertices added on interior edges (kept ones)
   std::size_t peeled = 0;         ///< thin tetrahedra on a fold of an interface given to the other side
+  std::size_t interfaceCollapses = 0; ///< interface vertices merged into a neighbour on their interface
   std::size_t interiorMoves = 0;  ///< interior vertices moved
   std::size_t surfaceMoves = 0;   ///< interface vertices moved along their interface (kept on it)
   std::size_t lineMoves = 0;      ///< feature-line vertices moved along their straight segment
@@ -57,7 +61,9 @@ struct DihedralImprovementReport
 ///    vertex, moved the same way, kept only when it raises the worst of its star);
 ///  - moving a vertex of exactly one interface (two materials, or a material and the outside) along
 ///    it, each trial point put back on the oracle's interface (HierarchicalOracle::intersect along
-///    the interface normal).
+///    the interface normal);
+///  - as the last resort, merging a vertex of one interface between two materials into a
+///    neighbour on it (InterfaceCollapse.h): the vertex leaves the mesh.
 /// No change makes a tetrahedron larger than its material's cell size, nor one whose four vertices
 /// all lie on interfaces or feature lines with its centroid in another material (an edge across a
 /// thin or acute part). A vertex inside one straight feature segment (between two present pieces

@@ -163,11 +163,21 @@ bool ImprovementMesh::starAcceptable(int v, const std::vector<unsigned>* flawsBe
   for (std::size_t k = 0; k < star.size(); ++k)
   {
     const unsigned now = flaws(stars_.tet(star[k]), stars_.material(star[k]));
-    const unsigned allowed = flawsBefore ? (*flawsBefore)[k] & (kLargeFlaw | kMicroFlaw) : 0u;
+    const unsigned allowed = flawsBefore ? tolerableFlaws((*flawsBefore)[k]) : 0u;
     if (now & ~allowed)
       return false;
   }
   return true;
+}
+
+unsigned ImprovementMesh::largeFlaw()
+{
+  return kLargeFlaw;
+}
+
+unsigned ImprovementMesh::tolerableFlaws(unsigned before)
+{
+  return before & (kLargeFlaw | kMicroFlaw);
 }
 
 int ImprovementMesh::addTet(const std::array<int, 4>& t, int material)
@@ -287,6 +297,12 @@ void ImprovementMesh::removeLastVertex()
   interfaceAt_.pop_back();
 }
 
+void ImprovementMesh::dropVertex(int v)
+{
+  kind_[static_cast<std::size_t>(v)] = VertexKind::Fixed;
+  dropped_.push_back(v);
+}
+
 // --- interfaces ----------------------------------------------------------------------------
 InterfaceSwap ImprovementMesh::swapInterfaces(const std::vector<Retriangulated>& changes)
 {
@@ -370,10 +386,44 @@ void ImprovementMesh::compactInterfaces()
   mesh_.interfaceMaterials.resize(kept);
 }
 
+void ImprovementMesh::compactPoints()
+{
+  if (dropped_.empty())
+    return;
+  std::vector<int> index(mesh_.points.size(), 0);
+  for (int v : dropped_)
+    index[static_cast<std::size_t>(v)] = -1;
+  int next = 0;
+  for (std::size_t v = 0; v < index.size(); ++v)
+    if (index[v] == 0)
+    {
+      mesh_.points[static_cast<std::size_t>(next)] = mesh_.points[v];
+      mesh_.pointDimension[static_cast<std::size_t>(next)] = mesh_.pointDimension[v];
+      index[v] = next++;
+    }
+  mesh_.points.resize(static_cast<std::size_t>(next));
+  mesh_.pointDimension.resize(static_cast<std::size_t>(next));
+  for (auto& t : mesh_.tets)
+    for (int& v : t)
+      v = index[static_cast<std::size_t>(v)];
+  for (auto& tri : mesh_.interfaceTriangles)
+    for (int& v : tri)
+      v = index[static_cast<std::size_t>(v)];
+  for (auto& piece : mesh_.segments) // a collapsed vertex ends no piece (no kept edge)
+  {
+    if (piece.aId >= 0)
+      piece.aId = index[static_cast<std::size_t>(piece.aId)];
+    if (piece.bId >= 0)
+      piece.bId = index[static_cast<std::size_t>(piece.bId)];
+  }
+  dropped_.clear();
+}
+
 void ImprovementMesh::writeBack()
 {
   stars_.compact(mesh_);
   compactInterfaces();
+  compactPoints();
   for (auto& piece : mesh_.segments) // their ends may have slid along the line
   {
     if (piece.aId >= 0)

@@ -91,6 +91,11 @@ public:
   /// larger than its cell size may stay so, one already below the micro length must stay above
   /// the floor; one already across a boundary may not be moved (it could only go further).
   bool starAcceptable(int v, const std::vector<unsigned>* flawsBefore = nullptr) const;
+  /// The flaw bit of a tetrahedron larger than its material's cell size.
+  static unsigned largeFlaw();
+  /// Of the flaws a tetrahedron had before a change, those its replacement may keep (larger than
+  /// the cell size, short; not across a boundary).
+  static unsigned tolerableFlaws(unsigned before);
 
   /// Adds a tetrahedron and remembers it for the next round.
   int addTet(const std::array<int, 4>& t, int material);
@@ -111,6 +116,9 @@ public:
   /// A new interior vertex at x (its star empty); removeLastVertex takes it back while its star is.
   void addInteriorVertex(const Vec3& x);
   void removeLastVertex();
+  /// Vertex v no longer belongs to any tetrahedron (collapsed): held, and dropped from the mesh's
+  /// points by writeBack (the indices after it shift down).
+  void dropVertex(int v);
 
   /// The interface triangles of `changes` that were on an interface go; those not `gone` come
   /// (again) with their materials. Vertices of one interface that now touch another are held.
@@ -118,7 +126,7 @@ public:
   void undoSwap(const InterfaceSwap& swap);
 
   /// Writes the live tetrahedra, the interface triangles left and the segment ends (which may have
-  /// slid along their lines) back to the mesh.
+  /// slid along their lines) back to the mesh, without the dropped vertices.
   void writeBack();
 
 private:
@@ -135,6 +143,8 @@ private:
   VertexKind classifyFree(int v) const;
   /// Drops the peeled interface triangles from the mesh.
   void compactInterfaces();
+  /// Drops the collapsed vertices from the mesh's points, renumbering what refers to points.
+  void compactPoints();
 
   TetMesh& mesh_;
   const HierarchicalOracle& oracle_;
@@ -151,5 +161,6 @@ private:
   std::vector<unsigned char> interfaceGone_;                 ///< per interface triangle: peeled away
   DihedralImprovementReport report_;
   std::vector<int> touched_; ///< tetrahedra made or moved in this round
+  std::vector<int> dropped_; ///< collapsed vertices (dropVertex)
 };
 }

@@ -92,6 +92,7 @@ public:
     o.minAngle = run_.options.improvementMinAngle;
     o.maxAngle = run_.options.improvementMaxAngle;
     o.cellSizeOf = [this](int material) { return run_.options.criteria.of(material).cellSize; };
+    o.facetDistanceOf = [this](int material) { return run_.options.criteria.of(material).facetDistance; };
     // Stopped at the vertex budget, the mesh is coarse everywhere and its criteria unmet: its long
     // edges make each move's oracle queries dear, many times the refinement's time, so one round.
     if (refinement_.budgetHit())
@@ -227,6 +228,7 @@ private:
     st["improvement.interior_moves"] = static_cast<double>(r.interiorMoves);
     st["improvement.edge_splits"] = static_cast<double>(r.edgeSplits);
     st["improvement.peeled"] = static_cast<double>(r.peeled);
+    st["improvement.interface_collapses"] = static_cast<double>(r.interfaceCollapses);
     st["improvement.interface_moves"] = static_cast<double>(r.surfaceMoves);
     st["improvement.feature_line_moves"] = static_cast<double>(r.lineMoves);
     st["improvement.rounds"] = r.rounds;
