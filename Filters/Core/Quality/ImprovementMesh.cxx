@@ -4,6 +4,7 @@
 #include "HierarchicalOracle.h"
 #include "MeshQuality.h"
 #include "MeshValidity.h"
+#include "WorkerThreads.h"
 
 #include <algorithm>
 #include <cmath>
@@ -83,25 +84,43 @@ double ImprovementMesh::orientationOfMesh() const
 
 void ImprovementMesh::measure(std::size_t& outside, double& minAngle, double& maxAngle, std::size_t* held) const
 {
-  if (held)
-    *held = 0;
-  outside = 0;
-  minAngle = 180.0;
-  maxAngle = 0.0;
-  const auto& p = mesh_.points;
-  for (const auto& t : mesh_.tets)
+  // in chunks on the threads runOnThreads allows: counts, minimum and maximum in any order alike
+  struct Part
   {
-    double lo = 0.0, hi = 180.0;
-    dihedralAngleRange(p[t[0]], p[t[1]], p[t[2]], p[t[3]], lo, hi);
-    minAngle = std::min(minAngle, lo);
-    maxAngle = std::max(maxAngle, hi);
-    const bool out = lo < options_.minAngle || hi > options_.maxAngle;
-    outside += out;
-    if (held && out && std::all_of(t.begin(), t.end(), [&](int v) { return kind_[static_cast<std::size_t>(v)] == VertexKind::Fixed; }))
-      ++*held;
+    std::size_t outside = 0, held = 0;
+    double lo = 180.0, hi = 0.0;
+  };
+  const auto& p = mesh_.points;
+  const std::size_t chunks = chunkCount(mesh_.tets.size(), 16384);
+  std::vector<Part> parts(chunks);
+  forEachChunk(mesh_.tets.size(), chunks, [&](std::size_t k, std::size_t begin, std::size_t end) {
+    Part& part = parts[k];
+    for (std::size_t i = begin; i < end; ++i)
+    {
+      const auto& t = mesh_.tets[i];
+      double lo = 0.0, hi = 180.0;
+      dihedralAngleRange(p[t[0]], p[t[1]], p[t[2]], p[t[3]], lo, hi);
+      part.lo = std::min(part.lo, lo);
+      part.hi = std::max(part.hi, hi);
+      const bool out = lo < options_.minAngle || hi > options_.maxAngle;
+      part.outside += out;
+      if (out && std::all_of(t.begin(), t.end(), [&](int v) { return kind_[static_cast<std::size_t>(v)] == VertexKind::Fixed; }))
+        ++part.held;
+    }
+  });
+  Part all;
+  for (const Part& part : parts)
+  {
+    all.outside += part.outside;
+    all.held += part.held;
+    all.lo = std::min(all.lo, part.lo);
+    all.hi = std::max(all.hi, part.hi);
   }
-  if (mesh_.tets.empty())
-    minAngle = maxAngle = 0.0;
+  outside = all.outside;
+  if (held)
+    *held = all.held;
+  minAngle = mesh_.tets.empty() ? 0.0 : all.lo;
+  maxAngle = mesh_.tets.empty() ? 0.0 : all.hi;
 }
 
 double ImprovementMesh::longestEdge(const std::array<int, 4>& t) const

@@ -6,6 +6,7 @@
 #include "MeshQuality.h"
 #include "MeshingDeadline.h"
 #include "SequentialTypes.h"
+#include "WorkerThreads.h"
 
 #include <CGAL/exude_mesh_3.h>
 #include <CGAL/perturb_mesh_3.h>
@@ -136,13 +137,24 @@ private:
   double smallest_ = 180.0, cosSmallest_ = -1.0;
 };
 
-/// Smallest dihedral angle (degrees) of the cells of the complex (SmallestCellAngle).
+/// Smallest dihedral angle (degrees) of the cells of the complex (SmallestCellAngle), in chunks
+/// of the cells on the threads runOnThreads allows (reading the triangulation only; the minimum
+/// is the same in any order).
 inline double complexMinAngle(const C3t3& c3t3)
 {
-  SmallestCellAngle smallest;
+  std::vector<typename C3t3::Cell_handle> cells;
+  cells.reserve(c3t3.number_of_cells_in_complex());
   for (auto c = c3t3.cells_in_complex_begin(); c != c3t3.cells_in_complex_end(); ++c)
-    smallest.add(c);
-  return smallest.degrees();
+    cells.push_back(c);
+  const std::size_t chunks = chunkCount(cells.size(), 16384);
+  std::vector<double> smallest(chunks, 180.0);
+  forEachChunk(cells.size(), chunks, [&](std::size_t k, std::size_t begin, std::size_t end) {
+    SmallestCellAngle part;
+    for (std::size_t i = begin; i < end; ++i)
+      part.add(cells[i]);
+    smallest[k] = part.degrees();
+  });
+  return *std::min_element(smallest.begin(), smallest.end());
 }
 
 /// How one optimiser ended.
