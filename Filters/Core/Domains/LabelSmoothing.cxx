@@ -281,7 +281,9 @@ void findBoundary(const std::array<int, 3>& dims, const std::vector<uint16_t>& i
   };
   for (Box& b : boxes)
     b = noBox();
-  const size_t slabs = chunkCount(static_cast<size_t>(dims[2]), 2);
+  // each slab keeps a box per label: at most about a million boxes in all (atlases of thousands
+  // of labels get fewer slabs)
+  const size_t slabs = std::min(chunkCount(static_cast<size_t>(dims[2]), 2), std::max<size_t>(1, (1u << 20) / std::max<size_t>(boxes.size(), 1)));
   std::vector<std::vector<size_t>> found(slabs);
   std::vector<std::vector<Box>> slabBoxes(slabs, std::vector<Box>(boxes.size(), noBox()));
   forEachChunk(static_cast<size_t>(dims[2]), slabs, [&](size_t slab, size_t zBegin, size_t zEnd) {
