@@ -15,14 +15,15 @@ namespace omesh
 {
 void ShapeFigures::add(const TetShape& s)
 {
-  ++tetrahedra;
-  volume += s.volume;
-  minDihedral = std::min(minDihedral, s.minDihedral);
-  sumMinDihedral += s.minDihedral;
-  maxDihedral = std::max(maxDihedral, s.maxDihedral);
-  worstRadiusRatio = std::min(worstRadiusRatio, s.radiusRatio);
-  worstMeanRatio = std::min(worstMeanRatio, s.meanRatio);
-  worstEdgeRatio = std::min(worstEdgeRatio, s.edgeRatio);
+  ShapeFigures one;
+  one.tetrahedra = 1;
+  one.volume = s.volume;
+  one.minDihedral = one.sumMinDihedral = s.minDihedral;
+  one.maxDihedral = s.maxDihedral;
+  one.worstRadiusRatio = s.radiusRatio;
+  one.worstMeanRatio = s.meanRatio;
+  one.worstEdgeRatio = s.edgeRatio;
+  merge(one);
 }
 
 void ShapeFigures::merge(const ShapeFigures& o)
