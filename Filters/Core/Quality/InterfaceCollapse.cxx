@@ -113,7 +113,7 @@ double InterfaceCollapse::evaluate(int c, int u) const
   }
   if (stars_.around(c, u).empty() || !linkCondition(c, u))
     return -1.0;
-  const auto dOf = state_.options().facetDistanceOf;
+  const auto& dOf = state_.options().facetDistanceOf;
   double reach = HUGE_VAL;
   for (int m : sides)
     if (dOf && dOf(m) > 0)
