@@ -4,6 +4,7 @@
 #include "HierarchicalOracle.h"
 #include "MeshQuality.h"
 #include "MeshValidity.h"
+#include "ShapeSummary.h"
 #include "WorkerThreads.h"
 
 #include <algorithm>
@@ -91,7 +92,7 @@ void ImprovementMesh::measure(std::size_t& outside, double& minAngle, double& ma
     double lo = 180.0, hi = 0.0;
   };
   const auto& p = mesh_.points;
-  const std::size_t chunks = chunkCount(mesh_.tets.size(), 16384);
+  const std::size_t chunks = chunkCount(mesh_.tets.size(), kTetsPerChunk);
   std::vector<Part> parts(chunks);
   forEachChunk(mesh_.tets.size(), chunks, [&](std::size_t k, std::size_t begin, std::size_t end) {
     Part& part = parts[k];
@@ -157,7 +158,7 @@ double ImprovementMesh::starQuality(int v, int* worst) const
   return q;
 }
 
-unsigned ImprovementMesh::flaws(const std::array<int, 4>& t, int material) const
+unsigned ImprovementMesh::flaws(const std::array<int, 4>& t, int material, double sizeFactor) const
 {
   const auto& p = mesh_.points;
   unsigned f = 0;
@@ -167,7 +168,7 @@ unsigned ImprovementMesh::flaws(const std::array<int, 4>& t, int material) const
   if (options_.cellSizeOf)
   {
     const double size = options_.cellSizeOf(material);
-    if (size > 0 && !(norm(p[t[0]] - circumcenter(p[t[0]], p[t[1]], p[t[2]], p[t[3]])) <= size))
+    if (size > 0 && !(norm(p[t[0]] - circumcenter(p[t[0]], p[t[1]], p[t[2]], p[t[3]])) <= sizeFactor * size))
       f |= kLargeFlaw;
   }
   if (std::none_of(t.begin(), t.end(), [&](int v) { return mesh_.pointDimension[static_cast<std::size_t>(v)] == 3; }) &&
@@ -187,11 +188,6 @@ bool ImprovementMesh::starAcceptable(int v, const std::vector<unsigned>* flawsBe
       return false;
   }
   return true;
-}
-
-unsigned ImprovementMesh::largeFlaw()
-{
-  return kLargeFlaw;
 }
 
 unsigned ImprovementMesh::tolerableFlaws(unsigned before)

@@ -81,18 +81,16 @@ public:
   void measure(std::size_t& outside, double& minAngle, double& maxAngle, std::size_t* held = nullptr) const;
 
   /// What keeps tetrahedron t of `material` out of the mesh (Flaw bits, 0 = nothing): micro (the
-  /// checks would call it so, MeshValidity.h, whatever its angles), larger than its material's
-  /// cell size, or, with all four vertices on interfaces or feature lines, its centroid in another
-  /// material.
-  unsigned flaws(const std::array<int, 4>& t, int material) const;
+  /// checks would call it so, MeshValidity.h, whatever its angles), larger than `sizeFactor` x
+  /// its material's cell size, or, with all four vertices on interfaces or feature lines, its
+  /// centroid in another material.
+  unsigned flaws(const std::array<int, 4>& t, int material, double sizeFactor = 1.0) const;
   bool acceptable(const std::array<int, 4>& t, int material) const { return flaws(t, material) == 0; }
   /// Whether the tetrahedra around v are acceptable; with `flawsBefore` (one set per star
   /// tetrahedron, taken before a move), a move need not mend what it found: a tetrahedron already
   /// larger than its cell size may stay so, one already below the micro length must stay above
   /// the floor; one already across a boundary may not be moved (it could only go further).
   bool starAcceptable(int v, const std::vector<unsigned>* flawsBefore = nullptr) const;
-  /// The flaw bit of a tetrahedron larger than its material's cell size.
-  static unsigned largeFlaw();
   /// Of the flaws a tetrahedron had before a change, those its replacement may keep (larger than
   /// the cell size, short; not across a boundary).
   static unsigned tolerableFlaws(unsigned before);

@@ -123,34 +123,33 @@ double InterfaceCollapse::evaluate(int c, int u) const
   if (!interfaceKept(c, u, reach))
     return -1.0;
   // the new tetrahedra: positive, no flaw their originals did not have (a collapse may leave a
-  // tetrahedron as large or short as before, never across a boundary)
+  // tetrahedron as large or short as before, never across a boundary), at most
+  // kCollapseSizeSlack x their cell size
   double worst = HUGE_VAL;
-  for (int t : star)
+  for (const auto& [t, q] : replacedStar(c, u))
   {
-    std::array<int, 4> q = stars_.tet(t);
-    if (std::find(q.begin(), q.end(), u) != q.end())
-      continue;
     const int material = stars_.material(t);
-    const unsigned before = state_.flaws(q, material);
-    std::replace(q.begin(), q.end(), c, u);
+    const unsigned before = state_.flaws(stars_.tet(t), material);
     const double quality = state_.quality(q);
-    unsigned flaws = state_.flaws(q, material) & ~state_.tolerableFlaws(before);
-    if ((flaws & ImprovementMesh::largeFlaw()) && withinSlack(q, material))
-      flaws &= ~ImprovementMesh::largeFlaw();
-    if (!(quality > 0) || flaws != 0)
+    if (!(quality > 0) || (state_.flaws(q, material, kCollapseSizeSlack) & ~state_.tolerableFlaws(before)) != 0)
       return -1.0;
     worst = std::min(worst, quality);
   }
   return std::isfinite(worst) ? worst : -1.0;
 }
 
-bool InterfaceCollapse::withinSlack(const std::array<int, 4>& q, int material) const
+std::vector<std::pair<int, std::array<int, 4>>> InterfaceCollapse::replacedStar(int c, int u) const
 {
-  const auto& sizeOf = state_.options().cellSizeOf;
-  const auto& p = mesh_.points;
-  const Vec3& a = p[static_cast<std::size_t>(q[0])];
-  const Vec3 centre = circumcenter(a, p[static_cast<std::size_t>(q[1])], p[static_cast<std::size_t>(q[2])], p[static_cast<std::size_t>(q[3])]);
-  return sizeOf && norm(a - centre) <= kCollapseSizeSlack * sizeOf(material);
+  std::vector<std::pair<int, std::array<int, 4>>> out;
+  for (int t : stars_.star(c))
+  {
+    std::array<int, 4> q = stars_.tet(t);
+    if (std::find(q.begin(), q.end(), u) != q.end())
+      continue; // around the collapsed edge: it goes
+    std::replace(q.begin(), q.end(), c, u);
+    out.emplace_back(t, q);
+  }
+  return out;
 }
 
 bool InterfaceCollapse::linkCondition(int c, int u) const
@@ -231,21 +230,12 @@ void InterfaceCollapse::apply(int c, int u)
     if (!holds(tri, u))
       changes.push_back({ withFor(tri, c, u), materials, false });
   }
+  const std::vector<std::pair<int, std::array<int, 4>>> made = replacedStar(c, u);
   const std::vector<int> old = stars_.star(c);
-  std::vector<std::pair<std::array<int, 4>, int>> made;
-  for (int t : old)
-  {
-    std::array<int, 4> q = stars_.tet(t);
-    if (std::find(q.begin(), q.end(), u) == q.end())
-    {
-      std::replace(q.begin(), q.end(), c, u);
-      made.emplace_back(q, stars_.material(t));
-    }
-  }
   for (int t : old)
     stars_.remove(t);
-  for (const auto& [q, material] : made)
-    state_.addTet(q, material);
+  for (const auto& [t, q] : made)
+    state_.addTet(q, stars_.material(t));
   state_.swapInterfaces(changes);
   state_.dropVertex(c);
   const auto& around = stars_.star(u);

@@ -6,6 +6,7 @@
 #include "ImprovementMesh.h"
 
 #include <array>
+#include <utility>
 #include <vector>
 
 namespace omesh
@@ -39,8 +40,9 @@ private:
   /// The best quality the collapse of c into u leaves in c's star, -1 when it may not be done.
   double evaluate(int c, int u) const;
   void apply(int c, int u);
-  /// Whether tetrahedron q of `material` is within kCollapseSizeSlack x its cell size.
-  bool withinSlack(const std::array<int, 4>& q, int material) const;
+  /// c's star as the collapse of c into u leaves it: each tetrahedron not holding u (its id)
+  /// with u for c.
+  std::vector<std::pair<int, std::array<int, 4>>> replacedStar(int c, int u) const;
   /// The link condition of edge cu (Dey et al.): the vertices and edges that c's and u's links
   /// share are those of the edge's link.
   bool linkCondition(int c, int u) const;

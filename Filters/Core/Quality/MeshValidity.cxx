@@ -487,8 +487,6 @@ MeshValidity checkMeshValidity(const TetMesh& mesh, const std::function<int(cons
   // mesh's mean volume.
   const double L = validityLength(r.medianEdge, volume, good.size());
 
-  // one pass: shapes, the material check inside materials and the tetrahedra across boundaries
-  // (every vertex on an interface or line: never both)
   checkShapesAndMaterials(mesh, good, materialAt, th, L, byproducts, flags, r);
   const double tol = th.duplicate * L;
   if (tol > 0)

@@ -6,6 +6,7 @@
 #include "MeshQuality.h"
 #include "MeshingDeadline.h"
 #include "SequentialTypes.h"
+#include "ShapeSummary.h"
 #include "WorkerThreads.h"
 
 #include <CGAL/exude_mesh_3.h>
@@ -146,7 +147,7 @@ inline double complexMinAngle(const C3t3& c3t3)
   cells.reserve(c3t3.number_of_cells_in_complex());
   for (auto c = c3t3.cells_in_complex_begin(); c != c3t3.cells_in_complex_end(); ++c)
     cells.push_back(c);
-  const std::size_t chunks = chunkCount(cells.size(), 16384);
+  const std::size_t chunks = chunkCount(cells.size(), kTetsPerChunk);
   std::vector<double> smallest(chunks, 180.0);
   forEachChunk(cells.size(), chunks, [&](std::size_t k, std::size_t begin, std::size_t end) {
     SmallestCellAngle part;
