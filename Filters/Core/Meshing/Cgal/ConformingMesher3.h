@@ -196,28 +196,29 @@ public:
 
   /// The first scan looks only at the facets and cells around `vertices` (the rest of the complex
   /// is known to meet the criteria: after the parallel phase of Conforming); empty: everything.
-  /// `cellsOnly`: around these only the cells (their facets are known to be good: the slivers a
-  /// parallel refinement left below the picking angle).
+  /// `badCells`: cells queued as they are (the cells a parallel refinement left bad, found by a
+  /// scan of the complex: the cells around them are known to be good).
   void restrictFirstScanTo(
-    std::vector<typename Tr::Vertex_handle> vertices, std::vector<typename Tr::Vertex_handle> cellsOnly = {})
+    std::vector<typename Tr::Vertex_handle> vertices, std::vector<typename Tr::Cell_handle> badCells = {})
   {
     region_ = std::move(vertices);
-    cellRegion_ = std::move(cellsOnly);
+    badCells_ = std::move(badCells);
   }
 
   void initialize()
   {
     segments_.queueAll();
-    if (!region_.empty() || !cellRegion_.empty())
+    if (!region_.empty() || !badCells_.empty())
     {
       // the surface's edges and vertices were scanned before; the cells are looked at from the
       // start (insertions update them through the visitor as in CGAL's cell stage)
       facetsVisitor_.activate();
       if (!region_.empty())
         facets_.scanFacetsAround(region_);
-      for (const auto* list : { &region_, &cellRegion_ })
-        for (const auto& v : *list)
-          cells_.update_star(v);
+      for (const auto& v : region_)
+        cells_.update_star(v);
+      for (const auto& c : badCells_)
+        cells_.treat_new_cell(c);
       stage_ = Stage::All;
       return;
     }
@@ -287,7 +288,8 @@ private:
   CellsVisitor cellsVisitor_;
   typename Cells::Picker picker_;
   Stage stage_ = Stage::Facets;
-  std::vector<typename Tr::Vertex_handle> region_, cellRegion_;
+  std::vector<typename Tr::Vertex_handle> region_;
+  std::vector<typename Tr::Cell_handle> badCells_;
 };
 }
 }

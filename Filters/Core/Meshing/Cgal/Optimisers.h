@@ -225,7 +225,11 @@ protected:
   }
 };
 
-/// As CGAL::perturb_mesh_3 with its defaults (bounds up to 12 degrees, CGAL's perturbations),
+/// The perturber's last bound (degrees): CGAL's default (perturb_mesh_3 takes 0 for the sliver
+/// criterion's default value, 12).
+constexpr double kPerturbationBound = 12.0;
+
+/// As CGAL::perturb_mesh_3 with its defaults (bounds up to kPerturbationBound, CGAL's perturbations),
 /// abortable, stopped after `budget` steps (0 = none) or `timeLimit` seconds (0 = none), giving up
 /// at a bound after `failuresPerBound` vertices it could not move plus 1% of its attempts there
 /// (0 = never).
@@ -234,8 +238,7 @@ inline OptimiserRun perturb(C3t3& c3t3, const MeshDomain& domain, double timeLim
 {
   // as CGAL's default_sliver_criterion, watched
   using Criterion = WatchedDihedralCriterion;
-  const Criterion criterion(
-    CGAL::parameters::default_values_for_mesh_3::perturb_sliver_bound, c3t3.triangulation(), deadline, "perturbation");
+  const Criterion criterion(kPerturbationBound, c3t3.triangulation(), deadline, "perturbation");
   CGAL::Mesh_3::Sliver_perturber<C3t3, MeshDomain, Criterion, OptimiserVisitor> perturber(c3t3, domain, criterion);
   PerturbationBound bound;
   bound.allowed = failuresPerBound;
@@ -251,6 +254,24 @@ inline OptimiserRun perturb(C3t3& c3t3, const MeshDomain& domain, double timeLim
   return runOptimiser(c3t3, perturber, budget, std::move(check), deadline, "perturbation", &bound);
 }
 
+/// Caches `criterion`'s value in every cell of the complex as CGAL's sliver criteria cache it
+/// (Sliver_criterion::operator()(Cell_handle): the same value, forced to a double), in chunks on
+/// the threads runOnThreads allows: CGAL's exuder starts with the value of every cell, on one
+/// thread, and takes the cached ones. Each cell is written by one thread.
+template <class Criterion>
+void cacheSliverValues(const C3t3& c3t3, const Criterion& criterion)
+{
+  std::vector<typename C3t3::Cell_handle> cells;
+  cells.reserve(c3t3.number_of_cells_in_complex());
+  for (auto c = c3t3.cells_in_complex_begin(); c != c3t3.cells_in_complex_end(); ++c)
+    cells.push_back(c);
+  const Tr& tr = c3t3.triangulation();
+  forEachChunk(cells.size(), chunkCount(cells.size(), kTetsPerChunk), [&](std::size_t, std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i)
+      cells[i]->set_sliver_value(CGAL::IA_force_to_double(criterion(tr.tetrahedron(cells[i]))));
+  });
+}
+
 /// As CGAL::exude_mesh_3, pumping the cells below `sliverBound` degrees (0 = every cell, CGAL's
 /// default), abortable, stopped as perturb().
 inline OptimiserRun exude(C3t3& c3t3, double timeLimit, std::size_t budget, double sliverBound, std::function<void()> check,
@@ -258,6 +279,7 @@ inline OptimiserRun exude(C3t3& c3t3, double timeLimit, std::size_t budget, doub
 {
   using Criterion = WatchedDihedralCriterion;
   Criterion criterion(sliverBound, c3t3.triangulation(), deadline, "exudation");
+  cacheSliverValues(c3t3, criterion);
   CGAL::Mesh_3::Slivers_exuder<C3t3, Criterion, OptimiserVisitor> exuder(c3t3, criterion);
   exuder.set_time_limit(timeLimit);
   return runOptimiser(c3t3, exuder, budget, std::move(check), deadline, "exudation");

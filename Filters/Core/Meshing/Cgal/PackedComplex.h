@@ -13,6 +13,7 @@
 #pragma once
 
 #include "FeatureEdgesOfComplex.h"
+#include "WorkerThreads.h"
 
 #include <array>
 #include <cstddef>
@@ -26,6 +27,8 @@ namespace omesh::cgal
 template <class SrcC3t3, class DstC3t3>
 class PackedComplex
 {
+  static constexpr std::size_t kCellsPerChunk = 8192;
+
   using SrcTr = typename SrcC3t3::Triangulation;
   using DstTr = typename DstC3t3::Triangulation;
   using SrcVertex = typename SrcTr::Vertex;
@@ -56,28 +59,41 @@ public:
       v->set_time_stamp(n++);
       vertices_.push_back({ v->point(), v->in_dimension(), v->index(), v->meshing_info(), 0 });
     }
-    n = 0;
+    std::vector<typename SrcTr::Cell_handle> cells;
+    cells.reserve(tds.cells().size());
     for (auto c = tds.cells().begin(); c != tds.cells().end(); ++c)
-      c->set_time_stamp(n++);
+    {
+      c->set_time_stamp(cells.size());
+      cells.push_back(c);
+    }
     for (auto v = tds.vertices().begin(); v != tds.vertices().end(); ++v)
       vertices_[v->time_stamp()].cell = id(v->cell());
     infinite_ = id(tr.infinite_vertex());
 
-    cells_.reserve(tds.cells().size());
-    for (auto c = tds.cells().begin(); c != tds.cells().end(); ++c)
-    {
-      PackedCell p{ { id(c->vertex(0)), id(c->vertex(1)), id(c->vertex(2)), id(c->vertex(3)) },
-        { id(c->neighbor(0)), id(c->neighbor(1)), id(c->neighbor(2)), id(c->neighbor(3)) }, c->subdomain_index(), 0 };
-      for (std::uint8_t i = 0; i < 4; ++i)
+    // the cells in chunks on the threads runOnThreads allows (reads only), their surface facets
+    // merged in chunk order: the same record on any number of threads
+    cells_.resize(cells.size());
+    const std::size_t chunks = chunkCount(cells.size(), kCellsPerChunk);
+    std::vector<std::vector<SurfaceFacet>> facets(chunks);
+    forEachChunk(cells.size(), chunks, [&](std::size_t k, std::size_t begin, std::size_t end) {
+      for (std::size_t j = begin; j < end; ++j)
       {
-        if (c->is_facet_visited(i))
-          p.visited |= std::uint8_t(1u << i);
-        if (c->surface_patch_index(i) != PatchIndex())
-          surfaceFacets_.push_back({ id(c), i, c->surface_patch_index(i), c->get_facet_surface_center(i),
-            c->get_facet_surface_center_index(i) });
+        const auto& c = cells[j];
+        PackedCell p{ { id(c->vertex(0)), id(c->vertex(1)), id(c->vertex(2)), id(c->vertex(3)) },
+          { id(c->neighbor(0)), id(c->neighbor(1)), id(c->neighbor(2)), id(c->neighbor(3)) }, c->subdomain_index(), 0 };
+        for (std::uint8_t i = 0; i < 4; ++i)
+        {
+          if (c->is_facet_visited(i))
+            p.visited |= std::uint8_t(1u << i);
+          if (c->surface_patch_index(i) != PatchIndex())
+            facets[k].push_back({ static_cast<std::uint32_t>(j), i, c->surface_patch_index(i),
+              c->get_facet_surface_center(i), c->get_facet_surface_center_index(i) });
+        }
+        cells_[j] = p;
       }
-      cells_.push_back(p);
-    }
+    });
+    for (const auto& part : facets)
+      surfaceFacets_.insert(surfaceFacets_.end(), part.begin(), part.end());
 
     for (auto v = src.vertices_in_complex_begin(); v != src.vertices_in_complex_end(); ++v)
       corners_.emplace_back(id(v), src.corner_index(v));
@@ -119,28 +135,33 @@ public:
         else
           h->reset_visited(i);
       }
-      h->set_subdomain_index(p.subdomain);
+      if (p.subdomain != SubdomainIndex())
+        dst.add_to_complex(h, p.subdomain); // counts the complex's cells as a rescan would
       cell.push_back(h);
     }
-    for (std::size_t k = 0; k < cells_.size(); ++k)
-      for (int i = 0; i < 4; ++i)
-        cell[k]->set_neighbor(i, cell[cells_[k].neighbours[i]]);
+    forEachChunk(cells_.size(), chunkCount(cells_.size(), kCellsPerChunk), [&](std::size_t, std::size_t begin, std::size_t end) {
+      for (std::size_t k = begin; k < end; ++k)
+        for (int i = 0; i < 4; ++i)
+          cell[k]->set_neighbor(i, cell[cells_[k].neighbours[i]]);
+    });
     for (std::size_t k = 0; k < vertices_.size(); ++k)
       vertex[k]->set_cell(cell[vertices_[k].cell]);
+    tr.set_infinite_vertex(vertex[infinite_]);
+    // Both sides of a facet of the complex are packed: the first one adds it (and its mirror) and
+    // counts it, as CGAL's rescan_after_load_of_triangulation would (a pass over every facet).
     for (const SurfaceFacet& f : surfaceFacets_)
     {
-      cell[f.cell]->set_surface_patch_index(f.facet, f.patch);
+      dst.add_to_complex(cell[f.cell], f.facet, f.patch);
       cell[f.cell]->set_facet_surface_center(f.facet, f.centre);
       cell[f.cell]->set_facet_surface_center_index(f.facet, f.centreIndex);
     }
-    tr.set_infinite_vertex(vertex[infinite_]);
 
-    dst.rescan_after_load_of_triangulation(); // facets and cells of the complex; corners get index 1
     for (const auto& [v, index] : corners_)
-    {
-      dst.remove_from_complex(vertex[v]);
       dst.add_to_complex(vertex[v], index);
-    }
+    // the rescan's rule for the rest: a vertex of dimension 0 is a corner (index 1)
+    for (std::size_t k = 0; k < vertices_.size(); ++k)
+      if (vertices_[k].dimension == 0 && !dst.is_in_complex(vertex[k]))
+        dst.add_to_complex(vertex[k], CornerIndex(1));
     for (const FeatureEdge& e : edges_)
       dst.add_to_complex(vertex[e.a], vertex[e.b], e.curve);
     for (std::size_t k = 0; k < vertices_.size(); ++k)

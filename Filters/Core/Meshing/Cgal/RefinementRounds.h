@@ -9,6 +9,8 @@
 #include "MeshingContext.h"
 #include "ParallelRefinement.h"
 #include "SegmentRefinementLevel.h"
+#include "ShapeSummary.h"
+#include "WorkerThreads.h"
 
 #include <CGAL/make_mesh_3.h>
 
@@ -52,17 +54,29 @@ struct ParallelBudgetReached
   std::size_t vertices = 0;
 };
 
-/// The vertices of the cells of the complex that `criteria`'s cell criteria call bad (above a
-/// size or radius-edge bound, below the sliver angle), each once.
-inline std::vector<Tr::Vertex_handle> verticesOfBadCells(const C3t3& c3t3, const Criteria& criteria)
+/// The cells of the complex that `criteria`'s cell criteria call bad (above a size or radius-edge
+/// bound, below the sliver angle), sorted by handle. The criteria are read-only (the parallel
+/// refinement evaluates them on its threads), so the cells are judged in chunks on the threads
+/// runOnThreads allows.
+inline std::vector<Tr::Cell_handle> badCellsOf(const C3t3& c3t3, const Criteria& criteria)
 {
-  const auto& cells = criteria.cell_criteria_object();
-  std::set<Tr::Vertex_handle> found;
+  const auto& judge = criteria.cell_criteria_object();
+  std::vector<Tr::Cell_handle> cells;
+  cells.reserve(c3t3.number_of_cells_in_complex());
   for (auto c = c3t3.cells_in_complex_begin(); c != c3t3.cells_in_complex_end(); ++c)
-    if (cells(c3t3.triangulation(), c))
-      for (int k = 0; k < 4; ++k)
-        found.insert(c->vertex(k));
-  return { found.begin(), found.end() };
+    cells.push_back(c);
+  const std::size_t chunks = chunkCount(cells.size(), kTetsPerChunk);
+  std::vector<std::vector<Tr::Cell_handle>> found(chunks);
+  forEachChunk(cells.size(), chunks, [&](std::size_t k, std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i)
+      if (judge(c3t3.triangulation(), cells[i]))
+        found[k].push_back(cells[i]);
+  });
+  std::vector<Tr::Cell_handle> bad;
+  for (const auto& part : found)
+    bad.insert(bad.end(), part.begin(), part.end());
+  std::sort(bad.begin(), bad.end());
+  return bad;
 }
 
 /// `options` with every radius-edge bound below `floor` raised to it (bounds <= 0, none, kept).
@@ -297,9 +311,9 @@ private:
       Segments level(*run_.c3t3, *run_.segments, run_.domain->index_from_curve_index(1));
       ConformingMesher3<C3t3, Criteria, MeshDomain> mesher(
         *run_.c3t3, *run_.domain, criteria, level, CGAL::FACET_VERTICES_ON_SURFACE, pickingRegionOf(run_.options));
-      mesher.restrictFirstScanTo(std::move(tailRegion_), std::move(sliverRegion_)); // empty but after the parallel phase
+      mesher.restrictFirstScanTo(std::move(tailRegion_), std::move(badCells_)); // empty but after the parallel phase
       tailRegion_.clear();
-      sliverRegion_.clear();
+      badCells_.clear();
       drive(mesher, [&] { return level.queueMissingFromComplex(wanted) > 0; });
       countPicks(mesher.pickingCounters());
       missing_ = level.missingCensus(wanted);
@@ -315,7 +329,7 @@ private:
       if (run_.options.strategy != FeatureStrategy::ProtectingBalls && !budgetHit_ && !stalled_)
       {
         auto around = verticesAroundPoints(parallelPhases_.leftBad);
-        auto bad = verticesOfBadCells(*run_.c3t3, *run_.criteria);
+        auto bad = badCellsOf(*run_.c3t3, *run_.criteria);
         if (!around.empty() || !bad.empty())
           refineAtPickedPoints(std::move(around), std::move(bad));
       }
@@ -331,16 +345,17 @@ private:
   }
 
   /// The mesher without segments, its cells refined at picked points (circumcentres where picking
-  /// is off); its first scan only around `region` unless that is empty (after a parallel
-  /// refinement: the vertices of the cells left bad, the rest met the criteria when CGAL's queues
-  /// ran empty; a scan of every facet would cost an intersection each).
-  void refineAtPickedPoints(std::vector<Tr::Vertex_handle> region, std::vector<Tr::Vertex_handle> cellRegion = {})
+  /// is off); its first scan only around `region` and at `badCells` unless both are empty (after
+  /// a parallel refinement: around the points the guard refused, and the cells left bad; the rest
+  /// met the criteria when CGAL's queues ran empty, and a scan of every facet would cost an
+  /// intersection each).
+  void refineAtPickedPoints(std::vector<Tr::Vertex_handle> region, std::vector<Tr::Cell_handle> badCells = {})
   {
     SegmentState<C3t3> none(*run_.c3t3, SegmentSet{});
     Segments level(*run_.c3t3, none, run_.domain->index_from_curve_index(1));
     ConformingMesher3<C3t3, Criteria, MeshDomain> mesher(
       *run_.c3t3, *run_.domain, roundCriteria(), level, CGAL::FACET_VERTICES_ON_SURFACE, pickingRegionOf(run_.options));
-    mesher.restrictFirstScanTo(std::move(region), std::move(cellRegion));
+    mesher.restrictFirstScanTo(std::move(region), std::move(badCells));
     drive(mesher, {});
     countPicks(mesher.pickingCounters());
   }
@@ -424,8 +439,8 @@ private:
     tailRegion_ = verticesAroundLeftWork();
     // the cells the threads left bad: slivers below the picking angle (they refine at
     // circumcentres), radius-edge bounds tighter than kParallelRadiusEdgeFloor
-    sliverRegion_ = verticesOfBadCells(*run_.c3t3, *run_.criteria);
-    return !tailRegion_.empty() || !sliverRegion_.empty();
+    badCells_ = badCellsOf(*run_.c3t3, *run_.criteria);
+    return !tailRegion_.empty() || !badCells_.empty();
   }
 
   /// Where the sequential round after the parallel phase looks (ConformingMesher3::
@@ -601,7 +616,7 @@ private:
   } parallelPhases_;
   size_t refinedVertices_ = 0; ///< at the end of the first refinement (all rounds)
   std::vector<Tr::Vertex_handle> tailRegion_; ///< verticesAroundLeftWork, for the next refineOnce
-  std::vector<Tr::Vertex_handle> sliverRegion_; ///< vertices of the cells the threads left bad (cells only), for the next refineOnce
+  std::vector<Tr::Cell_handle> badCells_; ///< the cells the threads left bad, for the next refineOnce
   /// Vertices of a running parallel refinement, as last seen (0 otherwise).
   size_t parallelVertices_ = 0;
   Segments::MissingCensus missing_;

@@ -28,6 +28,9 @@ namespace omesh::cgal::sequential
 class SliverOptimisation
 {
 public:
+  /// Our smallest angle and CGAL's criterion compute the same angle in different ways.
+  static constexpr double kAngleSlack = 1e-6;
+
   /// What the exuder is judged by: the complex from before it, kept as a compact record
   /// (ComplexSnapshot.h; a copy of the triangulation was the run's peak memory), and the
   /// sub-segments missing and the smallest angle before and after it.
@@ -48,7 +51,11 @@ public:
   void run()
   {
     start();
-    if (run_.options.perturb)
+    // the perturber works on the cells at or below its bound and on no others: above it, it would
+    // only spend twelve scans of every cell (one per degree) to find nothing
+    if (run_.options.perturb && minBefore_ > kPerturbationBound + kAngleSlack)
+      perturbed_.lastBound = kPerturbationBound;
+    else if (run_.options.perturb)
       perturbKeepingSegments();
     if (run_.options.exude)
       exudeKeepingSegments();
@@ -68,6 +75,7 @@ public:
   void perturbKeepingSegments()
   {
     run_.report(0.45, "perturbation");
+    perturberRan_ = true;
     const size_t max = stepBudget(run_.options.perturbationStepsPerVertex, run_.c3t3->triangulation().number_of_vertices());
     size_t checks = 0;
     perturbed_ = perturb(*run_.c3t3, *run_.domain, optLimit_, max, run_.options.perturbationFailuresPerBound,
@@ -99,9 +107,9 @@ public:
     run_.report(0.8, "exudation");
     Exudation e;
     e.missingBefore = run_.conforming ? run_.segments->countNotEdges() : 0;
-    SmallestCellAngle worst; // measured in the record's pass over the cells
-    e.before.emplace(*run_.c3t3, [&worst](const auto& cell) { worst.add(cell); });
-    e.worstBefore = worst.degrees();
+    e.before.emplace(*run_.c3t3);
+    // the start's smallest angle, unless the perturber has changed the complex since
+    e.worstBefore = perturberRan_ ? complexMinAngle(*run_.c3t3) : minBefore_;
     // The budget also ends CGAL's exuder where it cycles (seen next to protecting balls); it stops
     // between two cells, where the mesh is consistent. Without a budget, 10 pumps per cell still
     // end a cycle.
@@ -180,6 +188,7 @@ private:
   Clock::time_point optStart_{};
   double optCpuStart_ = 0.0, optTime_ = 0.0, optCpu_ = 0.0;
   double minBefore_ = 0.0, optLimit_ = 0.0;
+  bool perturberRan_ = false;
   OptimiserRun perturbed_, exuded_;
   size_t relabelled_ = 0; ///< cells the optimisers left across a boundary (relabelCellsAcrossBoundaries)
 };
