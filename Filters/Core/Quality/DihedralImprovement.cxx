@@ -5,9 +5,11 @@
 #include "InterfaceCollapse.h"
 #include "ImprovementMesh.h"
 #include "MeshQuality.h"
+#include "ShapeSummary.h"
 #include "SliverPeeler.h"
 #include "TetFlips.h"
 #include "VertexMover.h"
+#include "WorkerThreads.h"
 
 #include <algorithm>
 #include <array>
@@ -61,15 +63,7 @@ private:
   /// ones to look at next round (those still there and bad, and those made or moved).
   bool runRound(int round, std::vector<int>& candidates)
   {
-    std::vector<std::pair<double, int>> bad;
-    for (int t : candidates)
-      if (state_.stars().alive(t))
-      {
-        const double q = state_.quality(t);
-        if (q < 1.0)
-          bad.emplace_back(q, t);
-      }
-    std::sort(bad.begin(), bad.end());
+    std::vector<std::pair<double, int>> bad = badAmong(candidates);
     state_.touched().clear();
     bool changed = false;
     for (std::size_t k = 0; k < bad.size(); ++k)
@@ -86,6 +80,30 @@ private:
     std::sort(candidates.begin(), candidates.end());
     candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
     return changed;
+  }
+
+  /// The bad tetrahedra among `candidates` with their quality, worst first. Judged in chunks on
+  /// the threads runOnThreads allows (the first round judges every tetrahedron; reads only).
+  std::vector<std::pair<double, int>> badAmong(const std::vector<int>& candidates) const
+  {
+    const std::size_t chunks = chunkCount(candidates.size(), kTetsPerChunk);
+    std::vector<std::vector<std::pair<double, int>>> parts(chunks);
+    forEachChunk(candidates.size(), chunks, [&](std::size_t k, std::size_t begin, std::size_t end) {
+      for (std::size_t i = begin; i < end; ++i)
+      {
+        const int t = candidates[i];
+        if (!state_.stars().alive(t))
+          continue;
+        const double q = state_.quality(t);
+        if (q < 1.0)
+          parts[k].emplace_back(q, t);
+      }
+    });
+    std::vector<std::pair<double, int>> bad;
+    for (const auto& part : parts)
+      bad.insert(bad.end(), part.begin(), part.end());
+    std::sort(bad.begin(), bad.end());
+    return bad;
   }
 
   /// Gives bad tetrahedron t to the local changes in turn; true when one changed the mesh.

@@ -97,14 +97,91 @@ std::array<int, 4> ascendingCorners(std::array<int, 4> k)
   return k;
 }
 
+/// A face in countNonManifoldFaces' buckets (bucketed by its smallest vertex). FaceIndex holds
+/// 4 x tetrahedron + its corner not on the face.
+template <typename FaceIndex>
+struct FaceEntry
+{
+  std::uint32_t b, c; // the two larger vertices
+  FaceIndex face;
+  std::uint64_t key() const { return (std::uint64_t{ b } << 32) | c; }
+  bool operator<(const FaceEntry& o) const { return key() != o.key() ? key() < o.key() : face < o.face; }
+  bool sameFace(const FaceEntry& o) const { return b == o.b && c == o.c; }
+};
+
+/// Sorts one bucket: buckets hold about 20 faces, where an insertion sort beats std::sort's set-up.
+template <typename Iterator>
+void sortBucket(Iterator begin, Iterator end)
+{
+  if (end - begin > 32)
+  {
+    std::sort(begin, end);
+    return;
+  }
+  for (auto i = begin + (begin != end); i < end; ++i)
+  {
+    const auto e = *i; // shifted into place: one move per step, not a swap's three
+    auto j = i;
+    for (; j != begin && e < *(j - 1); --j)
+      *j = *(j - 1);
+    *j = e;
+  }
+}
+
+/// What countNonManifoldFaces finds in one range of buckets.
+struct FacesFound
+{
+  std::size_t count = 0;              ///< faces shared by more than two tetrahedra
+  std::vector<std::size_t> crowded;   ///< their entries' faces (4 x tetrahedron + corner)
+  std::vector<TetMesh::SeparatingFace> separating;
+};
+
+/// Sorts and reads the buckets of the vertices [from, to).
+template <typename FaceIndex>
+void scanBuckets(std::vector<FaceEntry<FaceIndex>>& entries, const std::vector<std::size_t>& first, std::size_t from,
+  std::size_t to, const std::vector<int>& materials, bool separating, FacesFound& found)
+{
+  auto materialOf = [&materials](std::size_t f) { return f / 4 < materials.size() ? materials[f / 4] : 0; };
+  auto keep = [&found](std::size_t f, int other) { found.separating.push_back({ f / 4, static_cast<int>(f % 4), other }); };
+  for (std::size_t v = from; v < to; ++v)
+  {
+    const auto begin = entries.begin() + static_cast<std::ptrdiff_t>(first[v]);
+    const auto end = entries.begin() + static_cast<std::ptrdiff_t>(first[v + 1]);
+    sortBucket(begin, end);
+    for (auto i = begin; i != end;)
+    {
+      auto j = i;
+      while (j != end && j->sameFace(*i))
+        ++j;
+      if (j - i > 2)
+      {
+        ++found.count;
+        for (auto k = i; k != j; ++k)
+          found.crowded.push_back(static_cast<std::size_t>(k->face));
+      }
+      else if (separating && j - i == 1)
+        keep(static_cast<std::size_t>(i->face), -1);
+      else if (separating)
+      {
+        const auto f = static_cast<std::size_t>(i->face), g = static_cast<std::size_t>((i + 1)->face);
+        const int a = materialOf(f), b = materialOf(g);
+        if (a != b)
+          a < b ? keep(f, b) : keep(g, a);
+      }
+      i = j;
+    }
+  }
+}
+
 /// Faces shared by more than two tetrahedra; the tetrahedra holding one are flagged. Faces are
 /// bucketed by their smallest vertex (a counting sort), then each small bucket is sorted by the
-/// other two: linear in the mesh, where one sort of all faces cost more than the rest of the check.
-/// Indices are valid (tetsWithValidIndices); `good` lists the tetrahedra to look at. The faces of
-/// one tetrahedron, or of two of different materials, go to `separating` when given (the owner:
-/// the lower material id, the first tetrahedron for equal ids). FaceIndex holds 4 x tetrahedra
-/// (32 bits below a billion tetrahedra: the entries, four per tetrahedron, are the check's
-/// largest array).
+/// other two (scanBuckets, in chunks of vertices on the threads runOnThreads allows, merged in
+/// chunk order): linear in the mesh, where one sort of all faces cost more than the rest of the
+/// check. Indices are valid (tetsWithValidIndices); `good` lists the tetrahedra to look at. The
+/// faces of one tetrahedron, or of two of different materials, go to `separating` when given (the
+/// owner: the lower material id, the first tetrahedron for equal ids). FaceIndex holds 4 x
+/// tetrahedra (32 bits below a billion tetrahedra: the entries, four per tetrahedron, are the
+/// check's largest array).
 template <typename FaceIndex>
 std::size_t countNonManifoldFaces(const std::vector<std::array<int, 4>>& tets, const std::vector<int>& materials,
   const std::vector<std::size_t>& good, std::size_t pointCount, std::vector<unsigned char>& flags,
@@ -120,15 +197,7 @@ std::size_t countNonManifoldFaces(const std::vector<std::array<int, 4>>& tets, c
   }
   for (std::size_t v = 0; v < pointCount; ++v)
     first[v + 1] += first[v];
-  struct Entry
-  {
-    std::uint32_t b, c; // the two larger vertices
-    FaceIndex face;     // 4 x tetrahedron + its corner not on the face
-    std::uint64_t key() const { return (std::uint64_t{ b } << 32) | c; }
-    bool operator<(const Entry& o) const { return key() != o.key() ? key() < o.key() : face < o.face; }
-    bool sameFace(const Entry& o) const { return b == o.b && c == o.c; }
-  };
-  std::vector<Entry> entries(first[pointCount]);
+  std::vector<FaceEntry<FaceIndex>> entries(first[pointCount]);
   std::vector<std::size_t> next(first.begin(), first.end() - 1);
   auto add = [&](int a, int b, int c, std::size_t t, int without) {
     const auto& k = tets[t];
@@ -144,50 +213,20 @@ std::size_t countNonManifoldFaces(const std::vector<std::array<int, 4>>& tets, c
     add(k[0], k[2], k[3], t, k[1]);
     add(k[1], k[2], k[3], t, k[0]);
   }
-  auto faceOf = [](const Entry& e) { return static_cast<std::size_t>(e.face); };
-  auto materialOf = [&materials](std::size_t f) { return f / 4 < materials.size() ? materials[f / 4] : 0; };
-  auto keep = [separating](std::size_t f, int other) {
-    separating->push_back({ f / 4, static_cast<int>(f % 4), other });
-  };
+  constexpr std::size_t kVerticesPerChunk = 2048; // about 12,000 tetrahedra
+  const std::size_t chunks = chunkCount(pointCount, kVerticesPerChunk);
+  std::vector<FacesFound> parts(chunks);
+  forEachChunk(pointCount, chunks, [&](std::size_t part, std::size_t from, std::size_t to) {
+    scanBuckets(entries, first, from, to, materials, separating != nullptr, parts[part]);
+  });
   std::size_t count = 0;
-  for (std::size_t v = 0; v < pointCount; ++v)
+  for (const FacesFound& found : parts)
   {
-    const auto begin = entries.begin() + static_cast<std::ptrdiff_t>(first[v]);
-    const auto end = entries.begin() + static_cast<std::ptrdiff_t>(first[v + 1]);
-    // buckets hold about 20 faces: an insertion sort beats std::sort's set-up on them
-    if (end - begin <= 32)
-      for (auto i = begin + (begin != end); i < end; ++i)
-      {
-        const Entry e = *i; // shifted into place: one move per step, not a swap's three
-        auto j = i;
-        for (; j != begin && e < *(j - 1); --j)
-          *j = *(j - 1);
-        *j = e;
-      }
-    else
-      std::sort(begin, end);
-    for (auto i = begin; i != end;)
-    {
-      auto j = i;
-      while (j != end && j->sameFace(*i))
-        ++j;
-      if (j - i > 2)
-      {
-        ++count;
-        for (auto k = i; k != j; ++k)
-          flags[faceOf(*k) / 4] |= kNonManifoldFace;
-      }
-      else if (separating && j - i == 1)
-        keep(faceOf(*i), -1);
-      else if (separating)
-      {
-        const std::size_t f = faceOf(*i), g = faceOf(*(i + 1));
-        const int a = materialOf(f), b = materialOf(g);
-        if (a != b)
-          a < b ? keep(f, b) : keep(g, a);
-      }
-      i = j;
-    }
+    count += found.count;
+    for (std::size_t f : found.crowded)
+      flags[f / 4] |= kNonManifoldFace;
+    if (separating)
+      separating->insert(separating->end(), found.separating.begin(), found.separating.end());
   }
   return count;
 }
@@ -238,6 +277,15 @@ class EdgeLengthMedian
 public:
   EdgeLengthMedian() : bins_(kBins, 0) {}
 
+  /// Adds the counts of `other` (the same lengths counted in another chunk of the tetrahedra).
+  void merge(const EdgeLengthMedian& other)
+  {
+    for (std::size_t b = 0; b < kBins; ++b)
+      bins_[b] += other.bins_[b];
+    count_ += other.count_;
+    shortest_ = std::min(shortest_, other.shortest_);
+  }
+
   void add(double length)
   {
     ++bins_[bin(length)];
@@ -257,11 +305,12 @@ public:
     rankInBin_ = rank - before;
     candidates_.reserve(bins_[medianBin_]);
   }
-  /// Second pass: the same lengths again.
-  void collect(double length)
+  /// Second pass: the same lengths again, into `candidates` (one list per chunk of the
+  /// tetrahedra), then addCandidates.
+  bool inMedianBin(double length) const { return bin(length) == medianBin_; }
+  void addCandidates(const std::vector<double>& candidates)
   {
-    if (bin(length) == medianBin_)
-      candidates_.push_back(length);
+    candidates_.insert(candidates_.end(), candidates.begin(), candidates.end());
   }
   double median()
   {
@@ -283,6 +332,9 @@ private:
   double shortest_ = std::numeric_limits<double>::infinity();
 };
 
+/// Tetrahedra per chunk of the pass that counts edge lengths (each chunk has its histogram).
+constexpr std::size_t kHistogramChunk = 65536;
+
 /// Calls f with each of the six edge lengths of tetrahedron t.
 template <typename F>
 void forEachEdgeLength(const TetMesh& mesh, std::size_t t, F&& f)
@@ -296,43 +348,75 @@ void forEachEdgeLength(const TetMesh& mesh, std::size_t t, F&& f)
 
 /// The tetrahedra with valid indices (four distinct points of the mesh); the others are counted and
 /// flagged. Marks the points the good ones use, counts their edge lengths and sums their volumes.
+/// In chunks of the tetrahedra on the threads runOnThreads allows, merged in chunk order (the same
+/// sum on any number of threads); a chunk holds a 256 kB histogram, hence large chunks.
 std::vector<std::size_t> tetsWithValidIndices(const TetMesh& mesh, MeshValidity& r, std::vector<unsigned char>& flags,
   std::vector<char>& used, EdgeLengthMedian& edges, double& volume)
 {
   const int n = static_cast<int>(mesh.points.size());
+  struct Part
+  {
+    std::vector<std::size_t> good;
+    EdgeLengthMedian edges;
+    double volume = 0.0;
+    std::size_t bad = 0;
+  };
+  const std::size_t chunks = chunkCount(mesh.tets.size(), kHistogramChunk);
+  std::vector<Part> parts(chunks);
+  forEachChunk(mesh.tets.size(), chunks, [&](std::size_t c, std::size_t begin, std::size_t end) {
+    Part& part = parts[c];
+    part.good.reserve(end - begin);
+    for (std::size_t t = begin; t < end; ++t)
+    {
+      const auto& k = mesh.tets[t];
+      bool ok = true;
+      for (int i = 0; i < 4; ++i)
+      {
+        ok = ok && k[i] >= 0 && k[i] < n;
+        for (int j = 0; ok && j < i; ++j)
+          ok = k[i] != k[j];
+      }
+      if (!ok)
+      {
+        ++part.bad;
+        flags[t] |= kBadIndices;
+        continue;
+      }
+      part.good.push_back(t);
+      forEachEdgeLength(mesh, t, [&part](double l) { part.edges.add(l); });
+      part.volume += std::abs(signedVolume(mesh.points[k[0]], mesh.points[k[1]], mesh.points[k[2]], mesh.points[k[3]]));
+    }
+  });
   std::vector<std::size_t> good;
   good.reserve(mesh.tets.size());
-  for (std::size_t t = 0; t < mesh.tets.size(); ++t)
+  for (const Part& part : parts)
   {
-    const auto& k = mesh.tets[t];
-    bool ok = true;
-    for (int i = 0; i < 4; ++i)
-    {
-      ok = ok && k[i] >= 0 && k[i] < n;
-      for (int j = 0; ok && j < i; ++j)
-        ok = k[i] != k[j];
-    }
-    if (!ok)
-    {
-      ++r.badIndices;
-      flags[t] |= kBadIndices;
-      continue;
-    }
-    good.push_back(t);
-    for (int i = 0; i < 4; ++i)
-      used[k[i]] = 1;
-    forEachEdgeLength(mesh, t, [&edges](double l) { edges.add(l); });
-    volume += std::abs(signedVolume(mesh.points[k[0]], mesh.points[k[1]], mesh.points[k[2]], mesh.points[k[3]]));
+    good.insert(good.end(), part.good.begin(), part.good.end());
+    edges.merge(part.edges);
+    volume += part.volume;
+    r.badIndices += part.bad;
   }
+  for (std::size_t t : good)
+    for (int i = 0; i < 4; ++i)
+      used[mesh.tets[t][i]] = 1;
   return good;
 }
 
-/// The median of the edge lengths `edges` counted (the second pass over the tetrahedra).
+/// The median of the edge lengths `edges` counted (the second pass over the tetrahedra, in chunks).
 double medianEdgeLength(const TetMesh& mesh, const std::vector<std::size_t>& good, EdgeLengthMedian& edges)
 {
   edges.locate();
-  for (std::size_t t : good)
-    forEachEdgeLength(mesh, t, [&edges](double l) { edges.collect(l); });
+  const std::size_t chunks = chunkCount(good.size(), kTetsPerChunk);
+  std::vector<std::vector<double>> candidates(chunks);
+  forEachChunk(good.size(), chunks, [&](std::size_t c, std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i)
+      forEachEdgeLength(mesh, good[i], [&](double l) {
+        if (edges.inMedianBin(l))
+          candidates[c].push_back(l);
+      });
+  });
+  for (const auto& part : candidates)
+    edges.addCandidates(part);
   return edges.median();
 }
 
