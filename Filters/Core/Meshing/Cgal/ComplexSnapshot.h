@@ -13,7 +13,6 @@
 
 #include "ExactCoordinates.h"
 #include "VertexTimeStamps.h"
-#include "WorkerThreads.h"
 
 #include <algorithm>
 #include <array>
@@ -32,8 +31,6 @@ namespace cgal
 template <class C3t3>
 class ComplexSnapshot
 {
-  static constexpr std::size_t kCellsPerChunk = 8192;
-
 public:
   using Tr = typename C3t3::Triangulation;
   using Vertex_handle = typename Tr::Vertex_handle;
@@ -62,47 +59,33 @@ public:
     }
     auto id = [&](Vertex_handle v) { return number[v->time_stamp()]; };
 
-    // One pass over the cells (the complex's own iterators would walk them twice), in chunks on
-    // the threads runOnThreads allows, merged in chunk order; a facet is met from both of its
-    // cells and recorded twice until restore() orders the records.
-    std::vector<Cell_handle> cells;
-    cells.reserve(tr.number_of_cells()); // number_of_finite_cells() would walk them
-    for (auto c = tr.finite_cells_begin(); c != tr.finite_cells_end(); ++c)
-      cells.push_back(c);
-    const std::size_t chunks = chunkCount(cells.size(), kCellsPerChunk);
-    std::vector<decltype(cells_)> cellParts(chunks);
-    std::vector<decltype(facets_)> facetParts(chunks);
-    forEachChunk(cells.size(), chunks, [&](std::size_t part, std::size_t begin, std::size_t end) {
-      for (std::size_t i = begin; i < end; ++i)
-      {
-        const Cell_handle& c = cells[i];
-        const bool inComplex = c3t3.is_in_complex(c);
-        bool onSurface = false;
-        for (int j = 0; j < 4 && !onSurface; ++j)
-          onSurface = c3t3.is_in_complex(c, j);
-        if (!inComplex && !onSurface)
-          continue;
-        const std::array<std::uint32_t, 4> ids{ id(c->vertex(0)), id(c->vertex(1)), id(c->vertex(2)), id(c->vertex(3)) };
-        if (inComplex)
-          cellParts[part].push_back({ sorted<4>(ids), c3t3.subdomain_index(c) });
-        for (int j = 0; j < 4; ++j)
-        {
-          if (!c3t3.is_in_complex(c, j))
-            continue;
-          std::array<std::uint32_t, 3> k{};
-          for (int m = 0, n = 0; m < 4; ++m)
-            if (m != j)
-              k[n++] = ids[m];
-          facetParts[part].push_back({ sorted<3>(k), c3t3.surface_patch_index(c, j) });
-        }
-      }
-    });
+    // One pass over the cells (the complex's own iterators would walk them twice); a facet is
+    // met from both of its cells and recorded twice until restore() orders the records. On one
+    // thread: the record is alive at the exuder's peak, and chunks merged afterwards (or a list
+    // of the cells to split) would hold more of it at once.
     cells_.reserve(c3t3.number_of_cells_in_complex());
     facets_.reserve(2 * c3t3.number_of_facets_in_complex());
-    for (std::size_t part = 0; part < chunks; ++part)
+    for (auto c = tr.finite_cells_begin(); c != tr.finite_cells_end(); ++c)
     {
-      cells_.insert(cells_.end(), cellParts[part].begin(), cellParts[part].end());
-      facets_.insert(facets_.end(), facetParts[part].begin(), facetParts[part].end());
+      const bool inComplex = c3t3.is_in_complex(c);
+      bool onSurface = false;
+      for (int j = 0; j < 4 && !onSurface; ++j)
+        onSurface = c3t3.is_in_complex(c, j);
+      if (!inComplex && !onSurface)
+        continue;
+      const std::array<std::uint32_t, 4> ids{ id(c->vertex(0)), id(c->vertex(1)), id(c->vertex(2)), id(c->vertex(3)) };
+      if (inComplex)
+        cells_.push_back({ sorted<4>(ids), c3t3.subdomain_index(c) });
+      for (int j = 0; j < 4; ++j)
+      {
+        if (!c3t3.is_in_complex(c, j))
+          continue;
+        std::array<std::uint32_t, 3> k{};
+        for (int m = 0, n = 0; m < 4; ++m)
+          if (m != j)
+            k[n++] = ids[m];
+        facets_.push_back({ sorted<3>(k), c3t3.surface_patch_index(c, j) });
+      }
     }
 
     // edges_in_complex walks every edge of the triangulation (most of the record's time when it
