@@ -51,11 +51,7 @@ public:
   void run()
   {
     start();
-    // the perturber works on the cells at or below its bound and on no others: above it, it would
-    // only spend twelve scans of every cell (one per degree) to find nothing
-    if (run_.options.perturb && minBefore_ > kPerturbationBound + kAngleSlack)
-      perturbed_.lastBound = kPerturbationBound;
-    else if (run_.options.perturb)
+    if (run_.options.perturb)
       perturbKeepingSegments();
     if (run_.options.exude)
       exudeKeepingSegments();
@@ -71,15 +67,22 @@ public:
     optLimit_ = run_.options.optimisationTimeLimit < 0 ? refinement_.refinementSeconds() : run_.options.optimisationTimeLimit;
   }
 
-  /// CGAL's perturber, then the repair of the sub-segments it broke.
+  /// CGAL's perturber, then the repair of the sub-segments it broke (or that short sub-segments'
+  /// encroachers leave, perturbed or not). The perturber works on the cells at or below its bound
+  /// and on no others: where every cell is above it, it is not called (it would spend a scan of
+  /// every cell per degree to find nothing).
   void perturbKeepingSegments()
   {
     run_.report(0.45, "perturbation");
-    perturberRan_ = true;
-    const size_t max = stepBudget(run_.options.perturbationStepsPerVertex, run_.c3t3->triangulation().number_of_vertices());
-    size_t checks = 0;
-    perturbed_ = perturb(*run_.c3t3, *run_.domain, optLimit_, max, run_.options.perturbationFailuresPerBound,
-      [&] { run_.report(0.45 + 0.35 * phaseProgress(256 * ++checks, max), "perturbation"); }, run_.deadline);
+    if (minBefore_ > kPerturbationBound + kAngleSlack)
+      perturbed_.lastBound = kPerturbationBound;
+    else
+    {
+      const size_t max = stepBudget(run_.options.perturbationStepsPerVertex, run_.c3t3->triangulation().number_of_vertices());
+      size_t checks = 0;
+      perturbed_ = perturb(*run_.c3t3, *run_.domain, optLimit_, max, run_.options.perturbationFailuresPerBound,
+        [&] { run_.report(0.45 + 0.35 * phaseProgress(256 * ++checks, max), "perturbation"); }, run_.deadline);
+    }
     refinement_.repairSegmentsAfterPerturbation();
   }
 
@@ -108,8 +111,7 @@ public:
     Exudation e;
     e.missingBefore = run_.conforming ? run_.segments->countNotEdges() : 0;
     e.before.emplace(*run_.c3t3);
-    // the start's smallest angle, unless the perturber has changed the complex since
-    e.worstBefore = perturberRan_ ? complexMinAngle(*run_.c3t3) : minBefore_;
+    e.worstBefore = complexMinAngle(*run_.c3t3);
     // The budget also ends CGAL's exuder where it cycles (seen next to protecting balls); it stops
     // between two cells, where the mesh is consistent. Without a budget, 10 pumps per cell still
     // end a cycle.
@@ -188,7 +190,6 @@ private:
   Clock::time_point optStart_{};
   double optCpuStart_ = 0.0, optTime_ = 0.0, optCpu_ = 0.0;
   double minBefore_ = 0.0, optLimit_ = 0.0;
-  bool perturberRan_ = false;
   OptimiserRun perturbed_, exuded_;
   size_t relabelled_ = 0; ///< cells the optimisers left across a boundary (relabelCellsAcrossBoundaries)
 };
