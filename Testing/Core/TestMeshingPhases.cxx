@@ -6,8 +6,10 @@
 #include "MeshQuality.h"
 #include "MeshingRun.h"
 #include "OracleMesher.h"
+#include "ShapeSummary.h"
 #include "SurfaceDomain.h"
 #include "TestShapes.h"
+#include "WorkerThreads.h"
 
 #include <gtest/gtest.h>
 
@@ -211,4 +213,56 @@ TEST(MeshingPhases, TheOutputIsTheComplexInSpaceOrder)
   };
   EXPECT_LT(meanStep(mesh.points), 0.5 * meanStep(complex.points));
   EXPECT_LT(meanStep(mesh.points), 0.2) << "about an edge length (cell size 0.1)";
+}
+
+TEST(MeshingPhases, BadCellsAreExactlyTheCellsTheCriteriaRefuseOnAnyThreadCount)
+{
+  // After a parallel refinement the sequential round starts from badCellsOf (judged in chunks on
+  // the call's threads): judged here with criteria stricter than the run's, so that some are bad.
+  const HierarchicalOracle o = unitCube();
+  const FeatureSegments edges = test::cubeEdges(0, 1);
+  const MesherOptions opt = cubeOptions(0.055);
+  MeshingRun run(o, edges, opt);
+  run.initial.run({});
+  run.refinement.refineAllLevels();
+  const auto& c3t3 = *run.context.c3t3;
+  ASSERT_GT(c3t3.number_of_cells_in_complex(), 2 * kTetsPerChunk) << "several chunks";
+  MesherOptions strict = opt;
+  strict.criteria.global.cellSize = 0.035;
+  const cgal::sequential::Criteria criteria =
+    cgal::materialMeshCriteria<Tr>(strict, cgal::sequential::Criteria::Edge_criteria(1.0), opt.sliverAngle, &o);
+  std::vector<Tr::Cell_handle> one, two;
+  runOnThreads(1, [&] { one = cgal::sequential::badCellsOf(c3t3, criteria); });
+  runOnThreads(2, [&] { two = cgal::sequential::badCellsOf(c3t3, criteria); });
+  EXPECT_TRUE(one == two) << "the same cells in the same order on one and two threads";
+  std::set<Tr::Cell_handle> expected;
+  for (auto c = c3t3.cells_in_complex_begin(); c != c3t3.cells_in_complex_end(); ++c)
+    if (criteria.cell_criteria_object()(c3t3.triangulation(), c))
+      expected.insert(c);
+  ASSERT_GT(expected.size(), 10u) << "the stricter size bound refuses some cells";
+  EXPECT_LT(expected.size(), c3t3.number_of_cells_in_complex()) << "and keeps others";
+  EXPECT_TRUE(std::vector<Tr::Cell_handle>(expected.begin(), expected.end()) == one)
+    << "every refused cell once, sorted, and no other";
+}
+
+TEST(MeshingPhases, ThePerturberIsSkippedWhereEveryCellIsAboveItsBound)
+{
+  // Picked refinement points leave every cell above 12 degrees here: the perturber would move
+  // nothing, so it is not called; the statistics say so, and the run stays valid and complete.
+  const HierarchicalOracle o = unitCube();
+  const FeatureSegments edges = test::cubeEdges(0, 1);
+  const TetMesh m = meshOracle(o, edges, {}, cubeOptions(0.15));
+  ASSERT_GT(m.statistics.at("optimisation.min_dihedral_before"), 12.0);
+  EXPECT_EQ(m.statistics.at("optimisation.perturbation_steps"), 0.0);
+  EXPECT_EQ(m.statistics.at("optimisation.perturbation_last_bound"), 12.0);
+  EXPECT_EQ(m.statistics.at("optimisation.perturbation_skipped"), 1.0);
+  EXPECT_EQ(m.statistics.at("validity.defects"), 0.0);
+  EXPECT_NEAR(featureCoverage(m.segments, edges), 1.0, 1e-12);
+  // where picking is off, circumcentres leave slivers below 12 degrees: the perturber runs
+  MesherOptions circumcentres = cubeOptions(0.15);
+  circumcentres.pickingSliverAngle = 0.0;
+  const TetMesh c = meshOracle(o, edges, {}, circumcentres);
+  ASSERT_LE(c.statistics.at("optimisation.min_dihedral_before"), 12.0);
+  EXPECT_GT(c.statistics.at("optimisation.perturbation_steps"), 0.0);
+  EXPECT_EQ(c.statistics.at("optimisation.perturbation_skipped"), 0.0);
 }

@@ -233,9 +233,11 @@ def report_lines(grid, title, names=None, source="mesh", recheck=True):
                stats.get(f"time.{phase}", 0.0)) for phase in ("perturbation", "exudation")
               if f"optimisation.{phase}_steps" in stats]
     if phases:
-        lines.append("optimisation: " + "; ".join(
-            f"{phase} {int(steps)} steps in {seconds:.1f} s, " + ("ended at its budget" if cut else "done")
-            for phase, steps, cut, seconds in phases))
+        def phase_text(phase, steps, cut, seconds):
+            if phase == "perturbation" and stats.get("optimisation.perturbation_skipped"):
+                return f"perturbation not needed (every tetrahedron above {stats['optimisation.perturbation_last_bound']:g}°)"
+            return f"{phase} {int(steps)} steps in {seconds:.1f} s, " + ("ended at its budget" if cut else "done")
+        lines.append("optimisation: " + "; ".join(phase_text(*phase) for phase in phases))
     if fieldkeys.IMPROVEMENT_OUTSIDE_BEFORE in stats:
         window = f"[{stats[fieldkeys.IMPROVEMENT_MIN_ANGLE]:g}, {stats[fieldkeys.IMPROVEMENT_MAX_ANGLE]:g}]"
         lines.append(f"quality step: {int(stats[fieldkeys.IMPROVEMENT_OUTSIDE_BEFORE])} tetrahedra with a dihedral angle "

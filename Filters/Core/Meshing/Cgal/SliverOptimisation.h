@@ -74,7 +74,8 @@ public:
   void perturbKeepingSegments()
   {
     run_.report(0.45, "perturbation");
-    if (minBefore_ > kPerturbationBound + kAngleSlack)
+    perturbationSkipped_ = minBefore_ > kPerturbationBound + kAngleSlack;
+    if (perturbationSkipped_)
       perturbed_.lastBound = kPerturbationBound;
     else
     {
@@ -162,6 +163,7 @@ public:
     st["optimisation.perturbation_cut_short"] = perturbed_.cutShort;
     st["optimisation.perturbation_gave_up"] = perturbed_.gaveUp;
     st["optimisation.perturbation_last_bound"] = perturbed_.lastBound;
+    st["optimisation.perturbation_skipped"] = perturbationSkipped_;
     st["optimisation.exudation_steps"] = static_cast<double>(exuded_.steps);
     st["optimisation.exudation_cut_short"] = exuded_.cutShort;
     st["optimisation.cells_relabelled_by_centroid"] = static_cast<double>(relabelled_);
@@ -190,6 +192,7 @@ private:
   Clock::time_point optStart_{};
   double optCpuStart_ = 0.0, optTime_ = 0.0, optCpu_ = 0.0;
   double minBefore_ = 0.0, optLimit_ = 0.0;
+  bool perturbationSkipped_ = false; ///< every cell was above the perturber's bound
   OptimiserRun perturbed_, exuded_;
   size_t relabelled_ = 0; ///< cells the optimisers left across a boundary (relabelCellsAcrossBoundaries)
 };
