@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <map>
 #include <random>
 #include <utility>
@@ -14,6 +15,14 @@
 namespace
 {
 using Quality = std::pair<int, double>;
+
+/// A queued element that can be destroyed after it was queued, as CGAL's safe cell handles.
+struct Mortal
+{
+  int id;
+  const std::vector<bool>* dead;
+  bool is_zombie() const { return (*dead)[static_cast<std::size_t>(id)]; }
+};
 }
 
 TEST(CellRefinementQueue, PopsInTheMultimapsOrderWithTiesAndInterleavedInsertions)
@@ -57,4 +66,42 @@ TEST(CellRefinementQueue, PopsInTheMultimapsOrderWithTiesAndInterleavedInsertion
   heap.insert({ { 0, 1.0 }, 1 });
   heap.clear();
   EXPECT_EQ(heap.size(), 0u);
+}
+
+TEST(CellRefinementQueue, DropsDestroyedElementsBeforeGrowingAndKeepsTheOrderOfTheOthers)
+{
+  // As in the refinement: most queued cells are destroyed by later insertions before their turn.
+  constexpr int n = 400000;
+  std::mt19937 random(11);
+  std::uniform_int_distribution<int> criterion(0, 2), value(0, 7);
+  std::vector<bool> dead(n, false);
+  std::multimap<Quality, int> reference;
+  omesh::cgal::SequencedHeap<Quality, Mortal> heap;
+  for (int id = 0; id < n; ++id)
+  {
+    const Quality q{ criterion(random), 0.125 * value(random) };
+    reference.insert({ q, id });
+    heap.insert({ q, Mortal{ id, &dead } });
+    if (id % 4 != 0)
+      dead[static_cast<std::size_t>(id)] = true; // three of four die
+  }
+  EXPECT_GT(heap.dropped(), static_cast<std::size_t>(n / 2));
+  EXPECT_LT(heap.capacity(), static_cast<std::size_t>(n / 2)) << "the array grew for elements already destroyed";
+  EXPECT_GE(heap.size(), static_cast<std::size_t>(n / 4));
+
+  // popped as Filtered_multimap_container pops (destroyed ones skipped): the multimap's order
+  std::vector<int> fromReference, fromHeap;
+  for (const auto& [q, id] : reference)
+    if (!dead[static_cast<std::size_t>(id)])
+      fromReference.push_back(id);
+  std::size_t smallestCapacity = heap.capacity();
+  while (!heap.empty())
+  {
+    if (!heap.begin()->second.is_zombie())
+      fromHeap.push_back(heap.begin()->second.id);
+    heap.erase(heap.begin());
+    smallestCapacity = std::min(smallestCapacity, heap.capacity());
+  }
+  EXPECT_EQ(fromHeap, fromReference);
+  EXPECT_LT(smallestCapacity, static_cast<std::size_t>(1) << 17) << "the array kept its largest capacity while it drained";
 }

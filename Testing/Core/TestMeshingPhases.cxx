@@ -95,13 +95,13 @@ TEST(MeshingPhases, OneByOneTheyGiveMeshOraclesMesh)
   EXPECT_EQ(phased.statistics.at("refinement_steps"), whole.statistics.at("refinement_steps"));
 }
 
-TEST(MeshingPhases, UndoneExudationGivesBackTheMeshFromBeforeIt)
+/// Runs the exuder on every cell, undoes it and expects the complex from before it: the same
+/// tetrahedra with the same materials, interfaces, features and vertex dimensions. Returns how many
+/// materials the mesh has.
+std::size_t expectUndoGivesBackTheMeshFromBeforeTheExuder(const HierarchicalOracle& o, const FeatureSegments& edges,
+  const MesherOptions& options, std::size_t corners)
 {
-  // The undo rebuilds the complex from a compact record (ComplexSnapshot.h); real inputs rarely
-  // need it, so it is called here and compared with a run that stops before the exuder.
-  const HierarchicalOracle o = unitCube();
-  const FeatureSegments edges = test::cubeEdges(0, 1);
-  MesherOptions noExuder = cubeOptions(0.2);
+  MesherOptions noExuder = options;
   noExuder.exude = false;
   noExuder.improveAngles = false; // the comparison is with the complex before the exuder
   const TetMesh before = meshOracle(o, edges, {}, noExuder);
@@ -113,7 +113,7 @@ TEST(MeshingPhases, UndoneExudationGivesBackTheMeshFromBeforeIt)
   run.optimisation.start();
   run.optimisation.perturbKeepingSegments();
   auto exudation = run.optimisation.exude();
-  ASSERT_TRUE(exudation.before.has_value());
+  EXPECT_TRUE(exudation.before.has_value());
   run.optimisation.undo(exudation, "asked by the test");
   run.optimisation.finish();
   const TetMesh undone = run.finish();
@@ -121,14 +121,13 @@ TEST(MeshingPhases, UndoneExudationGivesBackTheMeshFromBeforeIt)
   EXPECT_TRUE(hasWarning(undone, "exudation undone: asked by the test"));
   EXPECT_FALSE(hasWarning(undone, "incomplete"));
   EXPECT_EQ(undone.tets.size(), before.tets.size());
-  EXPECT_TRUE(tetSet(undone) == tetSet(before)) << "the undo changed the mesh from before the exuder";
+  EXPECT_TRUE(tetSet(undone) == tetSet(before)) << "the undo changed the mesh (or a material) from before the exuder";
   EXPECT_EQ(undone.interfaceTriangles.size(), before.interfaceTriangles.size());
-  EXPECT_NEAR(featureCoverage(undone.segments, edges), 1.0, 1e-12);
+  if (!edges.empty())
+    EXPECT_NEAR(featureCoverage(undone.segments, edges), 1.0, 1e-12);
   EXPECT_EQ(undone.statistics.at("validity.defects"), 0.0);
-  size_t corners = 0;
-  for (int d : undone.pointDimension)
-    corners += d == 0;
-  EXPECT_EQ(corners, 8u) << "the vertices' dimensions came back";
+  EXPECT_EQ(static_cast<std::size_t>(std::count(undone.pointDimension.begin(), undone.pointDimension.end(), 0)), corners)
+    << "the vertices' dimensions came back";
 
   // and the exuder itself changed the mesh: the undo had something to undo
   MeshingRun kept(o, edges, pumped);
@@ -139,6 +138,71 @@ TEST(MeshingPhases, UndoneExudationGivesBackTheMeshFromBeforeIt)
   kept.optimisation.exude();
   kept.optimisation.finish();
   EXPECT_FALSE(tetSet(kept.finish()) == tetSet(before)) << "the exuder changed nothing: nothing to undo";
+  return std::set<int>(undone.tetMaterial.begin(), undone.tetMaterial.end()).size();
+}
+
+TEST(MeshingPhases, UndoneExudationGivesBackTheMeshFromBeforeIt)
+{
+  // The undo rebuilds the complex from a compact record (ComplexSnapshot.h); real inputs rarely
+  // need it, so it is called here and compared with a run that stops before the exuder.
+  expectUndoGivesBackTheMeshFromBeforeTheExuder(unitCube(), test::cubeEdges(0, 1), cubeOptions(0.2), 8);
+}
+
+TEST(MeshingPhases, UndoneExudationGivesBackEveryMaterial)
+{
+  // The record keeps the labels of the cells beside a wall (an interface, or two materials
+  // meeting) and floods them through the others: three materials, two of them nested, none of
+  // them reached from the outside without crossing a wall.
+  HierarchicalOracle o;
+  o.add(std::make_shared<SurfaceDomain>(test::icosphere({ 0.5, 0.5, 0.5 }, 0.2, 2), 3));
+  o.add(std::make_shared<SurfaceDomain>(test::cube(0.15, 0.85), 2));
+  o.add(std::make_shared<SurfaceDomain>(test::cube(0, 1), 1));
+  EXPECT_EQ(expectUndoGivesBackTheMeshFromBeforeTheExuder(o, {}, cubeOptions(0.12), 0), 3u);
+}
+
+TEST(MeshingPhases, CellsHoldSurfaceCentresOnlyBesideTheSurface)
+{
+  // SurfaceCentreCell3: the centres out of line, set on both cells of every surface facet, the
+  // block absent from most cells, and the cell far smaller than CGAL's compact one.
+  using CgalCell = CGAL::Compact_mesh_cell_generator_3<omesh::cgal::GeomTraits, omesh::cgal::MeshDomain::Subdomain_index,
+    omesh::cgal::MeshDomain::Surface_patch_index, omesh::cgal::MeshDomain::Index>::Rebind_TDS<Tr::Triangulation_data_structure>::Other;
+  static_assert(sizeof(Tr::Cell) + 120 <= sizeof(CgalCell), "the centres are out of line");
+  HierarchicalOracle o;
+  o.add(std::make_shared<SurfaceDomain>(test::icosphere({ 0.5, 0.5, 0.5 }, 0.3, 2), 2));
+  o.add(std::make_shared<SurfaceDomain>(test::cube(0, 1), 1));
+  const FeatureSegments edges = test::cubeEdges(0, 1);
+  MeshingRun run(o, edges, cubeOptions(0.1));
+  run.initial.run({});
+  run.refinement.refineAllLevels();
+  const Tr& tr = run.context.c3t3->triangulation();
+  std::size_t cells = 0, holding = 0, surfaceFacets = 0;
+  for (auto c = tr.all_cells_begin(); c != tr.all_cells_end(); ++c)
+  {
+    ++cells;
+    holding += c->holds_surface_centres();
+    for (int i = 0; i < 4; ++i)
+    {
+      if (!c->is_facet_on_surface(i))
+        continue;
+      ++surfaceFacets;
+      ASSERT_TRUE(c->holds_surface_centres());
+      const auto mirror = tr.mirror_facet(std::make_pair(Tr::Cell_handle(c), i));
+      EXPECT_EQ(c->get_facet_surface_center(i), mirror.first->get_facet_surface_center(mirror.second));
+      EXPECT_TRUE(c->get_facet_surface_center_index(i) == mirror.first->get_facet_surface_center_index(mirror.second));
+    }
+  }
+  EXPECT_GT(surfaceFacets, 100u);
+  EXPECT_LT(2 * holding, cells) << "most cells are away from the surface and hold no centres";
+
+  // a copy holds its own centres
+  auto c = tr.finite_cells_begin();
+  while (!c->holds_surface_centres())
+    ++c;
+  Tr::Cell copy(*c);
+  copy.set_facet_surface_center(0, Tr::Cell::Point_3(9, 9, 9));
+  EXPECT_NE(c->get_facet_surface_center(0), copy.get_facet_surface_center(0));
+  for (int i = 1; i < 4; ++i)
+    EXPECT_EQ(c->get_facet_surface_center(i), copy.get_facet_surface_center(i));
 }
 
 TEST(MeshingPhases, SegmentRepairAfterPerturbationRefinesOnlyAroundTheBrokenSubSegments)

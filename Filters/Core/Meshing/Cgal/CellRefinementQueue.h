@@ -13,10 +13,21 @@
 #include <cstddef>
 #include <cstdint>
 #include <utility>
+#include <type_traits>
 #include <vector>
 
 namespace omesh::cgal
 {
+/// Whether a queue element can tell it was destroyed after it was queued (CGAL::CC_safe_handle).
+template <class E, class = void>
+struct HasZombies : std::false_type
+{
+};
+template <class E>
+struct HasZombies<E, std::void_t<decltype(std::declval<const E&>().is_zombie())>> : std::true_type
+{
+};
+
 /// A priority queue with the interface Filtered_multimap_container asks of its std::multimap
 /// (insert, begin, erase of the first element, empty, size, clear) and the same order: the
 /// smallest quality first, equal qualities in the order they came (a multimap inserts an equal
@@ -48,6 +59,9 @@ public:
 
   void insert(const value_type& v)
   {
+    if constexpr (HasZombies<Element>::value)
+      if (heap_.size() == heap_.capacity() && !heap_.empty())
+        dropZombies();
     heap_.push_back(Entry{ v, next_++ });
     std::push_heap(heap_.begin(), heap_.end(), after);
   }
@@ -57,10 +71,15 @@ public:
   {
     std::pop_heap(heap_.begin(), heap_.end(), after);
     heap_.pop_back();
+    if (heap_.size() < heap_.capacity() / 2 && heap_.capacity() > kShrinkAbove)
+      shrink();
   }
   bool empty() const { return heap_.empty(); }
   size_type size() const { return heap_.size(); }
   void clear() { heap_.clear(); }
+  std::size_t capacity() const { return heap_.capacity(); }
+  /// How many elements it found destroyed and dropped before their turn.
+  std::size_t dropped() const { return dropped_; }
 
 private:
   struct Entry
@@ -78,8 +97,37 @@ private:
     return a.sequence > b.sequence;
   }
 
+  /// Before the array would grow: the cells destroyed since they were queued go, as the container
+  /// would skip them when they came up; the order of the others is unchanged (a total order:
+  /// qualities, then insertion numbers). Grows by a quarter (not the vector's doubling: the queue
+  /// is largest near the triangulation's peak) only if that freed less than half; a pass reads
+  /// each entry's cell, about five per insertion at most.
+  void dropZombies()
+  {
+    const std::size_t capacity = heap_.capacity();
+    const auto end = std::remove_if(heap_.begin(), heap_.end(), [](const Entry& e) { return e.value.second.is_zombie(); });
+    dropped_ += static_cast<std::size_t>(heap_.end() - end);
+    heap_.erase(end, heap_.end());
+    std::make_heap(heap_.begin(), heap_.end(), after);
+    if (heap_.size() > capacity / 2)
+      heap_.reserve(capacity + capacity / 4);
+  }
+
+  /// The array down to a quarter above its length once it is less than half full: the queue drains
+  /// while the triangulation grows, and a capacity kept from its largest moment would be alive at
+  /// the triangulation's peak.
+  void shrink()
+  {
+    std::vector<Entry> smaller;
+    smaller.reserve(heap_.size() + heap_.size() / 4);
+    smaller.assign(heap_.begin(), heap_.end());
+    heap_.swap(smaller);
+  }
+  static constexpr std::size_t kShrinkAbove = 1 << 16;
+
   std::vector<Entry> heap_;
   std::uint64_t next_ = 0;
+  std::size_t dropped_ = 0;
 };
 }
 

@@ -2,8 +2,12 @@
 // Private to the mesher (includes CGAL). A compact record of a mesh complex from which it can be
 // rebuilt: the weighted points with their Mesh_3 dimension and index, and the complex's cells,
 // facets, edges and corners as vertex numbers. The mesher keeps one across the exuder to undo it
-// (OracleMesher.cxx, exudeKeepingSegments): about 35 bytes per tetrahedron instead of a copy of the
-// whole triangulation (hundreds of bytes per cell: neighbours, facet surface centres, caches).
+// (SliverOptimisation.h, exudeKeepingSegments): about 12 bytes per tetrahedron instead of a copy of
+// the whole triangulation (hundreds of bytes per cell: neighbours, facet surface centres, caches).
+//
+// Cells: only those next to a wall are recorded (a wall: a facet of the complex, or a facet between
+// cells of different subdomains), with the walls among their facets. The others take the label of
+// a neighbour across a facet that is no wall, so restore() floods the recorded labels through them.
 //
 // Why a rebuild gives the same complex: the regular triangulation of a set of weighted points is
 // unique (CGAL breaks ties by symbolic perturbation, independently of the insertion order), so
@@ -63,19 +67,18 @@ public:
     // met from both of its cells and recorded twice until restore() orders the records. On one
     // thread: the record is alive at the exuder's peak, and chunks merged afterwards (or a list
     // of the cells to split) would hold more of it at once.
-    cells_.reserve(c3t3.number_of_cells_in_complex());
+    cellsInComplex_ = c3t3.number_of_cells_in_complex();
+    cells_.reserve(2 * c3t3.number_of_facets_in_complex() + 64); // most walls are facets of the complex
     facets_.reserve(2 * c3t3.number_of_facets_in_complex());
     for (auto c = tr.finite_cells_begin(); c != tr.finite_cells_end(); ++c)
     {
       const bool inComplex = c3t3.is_in_complex(c);
-      bool onSurface = false;
-      for (int j = 0; j < 4 && !onSurface; ++j)
-        onSurface = c3t3.is_in_complex(c, j);
-      if (!inComplex && !onSurface)
+      const std::uint8_t walls = inComplex ? wallsOf(c3t3, c) : 0;
+      if (!walls && !(inComplex || onSurface(c3t3, c)))
         continue;
       const std::array<std::uint32_t, 4> ids{ id(c->vertex(0)), id(c->vertex(1)), id(c->vertex(2)), id(c->vertex(3)) };
-      if (inComplex)
-        cells_.push_back({ sorted<4>(ids), c3t3.subdomain_index(c) });
+      if (walls)
+        cells_.push_back(CellRecord{ sorted<4>(ids), c3t3.subdomain_index(c), sortedWalls(ids, walls) });
       for (int j = 0; j < 4; ++j)
       {
         if (!c3t3.is_in_complex(c, j))
@@ -117,7 +120,7 @@ private:
   /// Done here, not while recording: most records are never restored.
   void orderRecords()
   {
-    std::sort(cells_.begin(), cells_.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    std::sort(cells_.begin(), cells_.end(), [](const auto& a, const auto& b) { return a.ids < b.ids; });
     std::sort(facets_.begin(), facets_.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
     facets_.erase(std::unique(facets_.begin(), facets_.end(), [](const auto& a, const auto& b) { return a.first == b.first; }),
       facets_.end());
@@ -173,17 +176,24 @@ private:
   {
     Tr& tr = c3t3.triangulation();
     const auto& idOf = h.idOf;
-    std::size_t cellsFound = 0, facetsFound = 0;
+    std::size_t facetsFound = 0;
+    std::vector<std::pair<Cell_handle, std::uint8_t>> recorded; // with their walls, local indices
+    recorded.reserve(cells_.size());
     for (auto c = tr.finite_cells_begin(); c != tr.finite_cells_end(); ++c)
     {
       std::array<std::uint32_t, 4> ids{};
       for (int j = 0; j < 4; ++j)
         ids[j] = idOf.at(c->vertex(j));
-      auto cell = find(cells_, sorted<4>(ids));
-      if (cell)
+      const std::array<std::uint32_t, 4> key = sorted<4>(ids);
+      auto cell = std::lower_bound(cells_.begin(), cells_.end(), key, [](const CellRecord& r, const auto& k) { return r.ids < k; });
+      if (cell != cells_.end() && cell->ids == key)
       {
-        c3t3.add_to_complex(c, cell->second);
-        ++cellsFound;
+        c3t3.add_to_complex(c, cell->label);
+        std::uint8_t walls = 0;
+        for (int j = 0; j < 4; ++j)
+          if (cell->walls & (1u << (std::find(key.begin(), key.end(), ids[j]) - key.begin())))
+            walls |= static_cast<std::uint8_t>(1u << j);
+        recorded.emplace_back(c, walls);
       }
       for (int j = 0; j < 4; ++j)
       {
@@ -199,8 +209,33 @@ private:
         }
       }
     }
-    lost.cells = cells_.size() - cellsFound;
+    const std::size_t labelled = recorded.size() + floodLabels(c3t3, std::move(recorded));
+    lost.cells = cellsInComplex_ > labelled ? cellsInComplex_ - labelled : 0;
     lost.facets = facets_.size() - facetsFound;
+  }
+
+  /// The recorded cells' labels carried to the cells without a record: across every facet that is
+  /// no wall of the cell it leaves (a cell without a record has none), into cells still without a
+  /// label. Returns how many cells it labelled.
+  static std::size_t floodLabels(C3t3& c3t3, std::vector<std::pair<Cell_handle, std::uint8_t>> front)
+  {
+    const Tr& tr = c3t3.triangulation();
+    std::size_t labelled = 0;
+    while (!front.empty())
+    {
+      const auto [c, walls] = front.back();
+      front.pop_back();
+      for (int j = 0; j < 4; ++j)
+      {
+        const Cell_handle n = c->neighbor(j);
+        if ((walls & (1u << j)) || tr.is_infinite(n) || c3t3.is_in_complex(n))
+          continue;
+        c3t3.add_to_complex(n, c3t3.subdomain_index(c));
+        ++labelled;
+        front.emplace_back(n, 0);
+      }
+    }
+    return labelled;
   }
 
   void restoreEdgesAndCorners(C3t3& c3t3, const Handles& h, Lost& lost) const
@@ -229,7 +264,7 @@ public:
   /// Bytes held by the record (for the statistics and the benchmarks).
   std::size_t bytes() const
   {
-    return vertices_.capacity() * sizeof(VertexRecord) + cells_.capacity() * sizeof(cells_[0]) +
+    return vertices_.capacity() * sizeof(VertexRecord) + cells_.capacity() * sizeof(CellRecord) +
       facets_.capacity() * sizeof(facets_[0]) + edges_.capacity() * sizeof(edges_[0]) +
       corners_.capacity() * sizeof(corners_[0]);
   }
@@ -241,6 +276,44 @@ private:
     int dimension;
     typename C3t3::Index index;
   };
+  /// A cell of the complex with the walls among its facets: bit k for the facet opposite its k-th
+  /// smallest vertex number.
+  struct CellRecord
+  {
+    std::array<std::uint32_t, 4> ids; ///< sorted
+    typename C3t3::Subdomain_index label;
+    std::uint8_t walls;
+  };
+  /// The walls among the facets of `c` (in the complex): bit j for the facet opposite its vertex j.
+  static std::uint8_t wallsOf(const C3t3& c3t3, Cell_handle c)
+  {
+    std::uint8_t walls = 0;
+    for (int j = 0; j < 4; ++j)
+      if (c3t3.is_in_complex(c, j) || !(c3t3.subdomain_index(c->neighbor(j)) == c3t3.subdomain_index(c)))
+        walls |= static_cast<std::uint8_t>(1u << j);
+    return walls;
+  }
+  static bool onSurface(const C3t3& c3t3, Cell_handle c)
+  {
+    for (int j = 0; j < 4; ++j)
+      if (c3t3.is_in_complex(c, j))
+        return true;
+    return false;
+  }
+  /// `walls` (bit j: opposite ids[j]) with bit k for the facet opposite the k-th smallest id.
+  static std::uint8_t sortedWalls(const std::array<std::uint32_t, 4>& ids, std::uint8_t walls)
+  {
+    std::uint8_t out = 0;
+    for (int j = 0; j < 4; ++j)
+      if (walls & (1u << j))
+      {
+        int rank = 0;
+        for (int m = 0; m < 4; ++m)
+          rank += ids[m] < ids[j];
+        out |= static_cast<std::uint8_t>(1u << rank);
+      }
+    return out;
+  }
   static ExactCoordinates coordinates(const Weighted_point& p) { return exactCoordinates(p.x(), p.y(), p.z()); }
   template <std::size_t N>
   static std::array<std::uint32_t, N> sorted(std::array<std::uint32_t, N> k)
@@ -257,7 +330,8 @@ private:
   }
 
   std::vector<VertexRecord> vertices_;
-  std::vector<std::pair<std::array<std::uint32_t, 4>, typename C3t3::Subdomain_index>> cells_;
+  std::vector<CellRecord> cells_; ///< the cells next to a wall
+  std::size_t cellsInComplex_ = 0;
   std::vector<std::pair<std::array<std::uint32_t, 3>, typename C3t3::Surface_patch_index>> facets_;
   std::vector<std::tuple<std::uint32_t, std::uint32_t, typename C3t3::Curve_index>> edges_;
   std::vector<std::pair<std::uint32_t, typename C3t3::Corner_index>> corners_;

@@ -8,6 +8,7 @@
 #include "CellRefinementQueue.h"
 #include "MesherCriteria3.h"
 #include "OracleMeshDomain.h"
+#include "SurfaceCentreCell3.h"
 
 #include <CGAL/Mesh_complex_3_in_triangulation_3.h>
 #include <CGAL/Mesh_criteria_3.h>
@@ -169,7 +170,8 @@ struct GeomTraits : RobustTraits
 
 // As CGAL::Mesh_triangulation_3<MeshDomain, K, ConcurrencyTag>::type, with GeomTraits.
 using VertexBase = CGAL::Mesh_vertex_generator_3<GeomTraits, CGAL::Mesh_3::internal::Indices_tuple_t<MeshDomain>, MeshDomain::Index>;
-using CellBase = CGAL::Compact_mesh_cell_generator_3<GeomTraits, MeshDomain::Subdomain_index,
+// The cell: CGAL's compact one with the facets' surface centres out of line (SurfaceCentreCell3.h).
+using CellBase = SurfaceCentreCellGenerator3<GeomTraits, MeshDomain::Subdomain_index,
   MeshDomain::Surface_patch_index, MeshDomain::Index>;
 
 /// The mesher's types for CGAL::Sequential_tag or CGAL::Parallel_tag.
