@@ -88,14 +88,20 @@ private:
     std::uint64_t sequence; ///< insertion number: the tie-break among equal qualities
   };
   /// Whether a comes out after b (std::push_heap keeps the element no other comes after on top).
-  static bool after(const Entry& a, const Entry& b)
+  /// A function object, not a function: the heap algorithms inline it (through a function
+  /// pointer every comparison was a call).
+  struct After
   {
-    if (b.value.first < a.value.first)
-      return true;
-    if (a.value.first < b.value.first)
-      return false;
-    return a.sequence > b.sequence;
-  }
+    bool operator()(const Entry& a, const Entry& b) const
+    {
+      if (b.value.first < a.value.first)
+        return true;
+      if (a.value.first < b.value.first)
+        return false;
+      return a.sequence > b.sequence;
+    }
+  };
+  static constexpr After after{};
 
   /// Before the array would grow: the cells destroyed since they were queued go, as the container
   /// would skip them when they came up; the order of the others is unchanged (a total order:

@@ -13,6 +13,7 @@
 #include "GuardedParallelMesher3.h"
 #include "InputError.h"
 #include "MaterialCriteria3.h"
+#include "FreedMemory.h"
 #include "PackedComplex.h"
 
 #include <CGAL/Mesh_3/Dump_c3t3.h>
@@ -290,6 +291,8 @@ ParallelRefinementRun refineInParallel(SequentialC3t3& c3t3, const MeshDomain& d
     // TBB's allocator keeps what the concurrent containers freed for its next use, which does
     // not come in the sequential phases that follow: it goes back to the system here
     scalable_allocation_command(TBBMALLOC_CLEAN_ALL_BUFFERS, nullptr);
+    // and so do the threads' malloc arenas (the cells' circumcentres and surface centres)
+    returnFreedMemory();
     packed.unpackInto(c3t3);
   }
   else

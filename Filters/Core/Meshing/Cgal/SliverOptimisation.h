@@ -112,6 +112,7 @@ public:
     Exudation e;
     e.missingBefore = run_.conforming ? run_.segments->countNotEdges() : 0;
     e.before.emplace(*run_.c3t3);
+    undoRecordBytes_ = e.before->bytes();
     e.worstBefore = complexMinAngle(*run_.c3t3);
     // The budget also ends CGAL's exuder where it cycles (seen next to protecting balls); it stops
     // between two cells, where the mesh is consistent. Without a budget, 10 pumps per cell still
@@ -166,6 +167,7 @@ public:
     st["optimisation.perturbation_skipped"] = perturbationSkipped_;
     st["optimisation.exudation_steps"] = static_cast<double>(exuded_.steps);
     st["optimisation.exudation_cut_short"] = exuded_.cutShort;
+    st["optimisation.undo_record_bytes"] = static_cast<double>(undoRecordBytes_);
     st["optimisation.cells_relabelled_by_centroid"] = static_cast<double>(relabelled_);
     st["time.perturbation"] = perturbed_.seconds;
     st["time.exudation"] = exuded_.seconds;
@@ -193,6 +195,7 @@ private:
   double optCpuStart_ = 0.0, optTime_ = 0.0, optCpu_ = 0.0;
   double minBefore_ = 0.0, optLimit_ = 0.0;
   bool perturbationSkipped_ = false; ///< every cell was above the perturber's bound
+  std::size_t undoRecordBytes_ = 0; ///< the exuder's undo record (ComplexSnapshot::bytes)
   OptimiserRun perturbed_, exuded_;
   size_t relabelled_ = 0; ///< cells the optimisers left across a boundary (relabelCellsAcrossBoundaries)
 };
