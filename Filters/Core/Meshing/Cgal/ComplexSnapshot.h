@@ -2,7 +2,7 @@
 // Private to the mesher (includes CGAL). A compact record of a mesh complex from which it can be
 // rebuilt: the weighted points with their Mesh_3 dimension and index, and the complex's cells,
 // facets, edges and corners as vertex numbers. The mesher keeps one across the exuder to undo it
-// (SliverOptimisation.h, exudeKeepingSegments): about 12 bytes per tetrahedron instead of a copy of
+// (SliverOptimisation.h, exudeKeepingSegments): about 16 bytes per tetrahedron instead of a copy of
 // the whole triangulation (hundreds of bytes per cell: neighbours, facet surface centres, caches).
 //
 // Cells: only those next to a wall are recorded (a wall: a facet of the complex, or a facet between

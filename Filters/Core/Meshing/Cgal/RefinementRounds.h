@@ -149,22 +149,25 @@ public:
   /// The perturber never moves segment vertices, but a moved neighbour can land in a diametral
   /// ball and so break a sub-segment: refine again (the segment level splits what was encroached;
   /// weights are still zero here, after the exuder they are not).
-  void repairSegmentsAfterPerturbation()
+  /// Returns whether it may have changed the complex (false: nothing to repair, nothing touched).
+  bool repairSegmentsAfterPerturbation()
   {
     // after the vertex budget: only when the finishing round made the segments present, with its
     // criteria and what is left of its overdraft
     if (!run_.conforming || (budgetHit_ && !finish_.completed) || stalled_)
-      return;
+      return false;
     run_.segments->reindex();
     // The round looks only around the removals and the broken sub-segments (the insertions'
     // stars follow): a scan of every element would also refine the cells the perturber left
     // above a tight radius-edge bound, which a run without repair keeps (at radius-edge 1.1 that
     // doubled the mesh for 79 splits). Nothing to look at: nothing to repair.
     std::set<Tr::Vertex_handle> region;
-    if (run_.segments->removeEncroachersOfShortSubSegments(&region) > 0)
+    const bool removed = run_.segments->removeEncroachersOfShortSubSegments(&region) > 0;
+    if (removed)
       run_.c3t3->rescan_after_load_of_triangulation(); // the removals deleted cells of the complex
     addVerticesAtSegmentWork(region);
     repairAround(region);
+    return removed || !region.empty();
   }
 
   /// The repair round after perturbation, its first scan only around `region` (nothing to do

@@ -64,6 +64,7 @@ public:
     optStart_ = Clock::now();
     optCpuStart_ = threadCpu();
     minBefore_ = run_.options.perturb || run_.options.exude ? complexMinAngle(*run_.c3t3) : 0.0;
+    unchangedSinceStart_ = true;
     optLimit_ = run_.options.optimisationTimeLimit < 0 ? refinement_.refinementSeconds() : run_.options.optimisationTimeLimit;
   }
 
@@ -84,7 +85,8 @@ public:
       perturbed_ = perturb(*run_.c3t3, *run_.domain, optLimit_, max, run_.options.perturbationFailuresPerBound,
         [&] { run_.report(0.45 + 0.35 * phaseProgress(256 * ++checks, max), "perturbation"); }, run_.deadline);
     }
-    refinement_.repairSegmentsAfterPerturbation();
+    const bool repaired = refinement_.repairSegmentsAfterPerturbation();
+    unchangedSinceStart_ = perturbationSkipped_ && !repaired;
   }
 
   /// CGAL's exuder changes weights, which can flip a sub-segment out of the (regular)
@@ -113,7 +115,8 @@ public:
     e.missingBefore = run_.conforming ? run_.segments->countNotEdges() : 0;
     e.before.emplace(*run_.c3t3);
     undoRecordBytes_ = e.before->bytes();
-    e.worstBefore = complexMinAngle(*run_.c3t3);
+    // a pass over every cell, unless the complex is the one start() measured
+    e.worstBefore = unchangedSinceStart_ ? minBefore_ : complexMinAngle(*run_.c3t3);
     // The budget also ends CGAL's exuder where it cycles (seen next to protecting balls); it stops
     // between two cells, where the mesh is consistent. Without a budget, 10 pumps per cell still
     // end a cycle.
@@ -195,6 +198,7 @@ private:
   double optCpuStart_ = 0.0, optTime_ = 0.0, optCpu_ = 0.0;
   double minBefore_ = 0.0, optLimit_ = 0.0;
   bool perturbationSkipped_ = false; ///< every cell was above the perturber's bound
+  bool unchangedSinceStart_ = false;  ///< perturber skipped and nothing repaired: minBefore_ holds
   std::size_t undoRecordBytes_ = 0; ///< the exuder's undo record (ComplexSnapshot::bytes)
   OptimiserRun perturbed_, exuded_;
   size_t relabelled_ = 0; ///< cells the optimisers left across a boundary (relabelCellsAcrossBoundaries)
