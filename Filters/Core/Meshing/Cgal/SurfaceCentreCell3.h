@@ -85,37 +85,13 @@ public:
 
   // --- TriangulationDSCellBase_3
   Vertex_handle vertex(int i) const { return V[i]; }
-  bool has_vertex(Vertex_handle v) const { return V[0] == v || V[1] == v || V[2] == v || V[3] == v; }
-  bool has_vertex(Vertex_handle v, int& i) const
-  {
-    for (i = 0; i < 4; ++i)
-      if (V[i] == v)
-        return true;
-    return false;
-  }
-  int index(Vertex_handle v) const
-  {
-    int i = 0;
-    while (V[i] != v)
-      ++i;
-    return i;
-  }
+  bool has_vertex(Vertex_handle v) const { return position(V, v) < 4; }
+  bool has_vertex(Vertex_handle v, int& i) const { return (i = position(V, v)) < 4; }
+  int index(Vertex_handle v) const { return position(V, v); } // v is one of them
   Cell_handle neighbor(int i) const { return N[i]; }
-  bool has_neighbor(Cell_handle n) const { return N[0] == n || N[1] == n || N[2] == n || N[3] == n; }
-  bool has_neighbor(Cell_handle n, int& i) const
-  {
-    for (i = 0; i < 4; ++i)
-      if (N[i] == n)
-        return true;
-    return false;
-  }
-  int index(Cell_handle n) const
-  {
-    int i = 0;
-    while (N[i] != n)
-      ++i;
-    return i;
-  }
+  bool has_neighbor(Cell_handle n) const { return position(N, n) < 4; }
+  bool has_neighbor(Cell_handle n, int& i) const { return (i = position(N, n)) < 4; }
+  int index(Cell_handle n) const { return position(N, n); } // n is one of them
   void set_vertex(int i, Vertex_handle v)
   {
     invalidate_weighted_circumcenter_cache();
@@ -200,6 +176,16 @@ public:
   static std::string io_signature() { return "SurfaceCentreCell3"; }
 
 private:
+  /// Where h is among the four (4: not there).
+  template <class Handle>
+  static int position(const std::array<Handle, 4>& a, const Handle& h)
+  {
+    int i = 0;
+    while (i < 4 && a[i] != h)
+      ++i;
+    return i;
+  }
+
   struct Centres
   {
     std::array<Point_3, 4> point;
