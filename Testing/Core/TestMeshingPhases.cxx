@@ -171,7 +171,8 @@ TEST(MeshingPhases, CellsHoldSurfaceCentresOnlyBesideTheSurface)
   o.add(std::make_shared<SurfaceDomain>(test::icosphere({ 0.5, 0.5, 0.5 }, 0.3, 2), 2));
   o.add(std::make_shared<SurfaceDomain>(test::cube(0, 1), 1));
   const FeatureSegments edges = test::cubeEdges(0, 1);
-  MeshingRun run(o, edges, cubeOptions(0.1));
+  const MesherOptions options = cubeOptions(0.1); // the run keeps references to its inputs
+  MeshingRun run(o, edges, options);
   run.initial.run({});
   run.refinement.refineAllLevels();
   const Tr& tr = run.context.c3t3->triangulation();
