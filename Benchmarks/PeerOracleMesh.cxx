@@ -16,6 +16,7 @@
 #include "MeshingPipeline.h"
 #include "OracleMesher.h"
 #include "SurfaceDomain.h"
+#include "WorkerThreads.h"
 
 #include <memory>
 
@@ -80,7 +81,10 @@ int main(int argc, char* argv[])
     omesh::PipelineOptions options;
     options.mesher = o;
     options.features = omesh::FeatureSource::Given;
-    const omesh::TetMesh mesh = omesh::runMeshingPipeline(oracle, std::move(input), std::move(options)).mesh;
+    // on the threads asked, as the VTK filter runs it: outside runOnThreads the passes in chunks
+    // (output, validity, the optimisers' scans) would take every core on a one-thread run
+    omesh::TetMesh mesh;
+    omesh::runOnThreads(a.threads, [&] { mesh = omesh::runMeshingPipeline(oracle, std::move(input), std::move(options)).mesh; });
     const double call = peer::since(t0);
     const double cpu = peer::cpuSeconds() - cpu0;
     const double rss = peer::peakRssBytes();
