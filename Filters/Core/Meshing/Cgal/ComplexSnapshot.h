@@ -73,8 +73,9 @@ public:
     for (auto c = tr.finite_cells_begin(); c != tr.finite_cells_end(); ++c)
     {
       const bool inComplex = c3t3.is_in_complex(c);
+      // a cell of the complex without walls has no facet of the complex either: nothing to record
       const std::uint8_t walls = inComplex ? wallsOf(c3t3, c) : 0;
-      if (!walls && !(inComplex || onSurface(c3t3, c)))
+      if (inComplex ? !walls : !onSurface(c3t3, c))
         continue;
       const std::array<std::uint32_t, 4> ids{ id(c->vertex(0)), id(c->vertex(1)), id(c->vertex(2)), id(c->vertex(3)) };
       if (walls)
@@ -185,8 +186,7 @@ private:
       for (int j = 0; j < 4; ++j)
         ids[j] = idOf.at(c->vertex(j));
       const std::array<std::uint32_t, 4> key = sorted<4>(ids);
-      auto cell = std::lower_bound(cells_.begin(), cells_.end(), key, [](const CellRecord& r, const auto& k) { return r.ids < k; });
-      if (cell != cells_.end() && cell->ids == key)
+      if (const CellRecord* cell = find(cells_, key))
       {
         c3t3.add_to_complex(c, cell->label);
         std::uint8_t walls = 0;
@@ -321,12 +321,19 @@ private:
     std::sort(k.begin(), k.end());
     return k;
   }
+  /// The vertex numbers a record is ordered and found by.
+  static const std::array<std::uint32_t, 4>& keyOf(const CellRecord& r) { return r.ids; }
+  template <class Pair>
+  static const auto& keyOf(const Pair& p)
+  {
+    return p.first;
+  }
   template <class Entry, std::size_t N>
   static const Entry* find(const std::vector<Entry>& sortedEntries, const std::array<std::uint32_t, N>& key)
   {
     auto it = std::lower_bound(sortedEntries.begin(), sortedEntries.end(), key,
-      [](const Entry& e, const std::array<std::uint32_t, N>& k) { return e.first < k; });
-    return it != sortedEntries.end() && it->first == key ? &*it : nullptr;
+      [](const Entry& e, const std::array<std::uint32_t, N>& k) { return keyOf(e) < k; });
+    return it != sortedEntries.end() && keyOf(*it) == key ? &*it : nullptr;
   }
 
   std::vector<VertexRecord> vertices_;
