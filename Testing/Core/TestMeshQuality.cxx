@@ -133,4 +133,34 @@ TEST(MeshQuality, ShapeSummaryIsOnePassOfTheMeasures)
   s.addTo(st);
   EXPECT_EQ(st.at(std::string(keys::SHAPE_TETRAHEDRA) + ".material_1"), 2.0);
   EXPECT_EQ(st.at(keys::SHAPE_MIN_DIHEDRAL), s.all.minDihedral);
+  // the angle bins count every tetrahedron once, in the bin of its written angle
+  std::size_t counted = 0;
+  for (std::size_t b = 0; b + 1 < kMinDihedralBinEdges.size(); ++b)
+  {
+    std::size_t expected = 0;
+    for (double angle : smallest)
+      expected += angle >= kMinDihedralBinEdges[b] && angle < kMinDihedralBinEdges[b + 1];
+    EXPECT_EQ(s.minDihedralBins.counts[b], expected) << "bin " << b;
+    counted += s.minDihedralBins.counts[b];
+  }
+  EXPECT_EQ(counted, 3u);
+  EXPECT_EQ(st.at(std::string(keys::SHAPE_MAX_DIHEDRAL_BIN) + ".155_160"), static_cast<double>(s.maxDihedralBins.counts[4]));
+}
+
+TEST(MeshQuality, AngleBinsCountAsNumpyHistogramDoes)
+{
+  using namespace omesh;
+  // [e0, e1), ..., [e(n-2), e(n-1)]: an edge belongs to the bin above it, the last edge to the last
+  // bin; values outside every bin and NaN are not counted
+  constexpr std::array<double, 4> edges = { 0, 5, 10, 90 };
+  BinCounts<4> bins;
+  for (double v : { -1.0, 0.0, 4.999, 5.0, 9.0, 10.0, 89.0, 90.0, 90.5, std::nan("") })
+    bins.add(edges, v);
+  EXPECT_EQ(bins.counts[0], 2u); // 0, 4.999
+  EXPECT_EQ(bins.counts[1], 2u); // 5, 9
+  EXPECT_EQ(bins.counts[2], 3u); // 10, 89, 90
+  BinCounts<4> more;
+  more.add(edges, 7.0);
+  bins.merge(more);
+  EXPECT_EQ(bins.counts[1], 3u);
 }

@@ -14,6 +14,7 @@ import unittest
 import numpy as np
 
 import oraclemesh as om
+from oraclemesh import fieldkeys
 from oraclemesh.report import centroid, quality, read_mesh
 from oraclemesh.shape import shape_measures
 from oraclemesh.writers import tetrahedra
@@ -93,6 +94,22 @@ class Report(unittest.TestCase):
             self.assertAlmostEqual(fresh["worst"][key], value, delta=1e-9, msg=key)
         for key in ("min_dihedral", "max_dihedral"):
             np.testing.assert_allclose(fresh["shape"][key], again["shape"][key], atol=1e-9)
+
+    def test_the_mesher_counts_the_report_histograms_as_numpy_does(self):
+        """The report's angle histograms of a fresh mesh are the mesher's counts (one measuring pass,
+        statistics shape.*_bin.*): those numpy counts from the cell arrays, for every bin."""
+        from oraclemesh.report import MAX_TEXT_BINS, TEXT_BINS, counted_bins, report_lines
+
+        q, stats = self.result.quality, self.result.statistics
+        for key, values, bins in ((fieldkeys.SHAPE_MIN_DIHEDRAL_BIN, q["angles"], TEXT_BINS),
+                                  (fieldkeys.SHAPE_MAX_DIHEDRAL_BIN, q["shape"]["max_dihedral"], MAX_TEXT_BINS)):
+            counted = counted_bins(stats, key, bins, q["tets"])
+            self.assertIsNotNone(counted, f"{key}: the mesher counted the report's bins")
+            self.assertEqual(list(counted), np.histogram(values, bins=bins)[0].tolist())
+        again, _ = report_lines(self.result.grid, "t", recheck=True)
+        fresh, _ = report_lines(self.result.grid, "t", recheck=False)
+        self.assertEqual([l for l in fresh if "dihedral angle per tetrahedron" in l],
+                         [l for l in again if "dihedral angle per tetrahedron" in l])
 
     def test_the_worst_tetrahedra_are_those_a_full_sort_gives(self):
         from oraclemesh.report import worst_tetrahedra

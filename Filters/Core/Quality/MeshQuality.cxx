@@ -127,6 +127,13 @@ double circumradiusOf(const double l[6], double volume)
 
 TetShape tetShape(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, double volume)
 {
+  double l[6];
+  edgeLengths(a, b, c, d, l);
+  return tetShape(a, b, c, d, volume, l);
+}
+
+TetShape tetShape(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, double volume, const double l[6])
+{
   TetShape s;
   double cosines[6], twiceAreas[4] = { 0, 0, 0, 0 };
   if (dihedralCosines(a, b, c, d, cosines, twiceAreas))
@@ -136,8 +143,6 @@ TetShape tetShape(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, do
     s.minDihedral = std::acos(*hi) * 180.0 / M_PI;
     s.maxDihedral = std::acos(*lo) * 180.0 / M_PI;
   }
-  double l[6];
-  edgeLengths(a, b, c, d, l);
   const double squares = l[0] * l[0] + l[1] * l[1] + l[2] * l[2] + l[3] * l[3] + l[4] * l[4] + l[5] * l[5];
   const double shortest = *std::min_element(l, l + 6), longest = *std::max_element(l, l + 6);
   s.volume = volume;

@@ -51,6 +51,9 @@ struct TetShape
 TetShape tetShape(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
 /// The same with the volume known (|signedVolume| of these corners in any order).
 TetShape tetShape(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, double volume);
+/// The same with the edge lengths known too (edgeLengths of these corners in any order: the same
+/// six values, as norms of differences are the same either way round).
+TetShape tetShape(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, double volume, const double lengths[6]);
 
 /// The six edge lengths of abcd: ab, ac, ad, bc, bd, cd (edge e and edge 5 - e are opposite).
 void edgeLengths(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, double l[6]);

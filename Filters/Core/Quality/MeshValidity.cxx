@@ -52,8 +52,16 @@ std::vector<char> findDuplicates(const std::vector<Vec3>& points, const std::vec
     }
   std::sort(sorted.begin(), sorted.end());
   std::vector<char> duplicate(points.size(), 0);
-  for (const Entry& e : sorted)
+  auto within = [&](const Entry& e, const Entry& o) { return norm(points[o.vertex] - points[e.vertex]) < tol; };
+  for (auto at = sorted.begin(); at != sorted.end(); ++at)
   {
+    const Entry& e = *at;
+    // its own cell: the entries of the same key beside it (no search)
+    bool dup = false;
+    for (auto it = at; !dup && it != sorted.begin() && (it - 1)->key == e.key; --it)
+      dup = within(e, *(it - 1));
+    for (auto it = at + 1; !dup && it != sorted.end() && it->key == e.key; ++it)
+      dup = within(e, *it);
     const Vec3 p = points[e.vertex] - low;
     // the neighbouring cells along each axis that lie within tol of p
     std::int64_t from[3], to[3];
@@ -64,18 +72,15 @@ std::vector<char> findDuplicates(const std::vector<Vec3>& points, const std::vec
       from[a] = e.key[a] - (inCell < tol ? 1 : 0);
       to[a] = e.key[a] + (inCell > cell - tol ? 1 : 0);
     }
-    bool dup = false;
     for (std::int64_t i = from[0]; i <= to[0] && !dup; ++i)
       for (std::int64_t j = from[1]; j <= to[1] && !dup; ++j)
         for (std::int64_t k = from[2]; k <= to[2] && !dup; ++k)
         {
           const Entry probe{ { i, j, k }, 0 };
-          for (auto it = std::lower_bound(sorted.begin(), sorted.end(), probe); it != sorted.end() && it->key == probe.key; ++it)
-            if (it->vertex != e.vertex && norm(points[it->vertex] - points[e.vertex]) < tol)
-            {
-              dup = true;
-              break;
-            }
+          if (probe.key == e.key)
+            continue; // looked at above
+          for (auto it = std::lower_bound(sorted.begin(), sorted.end(), probe); !dup && it != sorted.end() && it->key == probe.key; ++it)
+            dup = within(e, *it);
         }
     duplicate[e.vertex] = dup;
   }
@@ -105,7 +110,7 @@ struct FaceEntry
   std::uint32_t b, c; // the two larger vertices
   FaceIndex face;
   std::uint64_t key() const { return (std::uint64_t{ b } << 32) | c; }
-  bool operator<(const FaceEntry& o) const { return key() != o.key() ? key() < o.key() : face < o.face; }
+  bool operator<(const FaceEntry& o) const { return key() < o.key(); }
   bool sameFace(const FaceEntry& o) const { return b == o.b && c == o.c; }
 };
 
@@ -346,55 +351,131 @@ void forEachEdgeLength(const TetMesh& mesh, std::size_t t, F&& f)
     f(length);
 }
 
-/// The tetrahedra with valid indices (four distinct points of the mesh); the others are counted and
-/// flagged. Marks the points the good ones use, counts their edge lengths and sums their volumes.
-/// In chunks of the tetrahedra on the threads runOnThreads allows, merged in chunk order (the same
-/// sum on any number of threads); a chunk holds a 256 kB histogram, hence large chunks.
-std::vector<std::size_t> tetsWithValidIndices(const TetMesh& mesh, MeshValidity& r, std::vector<unsigned char>& flags,
-  std::vector<char>& used, EdgeLengthMedian& edges, double& volume)
+/// Four distinct indices of points of the mesh (`n` points).
+bool validIndices(const std::array<int, 4>& k, int n)
+{
+  bool ok = true;
+  for (int i = 0; i < 4; ++i)
+  {
+    ok = ok && k[i] >= 0 && k[i] < n;
+    for (int j = 0; ok && j < i; ++j)
+      ok = k[i] != k[j];
+  }
+  return ok;
+}
+
+/// Every vertex on an interface or line, reaching across a boundary (acrossBoundaryBy).
+bool acrossBoundary(const TetMesh& mesh, std::size_t t, const std::function<int(const Vec3&)>& materialAt,
+  const std::function<double(int)>& facetDistanceOf)
+{
+  const auto& k = mesh.tets[t];
+  for (int i = 0; i < 4; ++i)
+    if (mesh.pointDimension[k[i]] == 3)
+      return false;
+  return acrossBoundaryBy(mesh.points[k[0]], mesh.points[k[1]], mesh.points[k[2]], mesh.points[k[3]],
+           mesh.tetMaterial[t], facetDistanceOf, materialAt) > 0;
+}
+
+/// What the pass over the tetrahedra finds in one chunk of them.
+struct PassPart
+{
+  std::vector<std::size_t> good; ///< the tetrahedra with valid indices
+  EdgeLengthMedian edges;
+  ShapeSummary shapes;
+  double volume = 0.0, acrossVolume = 0.0;
+  std::size_t bad = 0, across = 0;
+};
+
+/// What the pass needs besides the mesh and writes besides the chunks' parts.
+struct PassInput
+{
+  const std::function<int(const Vec3&)>& materialAt;
+  const ValidityThresholds& th;
+  const ValidityByproducts& byproducts;
+  bool across; ///< look for tetrahedra across a boundary
+  std::vector<unsigned char>& flags;
+  std::vector<double>& longest; ///< per tetrahedron: micro is relative to L, known after the pass
+};
+
+/// One tetrahedron with valid indices: its edge lengths counted and volume summed (for L), its
+/// measures (measureTet, with byproducts.shapes), the defects that do not depend on L (flat,
+/// inverted, a material mismatch when all four corners are inside a material) and whether it lies
+/// across a boundary (every vertex on an interface or line: never both).
+void measureAndFlag(const TetMesh& mesh, std::size_t t, const PassInput& in, PassPart& part)
+{
+  const auto& k = mesh.tets[t];
+  const Vec3 &a = mesh.points[k[0]], &b = mesh.points[k[1]], &c = mesh.points[k[2]], &d = mesh.points[k[3]];
+  double v, l[6];
+  if (in.byproducts.shapes)
+    measureTet(mesh, t, part.shapes, in.byproducts.shapeArrays, v, l);
+  else
+  {
+    edgeLengths(a, b, c, d, l);
+    v = signedVolume(a, b, c, d);
+  }
+  for (double length : l)
+    part.edges.add(length);
+  part.volume += std::abs(v);
+  const double longest = *std::max_element(l, l + 6);
+  in.longest[t] = longest;
+  unsigned char flags = (!(std::abs(v) >= in.th.flat * longest * longest * longest) ? kFlat : 0) | (v < 0 ? kInverted : 0);
+  if (in.materialAt && t < mesh.tetMaterial.size() && mesh.pointDimension.size() == mesh.points.size())
+  {
+    bool inside = true;
+    for (int i = 0; i < 4; ++i)
+      inside = inside && mesh.pointDimension[k[i]] == 3;
+    if (inside && in.materialAt(0.25 * (a + b + c + d)) != mesh.tetMaterial[t])
+      flags |= kMaterialMismatch;
+    else if (!inside && in.across && acrossBoundary(mesh, t, in.materialAt, in.th.facetDistanceOf))
+    {
+      ++part.across;
+      part.acrossVolume += std::abs(v);
+    }
+  }
+  in.flags[t] |= flags;
+}
+
+/// The one pass over the tetrahedra, in chunks on the threads runOnThreads allows, merged in chunk
+/// order (the same figures on any number of threads; a chunk holds a 256 kB histogram, hence large
+/// chunks): those with bad indices counted and flagged (0 in the shape arrays), the others measured
+/// and flagged (measureAndFlag). Marks the points the good ones use; returns them.
+std::vector<std::size_t> measureTets(const TetMesh& mesh, const PassInput& in, MeshValidity& r, std::vector<char>& used,
+  EdgeLengthMedian& edges, double& volume)
 {
   const int n = static_cast<int>(mesh.points.size());
-  struct Part
-  {
-    std::vector<std::size_t> good;
-    EdgeLengthMedian edges;
-    double volume = 0.0;
-    std::size_t bad = 0;
-  };
+  const TetShapeArrays& arrays = in.byproducts.shapeArrays;
   const std::size_t chunks = chunkCount(mesh.tets.size(), kHistogramChunk);
-  std::vector<Part> parts(chunks);
+  std::vector<PassPart> parts(chunks);
   forEachChunk(mesh.tets.size(), chunks, [&](std::size_t c, std::size_t begin, std::size_t end) {
-    Part& part = parts[c];
+    PassPart& part = parts[c];
     part.good.reserve(end - begin);
     for (std::size_t t = begin; t < end; ++t)
-    {
-      const auto& k = mesh.tets[t];
-      bool ok = true;
-      for (int i = 0; i < 4; ++i)
+      if (validIndices(mesh.tets[t], n))
       {
-        ok = ok && k[i] >= 0 && k[i] < n;
-        for (int j = 0; ok && j < i; ++j)
-          ok = k[i] != k[j];
+        part.good.push_back(t);
+        measureAndFlag(mesh, t, in, part);
       }
-      if (!ok)
+      else
       {
         ++part.bad;
-        flags[t] |= kBadIndices;
-        continue;
+        in.flags[t] |= kBadIndices;
+        for (double* a : { arrays.minDihedral, arrays.maxDihedral, arrays.radiusEdge })
+          if (a && in.byproducts.shapes)
+            a[t] = 0.0; // a tetrahedron with bad indices has no shape
       }
-      part.good.push_back(t);
-      forEachEdgeLength(mesh, t, [&part](double l) { part.edges.add(l); });
-      part.volume += std::abs(signedVolume(mesh.points[k[0]], mesh.points[k[1]], mesh.points[k[2]], mesh.points[k[3]]));
-    }
   });
   std::vector<std::size_t> good;
   good.reserve(mesh.tets.size());
-  for (const Part& part : parts)
+  for (const PassPart& part : parts)
   {
     good.insert(good.end(), part.good.begin(), part.good.end());
     edges.merge(part.edges);
     volume += part.volume;
     r.badIndices += part.bad;
+    r.acrossBoundaryTetrahedra += part.across;
+    r.acrossBoundaryVolume += part.acrossVolume;
+    if (in.byproducts.shapes)
+      in.byproducts.shapes->merge(part.shapes);
   }
   for (std::size_t t : good)
     for (int i = 0; i < 4; ++i)
@@ -420,99 +501,6 @@ double medianEdgeLength(const TetMesh& mesh, const std::vector<std::size_t>& goo
   return edges.median();
 }
 
-void zeroShapesOfBadTets(const std::vector<unsigned char>& flags, const TetShapeArrays& arrays)
-{
-  for (std::size_t t = 0; t < flags.size(); ++t)
-    if (flags[t] & kBadIndices)
-      for (double* a : { arrays.minDihedral, arrays.maxDihedral, arrays.radiusEdge })
-        if (a)
-          a[t] = 0.0;
-}
-
-/// Micro, flat, inverted (relative to L, see checkMeshValidity), and a material mismatch when all four
-/// corners are inside a material. With `shapes`, the tetrahedron's TetShape goes there too (it
-/// holds the longest edge the check needs).
-unsigned char shapeAndMaterialDefects(const TetMesh& mesh, std::size_t t,
-  const std::function<int(const Vec3&)>& materialAt, const ValidityThresholds& th, double L,
-  const ValidityByproducts& shapes)
-{
-  const auto& k = mesh.tets[t];
-  const Vec3 &a = mesh.points[k[0]], &b = mesh.points[k[1]], &c = mesh.points[k[2]], &d = mesh.points[k[3]];
-  double longest, v;
-  if (shapes.shapes)
-    longest = measureTet(mesh, t, *shapes.shapes, shapes.shapeArrays, v).longestEdge;
-  else
-  {
-    double l[6];
-    edgeLengths(a, b, c, d, l);
-    longest = *std::max_element(l, l + 6);
-    v = signedVolume(a, b, c, d);
-  }
-  unsigned char flags = (longest < th.micro * L ? kMicro : 0) |
-    (!(std::abs(v) >= th.flat * longest * longest * longest) ? kFlat : 0) | (v < 0 ? kInverted : 0);
-  if (materialAt && t < mesh.tetMaterial.size() && mesh.pointDimension.size() == mesh.points.size())
-  {
-    bool inside = true;
-    for (int i = 0; i < 4; ++i)
-      inside = inside && mesh.pointDimension[k[i]] == 3;
-    if (inside && materialAt(0.25 * (a + b + c + d)) != mesh.tetMaterial[t])
-      flags |= kMaterialMismatch;
-  }
-  return flags;
-}
-
-/// Every vertex on an interface or line, reaching across a boundary (acrossBoundaryBy).
-bool acrossBoundary(const TetMesh& mesh, std::size_t t, const std::function<int(const Vec3&)>& materialAt,
-  const std::function<double(int)>& facetDistanceOf)
-{
-  const auto& k = mesh.tets[t];
-  for (int i = 0; i < 4; ++i)
-    if (mesh.pointDimension[k[i]] == 3)
-      return false;
-  return acrossBoundaryBy(mesh.points[k[0]], mesh.points[k[1]], mesh.points[k[2]], mesh.points[k[3]],
-           mesh.tetMaterial[t], facetDistanceOf, materialAt) > 0;
-}
-}
-
-namespace
-{
-/// The pass over the good tetrahedra, in chunks on the threads runOnThreads allows (each chunk its
-/// own shape summary and counts, merged in chunk order): shapes, the material check inside
-/// materials and the tetrahedra across boundaries (every vertex on an interface or line: never
-/// both). The oracle's queries are most of the check's time.
-void checkShapesAndMaterials(const TetMesh& mesh, const std::vector<std::size_t>& good,
-  const std::function<int(const Vec3&)>& materialAt, const ValidityThresholds& th, double L,
-  const ValidityByproducts& byproducts, std::vector<unsigned char>& flags, MeshValidity& r)
-{
-  const bool across = materialAt && th.facetDistanceOf && mesh.pointDimension.size() == mesh.points.size();
-  const std::size_t chunks = chunkCount(good.size(), kTetsPerChunk);
-  std::vector<ShapeSummary> shapes(byproducts.shapes ? chunks : 0);
-  std::vector<std::size_t> acrossCount(chunks, 0);
-  std::vector<double> acrossVolume(chunks, 0.0);
-  forEachChunk(good.size(), chunks, [&](std::size_t c, std::size_t begin, std::size_t end) {
-    ValidityByproducts mine = byproducts;
-    mine.shapes = byproducts.shapes ? &shapes[c] : nullptr;
-    for (std::size_t i = begin; i < end; ++i)
-    {
-      const std::size_t t = good[i];
-      flags[t] |= shapeAndMaterialDefects(mesh, t, materialAt, th, L, mine);
-      if (across && t < mesh.tetMaterial.size() && acrossBoundary(mesh, t, materialAt, th.facetDistanceOf))
-      {
-        const auto& k = mesh.tets[t];
-        ++acrossCount[c];
-        acrossVolume[c] +=
-          std::abs(signedVolume(mesh.points[k[0]], mesh.points[k[1]], mesh.points[k[2]], mesh.points[k[3]]));
-      }
-    }
-  });
-  for (std::size_t c = 0; c < chunks; ++c)
-  {
-    if (byproducts.shapes)
-      byproducts.shapes->merge(shapes[c]);
-    r.acrossBoundaryTetrahedra += acrossCount[c];
-    r.acrossBoundaryVolume += acrossVolume[c];
-  }
-}
 }
 
 double acrossBoundaryBy(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, int own,
@@ -550,13 +538,14 @@ MeshValidity checkMeshValidity(const TetMesh& mesh, const std::function<int(cons
   MeshValidity r;
   std::vector<unsigned char> flags(mesh.tets.size(), 0);
   std::vector<char> used(mesh.points.size(), 0);
+  std::vector<double> longest(mesh.tets.size(), 0.0);
   EdgeLengthMedian edges;
   double volume = 0.0;
-  const std::vector<std::size_t> good = tetsWithValidIndices(mesh, r, flags, used, edges, volume);
+  const bool across = materialAt && th.facetDistanceOf && mesh.pointDimension.size() == mesh.points.size();
+  const PassInput in{ materialAt, th, byproducts, across, flags, longest };
+  const std::vector<std::size_t> good = measureTets(mesh, in, r, used, edges, volume);
   for (char u : used)
     r.unusedVertices += !u;
-  if (byproducts.shapes && r.badIndices) // a tetrahedron with bad indices has no shape: 0 in the arrays
-    zeroShapesOfBadTets(flags, byproducts.shapeArrays);
   if (edges.count() == 0)
   {
     if (tetDefects)
@@ -570,8 +559,10 @@ MeshValidity checkMeshValidity(const TetMesh& mesh, const std::function<int(cons
   // median of 1e-4, read "no defects"): L is at least the edge of a regular tetrahedron of the
   // mesh's mean volume.
   const double L = validityLength(r.medianEdge, volume, good.size());
-
-  checkShapesAndMaterials(mesh, good, materialAt, th, L, byproducts, flags, r);
+  for (std::size_t t : good)
+    if (longest[t] < th.micro * L)
+      flags[t] |= kMicro;
+  longest = std::vector<double>(); // before the faces' table
   const double tol = th.duplicate * L;
   if (tol > 0)
   {

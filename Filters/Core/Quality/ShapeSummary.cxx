@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
@@ -43,7 +44,26 @@ void ShapeSummary::merge(const ShapeSummary& o)
   for (const auto& [m, f] : o.materials)
     materials[m].merge(f);
   all.merge(o.all);
+  minDihedralBins.merge(o.minDihedralBins);
+  maxDihedralBins.merge(o.maxDihedralBins);
   last_ = nullptr; // the map may have grown
+}
+
+namespace
+{
+/// "shape.min_dihedral_bin.0_5" = the count of [0, 5), ...
+template <std::size_t N>
+void putBins(std::map<std::string, double>& statistics, const std::string& key, const std::array<double, N>& edges,
+  const BinCounts<N>& bins)
+{
+  auto text = [](double degrees) {
+    std::ostringstream o;
+    o << degrees;
+    return o.str();
+  };
+  for (std::size_t b = 0; b + 1 < N; ++b)
+    statistics[key + "." + text(edges[b]) + "_" + text(edges[b + 1])] = static_cast<double>(bins.counts[b]);
+}
 }
 
 void ShapeSummary::addTo(std::map<std::string, double>& statistics) const
@@ -59,19 +79,22 @@ void ShapeSummary::addTo(std::map<std::string, double>& statistics) const
     statistics[keys::SHAPE_WORST_EDGE_RATIO + suffix] = f.tetrahedra ? f.worstEdgeRatio : 0.0;
   };
   put("", all);
+  putBins(statistics, keys::SHAPE_MIN_DIHEDRAL_BIN, kMinDihedralBinEdges, minDihedralBins);
+  putBins(statistics, keys::SHAPE_MAX_DIHEDRAL_BIN, kMaxDihedralBinEdges, maxDihedralBins);
   for (const auto& [m, f] : materials)
     put(".material_" + std::to_string(m), f);
 }
 
 TetShape measureTet(const TetMesh& mesh, std::size_t t, ShapeSummary& summary, const TetShapeArrays& arrays,
-  double& volume)
+  double& volume, double lengths[6])
 {
   std::array<int, 4> k = mesh.tets[t];
   const auto& P = mesh.points;
   volume = signedVolume(P[k[0]], P[k[1]], P[k[2]], P[k[3]]);
   if (volume < 0)
     std::swap(k[0], k[1]);
-  const TetShape s = tetShape(P[k[0]], P[k[1]], P[k[2]], P[k[3]], std::abs(volume));
+  edgeLengths(P[k[0]], P[k[1]], P[k[2]], P[k[3]], lengths);
+  const TetShape s = tetShape(P[k[0]], P[k[1]], P[k[2]], P[k[3]], std::abs(volume), lengths);
   if (arrays.minDihedral)
     arrays.minDihedral[t] = s.minDihedral;
   if (arrays.maxDihedral)
@@ -87,9 +110,9 @@ ShapeSummary summariseShapes(const TetMesh& mesh, const TetShapeArrays& arrays)
   const std::size_t chunks = chunkCount(mesh.tets.size(), kTetsPerChunk);
   std::vector<ShapeSummary> parts(chunks);
   forEachChunk(mesh.tets.size(), chunks, [&](std::size_t c, std::size_t begin, std::size_t end) {
-    double volume;
+    double volume, lengths[6];
     for (std::size_t t = begin; t < end; ++t)
-      measureTet(mesh, t, parts[c], arrays, volume);
+      measureTet(mesh, t, parts[c], arrays, volume, lengths);
   });
   ShapeSummary summary;
   for (const ShapeSummary& part : parts)

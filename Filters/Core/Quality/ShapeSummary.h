@@ -4,6 +4,7 @@
 #include "MeshQuality.h"
 #include "TetMesh.h"
 
+#include <array>
 #include <cstddef>
 #include <map>
 #include <string>
@@ -37,19 +38,60 @@ struct ShapeFigures
   double meanMinDihedral() const { return tetrahedra ? sumMinDihedral / static_cast<double>(tetrahedra) : 0.0; }
 };
 
+/// The edges of the bins (degrees) in which ShapeSummary counts the tetrahedra by their smallest
+/// and by their largest dihedral angle: those of the quality report's lines (report.py's
+/// TEXT_BINS and MAX_TEXT_BINS), which then need no pass of their own.
+constexpr std::array<double, 9> kMinDihedralBinEdges = { 0, 5, 10, 20, 30, 40, 50, 60, 90 };
+constexpr std::array<double, 8> kMaxDihedralBinEdges = { 60, 90, 120, 150, 155, 160, 170, 180 };
+
+/// Counts of values per bin of `Edges` (as numpy.histogram: [e0, e1), ..., the last bin closed;
+/// values outside every bin, NaN too, are not counted).
+template <std::size_t N>
+struct BinCounts
+{
+  std::array<std::size_t, N - 1> counts{};
+
+  void add(const std::array<double, N>& edges, double value)
+  {
+    // the edges at or below the value, counted without a branch (a loop that stops at the first
+    // edge above it mispredicts on every tetrahedron)
+    std::size_t below = 0;
+    for (std::size_t e = 0; e < N; ++e)
+      below += edges[e] <= value;
+    below -= below == N && value == edges[N - 1]; // the last bin holds its right edge
+    if (below > 0 && below < N)
+      ++counts[below - 1];
+  }
+  void merge(const BinCounts& o)
+  {
+    for (std::size_t b = 0; b + 1 < N; ++b)
+      counts[b] += o.counts[b];
+  }
+};
+
 /// The shape figures of a mesh, per material and all together.
 class ShapeSummary
 {
 public:
   std::map<int, ShapeFigures> materials;
   ShapeFigures all;
+  BinCounts<kMinDihedralBinEdges.size()> minDihedralBins; ///< of the whole mesh
+  BinCounts<kMaxDihedralBinEdges.size()> maxDihedralBins;
 
   ShapeSummary() = default;
-  ShapeSummary(const ShapeSummary& o) : materials(o.materials), all(o.all) {}
+  ShapeSummary(const ShapeSummary& o)
+    : materials(o.materials)
+    , all(o.all)
+    , minDihedralBins(o.minDihedralBins)
+    , maxDihedralBins(o.maxDihedralBins)
+  {
+  }
   ShapeSummary& operator=(const ShapeSummary& o)
   {
     materials = o.materials;
     all = o.all;
+    minDihedralBins = o.minDihedralBins;
+    maxDihedralBins = o.maxDihedralBins;
     last_ = nullptr;
     return *this;
   }
@@ -64,13 +106,15 @@ public:
     }
     last_->add(s);
     all.add(s);
+    minDihedralBins.add(kMinDihedralBinEdges, s.minDihedral);
+    maxDihedralBins.add(kMaxDihedralBinEdges, s.maxDihedral);
   }
 
   /// Adds another summary's figures (per material and all together).
   void merge(const ShapeSummary& o);
 
   /// The figures as statistics (shape.* keys of FieldDataKeys.txt, each also per material with
-  /// the suffix ".material_<id>").
+  /// the suffix ".material_<id>"; the bins' counts with the suffix ".<low>_<high>").
   void addTo(std::map<std::string, double>& statistics) const;
 
 private:
@@ -81,9 +125,9 @@ private:
 /// Measures tetrahedron `t` of `mesh` with its corners as the output writes them (positively
 /// oriented: the first two swapped when the volume is negative), writes the measures to the
 /// arrays that are given and adds them to `summary`. `signedVolume` gets the signed volume of the
-/// corners as given.
+/// corners as given, `lengths` the six edge lengths (edgeLengths of the oriented corners).
 TetShape measureTet(const TetMesh& mesh, std::size_t t, ShapeSummary& summary, const TetShapeArrays& arrays,
-  double& signedVolume);
+  double& signedVolume, double lengths[6]);
 
 /// One pass over the tetrahedra: each one's TetShape (its corners taken positively oriented, as
 /// the VTK output writes them), written to `arrays` where given, and the summary; in chunks of

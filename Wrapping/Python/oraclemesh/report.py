@@ -122,7 +122,8 @@ def quality(grid, source="mesh", measured=False):
     array = grid.GetCellData().GetArray(fieldkeys.MIN_DIHEDRAL_ANGLE)
     if array is None:
         raise OracleMeshError(f"{source}: no cell array '{fieldkeys.MIN_DIHEDRAL_ANGLE}' (write meshes with 'oraclemesh mesh')")
-    angles = vtk_to_numpy(array).astype(np.float64)
+    angles = np.asarray(vtk_to_numpy(array), dtype=np.float64)  # the grid's own memory when it is float64
+    angles.flags.writeable = False
     quadratic = nodes.shape[1] == 10
     if measured and not quadratic:
         q = _measured_quality(grid, points, cells, material, angles)
@@ -207,9 +208,11 @@ def report_lines(grid, title, names=None, source="mesh", recheck=True):
                  f"{q['angles'].mean():>8.1f}° " + _shape_columns(q["worst"]))
     lines.append("(max dihedral and the ratios are the worst tetrahedron's; the ratios are 1 for the regular "
                  "tetrahedron: radius ratio 3 r / R, mean ratio, shortest / longest edge)")
-    for words, values, bins in (("minimal", q["angles"], TEXT_BINS),
-                                ("maximal", q["shape"]["max_dihedral"], MAX_TEXT_BINS)):
-        hist = histogram(values, bins)
+    for words, key, values, bins in (("minimal", fieldkeys.SHAPE_MIN_DIHEDRAL_BIN, q["angles"], TEXT_BINS),
+                                     ("maximal", fieldkeys.SHAPE_MAX_DIHEDRAL_BIN, q["shape"]["max_dihedral"],
+                                      MAX_TEXT_BINS)):
+        counted = counted_bins(stats, key, bins, q["tets"]) if not recheck and q["order"] == 1 else None
+        hist = counted if counted is not None else histogram(values, bins)
         lines.append(f"{words} dihedral angle per tetrahedron: "
                      + ", ".join(f"{int(a)}-{int(b)}°: {n}" for a, b, n in zip(bins, bins[1:], hist)))
     lines += shape_lines(q)
@@ -251,6 +254,16 @@ def report_lines(grid, title, names=None, source="mesh", recheck=True):
         if not warning.startswith("mesh validity:"):  # the line above says it
             lines.append("warning: " + warning)
     return lines, q
+
+
+def counted_bins(stats, key, bins, tets):
+    """The mesher's counts of its tetrahedra per bin (statistics "<key>.<low>_<high>", counted by its
+    measuring pass, ShapeSummary.h) when it counted these bins for all `tets` tetrahedra; else None."""
+    names = [f"{key}.{low:g}_{high:g}" for low, high in zip(bins, bins[1:])]
+    if not all(name in stats for name in names):
+        return None
+    counts = [int(stats[name]) for name in names]
+    return counts if sum(counts) == tets else None
 
 
 def histogram(values, bins):
