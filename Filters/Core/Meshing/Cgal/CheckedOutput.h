@@ -62,13 +62,14 @@ public:
   TetMesh convert()
   {
     const auto started = Clock::now();
+    std::vector<int> stampIds; // the output id of each corner's time stamp
     TetMesh mesh = toTetMesh(*run_.c3t3, run_.oracle,
-      run_.segments ? run_.segments->cellsAroundEdgesOutsideComplex() : std::vector<Tr::Cell_handle>{});
+      run_.segments ? run_.segments->cellsAroundEdgesOutsideComplex() : std::vector<Tr::Cell_handle>{}, stampIds);
     outputVertices_ = mesh.points.size();
     outputTets_ = mesh.tets.size();
     run_.c3t3->clear();
     returnFreedMemory();
-    orderTetsByPoints(mesh);
+    orderTetsByPoints(mesh, &stampIds);
     outputTime_ = seconds(started);
     return mesh;
   }

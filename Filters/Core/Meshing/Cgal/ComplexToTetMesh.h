@@ -14,7 +14,6 @@
 #include <CGAL/property_map.h>
 
 #include <algorithm>
-#include <numeric>
 #include <unordered_map>
 #include <utility>
 #include <vector>
@@ -47,22 +46,23 @@ inline std::vector<std::pair<Tr::Cell_handle, int>> cellsInsideByCentroid(
 inline void numberVerticesSpatially(const C3t3& c3t3, const std::vector<Tr::Vertex_handle>& used,
   std::vector<int>& ids, TetMesh& out)
 {
-  std::vector<K::Point_3> points;
-  points.reserve(used.size());
-  for (const Tr::Vertex_handle& v : used)
-    points.push_back(v->point().point());
-  std::vector<std::size_t> order(used.size());
-  std::iota(order.begin(), order.end(), std::size_t{ 0 });
-  using Traits = CGAL::Spatial_sort_traits_adapter_3<K, CGAL::Pointer_property_map<K::Point_3>::type>;
-  if (!order.empty()) // the middle policy reads the first point for the bounding box
-    CGAL::hilbert_sort(order.begin(), order.end(), Traits(CGAL::make_property_map(points)), CGAL::Hilbert_sort_middle_policy());
+  // the points sorted with their positions in `used` (not positions sorted through a map to the
+  // points: each comparison would read a point elsewhere in memory)
+  using Entry = std::pair<K::Point_3, std::size_t>;
+  std::vector<Entry> sorted;
+  sorted.reserve(used.size());
+  for (std::size_t k = 0; k < used.size(); ++k)
+    sorted.emplace_back(used[k]->point().point(), k);
+  using Traits = CGAL::Spatial_sort_traits_adapter_3<K, CGAL::First_of_pair_property_map<Entry>>;
+  if (!sorted.empty()) // the middle policy reads the first point for the bounding box
+    CGAL::hilbert_sort(sorted.begin(), sorted.end(), Traits(), CGAL::Hilbert_sort_middle_policy());
   out.points.resize(used.size());
   out.pointDimension.resize(used.size());
-  for (std::size_t k = 0; k < order.size(); ++k)
+  for (std::size_t k = 0; k < sorted.size(); ++k)
   {
-    const Tr::Vertex_handle v = used[order[k]];
+    const Tr::Vertex_handle v = used[sorted[k].second];
     ids[v->time_stamp()] = static_cast<int>(k);
-    out.points[k] = toVec(points[order[k]]);
+    out.points[k] = toVec(sorted[k].first);
     const int dim = c3t3.in_dimension(v);
     out.pointDimension[k] = dim < 0 ? 3 : dim;
   }
@@ -92,14 +92,12 @@ struct UsedVertices
     }
     return static_cast<int>(v->time_stamp());
   }
-  /// Numbers the vertices (numberVerticesSpatially) and puts the ids into the output's
-  /// tetrahedra and triangles in place of the time stamps.
+  /// Numbers the vertices (numberVerticesSpatially) and puts the ids into the output's triangles
+  /// in place of the time stamps; the tetrahedra keep theirs (orderTetsByPoints renumbers them
+  /// through `ids` as it orders them: one pass, not two).
   void number(const C3t3& c3t3, TetMesh& out)
   {
     numberVerticesSpatially(c3t3, used, ids, out);
-    for (auto& t : out.tets)
-      for (int& v : t)
-        v = ids[static_cast<std::size_t>(v)];
     for (auto& t : out.interfaceTriangles)
       for (int& v : t)
         v = ids[static_cast<std::size_t>(v)];
@@ -109,12 +107,14 @@ struct UsedVertices
 /// Converts the complex to the output mesh: its cells, and the cells outside it that lie inside a
 /// material by their centroid (cellsInsideByCentroid); interface triangles are the complex's
 /// facets, and around the cells taken the faces between different materials. Points are in
-/// Hilbert order (numberVerticesSpatially), tetrahedra in the complex's order: the caller orders
-/// them (orderTetsByPoints) once the complex is released, so the copy that takes is not on top of
-/// the complex at the run's peak. One pass over the complex's cells reads everything it needs of
-/// them: at a million tetrahedra each pass over CGAL's cells costs as much as the whole validity
-/// check.
-inline TetMesh toTetMesh(const C3t3& c3t3, const HierarchicalOracle& oracle, const std::vector<Tr::Cell_handle>& candidates)
+/// Hilbert order (numberVerticesSpatially), tetrahedra in the complex's order with their corners'
+/// time stamps, whose output ids go to `stampIds`: the caller orders and renumbers them
+/// (orderTetsByPoints with `stampIds`) once the complex is released, so the copy that takes is not
+/// on top of the complex at the run's peak. One pass over the complex's cells reads everything it
+/// needs of them: at a million tetrahedra each pass over CGAL's cells costs as much as the whole
+/// validity check.
+inline TetMesh toTetMesh(const C3t3& c3t3, const HierarchicalOracle& oracle, const std::vector<Tr::Cell_handle>& candidates,
+  std::vector<int>& stampIds)
 {
   TetMesh out;
   const Tr& tr = c3t3.triangulation();
@@ -188,6 +188,7 @@ inline TetMesh toTetMesh(const C3t3& c3t3, const HierarchicalOracle& oracle, con
   const std::size_t dangling = c3t3.number_of_facets_in_complex() - reached - besideTaken;
   out.statistics["interface_triangles_without_tetrahedra"] = static_cast<double>(dangling);
   out.statistics["output.cells_inside_by_centroid"] = static_cast<double>(taken.size());
+  stampIds = std::move(vertices.ids);
   return out;
 }
 }
