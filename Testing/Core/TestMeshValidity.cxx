@@ -100,6 +100,36 @@ TEST(MeshValidity, MicroTetrahedraThatAreMostOfTheMeshAreSeen)
   EXPECT_EQ(v.microTetrahedra, 100u);
 }
 
+TEST(MeshValidity, MicroIsRelativeToTheExactMedianAlsoNearTheThreshold)
+{
+  // Micro is flagged in the pass that finds the median, before the median is known, from the
+  // bounds of its bin (about 3 % wide); tetrahedra between those bounds wait for the median. Here
+  // sixteen regular tetrahedra of edge 1.01 (the median, L) and three small ones of longest edge
+  // 0.995, 1.005 and 1.02 x 1e-4: the first two are below 1e-4 L, the last is not, and the last
+  // two lie between the bounds of the median's bin.
+  TetMesh m;
+  auto add = [&m](const Vec3& at, double edge) {
+    const double s = edge / (2.0 * std::sqrt(2.0));
+    const int base = static_cast<int>(m.points.size());
+    for (const Vec3& p : { Vec3{ 1, 1, 1 }, Vec3{ -1, 1, -1 }, Vec3{ 1, -1, -1 }, Vec3{ -1, -1, 1 } })
+      m.points.push_back(at + s * p);
+    m.tets.push_back({ base, base + 1, base + 2, base + 3 });
+  };
+  for (int i = 0; i < 16; ++i)
+    add({ 3.0 * i, 0, 0 }, 1.01);
+  add({ 0, 5, 0 }, 0.995e-4);
+  add({ 0, 6, 0 }, 1.005e-4);
+  add({ 0, 7, 0 }, 1.02e-4);
+  m.tetMaterial.assign(m.tets.size(), 1);
+  std::vector<unsigned char> flags;
+  const MeshValidity v = checkMeshValidity(m, {}, {}, &flags);
+  EXPECT_NEAR(v.medianEdge, 1.01, 1e-12);
+  EXPECT_EQ(v.microTetrahedra, 2u);
+  EXPECT_TRUE(flags[16] & kMicro);
+  EXPECT_TRUE(flags[17] & kMicro);
+  EXPECT_FALSE(flags[18] & kMicro);
+}
+
 TEST(MeshValidity, FaceSharedByThreeTetrahedraIsSeen)
 {
   TetMesh m = twoTets();

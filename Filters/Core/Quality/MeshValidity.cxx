@@ -102,6 +102,35 @@ std::array<int, 4> ascendingCorners(std::array<int, 4> k)
   return k;
 }
 
+/// The tetrahedra with valid indices: all of them (no list: the mesher's output) or those listed.
+class GoodTets
+{
+public:
+  explicit GoodTets(std::size_t all)
+    : count_(all)
+  {
+  }
+  explicit GoodTets(std::vector<std::size_t> listed)
+    : list_(std::move(listed))
+    , count_(list_.size())
+    , listed_(true)
+  {
+  }
+  std::size_t size() const { return count_; }
+  std::size_t operator[](std::size_t i) const { return listed_ ? list_[i] : i; }
+  template <typename F>
+  void forEach(F&& f) const
+  {
+    for (std::size_t i = 0; i < count_; ++i)
+      f((*this)[i]);
+  }
+
+private:
+  std::vector<std::size_t> list_;
+  std::size_t count_ = 0;
+  bool listed_ = false;
+};
+
 /// A face in countNonManifoldFaces' buckets (bucketed by its smallest vertex). FaceIndex holds
 /// 4 x tetrahedron + its corner not on the face.
 template <typename FaceIndex>
@@ -182,24 +211,23 @@ void scanBuckets(std::vector<FaceEntry<FaceIndex>>& entries, const std::vector<s
 /// bucketed by their smallest vertex (a counting sort), then each small bucket is sorted by the
 /// other two (scanBuckets, in chunks of vertices on the threads runOnThreads allows, merged in
 /// chunk order): linear in the mesh, where one sort of all faces cost more than the rest of the
-/// check. Indices are valid (tetsWithValidIndices); `good` lists the tetrahedra to look at. The
+/// check. Indices are valid (measureTets); `good` are the tetrahedra to look at. The
 /// faces of one tetrahedron, or of two of different materials, go to `separating` when given (the
 /// owner: the lower material id, the first tetrahedron for equal ids). FaceIndex holds 4 x
 /// tetrahedra (32 bits below a billion tetrahedra: the entries, four per tetrahedron, are the
 /// check's largest array).
 template <typename FaceIndex>
 std::size_t countNonManifoldFaces(const std::vector<std::array<int, 4>>& tets, const std::vector<int>& materials,
-  const std::vector<std::size_t>& good, std::size_t pointCount, std::vector<unsigned char>& flags,
+  const GoodTets& good, std::size_t pointCount, std::vector<unsigned char>& flags,
   std::vector<TetMesh::SeparatingFace>* separating)
 {
   // with its corners sorted, a b c d, a tetrahedron's faces are abc, abd, acd (smallest a) and bcd
   std::vector<std::size_t> first(pointCount + 1, 0);
-  for (std::size_t t : good)
-  {
+  good.forEach([&](std::size_t t) {
     const std::array<int, 4> k = ascendingCorners(tets[t]);
     first[k[0] + 1] += 3;
     first[k[1] + 1] += 1;
-  }
+  });
   for (std::size_t v = 0; v < pointCount; ++v)
     first[v + 1] += first[v];
   std::vector<FaceEntry<FaceIndex>> entries(first[pointCount]);
@@ -210,14 +238,13 @@ std::size_t countNonManifoldFaces(const std::vector<std::array<int, 4>>& tets, c
     entries[next[a]++] = { static_cast<std::uint32_t>(b), static_cast<std::uint32_t>(c),
       static_cast<FaceIndex>(4 * t + static_cast<std::size_t>(corner)) };
   };
-  for (std::size_t t : good)
-  {
+  good.forEach([&](std::size_t t) {
     const std::array<int, 4> k = ascendingCorners(tets[t]);
     add(k[0], k[1], k[2], t, k[3]);
     add(k[0], k[1], k[3], t, k[2]);
     add(k[0], k[2], k[3], t, k[1]);
     add(k[1], k[2], k[3], t, k[0]);
-  }
+  });
   constexpr std::size_t kVerticesPerChunk = 2048; // about 12,000 tetrahedra
   const std::size_t chunks = chunkCount(pointCount, kVerticesPerChunk);
   std::vector<FacesFound> parts(chunks);
@@ -310,6 +337,12 @@ public:
     rankInBin_ = rank - before;
     candidates_.reserve(bins_[medianBin_]);
   }
+  /// The lengths the median's bin holds, from `low` up to below `high` (after locate).
+  void medianBin(double& low, double& high) const
+  {
+    low = valueAt(medianBin_);
+    high = medianBin_ + 1 < kBins ? valueAt(medianBin_ + 1) : std::numeric_limits<double>::infinity();
+  }
   /// Second pass: the same lengths again, into `candidates` (one list per chunk of the
   /// tetrahedra), then addCandidates.
   bool inMedianBin(double length) const { return bin(length) == medianBin_; }
@@ -330,6 +363,14 @@ private:
     std::uint64_t bits;
     std::memcpy(&bits, &length, sizeof bits);
     return std::min<std::size_t>(bits >> 47, kBins - 1); // a negative or NaN length (bad points) counts as the largest
+  }
+  /// The smallest length of bin b.
+  static double valueAt(std::size_t b)
+  {
+    const std::uint64_t bits = static_cast<std::uint64_t>(b) << 47;
+    double value;
+    std::memcpy(&value, &bits, sizeof value);
+    return value;
   }
   std::vector<std::uint32_t> bins_;
   std::vector<double> candidates_;
@@ -379,11 +420,11 @@ bool acrossBoundary(const TetMesh& mesh, std::size_t t, const std::function<int(
 /// What the pass over the tetrahedra finds in one chunk of them.
 struct PassPart
 {
-  std::vector<std::size_t> good; ///< the tetrahedra with valid indices
+  std::vector<std::size_t> bad; ///< the tetrahedra with bad indices (few: not the good ones)
   EdgeLengthMedian edges;
   ShapeSummary shapes;
   double volume = 0.0, acrossVolume = 0.0;
-  std::size_t bad = 0, across = 0;
+  std::size_t across = 0;
 };
 
 /// What the pass needs besides the mesh and writes besides the chunks' parts.
@@ -394,13 +435,13 @@ struct PassInput
   const ValidityByproducts& byproducts;
   bool across; ///< look for tetrahedra across a boundary
   std::vector<unsigned char>& flags;
-  std::vector<double>& longest; ///< per tetrahedron: micro is relative to L, known after the pass
 };
 
 /// One tetrahedron with valid indices: its edge lengths counted and volume summed (for L), its
 /// measures (measureTet, with byproducts.shapes), the defects that do not depend on L (flat,
 /// inverted, a material mismatch when all four corners are inside a material) and whether it lies
-/// across a boundary (every vertex on an interface or line: never both).
+/// across a boundary (every vertex on an interface or line: never both). Micro is relative to L:
+/// the median's pass flags it (medianAndMicro).
 void measureAndFlag(const TetMesh& mesh, std::size_t t, const PassInput& in, PassPart& part)
 {
   const auto& k = mesh.tets[t];
@@ -417,7 +458,6 @@ void measureAndFlag(const TetMesh& mesh, std::size_t t, const PassInput& in, Pas
     part.edges.add(length);
   part.volume += std::abs(v);
   const double longest = *std::max_element(l, l + 6);
-  in.longest[t] = longest;
   unsigned char flags = (!(std::abs(v) >= in.th.flat * longest * longest * longest) ? kFlat : 0) | (v < 0 ? kInverted : 0);
   if (in.materialAt && t < mesh.tetMaterial.size() && mesh.pointDimension.size() == mesh.points.size())
   {
@@ -439,7 +479,7 @@ void measureAndFlag(const TetMesh& mesh, std::size_t t, const PassInput& in, Pas
 /// order (the same figures on any number of threads; a chunk holds a 256 kB histogram, hence large
 /// chunks): those with bad indices counted and flagged (0 in the shape arrays), the others measured
 /// and flagged (measureAndFlag). Marks the points the good ones use; returns them.
-std::vector<std::size_t> measureTets(const TetMesh& mesh, const PassInput& in, MeshValidity& r, std::vector<char>& used,
+GoodTets measureTets(const TetMesh& mesh, const PassInput& in, MeshValidity& r, std::vector<char>& used,
   EdgeLengthMedian& edges, double& volume)
 {
   const int n = static_cast<int>(mesh.points.size());
@@ -448,57 +488,96 @@ std::vector<std::size_t> measureTets(const TetMesh& mesh, const PassInput& in, M
   std::vector<PassPart> parts(chunks);
   forEachChunk(mesh.tets.size(), chunks, [&](std::size_t c, std::size_t begin, std::size_t end) {
     PassPart& part = parts[c];
-    part.good.reserve(end - begin);
     for (std::size_t t = begin; t < end; ++t)
       if (validIndices(mesh.tets[t], n))
-      {
-        part.good.push_back(t);
         measureAndFlag(mesh, t, in, part);
-      }
       else
       {
-        ++part.bad;
+        part.bad.push_back(t);
         in.flags[t] |= kBadIndices;
         for (double* a : { arrays.minDihedral, arrays.maxDihedral, arrays.radiusEdge })
           if (a && in.byproducts.shapes)
             a[t] = 0.0; // a tetrahedron with bad indices has no shape
       }
   });
-  std::vector<std::size_t> good;
-  good.reserve(mesh.tets.size());
   for (const PassPart& part : parts)
   {
-    good.insert(good.end(), part.good.begin(), part.good.end());
     edges.merge(part.edges);
     volume += part.volume;
-    r.badIndices += part.bad;
+    r.badIndices += part.bad.size();
     r.acrossBoundaryTetrahedra += part.across;
     r.acrossBoundaryVolume += part.acrossVolume;
     if (in.byproducts.shapes)
       in.byproducts.shapes->merge(part.shapes);
   }
-  for (std::size_t t : good)
+  GoodTets good(mesh.tets.size());
+  if (r.badIndices) // listed: all but the bad ones
+  {
+    std::vector<std::size_t> listed;
+    listed.reserve(mesh.tets.size() - r.badIndices);
+    std::size_t t = 0;
+    for (const PassPart& part : parts)
+      for (std::size_t bad : part.bad)
+      {
+        for (; t < bad; ++t)
+          listed.push_back(t);
+        t = bad + 1;
+      }
+    for (; t < mesh.tets.size(); ++t)
+      listed.push_back(t);
+    good = GoodTets(std::move(listed));
+  }
+  good.forEach([&](std::size_t t) {
     for (int i = 0; i < 4; ++i)
       used[mesh.tets[t][i]] = 1;
+  });
   return good;
 }
 
-/// The median of the edge lengths `edges` counted (the second pass over the tetrahedra, in chunks).
-double medianEdgeLength(const TetMesh& mesh, const std::vector<std::size_t>& good, EdgeLengthMedian& edges)
+/// The median of the edge lengths `edges` counted, from a second pass over the tetrahedra (in
+/// chunks), which also flags the micro ones: L (validityLength) is not known before the median, but
+/// the median's bin bounds it (2 % wide), so only a tetrahedron whose longest edge falls between
+/// the two bounds waits for it.
+double medianAndMicro(const TetMesh& mesh, const GoodTets& good, EdgeLengthMedian& edges, double volume,
+  double micro, std::vector<unsigned char>& flags)
 {
   edges.locate();
+  double low, high;
+  edges.medianBin(low, high);
+  const double below = micro * validityLength(low, volume, good.size()), above = micro * validityLength(high, volume, good.size());
   const std::size_t chunks = chunkCount(good.size(), kTetsPerChunk);
   std::vector<std::vector<double>> candidates(chunks);
+  std::vector<std::vector<std::size_t>> undecided(chunks);
+  auto longestEdge = [&mesh](std::size_t t) {
+    double longest = 0.0;
+    forEachEdgeLength(mesh, t, [&longest](double l) { longest = std::max(longest, l); });
+    return longest;
+  };
   forEachChunk(good.size(), chunks, [&](std::size_t c, std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i)
-      forEachEdgeLength(mesh, good[i], [&](double l) {
+    {
+      const std::size_t t = good[i];
+      double longest = 0.0;
+      forEachEdgeLength(mesh, t, [&](double l) {
+        longest = std::max(longest, l);
         if (edges.inMedianBin(l))
           candidates[c].push_back(l);
       });
+      if (longest < below)
+        flags[t] |= kMicro;
+      else if (longest < above)
+        undecided[c].push_back(t);
+    }
   });
   for (const auto& part : candidates)
     edges.addCandidates(part);
-  return edges.median();
+  const double median = edges.median();
+  const double L = validityLength(median, volume, good.size());
+  for (const auto& part : undecided)
+    for (std::size_t t : part)
+      if (longestEdge(t) < micro * L)
+        flags[t] |= kMicro;
+  return median;
 }
 
 }
@@ -538,12 +617,11 @@ MeshValidity checkMeshValidity(const TetMesh& mesh, const std::function<int(cons
   MeshValidity r;
   std::vector<unsigned char> flags(mesh.tets.size(), 0);
   std::vector<char> used(mesh.points.size(), 0);
-  std::vector<double> longest(mesh.tets.size(), 0.0);
   EdgeLengthMedian edges;
   double volume = 0.0;
   const bool across = materialAt && th.facetDistanceOf && mesh.pointDimension.size() == mesh.points.size();
-  const PassInput in{ materialAt, th, byproducts, across, flags, longest };
-  const std::vector<std::size_t> good = measureTets(mesh, in, r, used, edges, volume);
+  const PassInput in{ materialAt, th, byproducts, across, flags };
+  const GoodTets good = measureTets(mesh, in, r, used, edges, volume);
   for (char u : used)
     r.unusedVertices += !u;
   if (edges.count() == 0)
@@ -553,25 +631,22 @@ MeshValidity checkMeshValidity(const TetMesh& mesh, const std::function<int(cons
     return r;
   }
   r.shortestEdge = edges.shortest();
-  r.medianEdge = medianEdgeLength(mesh, good, edges);
+  r.medianEdge = medianAndMicro(mesh, good, edges, volume, th.micro, flags);
   // A cluster of tiny tetrahedra that is most of the mesh pulls the median down with it (a run
   // stopped at the vertex budget with 300k vertices around one point, edges of 1e-8 against a
   // median of 1e-4, read "no defects"): L is at least the edge of a regular tetrahedron of the
   // mesh's mean volume.
   const double L = validityLength(r.medianEdge, volume, good.size());
-  for (std::size_t t : good)
-    if (longest[t] < th.micro * L)
-      flags[t] |= kMicro;
-  longest = std::vector<double>(); // before the faces' table
   const double tol = th.duplicate * L;
   if (tol > 0)
   {
     const std::vector<char> duplicate = findDuplicates(mesh.points, used, tol);
     r.duplicateVertices = static_cast<std::size_t>(std::count(duplicate.begin(), duplicate.end(), 1));
-    for (std::size_t t : good)
+    good.forEach([&](std::size_t t) {
       for (int i = 0; i < 4; ++i)
         if (duplicate[mesh.tets[t][i]])
           flags[t] |= kDuplicateVertex;
+    });
   }
   r.nonManifoldFaces = mesh.tets.size() < (std::size_t{ 1 } << 30)
     ? countNonManifoldFaces<std::uint32_t>(mesh.tets, mesh.tetMaterial, good, mesh.points.size(), flags, separating)
