@@ -147,6 +147,26 @@ TEST(MeshQuality, ShapeSummaryIsOnePassOfTheMeasures)
   EXPECT_EQ(st.at(std::string(keys::SHAPE_MAX_DIHEDRAL_BIN) + ".155_160"), static_cast<double>(s.maxDihedralBins.counts[4]));
 }
 
+TEST(MeshQuality, WorstTetrahedraAreThoseAStableSortPutsFirst)
+{
+  using namespace omesh;
+  // keys with ties and a NaN, added in two chunks merged in order: the result is the first five
+  // of a stable sort of all the keys (equal keys: the lower index first), NaN never among them
+  const std::vector<double> keys = { 3, 1, std::nan(""), 2, 1, 5, 0.5, 2, 1, 7 };
+  WorstTets first, second;
+  for (std::size_t t = 0; t < keys.size(); ++t)
+    (t < 6 ? first : second).add(keys[t], t);
+  first.merge(second);
+  ASSERT_EQ(first.count, kWorstTetsShown);
+  const std::size_t expected[] = { 6, 1, 4, 8, 3 }; // 0.5, then the ones (1, 4, 8), then the first 2
+  for (std::size_t i = 0; i < kWorstTetsShown; ++i)
+    EXPECT_EQ(first.items[i].second, expected[i]) << "rank " << i;
+  WorstTets few;
+  few.add(std::nan(""), 0);
+  few.add(4, 1);
+  EXPECT_EQ(few.count, 1u);
+}
+
 TEST(MeshQuality, AngleBinsCountAsNumpyHistogramDoes)
 {
   using namespace omesh;

@@ -111,6 +111,18 @@ class Report(unittest.TestCase):
         self.assertEqual([l for l in fresh if "dihedral angle per tetrahedron" in l],
                          [l for l in again if "dihedral angle per tetrahedron" in l])
 
+    def test_the_mesher_names_the_worst_tetrahedra_a_full_sort_gives(self):
+        """A fresh mesh's worst tetrahedra come from the mesher's measuring pass (statistics
+        shape.*_tet.<rank>): those a stable sort of the cell arrays puts first."""
+        from oraclemesh.report import WORST_SHOWN, worst_tetrahedra
+
+        q = self.result.quality
+        self.assertIn("worst_first", q["shape"], "the mesher named them")
+        for key in ("min_dihedral", "max_dihedral"):
+            values = q["shape"][key]
+            full = np.argsort(values if key == "min_dihedral" else -values, kind="stable")[:WORST_SHOWN]
+            np.testing.assert_array_equal(worst_tetrahedra(q, key), full)
+
     def test_the_worst_tetrahedra_are_those_a_full_sort_gives(self):
         from oraclemesh.report import worst_tetrahedra
 

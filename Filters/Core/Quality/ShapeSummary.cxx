@@ -46,6 +46,8 @@ void ShapeSummary::merge(const ShapeSummary& o)
   all.merge(o.all);
   minDihedralBins.merge(o.minDihedralBins);
   maxDihedralBins.merge(o.maxDihedralBins);
+  smallestMinDihedral.merge(o.smallestMinDihedral);
+  largestMaxDihedral.merge(o.largestMaxDihedral);
   last_ = nullptr; // the map may have grown
 }
 
@@ -81,6 +83,10 @@ void ShapeSummary::addTo(std::map<std::string, double>& statistics) const
   put("", all);
   putBins(statistics, keys::SHAPE_MIN_DIHEDRAL_BIN, kMinDihedralBinEdges, minDihedralBins);
   putBins(statistics, keys::SHAPE_MAX_DIHEDRAL_BIN, kMaxDihedralBinEdges, maxDihedralBins);
+  for (const auto& [key, worst] : { std::make_pair(keys::SHAPE_SMALLEST_MIN_DIHEDRAL_TET, &smallestMinDihedral),
+         std::make_pair(keys::SHAPE_LARGEST_MAX_DIHEDRAL_TET, &largestMaxDihedral) })
+    for (std::size_t i = 0; i < worst->count; ++i)
+      statistics[std::string(key) + "." + std::to_string(i)] = static_cast<double>(worst->items[i].second);
   for (const auto& [m, f] : materials)
     put(".material_" + std::to_string(m), f);
 }
@@ -101,7 +107,7 @@ TetShape measureTet(const TetMesh& mesh, std::size_t t, ShapeSummary& summary, c
     arrays.maxDihedral[t] = s.maxDihedral;
   if (arrays.radiusEdge)
     arrays.radiusEdge[t] = s.radiusEdge;
-  summary.add(t < mesh.tetMaterial.size() ? mesh.tetMaterial[t] : 0, s);
+  summary.add(t < mesh.tetMaterial.size() ? mesh.tetMaterial[t] : 0, s, t);
   return s;
 }
 

@@ -7,6 +7,7 @@
 #include <array>
 #include <cstddef>
 #include <map>
+#include <utility>
 #include <string>
 
 namespace omesh
@@ -69,6 +70,38 @@ struct BinCounts
   }
 };
 
+/// The tetrahedra the quality report names (report.py's WORST_SHOWN).
+constexpr std::size_t kWorstTetsShown = 5;
+
+/// The kWorstTetsShown tetrahedra of smallest key, worst first; of equal keys the lower index first
+/// (as a stable sort of all keys); NaN keys never among them.
+struct WorstTets
+{
+  std::array<std::pair<double, std::size_t>, kWorstTetsShown> items{};
+  std::size_t count = 0;
+
+  void add(double key, std::size_t t)
+  {
+    if (!(key == key) || (count == kWorstTetsShown && !worse({ key, t }, items[count - 1])))
+      return;
+    std::size_t at = count < kWorstTetsShown ? count++ : count - 1;
+    for (; at > 0 && worse({ key, t }, items[at - 1]); --at)
+      items[at] = items[at - 1];
+    items[at] = { key, t };
+  }
+  void merge(const WorstTets& o)
+  {
+    for (std::size_t i = 0; i < o.count; ++i)
+      add(o.items[i].first, o.items[i].second);
+  }
+
+private:
+  static bool worse(const std::pair<double, std::size_t>& a, const std::pair<double, std::size_t>& b)
+  {
+    return a.first < b.first || (a.first == b.first && a.second < b.second);
+  }
+};
+
 /// The shape figures of a mesh, per material and all together.
 class ShapeSummary
 {
@@ -77,6 +110,8 @@ public:
   ShapeFigures all;
   BinCounts<kMinDihedralBinEdges.size()> minDihedralBins; ///< of the whole mesh
   BinCounts<kMaxDihedralBinEdges.size()> maxDihedralBins;
+  WorstTets smallestMinDihedral; ///< of the whole mesh (key: the angle)
+  WorstTets largestMaxDihedral;  ///< (key: minus the angle)
 
   ShapeSummary() = default;
   ShapeSummary(const ShapeSummary& o)
@@ -84,6 +119,8 @@ public:
     , all(o.all)
     , minDihedralBins(o.minDihedralBins)
     , maxDihedralBins(o.maxDihedralBins)
+    , smallestMinDihedral(o.smallestMinDihedral)
+    , largestMaxDihedral(o.largestMaxDihedral)
   {
   }
   ShapeSummary& operator=(const ShapeSummary& o)
@@ -92,12 +129,14 @@ public:
     all = o.all;
     minDihedralBins = o.minDihedralBins;
     maxDihedralBins = o.maxDihedralBins;
+    smallestMinDihedral = o.smallestMinDihedral;
+    largestMaxDihedral = o.largestMaxDihedral;
     last_ = nullptr;
     return *this;
   }
 
-  /// One tetrahedron of `material` (materials come in long runs: the map is asked where it changes).
-  void add(int material, const TetShape& s)
+  /// Tetrahedron `t` of `material` (materials come in long runs: the map is asked where it changes).
+  void add(int material, const TetShape& s, std::size_t t)
   {
     if (!last_ || material != lastMaterial_)
     {
@@ -108,13 +147,16 @@ public:
     all.add(s);
     minDihedralBins.add(kMinDihedralBinEdges, s.minDihedral);
     maxDihedralBins.add(kMaxDihedralBinEdges, s.maxDihedral);
+    smallestMinDihedral.add(s.minDihedral, t);
+    largestMaxDihedral.add(-s.maxDihedral, t);
   }
 
   /// Adds another summary's figures (per material and all together).
   void merge(const ShapeSummary& o);
 
   /// The figures as statistics (shape.* keys of FieldDataKeys.txt, each also per material with
-  /// the suffix ".material_<id>"; the bins' counts with the suffix ".<low>_<high>").
+  /// the suffix ".material_<id>"; the bins' counts with the suffix ".<low>_<high>"; the worst
+  /// tetrahedra's indices with the suffix ".<rank>", 0 the worst).
   void addTo(std::map<std::string, double>& statistics) const;
 
 private:

@@ -179,10 +179,23 @@ def _measured_quality(grid, points, cells, material, angles):
     whole = row("")
     worst = {f"worst_{key}": whole[f"worst_{key}"] for key in SHAPE_KEYS}
     shape = {"min_dihedral": angles, "max_dihedral": vtk_to_numpy(largest)}
+    # the tetrahedra the report names, from the same pass (worst_tetrahedra takes them)
+    named = {key: _counted_worst(stats, name) for key, name in (
+        ("min_dihedral", fieldkeys.SHAPE_SMALLEST_MIN_DIHEDRAL_TET), ("max_dihedral", fieldkeys.SHAPE_LARGEST_MAX_DIHEDRAL_TET))}
+    if all(ids is not None for ids in named.values()):
+        shape["worst_first"] = named
     return {"materials": materials, "tets": int(len(cells)), "vertices": int(grid.GetNumberOfPoints()),
             "nodes": int(grid.GetNumberOfPoints()), "volume": whole["volume"], "min_dihedral": whole["min_dihedral"],
             "max_dihedral": whole["worst_max_dihedral"], "worst": worst, "angles": angles, "shape": shape,
             "points": points, "cells": cells, "material": material, "order": 1}
+
+
+def _counted_worst(stats, key):
+    """The mesher's WORST_SHOWN worst tetrahedra (statistics "<key>.<rank>"), or None."""
+    import numpy as np
+
+    names = [f"{key}.{rank}" for rank in range(WORST_SHOWN)]
+    return np.array([int(stats[n]) for n in names], dtype=np.int64) if all(n in stats for n in names) else None
 
 
 def centroid(q, t):
@@ -283,6 +296,9 @@ def worst_tetrahedra(q, key, count=WORST_SHOWN):
     smallest), worst first."""
     import numpy as np
 
+    counted = q["shape"].get("worst_first", {}).get(key)  # a fresh mesh's: the mesher's pass found them
+    if counted is not None and count == len(counted):
+        return counted
     values = q["shape"][key]
     keyed = -values if key == "max_dihedral" else values
     if len(keyed) > count:  # a partition finds the count-th value; only those up to it are sorted

@@ -125,11 +125,12 @@ def separating_faces(points, cells, material):
             np.concatenate([other_mat, np.full(len(single), EXTERIOR, dtype=np.int64)]))
 
 
-def surface_sets(points, cells, material, names=None, separating=None):
+def surface_sets(points, cells, material, names=None, separating=None, ids=None):
     """SurfaceSets of tetrahedra `cells` [m x 4] (ids into `points` [n x 3]) with `material` [m] and
     {material id: name}. `separating`: the faces as separating_faces() gives them, when they are
     known (the mesher's validity check finds them in its pass over the faces: the field array
-    SeparatingFaces of a mesh just made); else they are found here.
+    SeparatingFaces of a mesh just made); else they are found here. `ids`: material_ids(material)
+    when the caller has them.
 
     Faces shared by more than two tetrahedra (a broken mesh; the validity check reports them) are
     left out."""
@@ -149,7 +150,7 @@ def surface_sets(points, cells, material, names=None, separating=None):
     surface = np.cumsum(change) - 1  # faces are sorted by pair: a new surface where the pair changes
     unique_pairs = pairs[change]
 
-    set_names = material_set_names(material_ids(material), names)
+    set_names = material_set_names(material_ids(material) if ids is None else ids, names)
     labels = []
     for i, (a, b) in enumerate(unique_pairs.tolist()):
         label = f"{set_names[a]}__{set_names[b] if b != EXTERIOR else EXTERIOR_NAME}"

@@ -160,7 +160,7 @@ class MeshArrays:
         self.quadratic = self.nodes.shape[1] == 10
         self.names = dict(names or {})
         self.ids = material_ids(self.material)
-        self.sets = surface_sets(self.points, self.cells, self.material, self.names, separating)
+        self.sets = surface_sets(self.points, self.cells, self.material, self.names, separating, self.ids)
         self.face_nodes = face_nodes(self.sets.faces, self.nodes, self.sets.owner) if self.quadratic \
             else self.sets.faces
         first = max(self.ids) + 1
