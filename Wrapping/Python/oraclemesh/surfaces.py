@@ -139,13 +139,14 @@ def surface_sets(points, cells, material, names=None, separating=None, ids=None)
     material = np.asarray(material)  # any integer type: read where needed, not copied to int64
     rows, other = separating if separating is not None else separating_faces(points, cells, material)
     rows, other = np.asarray(rows, dtype=np.int64), np.asarray(other, dtype=np.int64)
-    faces = np.take_along_axis(cells[rows // 4], TET_FACES[rows % 4], axis=1)
-    owner = rows // 4
-    pairs = np.stack([material[owner], other], axis=1)
-    # sort faces by pair (EXTERIOR last), then by owner and side: a deterministic order for any input order
-    second_key = np.where(pairs[:, 1] == EXTERIOR, np.iinfo(np.int64).max, pairs[:, 1])
-    order = np.lexsort((rows % 4, owner, second_key, pairs[:, 0]))
-    rows, owner, pairs, faces = rows[order], owner[order], pairs[order], faces[order]
+    first = material[rows // 4]
+    # sort faces by pair (EXTERIOR last), then by owner and side (rows = 4 x owner + side): a
+    # deterministic order for any input order
+    order = np.lexsort((rows, np.where(other == EXTERIOR, np.iinfo(np.int64).max, other), first))
+    rows = rows[order]
+    owner, side = rows // 4, rows % 4
+    pairs = np.stack([first[order], other[order]], axis=1)
+    faces = np.take_along_axis(cells[owner], TET_FACES[side], axis=1)
     change = np.r_[True, (pairs[1:] != pairs[:-1]).any(axis=1)] if len(pairs) else np.zeros(0, bool)
     surface = np.cumsum(change) - 1  # faces are sorted by pair: a new surface where the pair changes
     unique_pairs = pairs[change]
@@ -157,9 +158,9 @@ def surface_sets(points, cells, material, names=None, separating=None, ids=None)
         labels.append(label if len(label) <= 80 else f"{label[:70]}_{i}")  # Abaqus' limit, kept distinct
     # Oriented by the geometry (an inverted tetrahedron must not flip its face): normal away from the
     # owner's fourth vertex.
-    fourth = cells[owner, _OPPOSITE[rows % 4]]
+    fourth = cells[owner, _OPPOSITE[side]]
     a, b, c = points[faces[:, 0]], points[faces[:, 1]], points[faces[:, 2]]
     inward = np.einsum("ij,ij->i", np.cross(b - a, c - a), points[fourth] - a) > 0
     faces[inward] = faces[inward][:, ::-1]
-    return SurfaceSets(faces, owner, rows % 4 + 1, pairs, surface, labels,
+    return SurfaceSets(faces, owner, side + 1, pairs, surface, labels,
                        [tuple(p) for p in unique_pairs.tolist()])
