@@ -1,13 +1,14 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 
+#include "BinCounts.h"
 #include "MeshQuality.h"
 #include "TetMesh.h"
+#include "WorstTets.h"
 
 #include <array>
 #include <cstddef>
 #include <map>
-#include <utility>
 #include <string>
 
 namespace omesh
@@ -44,63 +45,6 @@ struct ShapeFigures
 /// TEXT_BINS and MAX_TEXT_BINS), which then need no pass of their own.
 constexpr std::array<double, 9> kMinDihedralBinEdges = { 0, 5, 10, 20, 30, 40, 50, 60, 90 };
 constexpr std::array<double, 8> kMaxDihedralBinEdges = { 60, 90, 120, 150, 155, 160, 170, 180 };
-
-/// Counts of values per bin of `Edges` (as numpy.histogram: [e0, e1), ..., the last bin closed;
-/// values outside every bin, NaN too, are not counted).
-template <std::size_t N>
-struct BinCounts
-{
-  std::array<std::size_t, N - 1> counts{};
-
-  void add(const std::array<double, N>& edges, double value)
-  {
-    // the edges at or below the value, counted without a branch (a loop that stops at the first
-    // edge above it mispredicts on every tetrahedron)
-    std::size_t below = 0;
-    for (std::size_t e = 0; e < N; ++e)
-      below += edges[e] <= value;
-    below -= below == N && value == edges[N - 1]; // the last bin holds its right edge
-    if (below > 0 && below < N)
-      ++counts[below - 1];
-  }
-  void merge(const BinCounts& o)
-  {
-    for (std::size_t b = 0; b + 1 < N; ++b)
-      counts[b] += o.counts[b];
-  }
-};
-
-/// The tetrahedra the quality report names (report.py's WORST_SHOWN).
-constexpr std::size_t kWorstTetsShown = 5;
-
-/// The kWorstTetsShown tetrahedra of smallest key, worst first; of equal keys the lower index first
-/// (as a stable sort of all keys); NaN keys never among them.
-struct WorstTets
-{
-  std::array<std::pair<double, std::size_t>, kWorstTetsShown> items{};
-  std::size_t count = 0;
-
-  void add(double key, std::size_t t)
-  {
-    if (!(key == key) || (count == kWorstTetsShown && !worse({ key, t }, items[count - 1])))
-      return;
-    std::size_t at = count < kWorstTetsShown ? count++ : count - 1;
-    for (; at > 0 && worse({ key, t }, items[at - 1]); --at)
-      items[at] = items[at - 1];
-    items[at] = { key, t };
-  }
-  void merge(const WorstTets& o)
-  {
-    for (std::size_t i = 0; i < o.count; ++i)
-      add(o.items[i].first, o.items[i].second);
-  }
-
-private:
-  static bool worse(const std::pair<double, std::size_t>& a, const std::pair<double, std::size_t>& b)
-  {
-    return a.first < b.first || (a.first == b.first && a.second < b.second);
-  }
-};
 
 /// The shape figures of a mesh, per material and all together.
 class ShapeSummary
