@@ -1,14 +1,18 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // Each defect of MeshValidity built by hand on a small valid mesh, and seen.
+#include "FieldDataKeys.h"
 #include "MeshQuality.h"
 #include "MeshValidity.h"
+#include "ShapeSummary.h"
 #include "TestShapes.h"
+#include "WorkerThreads.h"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <string>
 #include <random>
 
 using namespace omesh;
@@ -405,4 +409,82 @@ TEST(MeshValidity, MedianAndShortestEdgeAreThoseOfAllEdgeLengths)
     EXPECT_EQ(v.medianEdge, lengths[lengths.size() / 2]) << "round " << round;
     EXPECT_EQ(v.shortestEdge, lengths.front()) << "round " << round;
   }
+}
+
+TEST(MeshValidity, FiguresAreTheSameOnOneAndTwoThreads)
+{
+  // A grid of 36^3 cubes of six tetrahedra each (279,936: several chunks of every pass), two
+  // materials, jittered points, one tetrahedron inverted and one with bad indices: every figure,
+  // statistic, flag, cell array and separating face is the same on one and on two threads (the
+  // chunks are merged in their order, not the threads').
+  const int n = 36;
+  TetMesh m;
+  std::mt19937 random(7);
+  std::uniform_real_distribution<double> jitter(-0.2, 0.2);
+  auto id = [n](int i, int j, int k) { return (k * (n + 1) + j) * (n + 1) + i; };
+  for (int k = 0; k <= n; ++k)
+    for (int j = 0; j <= n; ++j)
+      for (int i = 0; i <= n; ++i)
+      {
+        const bool inside = i > 0 && j > 0 && k > 0 && i < n && j < n && k < n;
+        m.points.push_back(Vec3{ double(i), double(j), double(k) } +
+          (inside ? Vec3{ jitter(random), jitter(random), jitter(random) } : Vec3{ 0, 0, 0 }));
+      }
+  // Kuhn's six tetrahedra of a cube along its diagonal 0-7 (corner c at bits x=1, y=2, z=4)
+  const int paths[6][2] = { { 1, 3 }, { 1, 5 }, { 2, 3 }, { 2, 6 }, { 4, 5 }, { 4, 6 } };
+  for (int k = 0; k < n; ++k)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i)
+      {
+        auto corner = [&](int c) { return id(i + (c & 1), j + ((c >> 1) & 1), k + ((c >> 2) & 1)); };
+        for (const auto& p : paths)
+        {
+          std::array<int, 4> t = { corner(0), corner(p[0]), corner(p[1]), corner(7) };
+          if (signedVolume(m.points[t[0]], m.points[t[1]], m.points[t[2]], m.points[t[3]]) < 0)
+            std::swap(t[0], t[1]);
+          m.tets.push_back(t);
+          m.tetMaterial.push_back(i < n / 2 ? 1 : 2);
+        }
+      }
+  std::swap(m.tets[1000][0], m.tets[1000][1]); // inverted
+  m.tets[2000][3] = m.tets[2000][0];           // bad indices
+  struct Figures
+  {
+    std::map<std::string, double> statistics;
+    std::vector<unsigned char> flags;
+    std::vector<double> smallest, largest, ratio;
+    std::vector<TetMesh::SeparatingFace> separating;
+  };
+  auto check = [&m](int threads) {
+    Figures f;
+    f.smallest.resize(m.tets.size());
+    f.largest.resize(m.tets.size());
+    f.ratio.resize(m.tets.size());
+    runOnThreads(threads, [&] {
+      ShapeSummary shapes;
+      ValidityByproducts b;
+      b.shapes = &shapes;
+      b.separatingFaces = &f.separating;
+      b.shapeArrays = { f.smallest.data(), f.largest.data(), f.ratio.data() };
+      const MeshValidity v = checkMeshValidity(m, {}, {}, &f.flags, b);
+      for (const auto& [name, value] : v.asStatistics())
+        f.statistics[name] = value;
+      shapes.addTo(f.statistics);
+    });
+    return f;
+  };
+  const Figures one = check(1), two = check(2);
+  EXPECT_EQ(one.statistics.at(keys::VALIDITY_INVERTED_TETRAHEDRA), 1.0);
+  EXPECT_EQ(one.statistics.at(keys::VALIDITY_BAD_VERTEX_INDICES), 1.0);
+  EXPECT_GT(one.separating.size(), 6u * n * n);
+  for (const auto& [name, value] : one.statistics)
+    EXPECT_EQ(two.statistics.at(name), value) << name;
+  EXPECT_EQ(one.flags, two.flags);
+  EXPECT_EQ(one.smallest, two.smallest);
+  EXPECT_EQ(one.largest, two.largest);
+  EXPECT_EQ(one.ratio, two.ratio);
+  ASSERT_EQ(one.separating.size(), two.separating.size());
+  for (std::size_t i = 0; i < one.separating.size(); ++i)
+    EXPECT_TRUE(one.separating[i].tet == two.separating[i].tet && one.separating[i].opposite == two.separating[i].opposite &&
+      one.separating[i].other == two.separating[i].other) << "face " << i;
 }
