@@ -642,11 +642,12 @@ MeshValidity checkMeshValidity(const TetMesh& mesh, const std::function<int(cons
   {
     const std::vector<char> duplicate = findDuplicates(mesh.points, used, tol);
     r.duplicateVertices = static_cast<std::size_t>(std::count(duplicate.begin(), duplicate.end(), 1));
-    good.forEach([&](std::size_t t) {
-      for (int i = 0; i < 4; ++i)
-        if (duplicate[mesh.tets[t][i]])
-          flags[t] |= kDuplicateVertex;
-    });
+    if (r.duplicateVertices)
+      good.forEach([&](std::size_t t) {
+        for (int i = 0; i < 4; ++i)
+          if (duplicate[mesh.tets[t][i]])
+            flags[t] |= kDuplicateVertex;
+      });
   }
   r.nonManifoldFaces = mesh.tets.size() < (std::size_t{ 1 } << 30)
     ? countNonManifoldFaces<std::uint32_t>(mesh.tets, mesh.tetMaterial, good, mesh.points.size(), flags, separating)
