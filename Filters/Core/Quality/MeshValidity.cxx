@@ -536,7 +536,7 @@ GoodTets measureTets(const TetMesh& mesh, const PassInput& in, MeshValidity& r, 
 
 /// The median of the edge lengths `edges` counted, from a second pass over the tetrahedra (in
 /// chunks), which also flags the micro ones: L (validityLength) is not known before the median, but
-/// the median's bin bounds it (2 % wide), so only a tetrahedron whose longest edge falls between
+/// the median's bin bounds it (3 % wide), so only a tetrahedron whose longest edge falls between
 /// the two bounds waits for it.
 double medianAndMicro(const TetMesh& mesh, const GoodTets& good, EdgeLengthMedian& edges, double volume,
   double micro, std::vector<unsigned char>& flags)
@@ -579,7 +579,6 @@ double medianAndMicro(const TetMesh& mesh, const GoodTets& good, EdgeLengthMedia
         flags[t] |= kMicro;
   return median;
 }
-
 }
 
 double acrossBoundaryBy(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, int own,

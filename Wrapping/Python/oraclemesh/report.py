@@ -161,6 +161,7 @@ _MEASURED = (("tets", fieldkeys.SHAPE_TETRAHEDRA), ("volume", fieldkeys.SHAPE_VO
 def _measured_quality(grid, points, cells, material, angles):
     """quality() of a linear mesh from the mesher's figures (cell arrays and shape.* statistics);
     None when the grid does not carry them for these cells."""
+    import numpy as np
     from vtkmodules.util.numpy_support import vtk_to_numpy
 
     stats = statistics(grid)
@@ -179,23 +180,28 @@ def _measured_quality(grid, points, cells, material, angles):
     whole = row("")
     worst = {f"worst_{key}": whole[f"worst_{key}"] for key in SHAPE_KEYS}
     shape = {"min_dihedral": angles, "max_dihedral": vtk_to_numpy(largest)}
-    # the tetrahedra the report names, from the same pass (worst_tetrahedra takes them)
-    named = {key: _counted_worst(stats, name) for key, name in (
-        ("min_dihedral", fieldkeys.SHAPE_SMALLEST_MIN_DIHEDRAL_TET), ("max_dihedral", fieldkeys.SHAPE_LARGEST_MAX_DIHEDRAL_TET))}
+    # the report's histograms and the tetrahedra it names, from the same pass (report_lines and
+    # worst_tetrahedra take them)
+    histograms, named = {}, {}
+    for key, bins_key, bins, tets_key in (
+            ("min_dihedral", fieldkeys.SHAPE_MIN_DIHEDRAL_BIN, TEXT_BINS, fieldkeys.SHAPE_SMALLEST_MIN_DIHEDRAL_TET),
+            ("max_dihedral", fieldkeys.SHAPE_MAX_DIHEDRAL_BIN, MAX_TEXT_BINS, fieldkeys.SHAPE_LARGEST_MAX_DIHEDRAL_TET)):
+        histograms[key] = counted_bins(stats, bins_key, bins, len(cells))
+        named[key] = _mesher_list(stats, [f"{tets_key}.{rank}" for rank in range(WORST_SHOWN)])
+    if all(counts is not None for counts in histograms.values()):
+        shape["histogram"] = histograms
     if all(ids is not None for ids in named.values()):
-        shape["worst_first"] = named
+        shape["worst_first"] = {key: np.array(ids, dtype=np.int64) for key, ids in named.items()}
     return {"materials": materials, "tets": int(len(cells)), "vertices": int(grid.GetNumberOfPoints()),
             "nodes": int(grid.GetNumberOfPoints()), "volume": whole["volume"], "min_dihedral": whole["min_dihedral"],
             "max_dihedral": whole["worst_max_dihedral"], "worst": worst, "angles": angles, "shape": shape,
             "points": points, "cells": cells, "material": material, "order": 1}
 
 
-def _counted_worst(stats, key):
-    """The mesher's WORST_SHOWN worst tetrahedra (statistics "<key>.<rank>"), or None."""
-    import numpy as np
-
-    names = [f"{key}.{rank}" for rank in range(WORST_SHOWN)]
-    return np.array([int(stats[n]) for n in names], dtype=np.int64) if all(n in stats for n in names) else None
+def _mesher_list(stats, names):
+    """The mesher's counts or indices under `names` (statistics of its measuring pass), or None when
+    one is missing."""
+    return [int(stats[name]) for name in names] if all(name in stats for name in names) else None
 
 
 def centroid(q, t):
@@ -221,10 +227,9 @@ def report_lines(grid, title, names=None, source="mesh", recheck=True):
                  f"{q['angles'].mean():>8.1f}° " + _shape_columns(q["worst"]))
     lines.append("(max dihedral and the ratios are the worst tetrahedron's; the ratios are 1 for the regular "
                  "tetrahedron: radius ratio 3 r / R, mean ratio, shortest / longest edge)")
-    for words, key, values, bins in (("minimal", fieldkeys.SHAPE_MIN_DIHEDRAL_BIN, q["angles"], TEXT_BINS),
-                                     ("maximal", fieldkeys.SHAPE_MAX_DIHEDRAL_BIN, q["shape"]["max_dihedral"],
-                                      MAX_TEXT_BINS)):
-        counted = counted_bins(stats, key, bins, q["tets"]) if not recheck and q["order"] == 1 else None
+    for words, key, values, bins in (("minimal", "min_dihedral", q["angles"], TEXT_BINS),
+                                     ("maximal", "max_dihedral", q["shape"]["max_dihedral"], MAX_TEXT_BINS)):
+        counted = q["shape"].get("histogram", {}).get(key)  # a fresh mesh's: the mesher's pass counted them
         hist = counted if counted is not None else histogram(values, bins)
         lines.append(f"{words} dihedral angle per tetrahedron: "
                      + ", ".join(f"{int(a)}-{int(b)}°: {n}" for a, b, n in zip(bins, bins[1:], hist)))
@@ -272,11 +277,8 @@ def report_lines(grid, title, names=None, source="mesh", recheck=True):
 def counted_bins(stats, key, bins, tets):
     """The mesher's counts of its tetrahedra per bin (statistics "<key>.<low>_<high>", counted by its
     measuring pass, ShapeSummary.h) when it counted these bins for all `tets` tetrahedra; else None."""
-    names = [f"{key}.{low:g}_{high:g}" for low, high in zip(bins, bins[1:])]
-    if not all(name in stats for name in names):
-        return None
-    counts = [int(stats[name]) for name in names]
-    return counts if sum(counts) == tets else None
+    counts = _mesher_list(stats, [f"{key}.{low:g}_{high:g}" for low, high in zip(bins, bins[1:])])
+    return counts if counts is not None and sum(counts) == tets else None
 
 
 def histogram(values, bins):
