@@ -38,33 +38,38 @@ inline std::vector<std::pair<Tr::Cell_handle, int>> cellsInsideByCentroid(
   return taken;
 }
 
+/// Each vertex the output uses, as met in the complex's cells: its point (with its place in this
+/// list), time stamp and dimension, read while the cell that uses it is being read (afterwards
+/// each read would be a miss somewhere in CGAL's vertex container).
+struct UsedVertexList
+{
+  using Entry = std::pair<K::Point_3, std::size_t>;
+  std::vector<Entry> points;
+  std::vector<int> stamps;
+  std::vector<signed char> dimensions; ///< 0 corner, 1 on a segment, 2 on an interface, 3 inside
+};
+
 /// Gives each vertex of `used` an output id (in `ids`, indexed by time stamp), in Hilbert order of
 /// the points: neighbours in space get neighbouring ids, so every later pass over the
 /// output (the quality step, the validity check, the VTK arrays, the writers) reads memory nearly in
 /// order; the complex's own order scatters a tetrahedron's corners across the mesh, and from about
 /// a million tetrahedra those passes wait on memory. Writes the points and their dimensions.
-inline void numberVerticesSpatially(const C3t3& c3t3, const std::vector<Tr::Vertex_handle>& used,
-  std::vector<int>& ids, TetMesh& out)
+inline void numberVerticesSpatially(UsedVertexList& used, std::vector<int>& ids, TetMesh& out)
 {
-  // the points sorted with their positions in `used` (not positions sorted through a map to the
+  // the points sorted with their places in the list (not places sorted through a map to the
   // points: each comparison would read a point elsewhere in memory)
-  using Entry = std::pair<K::Point_3, std::size_t>;
-  std::vector<Entry> sorted;
-  sorted.reserve(used.size());
-  for (std::size_t k = 0; k < used.size(); ++k)
-    sorted.emplace_back(used[k]->point().point(), k);
-  using Traits = CGAL::Spatial_sort_traits_adapter_3<K, CGAL::First_of_pair_property_map<Entry>>;
+  std::vector<UsedVertexList::Entry>& sorted = used.points;
+  using Traits = CGAL::Spatial_sort_traits_adapter_3<K, CGAL::First_of_pair_property_map<UsedVertexList::Entry>>;
   if (!sorted.empty()) // the middle policy reads the first point for the bounding box
     CGAL::hilbert_sort(sorted.begin(), sorted.end(), Traits(), CGAL::Hilbert_sort_middle_policy());
-  out.points.resize(used.size());
-  out.pointDimension.resize(used.size());
+  out.points.resize(sorted.size());
+  out.pointDimension.resize(sorted.size());
   for (std::size_t k = 0; k < sorted.size(); ++k)
   {
-    const Tr::Vertex_handle v = used[sorted[k].second];
-    ids[v->time_stamp()] = static_cast<int>(k);
+    const std::size_t at = sorted[k].second;
+    ids[static_cast<std::size_t>(used.stamps[at])] = static_cast<int>(k);
     out.points[k] = toVec(sorted[k].first);
-    const int dim = c3t3.in_dimension(v);
-    out.pointDimension[k] = dim < 0 ? 3 : dim;
+    out.pointDimension[k] = used.dimensions[at];
   }
 }
 
@@ -74,34 +79,45 @@ inline void numberVerticesSpatially(const C3t3& c3t3, const std::vector<Tr::Vert
 struct UsedVertices
 {
   std::vector<int> ids; ///< by time stamp: -1 unused, then the output id
-  std::vector<Tr::Vertex_handle> used;
+  UsedVertexList used;
 
-  explicit UsedVertices(const Tr& tr)
+  explicit UsedVertices(const C3t3& c3t3)
+    : c3t3_(c3t3)
   {
+    const Tr& tr = c3t3.triangulation();
     ids.assign(vertexTimeStampBound(tr), -1);
-    used.reserve(tr.number_of_vertices());
+    used.points.reserve(tr.number_of_vertices());
+    used.stamps.reserve(tr.number_of_vertices());
+    used.dimensions.reserve(tr.number_of_vertices());
   }
   /// Marks `v` used; its time stamp.
   int stamp(Tr::Vertex_handle v)
   {
-    int& at = ids[v->time_stamp()];
+    const int stamp = static_cast<int>(v->time_stamp());
+    int& at = ids[static_cast<std::size_t>(stamp)];
     if (at < 0)
     {
       at = 0;
-      used.push_back(v);
+      const int dim = c3t3_.in_dimension(v);
+      used.points.emplace_back(v->point().point(), used.points.size());
+      used.stamps.push_back(stamp);
+      used.dimensions.push_back(static_cast<signed char>(dim < 0 ? 3 : dim));
     }
-    return static_cast<int>(v->time_stamp());
+    return stamp;
   }
   /// Numbers the vertices (numberVerticesSpatially) and puts the ids into the output's triangles
   /// in place of the time stamps; the tetrahedra keep theirs (orderTetsByPoints renumbers them
   /// through `ids` as it orders them: one pass, not two).
-  void number(const C3t3& c3t3, TetMesh& out)
+  void number(TetMesh& out)
   {
-    numberVerticesSpatially(c3t3, used, ids, out);
+    numberVerticesSpatially(used, ids, out);
     for (auto& t : out.interfaceTriangles)
       for (int& v : t)
         v = ids[static_cast<std::size_t>(v)];
   }
+
+private:
+  const C3t3& c3t3_;
 };
 
 /// Converts the complex to the output mesh: its cells, and the cells outside it that lie inside a
@@ -130,7 +146,7 @@ inline TetMesh toTetMesh(const C3t3& c3t3, const HierarchicalOracle& oracle, con
     const auto it = takenAt.find(c);
     return it == takenAt.end() ? 0 : taken[it->second].second;
   };
-  UsedVertices vertices(tr);
+  UsedVertices vertices(c3t3);
   auto addTet = [&](Tr::Cell_handle c, int index) {
     out.tets.push_back(
       { vertices.stamp(c->vertex(0)), vertices.stamp(c->vertex(1)), vertices.stamp(c->vertex(2)), vertices.stamp(c->vertex(3)) });
@@ -184,7 +200,7 @@ inline TetMesh toTetMesh(const C3t3& c3t3, const HierarchicalOracle& oracle, con
       if (beyond != index && !(it != takenAt.end() && it->second < k))
         addTriangle(c, i, index, beyond);
     }
-  vertices.number(c3t3, out);
+  vertices.number(out);
   const std::size_t dangling = c3t3.number_of_facets_in_complex() - reached - besideTaken;
   out.statistics["interface_triangles_without_tetrahedra"] = static_cast<double>(dangling);
   out.statistics["output.cells_inside_by_centroid"] = static_cast<double>(taken.size());
