@@ -24,6 +24,13 @@
 //     the nearest centre of the other side is shorter from a surface's concave side than from
 //     its convex side (more centres lie near), which moves a staircase distance's zero set by
 //     about beta h^2 times the mean curvature into the convex region it bounds (balls shrink).
+//  2b. Step 2 again from the same start with a wider Gaussian (`wideSigma`), and the two blended
+//     (blendWide): the wide one where the narrow one's zero set bends little within the wide
+//     one's reach, the narrow one near edges, corners and small or thin parts. Where a large ball
+//     touches a grid plane its voxels leave a flat patch several voxels across, wider than the
+//     narrow filter's reach: the narrow filter keeps the patch flat (up to 0.4 voxel inside the
+//     ball at its pole), the wide one carries the ball's curvature across it; near an edge the
+//     wide one rounds more and bulges the faces beside it.
 //  3. Each voxel edge between two labels gets the crossing of the two labels' psi along it, each
 //     weighted by how deep its label reaches there within the filter's reach (near a thin part
 //     of L, the filter mixes both of its sides: the other label tells better), and log w is the
@@ -347,13 +354,17 @@ public:
     , sigma_(options.sigma * hMax_) // in world units along the coarsest axis
     , delta_(0.01 * hMin_)
     , rounds_(options.iterations)
+    , wideSigma_(options.wideSigma > options.sigma ? options.wideSigma * hMax_ : 0.0)
     , filter_(sigmas(options.sigma, h), h)
+    , wideFilter_(sigmas(wideSigma_ > 0 ? options.wideSigma : options.sigma, h), h)
   {
   }
 
   double hMin() const { return hMin_; }
   /// The filter's reach in voxels (of every axis): the truncated Gaussian's and one more.
-  int reach() const { return 1 + static_cast<int>(std::ceil(3.0 * sigma_ / hMax_)); }
+  int reach() const { return reachOf(sigma_); }
+  /// The reach of the wider filter where there is one (the box must hold it), else reach().
+  int boxReach() const { return std::max(reach(), reachOf(wideSigma_)); }
 
   /// The filter's width per axis: `sigma` voxels of that axis (the staircase a voxel leaves is as
   /// long as the voxel; on a CT grid of 0.5 x 0.5 x 1.25 one width in world units blurred the
@@ -399,21 +410,63 @@ public:
     depth_.resize(own.size());
     for (size_t i = 0; i < own.size(); ++i)
       depth_[i] = tmp_[offsetOf(box, boundary[own[i]])];
-    for (int round = 0; round < rounds_; ++round)
+    const int passes = wideSigma_ > 0 ? 2 : 1;
+    if (passes == 2)
+      wide_ = psi_;
+    smooth(box, filter_, psi_, [&](double f) { progress(f / passes); });
+    if (passes == 2)
     {
-      filter_.apply(box, psi_, tmp_);
-      constrain();
-      progress((round + 1.0) / (rounds_ + 1.0));
+      psi_.swap(wide_);
+      smooth(box, wideFilter_, psi_, [&](double f) { progress(0.5 + 0.5 * f); });
+      psi_.swap(wide_);
+      blendWide(box);
     }
-    filter_.subtractLaplacian(box, psi_, tmp_,
-      { kCurvatureShift * h_[0] * h_[0], kCurvatureShift * h_[1] * h_[1], kCurvatureShift * h_[2] * h_[2] });
-    psi_.swap(tmp_);
-    constrain();
     collect(box, boundary, own, out);
     progress(1.0);
   }
 
+  /// Step 2 with `filter` on `psi` (psi_ itself or a box of the same size); `progress(fraction)`
+  /// after each round.
+  template <class Progress>
+  void smooth(const Box& box, const QuadraticPreservingFilter& filter, std::vector<float>& psi, Progress&& progress)
+  {
+    psi_.swap(psi);
+    for (int round = 0; round < rounds_; ++round)
+    {
+      filter.apply(box, psi_, tmp_);
+      constrain();
+      progress((round + 1.0) / (rounds_ + 1.0));
+    }
+    filter.subtractLaplacian(box, psi_, tmp_,
+      { kCurvatureShift * h_[0] * h_[0], kCurvatureShift * h_[1] * h_[1], kCurvatureShift * h_[2] * h_[2] });
+    psi_.swap(tmp_);
+    constrain();
+    psi_.swap(psi);
+  }
+
+  /// psi_ (the narrow filter's) blended towards wide_ (the wide one's) where the narrow one's zero
+  /// set bends little nearby: its curvature (the sum of the principal ones, |Laplacian psi|, per
+  /// coarsest voxel) within kBlendReach of the wide filter's reach below kFlatCurvature, the wide
+  /// one alone; above kBentCurvature the narrow one alone. Both keep the sign constraint, so does
+  /// any blend of them.
+  void blendWide(const Box& box)
+  {
+    filter_.subtractLaplacian(box, psi_, tmp_, { -1.0, -1.0, -1.0 }); // psi + Laplacian psi
+    const double band = hMax_;
+    forEachVoxel(box.size, [&](size_t i) {
+      tmp_[i] = std::abs(psi_[i]) <= band ? static_cast<float>(std::abs(tmp_[i] - psi_[i]) * hMax_) : 0.0f;
+    });
+    runningMaximum(box, static_cast<int>(std::ceil(kBlendReach * reachOf(wideSigma_))), tmp_);
+    forEachVoxel(box.size, [&](size_t i) {
+      const double a = std::clamp((kBentCurvature - tmp_[i]) / (kBentCurvature - kFlatCurvature), 0.0, 1.0);
+      psi_[i] = static_cast<float>((1.0 - a) * psi_[i] + a * wide_[i]);
+    });
+  }
+
 private:
+  /// A filter's reach in voxels (of every axis): the truncated Gaussian's and one more.
+  int reachOf(double sigma) const { return 1 + static_cast<int>(std::ceil(3.0 * sigma / hMax_)); }
+
   size_t offsetOf(const Box& box, size_t v) const
   {
     const size_t sy = static_cast<size_t>(dims_[0]), sz = sy * dims_[1];
@@ -470,15 +523,24 @@ private:
   static constexpr double kCurvatureShift = 0.15;
   /// Depth (largest psi within the filter's reach) at which a label's crossings count fully, in sigmas.
   static constexpr double kDeepReach = 4.0;
+  /// blendWide: the wide filter alone where the narrow one's zero set bends less than this nearby
+  /// (the sum of the principal curvatures, per coarsest voxel: a ball of 2.5 voxels' radius), the
+  /// narrow one alone from kBentCurvature (1.7 voxels; a box's edge is sharper), within this share
+  /// of the wide filter's reach. Fitted on balls of radius 3.5 to 14 voxels, shells 1.5 and 2 voxels
+  /// thick and tilted boxes (Benchmarks/label_fidelity.py).
+  static constexpr double kFlatCurvature = 0.8;
+  static constexpr double kBentCurvature = 1.2;
+  static constexpr double kBlendReach = 0.6;
 
   const std::array<int, 3>& dims_;
   const std::vector<uint16_t>& index_;
   std::array<double, 3> h_;
   double hMin_, hMax_, sigma_, delta_;
   int rounds_;
-  QuadraticPreservingFilter filter_;
+  double wideSigma_; ///< 0: no wide filter
+  QuadraticPreservingFilter filter_, wideFilter_;
   std::vector<uint8_t> inside_;
-  std::vector<float> psi_, tmp_, depth_;
+  std::vector<float> psi_, tmp_, depth_, wide_;
 };
 
 /// Step 3: log w by least squares, per edge log w_a - log w_b = log(t / (1 - t)) (t from a, both
@@ -553,8 +615,8 @@ std::vector<float> labelInterfaceWeights(const std::array<int, 3>& dims, const s
       continue;
     for (int a = 0; a < 3; ++a) // the neighbours across the boundary, and the filter's reach
     {
-      b.lo[a] = std::max(b.lo[a] - 1 - field.reach(), 0);
-      b.hi[a] = std::min(b.hi[a] + 2 + field.reach(), dims[a]);
+      b.lo[a] = std::max(b.lo[a] - 1 - field.boxReach(), 0);
+      b.hi[a] = std::min(b.hi[a] + 2 + field.boxReach(), dims[a]);
     }
     b.finish();
     work += static_cast<double>(b.size);

@@ -14,7 +14,12 @@ struct LabelSmoothingOptions
 {
   /// Width (standard deviation) of the smoothing filter, in voxels along each axis.
   double sigma = 1.0;
-  /// Filter-and-constrain rounds per label (see the .cxx).
+  /// Width of a second, wider filter (in voxels, as `sigma`) whose result is taken where the
+  /// surface bends little at that scale: it carries the curvature of a large ball across the flat
+  /// patch of voxels at its poles, which the narrow filter leaves flat. 0 (or at most `sigma`):
+  /// none.
+  double wideSigma = 1.5;
+  /// Filter-and-constrain rounds per label and filter (see the .cxx).
   int iterations = 3;
   /// Pieces of a label of at most this many voxels keep their voxel volume (keepSmallPieceVolumes,
   /// SmallPieceVolumes.h); 0 = none.
