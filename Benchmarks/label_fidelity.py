@@ -18,7 +18,10 @@ same seed. Per run:
 
     cmake --build build --target PeerCgal PeerOracleMesh
     python3 Benchmarks/label_fidelity.py --cgal build/bin/PeerCgal --oraclemesh build/bin/PeerOracleMesh \\
-        --work build/label_fidelity [--cases sphere_r4.5 shell_1.5 ...]
+        --work build/label_fidelity [--cases sphere_r4.5 shell_1.5 ...] [--generated]
+
+--generated: twenty more cases with fixed seeds (balls of radius 3.5-14, shells, tilted boxes, a CT
+grid at other placements: generated_cases), e.g. with --interpolations smooth.
     python3 Benchmarks/label_fidelity.py --oraclemesh build/bin/PeerOracleMesh --work DIR --check
 
 --cost N: instead, the cost of building the oracle of an N^3 image of 10 overlapping balls (labels
@@ -113,11 +116,53 @@ def make_case(name):
         c = np.array([8.75, 8.75, 9.375]) + 0.5 * jitter()
         shapes = [(2, Sphere(c + rng.uniform(-1, 1, 3), 3.0)), (1, Sphere(c, 6.5))]
     else:
-        raise SystemExit(f"unknown case {name!r}")
+        return generated_case(name)
     return dims, np.array(h), shapes
 
 
 CASES = ("sphere_r4.5", "sphere_r10", "nested", "tilted_box", "shell_1.5", "ct_aniso")
+
+
+def generated_case(name):
+    """The cases --generated lists, by name: ball_<radius>_<seed>, shell_<radius>_<thickness>_<seed>
+    (a core of the radius inside a shell of the thickness), box_<half>_<seed> (a randomly rotated
+    cube) and ct_<seed> (two nested balls of 3.5 and 7 mm on a 0.5 x 0.5 x 1.25 grid); centres jittered
+    by the seed."""
+    kind, *numbers = name.split("_")
+    try:
+        *sizes, seed = [float(x) for x in numbers]
+    except ValueError:
+        raise SystemExit(f"unknown case {name!r}")
+    rng = np.random.default_rng(int(seed))
+    jitter = lambda: rng.uniform(-0.5, 0.5, 3)
+    if kind == "ball" and len(sizes) == 1:
+        n = int(2 * sizes[0] + 8)
+        return (n, n, n), np.ones(3), [(1, Sphere(np.full(3, (n - 1) / 2) + jitter(), sizes[0]))]
+    if kind == "shell" and len(sizes) == 2:
+        r, t = sizes
+        n = int(2 * (r + t) + 8)
+        c = np.full(3, (n - 1) / 2) + jitter()
+        return (n, n, n), np.ones(3), [(2, Sphere(c, r)), (1, Sphere(c, r + t))]
+    if kind == "box" and len(sizes) == 1:
+        n = int(3.6 * sizes[0] + 6)
+        c = np.full(3, (n - 1) / 2) + jitter()
+        return (n, n, n), np.ones(3), [(1, Box(c, sizes[0], rotation(rng)))]
+    if kind == "ct" and not sizes:
+        c = np.array([9.75, 9.75, 10.6]) + 0.5 * jitter()
+        return (40, 40, 18), np.array([0.5, 0.5, 1.25]), [(2, Sphere(c + rng.uniform(-1, 1, 3), 3.5)),
+                                                          (1, Sphere(c, 7.0))]
+    raise SystemExit(f"unknown case {name!r}")
+
+
+def generated_cases(seeds=(11, 12)):
+    """Ten generated cases per seed (--generated): balls of radius 3.5 to 14 voxels, shells 1.5 and 2
+    voxels thick, tilted boxes of half 5 and 9, a CT-like grid."""
+    names = []
+    for seed in seeds:
+        names += [f"ball_{r}_{seed}" for r in (3.5, 6, 8, 14)]
+        names += [f"shell_{r}_{t}_{seed}" for r, t in ((6, 1.5), (10, 2), (12, 1.5))]
+        names += [f"box_{h}_{seed}" for h in (5, 9)] + [f"ct_{seed}"]
+    return names
 
 
 def label_image(dims, h, shapes):
@@ -267,6 +312,8 @@ def main():
     ap.add_argument("--cgal", help="PeerCgal (stock CGAL 5.5); without it, OracleMesh only")
     ap.add_argument("--work", required=True)
     ap.add_argument("--cases", nargs="+", default=None)
+    ap.add_argument("--generated", action="store_true",
+                    help="twenty generated cases with fixed seeds instead (generated_cases): placements beyond the six")
     ap.add_argument("--interpolations", nargs="+", default=list(INTERPOLATIONS), choices=INTERPOLATIONS)
     ap.add_argument("--check", action="store_true", help="four cases, assert the Smooth aims")
     ap.add_argument("--seed", type=int, default=1)
@@ -275,7 +322,7 @@ def main():
     if args.cost:
         os.makedirs(args.work, exist_ok=True)
         return cost(args.cost, args.work)
-    cases = args.cases or (list(CHECK_CASES) if args.check else list(CASES))
+    cases = args.cases or (generated_cases() if args.generated else list(CHECK_CASES) if args.check else list(CASES))
     interpolations = ["trilinear", "smooth"] if args.check else args.interpolations
     os.makedirs(args.work, exist_ok=True)
     rows, failures = [], []
