@@ -377,6 +377,38 @@ class Writers(unittest.TestCase):
         self.assertEqual(again.names, sets.names)
         self.assertEqual({tuple(sorted(f)) for f in again.faces.tolist()}, {tuple(sorted(f)) for f in sets.faces.tolist()})
 
+    def test_faces_point_out_of_their_owner_and_a_known_orientation_gives_the_same(self):
+        """Every boundary and interface face points away from its owner's fourth vertex, on inverted
+        tetrahedra too (measured); `oriented` (all volumes known positive: the mesher's check) gives
+        the same faces without measuring."""
+        from oraclemesh.surfaces import TET_FACES, surface_sets
+
+        rng = np.random.default_rng(4)
+        corners = np.array([[(v >> 0) & 1, (v >> 1) & 1, (v >> 2) & 1] for v in range(8)], float)
+        points, cells, material = [], [], []
+        for cube, offset in enumerate(np.ndindex(3, 2, 2)):  # twelve cubes of six Kuhn tetrahedra
+            base = len(points)
+            points += (corners + offset + rng.uniform(-0.1, 0.1, (8, 3))).tolist()
+            cells += [[base + i for i in t] for t in KUHN]
+            material += [1 + cube % 3] * len(KUHN)
+        points, cells, material = np.array(points), np.array(cells), np.array(material)
+        volume = lambda t: np.einsum("ij,ij->i", np.cross(points[t[:, 1]] - points[t[:, 0]], points[t[:, 2]] - points[t[:, 0]]),
+                                     points[t[:, 3]] - points[t[:, 0]])
+        negative = volume(cells) < 0
+        cells[negative] = cells[negative][:, [1, 0, 2, 3]]  # all positive, as the mesher's
+        self.assertTrue((volume(cells) > 0).all())
+        known = surface_sets(points, cells, material, oriented=True)
+        measured = surface_sets(points, cells, material)
+        np.testing.assert_array_equal(known.faces, measured.faces)
+        flipped = cells.copy()
+        flipped[::5, [0, 1]] = flipped[::5, [1, 0]]  # every fifth tetrahedron inverted
+        sets = surface_sets(points, flipped, material)
+        fourth = flipped[sets.owner, [next(v for v in range(4) if v not in TET_FACES[s - 1]) for s in sets.side]]
+        f = points[sets.faces]
+        normal = np.cross(f[:, 1] - f[:, 0], f[:, 2] - f[:, 0])
+        self.assertTrue((np.einsum("ij,ij->i", normal, points[fourth] - f[:, 0]) < 0).all())
+        self.assertEqual(sorted(map(sorted, sets.faces.tolist())), sorted(map(sorted, measured.faces.tolist())))
+
     def test_field_data_text_survives_the_vtu_and_meshio_reads_it(self):
         import meshio
 

@@ -257,8 +257,24 @@ class MeshResult:
         from .writers import MeshArrays
 
         if self._arrays is None:  # computed once for every save and surface_sets
-            self._arrays = MeshArrays(self.grid, self.material_names, separating=self._separating)
+            # the validity check measured every tetrahedron of a fresh mesh: none inverted or flat
+            # means every volume is positive
+            st = self.statistics
+            oriented = self._separating is not None and st.get(fieldkeys.VALIDITY_INVERTED_TETRAHEDRA) == 0 \
+                and st.get(fieldkeys.VALIDITY_FLAT_TETRAHEDRA) == 0
+            self._arrays = MeshArrays(self.grid, self.material_names, separating=self._separating, oriented=oriented,
+                                      ids=self._material_ids())
         return self._arrays
+
+    def _material_ids(self):
+        """The materials of a fresh mesh's cells from its statistics (tetrahedra.material_<id>, counted
+        by the validity check's pass over every tetrahedron), or None when they do not cover every
+        cell."""
+        prefix = "tetrahedra.material_"
+        counts = {int(k[len(prefix):]): v for k, v in self.statistics.items() if k.startswith(prefix)}
+        if self._separating is None or sum(counts.values()) != self.grid.GetNumberOfCells():
+            return None
+        return sorted(m for m, n in counts.items() if n > 0)
 
     @property
     def surface_sets(self):

@@ -125,12 +125,14 @@ def separating_faces(points, cells, material):
             np.concatenate([other_mat, np.full(len(single), EXTERIOR, dtype=np.int64)]))
 
 
-def surface_sets(points, cells, material, names=None, separating=None, ids=None):
+def surface_sets(points, cells, material, names=None, separating=None, ids=None, oriented=False):
     """SurfaceSets of tetrahedra `cells` [m x 4] (ids into `points` [n x 3]) with `material` [m] and
     {material id: name}. `separating`: the faces as separating_faces() gives them, when they are
     known (the mesher's validity check finds them in its pass over the faces: the field array
     SeparatingFaces of a mesh just made); else they are found here. `ids`: material_ids(material)
-    when the caller has them.
+    when the caller has them. `oriented`: every tetrahedron is known to have a positive volume (the
+    mesher's validity check counted none inverted or flat), so each face's outward order is known
+    without measuring it.
 
     Faces shared by more than two tetrahedra (a broken mesh; the validity check reports them) are
     left out."""
@@ -146,7 +148,9 @@ def surface_sets(points, cells, material, names=None, separating=None, ids=None)
     rows = rows[order]
     owner, side = rows // 4, rows % 4
     pairs = np.stack([first[order], other[order]], axis=1)
-    faces = np.take_along_axis(cells[owner], TET_FACES[side], axis=1)
+    # Oriented by the geometry (an inverted tetrahedron must not flip its face): normal away from the
+    # owner's fourth vertex; TET_FACES turns each face towards it in a positive tetrahedron
+    faces = cells[owner[:, None], TET_FACES[side][:, ::-1]]
     change = np.r_[True, (pairs[1:] != pairs[:-1]).any(axis=1)] if len(pairs) else np.zeros(0, bool)
     surface = np.cumsum(change) - 1  # faces are sorted by pair: a new surface where the pair changes
     unique_pairs = pairs[change]
@@ -156,11 +160,10 @@ def surface_sets(points, cells, material, names=None, separating=None, ids=None)
     for i, (a, b) in enumerate(unique_pairs.tolist()):
         label = f"{set_names[a]}__{set_names[b] if b != EXTERIOR else EXTERIOR_NAME}"
         labels.append(label if len(label) <= 80 else f"{label[:70]}_{i}")  # Abaqus' limit, kept distinct
-    # Oriented by the geometry (an inverted tetrahedron must not flip its face): normal away from the
-    # owner's fourth vertex.
-    fourth = cells[owner, _OPPOSITE[side]]
-    a, b, c = points[faces[:, 0]], points[faces[:, 1]], points[faces[:, 2]]
-    inward = np.einsum("ij,ij->i", np.cross(b - a, c - a), points[fourth] - a) > 0
-    faces[inward] = faces[inward][:, ::-1]
+    if not oriented:
+        fourth = cells[owner, _OPPOSITE[side]]
+        a, b, c = points[faces[:, 0]], points[faces[:, 1]], points[faces[:, 2]]
+        inward = np.einsum("ij,ij->i", np.cross(b - a, c - a), points[fourth] - a) > 0
+        faces[inward] = faces[inward][:, ::-1]
     return SurfaceSets(faces, owner, side + 1, pairs, surface, labels,
                        [tuple(p) for p in unique_pairs.tolist()])

@@ -150,8 +150,10 @@ class MeshArrays:
     the cells, or 10 per 10-node tetrahedron), quadratic, material, {id: name}, the SurfaceSets and
     each surface's tag, face_nodes (the surface triangles' nodes: 3, or 6 for quadratic meshes)."""
 
-    def __init__(self, grid, names=None, source="mesh", separating=None):
-        """`separating`: the boundary and interface faces when known (surfaces.surface_sets)."""
+    def __init__(self, grid, names=None, source="mesh", separating=None, oriented=False, ids=None):
+        """`separating`: the boundary and interface faces when known, `oriented`: every tetrahedron
+        known to have a positive volume (surfaces.surface_sets); `ids`: the sorted material ids of
+        the cells when known (else read from them)."""
         from .quadratic import face_nodes
         from .surfaces import material_ids, surface_sets
 
@@ -159,8 +161,8 @@ class MeshArrays:
         self.cells = self.nodes[:, :4]
         self.quadratic = self.nodes.shape[1] == 10
         self.names = dict(names or {})
-        self.ids = material_ids(self.material)
-        self.sets = surface_sets(self.points, self.cells, self.material, self.names, separating, self.ids)
+        self.ids = list(ids) if ids is not None else material_ids(self.material)
+        self.sets = surface_sets(self.points, self.cells, self.material, self.names, separating, self.ids, oriented)
         self.face_nodes = face_nodes(self.sets.faces, self.nodes, self.sets.owner) if self.quadratic \
             else self.sets.faces
         first = max(self.ids) + 1
