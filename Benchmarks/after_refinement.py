@@ -105,17 +105,22 @@ def main():
     paths = peer_benchmark.prepare(a.data, a.work)
     rows = []
     for h in a.sizes:
-        om = median_of([run_child(a.data, h) for _ in range(a.repeat)])
+        runs = [run_child(a.data, h) for _ in range(a.repeat)]
+        for r in runs:
+            r["after"] = sum(r[name] for name, _ in AFTER) + r["python"] + r["sets"]
+        om = median_of(runs)
+        shares = [100 * r["after"] / r["refine"] for r in runs]  # each run's own share, for its spread
         cg = None
         if a.cgal:
             cg = peer_benchmark.run(a.cgal, "labels", paths, h, "default", a.repeat, io.StringIO())
         om["after"] = sum(om[name] for name, _ in AFTER) + om["python"] + om["sets"]
+        om["share_range"] = "%.1f-%.1f" % (min(shares), max(shares))
         rows.append((h, om, cg))
         print("h=%g: %d tets, refine %.2f s, after %.2f s (%.0f %%)" %
               (h, om["tets"], om["refine"], om["after"], 100 * om["after"] / om["refine"]), file=sys.stderr)
     cols = [name for name, _ in AFTER] + ["python", "sets"]
     print("| h | tets OM / CGAL | refine s OM / CGAL | " + " | ".join(cols) +
-          " | after refinement s | share of OM's refinement | share of CGAL's | optimise + quality step s | call s |"
+          " | after refinement s | share of OM's refinement (runs) | share of CGAL's | optimise + quality step s | call s |"
           " peak MiB OM / CGAL | peak bytes per tet OM / CGAL (ratio) |")
     print("|" + "---|" * (len(cols) + 10))
     for h, om, cg in rows:
@@ -128,9 +133,9 @@ def main():
                                  if cg else "–")
         print("| %g | %s / %s | %.2f / %s | " % (h, format(om["tets"], ","), cgal_tets, om["refine"], cgal_refine) +
               " | ".join("%.3f" % om[c] for c in cols) +
-              " | %.2f | %.1f %% | %s | %.2f + %.2f | %.2f | %s | %s |" % (
-                  om["after"], 100 * om["after"] / om["refine"], share_cgal, om["optimise"], om["improve"], om["call"],
-                  peak, per_tet))
+              " | %.2f | %.1f %% (%s) | %s | %.2f + %.2f | %.2f | %s | %s |" % (
+                  om["after"], 100 * om["after"] / om["refine"], om["share_range"], share_cgal, om["optimise"],
+                  om["improve"], om["call"], peak, per_tet))
     # the peak's growth per tetrahedron between two sizes: what the mesh costs, without the
     # process's fixed part (the interpreter, numpy, VTK and the package: about 83 MiB before meshing)
     for (h0, om0, cg0), (h1, om1, cg1) in zip(rows, rows[1:]):
