@@ -139,12 +139,14 @@ void growBox(Box& b, const std::array<int, 3>& lo, const std::array<int, 3>& hi)
 template <class Fn>
 void forEachLine(const Box& box, int axis, Fn&& fn)
 {
-  const int a1 = (axis + 1) % 3, a2 = (axis + 2) % 3;
-  tbb::parallel_for(tbb::blocked_range<int>(0, box.n[a2]), [&](const tbb::blocked_range<int>& rows) {
+  // neighbouring lines one after the other along x where the lines do not run along x: they read
+  // the same cache lines (one line at a time across x re-read them from memory for each line)
+  const int inner = axis == 0 ? 1 : 0, outer = 3 - axis - inner;
+  tbb::parallel_for(tbb::blocked_range<int>(0, box.n[outer]), [&](const tbb::blocked_range<int>& rows) {
     LineScratch scratch(box.longest());
     for (int j = rows.begin(); j < rows.end(); ++j)
-      for (int i = 0; i < box.n[a1]; ++i)
-        fn(box.stride[a1] * i + box.stride[a2] * j, box.stride[axis], box.n[axis], scratch);
+      for (int i = 0; i < box.n[inner]; ++i)
+        fn(box.stride[inner] * i + box.stride[outer] * j, box.stride[axis], box.n[axis], scratch);
   });
 }
 
