@@ -363,7 +363,7 @@ public:
   }
 
   double hMin() const { return hMin_; }
-  /// The filter's reach in voxels (of every axis): the truncated Gaussian's and one more.
+  /// The narrow filter's reach in voxels (reachOf).
   int reach() const { return reachOf(sigma_); }
   /// The reach of the wider filter where there is one (the box must hold it), else reach().
   int boxReach() const { return std::max(reach(), reachOf(wideSigma_)); }
