@@ -87,6 +87,11 @@ def run_child(data, h):
     return json.loads(p.stdout.strip().splitlines()[-1])
 
 
+def after_of(run):
+    """The seconds of every phase after refinement in one run (or in the medians of the runs)."""
+    return sum(run[name] for name, _ in AFTER) + run["python"] + run["sets"]
+
+
 def median_of(runs):
     return {k: statistics.median(r[k] for r in runs) for k in runs[0]}
 
@@ -106,14 +111,12 @@ def main():
     rows = []
     for h in a.sizes:
         runs = [run_child(a.data, h) for _ in range(a.repeat)]
-        for r in runs:
-            r["after"] = sum(r[name] for name, _ in AFTER) + r["python"] + r["sets"]
         om = median_of(runs)
-        shares = [100 * r["after"] / r["refine"] for r in runs]  # each run's own share, for its spread
+        shares = [100 * after_of(r) / r["refine"] for r in runs]  # each run's own share, for its spread
         cg = None
         if a.cgal:
             cg = peer_benchmark.run(a.cgal, "labels", paths, h, "default", a.repeat, io.StringIO())
-        om["after"] = sum(om[name] for name, _ in AFTER) + om["python"] + om["sets"]
+        om["after"] = after_of(om)
         om["share_range"] = "%.1f-%.1f" % (min(shares), max(shares))
         rows.append((h, om, cg))
         print("h=%g: %d tets, refine %.2f s, after %.2f s (%.0f %%)" %

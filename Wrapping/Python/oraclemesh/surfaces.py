@@ -148,8 +148,8 @@ def surface_sets(points, cells, material, names=None, separating=None, ids=None,
     rows = rows[order]
     owner, side = rows // 4, rows % 4
     pairs = np.stack([first[order], other[order]], axis=1)
-    # Oriented by the geometry (an inverted tetrahedron must not flip its face): normal away from the
-    # owner's fourth vertex; TET_FACES turns each face towards it in a positive tetrahedron
+    # each face's normal away from its owner's fourth vertex: TET_FACES turns it towards that
+    # vertex in a positive tetrahedron, so reversed
     faces = cells[owner[:, None], TET_FACES[side][:, ::-1]]
     change = np.r_[True, (pairs[1:] != pairs[:-1]).any(axis=1)] if len(pairs) else np.zeros(0, bool)
     surface = np.cumsum(change) - 1  # faces are sorted by pair: a new surface where the pair changes
@@ -160,7 +160,7 @@ def surface_sets(points, cells, material, names=None, separating=None, ids=None,
     for i, (a, b) in enumerate(unique_pairs.tolist()):
         label = f"{set_names[a]}__{set_names[b] if b != EXTERIOR else EXTERIOR_NAME}"
         labels.append(label if len(label) <= 80 else f"{label[:70]}_{i}")  # Abaqus' limit, kept distinct
-    if not oriented:
+    if not oriented:  # measured (an inverted tetrahedron must not flip its face)
         fourth = cells[owner, _OPPOSITE[side]]
         a, b, c = points[faces[:, 0]], points[faces[:, 1]], points[faces[:, 2]]
         inward = np.einsum("ij,ij->i", np.cross(b - a, c - a), points[fourth] - a) > 0
