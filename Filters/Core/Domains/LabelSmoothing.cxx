@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "LabelSmoothing.h"
 
+#include "LabelEdgeSharpening.h"
+#include "VoxelBox.h"
 #include "SmallPieceVolumes.h"
 #include "WorkerThreads.h"
 
@@ -31,6 +33,9 @@
 //     narrow filter's reach: the narrow filter keeps the patch flat (up to 0.4 voxel inside the
 //     ball at its pole), the wide one carries the ball's curvature across it; near an edge the
 //     wide one rounds more and bulges the faces beside it.
+//  2c. Where the label has flat faces meeting at sharp edges and corners, psi near them becomes the
+//     distance to the faces' planes (sharpenLabelEdges, LabelEdgeSharpening.h): both filters round
+//     an edge by about a voxel and bulge the faces beside it.
 //  3. Each voxel edge between two labels gets the crossing of the two labels' psi along it, each
 //     weighted by how deep its label reaches there within the filter's reach (near a thin part
 //     of L, the filter mixes both of its sides: the other label tells better), and log w is the
@@ -42,22 +47,6 @@ namespace omesh
 namespace
 {
 constexpr double kFar = 1e30; // "no seed" in the distance transform
-
-/// Scratch for one line of a box (one per thread): three value buffers with room for padding, and
-/// the distance transform's envelope.
-struct LineScratch
-{
-  explicit LineScratch(int n)
-    : a(n + 64)
-    , b(n + 64)
-    , c(n + 64)
-    , z(n + 1)
-    , v(n)
-  {
-  }
-  std::vector<double> a, b, c, z; ///< c: runningMaximum's third buffer
-  std::vector<int> v;
-};
 
 /// d[p] = min over seeds q (f[q] < kFar) of f[q] + w (p - q)^2, for p, q in [0, n): the lower
 /// envelope of parabolas (Felzenszwalb and Huttenlocher 2012). v, z: scratch of n and n + 1.
@@ -93,34 +82,8 @@ void distanceTransform1D(const double* f, double* d, int n, double w, int* v, do
   }
 }
 
-/// A box of voxels [lo, hi) and its dense arrays' strides.
-struct Box
-{
-  std::array<int, 3> lo{}, hi{};
-  std::array<int, 3> n{};
-  std::array<size_t, 3> stride{};
-  size_t size = 0;
-
-  void finish()
-  {
-    for (int a = 0; a < 3; ++a)
-      n[a] = hi[a] - lo[a];
-    stride = { 1, static_cast<size_t>(n[0]), static_cast<size_t>(n[0]) * n[1] };
-    size = stride[2] * n[2];
-  }
-  bool contains(const int p[3]) const
-  {
-    return p[0] >= lo[0] && p[0] < hi[0] && p[1] >= lo[1] && p[1] < hi[1] && p[2] >= lo[2] && p[2] < hi[2];
-  }
-  size_t offset(const int p[3]) const
-  {
-    return static_cast<size_t>(p[0] - lo[0]) + stride[1] * (p[1] - lo[1]) + stride[2] * (p[2] - lo[2]);
-  }
-  int longest() const { return std::max({ n[0], n[1], n[2] }); }
-};
-
-/// Box b (lo[0] = INT_MAX: empty) grown to hold the voxels from lo to hi (both included).
-void growBox(Box& b, const std::array<int, 3>& lo, const std::array<int, 3>& hi)
+/// VoxelBox b (lo[0] = INT_MAX: empty) grown to hold the voxels from lo to hi (both included).
+void growBox(VoxelBox& b, const std::array<int, 3>& lo, const std::array<int, 3>& hi)
 {
   if (b.lo[0] == std::numeric_limits<int>::max())
   {
@@ -135,34 +98,8 @@ void growBox(Box& b, const std::array<int, 3>& lo, const std::array<int, 3>& hi)
   }
 }
 
-/// Calls fn(line start, stride, length, scratch) for every line of `box` along `axis`, the lines
-/// shared among threads (TBB), each thread with its own scratch.
-template <class Fn>
-void forEachLine(const Box& box, int axis, Fn&& fn)
-{
-  // neighbouring lines one after the other along x where the lines do not run along x: they read
-  // the same cache lines (one line at a time across x re-read them from memory for each line)
-  const int inner = axis == 0 ? 1 : 0, outer = 3 - axis - inner;
-  tbb::parallel_for(tbb::blocked_range<int>(0, box.n[outer]), [&](const tbb::blocked_range<int>& rows) {
-    LineScratch scratch(box.longest());
-    for (int j = rows.begin(); j < rows.end(); ++j)
-      for (int i = 0; i < box.n[inner]; ++i)
-        fn(box.stride[inner] * i + box.stride[outer] * j, box.stride[axis], box.n[axis], scratch);
-  });
-}
-
-/// Calls fn(i) for every i in [0, n), in chunks on the threads runOnThreads allows.
-template <class Fn>
-void forEachVoxel(size_t n, Fn&& fn)
-{
-  forEachChunk(n, chunkCount(n, 1 << 16), [&fn](size_t, size_t begin, size_t end) {
-    for (size_t i = begin; i < end; ++i)
-      fn(i);
-  });
-}
-
 /// The squared distance from every voxel centre of the box to the nearest seed's, in world units.
-void squaredDistances(const Box& box, const std::vector<uint8_t>& seed, const std::array<double, 3>& h,
+void squaredDistances(const VoxelBox& box, const std::vector<uint8_t>& seed, const std::array<double, 3>& h,
   std::vector<float>& out)
 {
   out.resize(box.size);
@@ -175,38 +112,6 @@ void squaredDistances(const Box& box, const std::vector<uint8_t>& seed, const st
       distanceTransform1D(s.a.data(), s.b.data(), n, h[axis] * h[axis], s.v.data(), s.z.data());
       for (int q = 0; q < n; ++q)
         out[start + stride * q] = static_cast<float>(std::min(s.b[q], kFar));
-    });
-}
-
-/// Running maximum of `values` over the cube of half-width r voxels (clamped at the box): per line,
-/// van Herk and Gil-Werman's two running maxima in blocks of 2r + 1 (three comparisons a voxel
-/// whatever r).
-void runningMaximum(const Box& box, int r, std::vector<float>& values)
-{
-  const size_t w = 2 * static_cast<size_t>(r) + 1;
-  for (int axis = 0; axis < 3; ++axis)
-    forEachLine(box, axis, [&](size_t start, size_t stride, int n, LineScratch& s) {
-      const size_t m = static_cast<size_t>(n) + 2 * static_cast<size_t>(r); // the line padded with -inf
-      for (std::vector<double>* buffer : { &s.a, &s.b, &s.c })
-        if (buffer->size() < m)
-          buffer->resize(m);
-      double *line = s.a.data(), *ahead = s.b.data(), *behind = s.c.data();
-      for (size_t j = 0; j < m; ++j)
-        line[j] = j >= static_cast<size_t>(r) && j < static_cast<size_t>(r + n)
-          ? static_cast<double>(values[start + stride * (j - r)])
-          : -std::numeric_limits<double>::infinity();
-      for (size_t first = 0; first < m; first += w) // per block: from its start, and to its end
-      {
-        const size_t end = std::min(first + w, m);
-        behind[first] = line[first];
-        for (size_t j = first + 1; j < end; ++j)
-          behind[j] = std::max(behind[j - 1], line[j]);
-        ahead[end - 1] = line[end - 1];
-        for (size_t j = end - 1; j-- > first;)
-          ahead[j] = std::max(ahead[j + 1], line[j]);
-      }
-      for (int q = 0; q < n; ++q) // the window [q, q + 2r] of the padded line
-        values[start + stride * q] = static_cast<float>(std::max(ahead[q], behind[q + 2 * r]));
     });
 }
 
@@ -233,7 +138,7 @@ public:
     }
   }
 
-  void apply(const Box& box, std::vector<float>& psi, std::vector<float>& tmp) const
+  void apply(const VoxelBox& box, std::vector<float>& psi, std::vector<float>& tmp) const
   {
     for (int axis = 0; axis < 3; ++axis) // psi -> smoothed, in place through a padded line buffer
     {
@@ -263,7 +168,7 @@ public:
 
   /// out = psi - sum_a c_a * (second difference of psi along a) / h_a^2 (indices clamped).
   void subtractLaplacian(
-    const Box& box, const std::vector<float>& psi, std::vector<float>& out, const std::array<double, 3>& c) const
+    const VoxelBox& box, const std::vector<float>& psi, std::vector<float>& out, const std::array<double, 3>& c) const
   {
     out.resize(box.size);
     const double w[3] = { c[0] / (h_[0] * h_[0]), c[1] / (h_[1] * h_[1]), c[2] / (h_[2] * h_[2]) };
@@ -296,21 +201,21 @@ private:
 /// and per label the box of its own boundary voxels (lo[0] = INT_MAX where it has none). Slabs of
 /// z in parallel, concatenated in order.
 void findBoundary(const std::array<int, 3>& dims, const std::vector<uint16_t>& index, std::vector<size_t>& boundary,
-  std::vector<Box>& boxes)
+  std::vector<VoxelBox>& boxes)
 {
   const size_t sy = static_cast<size_t>(dims[0]), sz = sy * dims[1];
   const auto noBox = [] {
-    Box b;
+    VoxelBox b;
     b.lo = { std::numeric_limits<int>::max(), 0, 0 };
     return b;
   };
-  for (Box& b : boxes)
+  for (VoxelBox& b : boxes)
     b = noBox();
   // each slab keeps a box per label: at most about a million boxes in all (atlases of thousands
   // of labels get fewer slabs)
   const size_t slabs = std::min(chunkCount(static_cast<size_t>(dims[2]), 2), std::max<size_t>(1, (1u << 20) / std::max<size_t>(boxes.size(), 1)));
   std::vector<std::vector<size_t>> found(slabs);
-  std::vector<std::vector<Box>> slabBoxes(slabs, std::vector<Box>(boxes.size(), noBox()));
+  std::vector<std::vector<VoxelBox>> slabBoxes(slabs, std::vector<VoxelBox>(boxes.size(), noBox()));
   forEachChunk(static_cast<size_t>(dims[2]), slabs, [&](size_t slab, size_t zBegin, size_t zEnd) {
     for (int z = static_cast<int>(zBegin); z < static_cast<int>(zEnd); ++z)
       for (int y = 0; y < dims[1]; ++y)
@@ -372,6 +277,7 @@ public:
     , sigma_(options.sigma * hMax_) // in world units along the coarsest axis
     , delta_(0.01 * hMin_)
     , rounds_(options.iterations)
+    , sharpEdges_(options.sharpEdges)
     , wideSigma_(options.wideSigma > options.sigma ? options.wideSigma * hMax_ : 0.0)
     , filter_(sigmas(options.sigma, h), h)
     , wideFilter_(sigmas(wideSigma_ > 0 ? options.wideSigma : options.sigma, h), h)
@@ -396,7 +302,7 @@ public:
   /// boundary voxels (`own`: indices into `boundary`), the crossings of its edges to other labels
   /// and its own psi. `progress(fraction of this box)` after each round.
   template <class Progress>
-  void run(int label, const Box& box, const std::vector<size_t>& boundary, const std::vector<uint32_t>& own,
+  void run(int label, const VoxelBox& box, const std::vector<size_t>& boundary, const std::vector<uint32_t>& own,
     Crossings& out, Progress&& progress)
   {
     const size_t sy = static_cast<size_t>(dims_[0]), sz = sy * dims_[1];
@@ -439,6 +345,8 @@ public:
       psi_.swap(wide_);
       blendWide(box);
     }
+    if (sharpEdges_)
+      sharpenLabelEdges(box, h_, psi_, inside_, delta_);
     collect(box, boundary, own, out);
     progress(1.0);
   }
@@ -446,7 +354,7 @@ public:
   /// Step 2 with `filter` on `psi` (psi_ itself or a box of the same size); `progress(fraction)`
   /// after each round.
   template <class Progress>
-  void smooth(const Box& box, const QuadraticPreservingFilter& filter, std::vector<float>& psi, Progress&& progress)
+  void smooth(const VoxelBox& box, const QuadraticPreservingFilter& filter, std::vector<float>& psi, Progress&& progress)
   {
     psi_.swap(psi);
     for (int round = 0; round < rounds_; ++round)
@@ -467,7 +375,7 @@ public:
   /// coarsest voxel) within kBlendReach of the wide filter's reach below kFlatCurvature, the wide
   /// one alone; above kBentCurvature the narrow one alone. Both keep the sign constraint, so does
   /// any blend of them.
-  void blendWide(const Box& box)
+  void blendWide(const VoxelBox& box)
   {
     filter_.subtractLaplacian(box, psi_, tmp_, { -1.0, -1.0, -1.0 }); // psi + Laplacian psi
     const double band = hMax_;
@@ -485,7 +393,7 @@ private:
   /// A filter's reach in voxels (of every axis): the truncated Gaussian's and one more.
   int reachOf(double sigma) const { return 1 + static_cast<int>(std::ceil(3.0 * sigma / hMax_)); }
 
-  size_t offsetOf(const Box& box, size_t v) const
+  size_t offsetOf(const VoxelBox& box, size_t v) const
   {
     const size_t sy = static_cast<size_t>(dims_[0]), sz = sy * dims_[1];
     const int p[3] = { static_cast<int>(v % sy), static_cast<int>((v / sy) % dims_[1]), static_cast<int>(v / sz) };
@@ -499,7 +407,7 @@ private:
     forEachVoxel(psi_.size(), [this, d](size_t i) { psi_[i] = inside_[i] ? std::max(psi_[i], d) : std::min(psi_[i], -d); });
   }
 
-  void collect(const Box& box, const std::vector<size_t>& boundary, const std::vector<uint32_t>& own,
+  void collect(const VoxelBox& box, const std::vector<size_t>& boundary, const std::vector<uint32_t>& own,
     Crossings& out) const
   {
     const size_t strides[3] = { 1, static_cast<size_t>(dims_[0]), static_cast<size_t>(dims_[0]) * dims_[1] };
@@ -555,6 +463,7 @@ private:
   std::array<double, 3> h_;
   double hMin_, hMax_, sigma_, delta_;
   int rounds_;
+  bool sharpEdges_;
   double wideSigma_; ///< 0: no wide filter
   QuadraticPreservingFilter filter_, wideFilter_;
   std::vector<uint8_t> inside_;
@@ -620,14 +529,14 @@ std::vector<float> labelInterfaceWeights(const std::array<int, 3>& dims, const s
 {
   std::vector<float> weights(index.size(), 1.0f);
   std::vector<size_t> boundary;
-  std::vector<Box> boxes(static_cast<size_t>(std::max(labelCount, 0)));
+  std::vector<VoxelBox> boxes(static_cast<size_t>(std::max(labelCount, 0)));
   findBoundary(dims, index, boundary, boxes);
   if (boundary.empty())
     return weights;
 
   LabelField field(dims, index, spacing, options);
   double work = 0.0;
-  for (Box& b : boxes)
+  for (VoxelBox& b : boxes)
   {
     if (b.lo[0] == std::numeric_limits<int>::max())
       continue;
@@ -647,7 +556,7 @@ std::vector<float> labelInterfaceWeights(const std::array<int, 3>& dims, const s
   double done = 0.0;
   for (int label = 0; label < labelCount; ++label)
   {
-    const Box& box = boxes[label];
+    const VoxelBox& box = boxes[label];
     if (box.size == 0)
       continue;
     field.run(label, box, boundary, own[label], crossings, [&](double fraction) {

@@ -19,6 +19,9 @@ struct LabelSmoothingOptions
   /// patch of voxels at its poles, which the narrow filter leaves flat. 0 (or at most `sigma`):
   /// none.
   double wideSigma = 1.5;
+  /// Flat faces meeting at sharp edges and corners kept sharp (sharpenLabelEdges,
+  /// LabelEdgeSharpening.h).
+  bool sharpEdges = true;
   /// Filter-and-constrain rounds per label and filter (see the .cxx).
   int iterations = 3;
   /// Pieces of a label of at most this many voxels keep their voxel volume (keepSmallPieceVolumes,

@@ -15,6 +15,20 @@ namespace
 {
 constexpr int kSamples = 4; ///< per axis and cell of voxel centres
 constexpr int kPerCell = kSamples * kSamples * kSamples;
+
+/// A sample's place in its stratum along one axis, in [0, 1): fixed per cell, sample and axis (a
+/// hash). Samples at the strata's centres would put an axis-aligned face exactly between two rows
+/// of them: the sampled volume would then jump by a quarter voxel's layer at once as the factor
+/// moves the face, and the factor found overshoot by up to that.
+double jitter(size_t cell, int sample, int axis)
+{
+  uint64_t z = (static_cast<uint64_t>(cell) * kPerCell + static_cast<uint64_t>(sample)) * 3 + static_cast<uint64_t>(axis);
+  z += 0x9e3779b97f4a7c15ull; // splitmix64
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+  z ^= z >> 31;
+  return static_cast<double>(z >> 11) * 0x1.0p-53;
+}
 constexpr int kRounds = 3;  ///< of corrections over all small pieces
 
 enum : uint8_t
@@ -175,8 +189,9 @@ private:
       distinctLabels(k);
       for (int s = 0; s < kPerCell; ++s)
       {
-        const double f[3] = { (s % kSamples + 0.5) / kSamples, ((s / kSamples) % kSamples + 0.5) / kSamples,
-          (s / (kSamples * kSamples) + 0.5) / kSamples };
+        const double f[3] = { (s % kSamples + jitter(cell, s, 0)) / kSamples,
+          ((s / kSamples) % kSamples + jitter(cell, s, 1)) / kSamples,
+          (s / (kSamples * kSamples) + jitter(cell, s, 2)) / kSamples };
         double sums[8];
         labelWeights(k, f, sums);
         double own, other;
