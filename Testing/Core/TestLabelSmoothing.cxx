@@ -362,3 +362,95 @@ TEST(LabelSmoothing, ALargeBallKeepsItsCurvatureAcrossTheFlatPatchAtItsPole)
       EXPECT_LT(wideAll.max, narrowAll.max);
     }
 }
+
+namespace
+{
+/// A cube of half-size `half` turned by a random rotation (its columns: the cube's axes).
+struct TiltedCube
+{
+  Vec3 centre;
+  double half;
+  std::array<Vec3, 3> axes;
+
+  TiltedCube(const Vec3& c, double h, std::mt19937& rng)
+    : centre(c)
+    , half(h)
+  {
+    axes[0] = randomUnit(rng);
+    Vec3 t = randomUnit(rng);
+    axes[1] = (1.0 / norm(t - dot(t, axes[0]) * axes[0])) * (t - dot(t, axes[0]) * axes[0]);
+    axes[2] = cross(axes[0], axes[1]);
+  }
+  Vec3 local(const Vec3& p) const { return { dot(p - centre, axes[0]), dot(p - centre, axes[1]), dot(p - centre, axes[2]) }; }
+  /// The exact signed distance (negative inside).
+  double distance(const Vec3& p) const
+  {
+    const Vec3 l = local(p);
+    const Vec3 q{ std::abs(l.x) - half, std::abs(l.y) - half, std::abs(l.z) - half };
+    const Vec3 out{ std::max(q.x, 0.0), std::max(q.y, 0.0), std::max(q.z, 0.0) };
+    return norm(out) + std::min(std::max({ q.x, q.y, q.z }), 0.0);
+  }
+  /// How far p lies from the cube's nearest edge line.
+  double edgeDistance(const Vec3& p) const
+  {
+    const Vec3 l = local(p);
+    std::array<double, 3> q{ half - std::abs(l.x), half - std::abs(l.y), half - std::abs(l.z) };
+    std::sort(q.begin(), q.end());
+    return std::hypot(q[0], q[1]);
+  }
+};
+}
+
+TEST(LabelSmoothing, TiltedCubesKeepTheirEdgesAndCorners)
+{
+  // Cubes at random tilts: the smoothing alone rounds each edge by about a voxel and bulges the
+  // faces beside it (0.09-0.13 voxel on average); with their faces found and the planes' distance
+  // put near the edges, the interfaces come within 0.07 voxel on average (0.044-0.062 here), closer
+  // than without by a third, and so does the share of the mean that lies within a voxel of an edge
+  // (nearEdge: the distance there, 0 elsewhere). The worst point (a corner: the weights' own limit
+  // there is about 0.45 voxel) comes closer too.
+  std::mt19937 rng(7);
+  LabelSmoothingOptions round;
+  round.sharpEdges = false;
+  for (int trial = 0; trial < 3; ++trial)
+  {
+    const TiltedCube cube(Vec3{ 12.4, 12.1, 12.7 } + 0.5 * randomUnit(rng), 5.5, rng);
+    auto distance = [&](const Vec3& p) { return cube.distance(p); };
+    auto nearEdge = [&](const Vec3& p) { return cube.edgeDistance(p) < 1.0 ? cube.distance(p) : 0.0; };
+    const SampledMap m({ 26, 26, 26 }, { 1, 1, 1 }, [&](const Vec3& p) { return distance(p) < 0 ? 1 : 0; });
+    const auto sharpDomain = m.domain(LabelInterpolation::Smooth), roundDomain = m.domain(LabelInterpolation::Smooth, round);
+    const InterfaceDistances sharp = interfaceDistances(*sharpDomain, m, distance);
+    const InterfaceDistances rounded = interfaceDistances(*roundDomain, m, distance);
+    const InterfaceDistances sharpEdges = interfaceDistances(*sharpDomain, m, nearEdge);
+    const InterfaceDistances roundEdges = interfaceDistances(*roundDomain, m, nearEdge);
+    SCOPED_TRACE("trial " + std::to_string(trial));
+    EXPECT_LT(sharp.mean, 0.07);
+    EXPECT_LT(sharp.mean, 0.67 * rounded.mean);
+    EXPECT_LT(sharpEdges.mean, 0.67 * roundEdges.mean);
+    EXPECT_LT(sharp.max, rounded.max);
+  }
+}
+
+TEST(LabelSmoothing, BallsShellsAndCrossingBallsHaveNoSharpEdges)
+{
+  // Shapes with no flat faces: the weights are the same with and without looking for sharp edges
+  // (a small ball bends as sharply as an edge; two balls crossing meet at a sharp crease between
+  // curved faces; a thin shell's two sides face each other).
+  LabelSmoothingOptions round;
+  round.sharpEdges = false;
+  const Vec3 c{ 11.3, 11.6, 11.2 }, d{ 17.9, 15.2, 13.1 };
+  const std::vector<std::pair<std::string, std::function<int(const Vec3&)>>> shapes{
+    { "ball 3.5", [&](const Vec3& p) { return norm(p - c) < 3.5 ? 1 : 0; } },
+    { "ball 7", [&](const Vec3& p) { return norm(p - c) < 7.0 ? 1 : 0; } },
+    { "shell", [&](const Vec3& p) { return norm(p - c) < 6.0 ? 2 : norm(p - c) < 7.5 ? 1 : 0; } },
+    { "crossing balls", [&](const Vec3& p) { return norm(p - c) < 9.0 ? 2 : norm(p - d) < 9.0 ? 1 : 0; } },
+  };
+  for (const auto& [name, labelAt] : shapes)
+  {
+    const SampledMap m({ 32, 32, 30 }, { 1, 1, 1 }, labelAt);
+    std::vector<uint16_t> index(m.labels.begin(), m.labels.end());
+    const auto sharp = labelInterfaceWeights(m.dims, index, 3, { 1, 1, 1 });
+    const auto rounded = labelInterfaceWeights(m.dims, index, 3, { 1, 1, 1 }, round);
+    EXPECT_EQ(sharp, rounded) << name;
+  }
+}

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 
 namespace omesh
@@ -31,13 +32,15 @@ struct Face
   double inside(const Vec3& p) const { return dot(normal, point - p); } ///< signed distance, positive inside
 };
 
-/// The faces found around one voxel, and the merged planes they belong to.
-struct LocalFaces
+/// A voxel near where the zero set bends sharply: the faces found around it (none where they do
+/// not explain the staircase or make no edge), the merged planes they belong to.
+struct Candidate
 {
+  size_t voxel = 0;
   std::array<Face, kMaxFaces> faces;
   std::array<int, kMaxFaces> plane{ -1, -1, -1 };
   int count = 0;
-  bool edge = false;
+  bool fitted = false, edge = false, nearEdge = false;
 };
 
 /// The unit eigenvector of the smallest eigenvalue of the symmetric matrix c (cyclic Jacobi).
@@ -143,16 +146,27 @@ void dropNearParallel(std::vector<Face>& faces, double edgeCosine)
   faces.swap(kept);
 }
 
+/// One thread's buffers for EdgeSharpener::fitFaces.
+struct FitScratch
+{
+  std::vector<int> near;
+  std::vector<std::vector<int>> groups;
+  std::vector<Vec3> sums, means;
+  std::vector<Face> faces, refitted;
+  std::vector<std::array<double, 3>> scales;
+};
+
 class EdgeSharpener
 {
 public:
-  EdgeSharpener(const VoxelBox& box, const std::array<double, 3>& h, const std::vector<float>& psi,
-    const std::vector<uint8_t>& inside, const LabelEdgeSharpeningOptions& o)
+  EdgeSharpener(const VoxelBox& box, const std::array<double, 3>& h, std::vector<float>& psi,
+    const std::vector<uint8_t>& inside, std::vector<float>& scratch, const LabelEdgeSharpeningOptions& o)
     : box_(box)
     , h_(h)
     , hMax_(std::max({ h[0], h[1], h[2] }))
     , psi_(psi)
     , inside_(inside)
+    , scratch_(scratch)
     , o_(o)
     , faceCosine_(std::cos(o.faceAngle * kDegree))
     , edgeCosine_(std::cos(o.edgeAngle * kDegree))
@@ -161,30 +175,46 @@ public:
       window_[a] = static_cast<int>(std::ceil((o.reach + 0.5) * hMax_ / h[a]));
   }
 
-  std::size_t run(std::vector<float>& out, double delta)
+  /// Edges first where the zero set bends sharply, then the faces around them, then the planes:
+  /// a label without flat faces meeting at an edge costs little more than the first look.
+  std::size_t run(double delta)
   {
-    if (!findCandidates())
+    if (!markBent())
       return 0;
+    runningMaximum(box_, 1, scratch_);
+    addCandidates(0.75); // the voxels next to the zero set find the edges
     collectSamples();
     fitCandidates();
-    if (!markNearEdges())
+    // the edges' own faces merged first: edges between curved faces (a rim where a flat face
+    // meets a round one) are dropped before the faces around them are fitted
+    for (Candidate& c : candidates_)
+      c.nearEdge = c.edge;
+    mergeFaces(1.5 * o_.flatCurvature); // members along a line only: a noisier turn
+    for (Candidate& c : candidates_)
+      c.edge = c.edge && std::all_of(c.plane.begin(), c.plane.begin() + c.count, [&](int k) { return planes_[k].count > 0; });
+    if (!markEdges(o_.near + o_.vote))
       return 0;
-    mergeFaces();
-    return replace(out, delta);
+    addCandidates(o_.band);
+    fitCandidates();
+    markEdges(o_.near);
+    for (Candidate& c : candidates_)
+      c.nearEdge = scratch_[c.voxel] > 0;
+    mergeFaces(o_.flatCurvature);
+    return replace(delta);
   }
 
 private:
-  Vec3 centre(size_t v) const
-  {
-    const int p[3] = { static_cast<int>(v % box_.n[0]), static_cast<int>((v / box_.n[0]) % box_.n[1]),
-      static_cast<int>(v / box_.stride[2]) };
-    return { (box_.lo[0] + p[0]) * h_[0], (box_.lo[1] + p[1]) * h_[1], (box_.lo[2] + p[2]) * h_[2] };
-  }
   void coordinates(size_t v, int p[3]) const
   {
     p[0] = static_cast<int>(v % box_.n[0]);
     p[1] = static_cast<int>((v / box_.n[0]) % box_.n[1]);
     p[2] = static_cast<int>(v / box_.stride[2]);
+  }
+  Vec3 centre(size_t v) const
+  {
+    int p[3];
+    coordinates(v, p);
+    return { (box_.lo[0] + p[0]) * h_[0], (box_.lo[1] + p[1]) * h_[1], (box_.lo[2] + p[2]) * h_[2] };
   }
 
   /// psi's gradient at voxel v (central differences, one-sided at the box's faces).
@@ -202,48 +232,114 @@ private:
     return g;
   }
 
-  /// Candidates: voxels near the zero set within reach of where it bends sharply (an edge's
-  /// voxels, the faces' voxels around it and those that vote for them). False when none.
-  bool findCandidates()
+  /// scratch_: 1 where the zero set bends sharply (|Laplacian psi| per coarsest voxel, within half
+  /// a voxel of it), else 0. False when nowhere.
+  bool markBent()
   {
-    std::vector<float> bent(box_.size, 0.0f);
-    bool any = false;
-    for (size_t v = 0; v < box_.size; ++v)
-    {
-      if (std::abs(psi_[v]) > hMax_)
-        continue;
-      int p[3];
-      coordinates(v, p);
-      double lap = 0.0;
-      for (int a = 0; a < 3; ++a)
+    scratch_.assign(box_.size, 0.0f);
+    const size_t chunks = chunkCount(box_.size, 1 << 16);
+    std::vector<char> any(chunks, 0);
+    forEachChunk(box_.size, chunks, [&](size_t chunk, size_t begin, size_t end) {
+      for (size_t v = begin; v < end; ++v)
       {
-        const size_t lo = p[a] > 0 ? v - box_.stride[a] : v, hi = p[a] + 1 < box_.n[a] ? v + box_.stride[a] : v;
-        lap += (static_cast<double>(psi_[hi]) - 2.0 * psi_[v] + psi_[lo]) / (h_[a] * h_[a]);
+        // near the zero set, off the ridge in the middle of a thin layer (where psi kinks as well)
+        if (std::abs(psi_[v]) > 0.5 * hMax_ || norm(gradient(v)) < 0.5)
+          continue;
+        int p[3];
+        coordinates(v, p);
+        double lap = 0.0;
+        for (int a = 0; a < 3; ++a)
+        {
+          const size_t lo = p[a] > 0 ? v - box_.stride[a] : v, hi = p[a] + 1 < box_.n[a] ? v + box_.stride[a] : v;
+          lap += (static_cast<double>(psi_[hi]) - 2.0 * psi_[v] + psi_[lo]) / (h_[a] * h_[a]);
+        }
+        if (std::abs(lap) * hMax_ >= o_.bentCurvature)
+          any[chunk] = 1, scratch_[v] = 1.0f;
       }
-      if (std::abs(lap) * hMax_ >= o_.bentCurvature)
-        any = true, bent[v] = 1.0f;
-    }
-    if (!any)
-      return false;
-    runningMaximum(box_, 2 + o_.near + o_.vote, bent);
-    candidateOf_.assign(box_.size, -1);
-    for (size_t v = 0; v < box_.size; ++v)
-      if (bent[v] > 0 && std::abs(psi_[v]) <= o_.band * hMax_)
-      {
-        candidateOf_[v] = static_cast<int>(candidates_.size());
-        candidates_.push_back(v);
-      }
-    return !candidates_.empty();
+    });
+    return std::find(any.begin(), any.end(), 1) != any.end();
   }
 
-  /// The staircase's samples, each filed under the label's voxel it starts from.
-  void collectSamples()
+  /// Candidates added: the voxels scratch_ marks with |psi| up to `band` coarsest voxels (kept in
+  /// voxel order).
+  void addCandidates(double band)
   {
-    first_.assign(box_.size + 1, 0);
+    std::vector<Candidate> added;
+    size_t next = 0;
     for (size_t v = 0; v < box_.size; ++v)
     {
-      first_[v] = static_cast<uint32_t>(samples_.size());
-      if (!inside_[v])
+      while (next < candidates_.size() && candidates_[next].voxel < v)
+        ++next;
+      if (scratch_[v] > 0 && std::abs(psi_[v]) <= band * hMax_ && (next == candidates_.size() || candidates_[next].voxel != v))
+      {
+        added.emplace_back();
+        added.back().voxel = v;
+      }
+    }
+    const size_t old = candidates_.size();
+    candidates_.insert(candidates_.end(), added.begin(), added.end());
+    std::inplace_merge(candidates_.begin(), candidates_.begin() + old, candidates_.end(),
+      [](const Candidate& a, const Candidate& b) { return a.voxel < b.voxel; });
+  }
+
+  /// The candidate at voxel v, or null.
+  const Candidate* candidateAt(size_t v) const
+  {
+    const auto it = std::lower_bound(candidates_.begin(), candidates_.end(), v, [](const Candidate& c, size_t x) { return c.voxel < x; });
+    return it != candidates_.end() && it->voxel == v ? &*it : nullptr;
+  }
+
+  /// scratch_: the edge voxels found so far, grown by r. False when there is none.
+  bool markEdges(int r)
+  {
+    scratch_.assign(box_.size, 0.0f);
+    bool any = false;
+    for (const Candidate& c : candidates_)
+      if (c.edge)
+        any = true, scratch_[c.voxel] = 1.0f;
+    if (any)
+      runningMaximum(box_, r, scratch_);
+    return any;
+  }
+
+  void collectSamples();
+  void gather(size_t v, std::vector<int>& out) const;
+  void groupByNormal(const Vec3& own, FitScratch& f) const;
+  void residualScales(FitScratch& f) const;
+  std::pair<size_t, double> nearestFace(int s, const FitScratch& f) const;
+  void fitFaces(Candidate& c, FitScratch& f) const;
+  void fitCandidates();
+  void mergeFaces(double flatCurvature);
+  std::size_t replace(double delta);
+  bool planesAround(size_t v, std::vector<int>& ids) const;
+
+  const VoxelBox& box_;
+  std::array<double, 3> h_;
+  double hMax_;
+  std::vector<float>& psi_;
+  const std::vector<uint8_t>& inside_;
+  std::vector<float>& scratch_;
+  LabelEdgeSharpeningOptions o_;
+  double faceCosine_, edgeCosine_;
+  std::array<int, 3> window_{};
+  std::vector<Sample> samples_;      ///< in the order of their voxels
+  std::vector<size_t> sampleVoxel_;  ///< the voxel of each sample
+  std::vector<Candidate> candidates_; ///< in voxel order
+  std::vector<Face> planes_;         ///< merged over the label (count 0: dropped)
+  std::vector<bool> curved_;         ///< per plane: dropped as curved (not as small)
+};
+
+/// The staircase's samples, each filed under the label's voxel it starts from (chunks of voxels
+/// in parallel, joined in order).
+void EdgeSharpener::collectSamples()
+{
+  const size_t chunks = chunkCount(box_.size, 1 << 16);
+  std::vector<std::vector<Sample>> found(chunks);
+  std::vector<std::vector<size_t>> voxels(chunks);
+  forEachChunk(box_.size, chunks, [&](size_t chunk, size_t begin, size_t end) {
+    for (size_t v = begin; v < end; ++v)
+    {
+      if (!inside_[v] || psi_[v] > 2.0 * hMax_) // (a voxel next to another label lies within a voxel of it)
         continue;
       int p[3];
       coordinates(v, p);
@@ -260,175 +356,173 @@ private:
             continue;
           Sample s{ centre(v), (-1.0 / norm(g)) * g, a };
           s.point[a] += 0.5 * side * h_[a];
-          samples_.push_back(s);
+          found[chunk].push_back(s);
+          voxels[chunk].push_back(v);
         }
     }
-    first_[box_.size] = static_cast<uint32_t>(samples_.size());
-  }
-
-  /// The samples within reach of voxel v (indices into samples_).
-  void gather(size_t v, std::vector<int>& out) const
+  });
+  for (size_t chunk = 0; chunk < chunks; ++chunk)
   {
-    out.clear();
-    int p[3];
-    coordinates(v, p);
-    const Vec3 c = centre(v);
-    const double r2 = (o_.reach + 0.5) * (o_.reach + 0.5) * hMax_ * hMax_;
-    for (int z = std::max(p[2] - window_[2], 0); z <= std::min(p[2] + window_[2], box_.n[2] - 1); ++z)
-      for (int y = std::max(p[1] - window_[1], 0); y <= std::min(p[1] + window_[1], box_.n[1] - 1); ++y)
-      {
-        const size_t row = box_.stride[2] * z + box_.stride[1] * y;
-        const size_t x0 = row + std::max(p[0] - window_[0], 0), x1 = row + std::min(p[0] + window_[0], box_.n[0] - 1);
-        for (uint32_t s = first_[x0]; s < first_[x1 + 1]; ++s)
-        {
-          const Vec3 d = samples_[s].point - c;
-          if (dot(d, d) <= r2)
-            out.push_back(static_cast<int>(s));
-        }
-      }
+    samples_.insert(samples_.end(), found[chunk].begin(), found[chunk].end());
+    sampleVoxel_.insert(sampleVoxel_.end(), voxels[chunk].begin(), voxels[chunk].end());
   }
+}
 
-  /// How far sample s lies from face f along its voxel edge, in voxels of that axis.
-  double residual(const Sample& s, const Face& f) const
-  {
-    return std::abs(dot(f.normal, s.point - f.point)) / (std::max(std::abs(f.normal[s.axis]), 0.3) * h_[s.axis]);
-  }
-
-  LocalFaces fitFaces(size_t v, std::vector<int>& near, std::vector<std::vector<int>>& groups) const;
-  void fitCandidates();
-  bool markNearEdges();
-  void mergeFaces();
-  std::size_t replace(std::vector<float>& out, double delta) const;
-
-  const VoxelBox& box_;
-  std::array<double, 3> h_;
-  double hMax_;
-  const std::vector<float>& psi_;
-  const std::vector<uint8_t>& inside_;
-  LabelEdgeSharpeningOptions o_;
-  double faceCosine_, edgeCosine_;
-  std::array<int, 3> window_{};
-  std::vector<Sample> samples_;
-  std::vector<uint32_t> first_;
-  std::vector<size_t> candidates_;
-  std::vector<int> candidateOf_;
-  std::vector<LocalFaces> local_;
-  std::vector<float> nearEdge_;
-  std::vector<Face> planes_; ///< merged over the label
-};
-
-/// The faces around voxel v: samples grouped by normal (those most like v's own first), a plane
-/// fitted to each group, then each sample given to the plane it lies nearest (a few rounds).
-LocalFaces EdgeSharpener::fitFaces(size_t v, std::vector<int>& near, std::vector<std::vector<int>>& groups) const
+/// The samples within reach of voxel v (indices into samples_).
+void EdgeSharpener::gather(size_t v, std::vector<int>& out) const
 {
-  LocalFaces result;
-  gather(v, near);
-  const Vec3 g = gradient(v);
-  if (near.empty() || !(norm(g) > 0))
-    return result;
-  const Vec3 own = (-1.0 / norm(g)) * g;
-  std::stable_sort(near.begin(), near.end(), [&](int a, int b) { return dot(samples_[a].normal, own) > dot(samples_[b].normal, own); });
-  std::vector<Vec3> sums;
-  groups.clear();
-  for (int s : near)
+  out.clear();
+  int p[3];
+  coordinates(v, p);
+  const Vec3 c = centre(v);
+  const double r2 = (o_.reach + 0.5) * (o_.reach + 0.5) * hMax_ * hMax_;
+  for (int z = std::max(p[2] - window_[2], 0); z <= std::min(p[2] + window_[2], box_.n[2] - 1); ++z)
+    for (int y = std::max(p[1] - window_[1], 0); y <= std::min(p[1] + window_[1], box_.n[1] - 1); ++y)
+    {
+      const size_t row = box_.stride[2] * z + box_.stride[1] * y;
+      const size_t x0 = row + std::max(p[0] - window_[0], 0), x1 = row + std::min(p[0] + window_[0], box_.n[0] - 1);
+      for (auto s = std::lower_bound(sampleVoxel_.begin(), sampleVoxel_.end(), x0); s != sampleVoxel_.end() && *s <= x1; ++s)
+      {
+        const int i = static_cast<int>(s - sampleVoxel_.begin());
+        const Vec3 d = samples_[i].point - c;
+        if (dot(d, d) <= r2)
+          out.push_back(i);
+      }
+    }
+}
+
+/// The samples grouped by normal: each joins the group whose mean normal is nearest within
+/// faceAngle, or starts a group; the first group starts at `own` (the voxel's own normal).
+void EdgeSharpener::groupByNormal(const Vec3& own, FitScratch& f) const
+{
+  f.groups.assign(1, {});
+  f.sums.assign(1, Vec3{});
+  f.means.assign(1, own);
+  for (int s : f.near)
   {
-    int best = -1;
+    const Vec3& n = samples_[s].normal;
+    size_t best = f.means.size();
     double bestCosine = faceCosine_;
-    for (size_t k = 0; k < sums.size(); ++k)
+    for (size_t k = 0; k < f.means.size(); ++k)
     {
-      const double c = dot(sums[k], samples_[s].normal) / norm(sums[k]);
+      const double c = dot(f.means[k], n);
       if (c >= bestCosine)
-        bestCosine = c, best = static_cast<int>(k);
+        bestCosine = c, best = k;
     }
-    if (best < 0)
+    if (best == f.means.size())
     {
-      best = static_cast<int>(sums.size());
-      sums.emplace_back();
-      groups.emplace_back();
+      f.groups.emplace_back();
+      f.sums.emplace_back();
+      f.means.emplace_back();
     }
-    sums[best] = sums[best] + samples_[s].normal;
-    groups[best].push_back(s);
+    f.sums[best] = f.sums[best] + n;
+    f.means[best] = (1.0 / norm(f.sums[best])) * f.sums[best];
+    f.groups[best].push_back(s);
   }
-  std::vector<Face> faces;
-  for (size_t k = 0; k < groups.size(); ++k)
+}
+
+/// Per face, 1 / (the share of a unit step along each axis that it takes across the face, in
+/// voxels of that axis): residual(sample) = |n . (p - c)| x this along the sample's axis.
+void EdgeSharpener::residualScales(FitScratch& f) const
+{
+  f.scales.resize(f.faces.size());
+  for (size_t k = 0; k < f.faces.size(); ++k)
+    for (int a = 0; a < 3; ++a)
+      f.scales[k][a] = 1.0 / (std::max(std::abs(f.faces[k].normal[a]), 0.3) * h_[a]);
+}
+
+/// The face sample s lies nearest to along its voxel edge, and how far (voxels of that axis).
+std::pair<size_t, double> EdgeSharpener::nearestFace(int s, const FitScratch& f) const
+{
+  const Sample& sample = samples_[s];
+  std::pair<size_t, double> best{ 0, std::numeric_limits<double>::infinity() };
+  for (size_t k = 0; k < f.faces.size(); ++k)
   {
-    const Vec3 mean = (1.0 / norm(sums[k])) * sums[k];
-    const Face f = fitPlane(samples_, groups[k], mean, o_.minimumSamples);
-    if (f.count > 0 && dot(f.normal, mean) >= faceCosine_)
-      faces.push_back(f);
+    const double r = std::abs(dot(f.faces[k].normal, sample.point - f.faces[k].point)) * f.scales[k][sample.axis];
+    if (r < best.second)
+      best = { k, r };
+  }
+  return best;
+}
+
+/// The faces around candidate c: samples grouped by normal, a plane fitted to each group, then
+/// each sample given to the plane it lies nearest (a few rounds).
+void EdgeSharpener::fitFaces(Candidate& c, FitScratch& f) const
+{
+  c.fitted = true;
+  gather(c.voxel, f.near);
+  const Vec3 g = gradient(c.voxel);
+  if (f.near.empty() || !(norm(g) > 0))
+    return;
+  groupByNormal((-1.0 / norm(g)) * g, f);
+  f.faces.clear();
+  for (size_t k = 0; k < f.groups.size(); ++k)
+  {
+    const Face face = fitPlane(samples_, f.groups[k], f.means[k], o_.minimumSamples);
+    if (face.count > 0 && dot(face.normal, f.means[k]) >= faceCosine_)
+      f.faces.push_back(face);
   }
   const auto byCount = [](const Face& a, const Face& b) { return a.count > b.count; };
-  std::stable_sort(faces.begin(), faces.end(), byCount);
-  if (faces.size() > kMaxFaces)
-    faces.resize(kMaxFaces);
-  for (int round = 0; round < 3 && faces.size() >= 2; ++round)
+  std::stable_sort(f.faces.begin(), f.faces.end(), byCount);
+  if (f.faces.size() > kMaxFaces)
+    f.faces.resize(kMaxFaces);
+  for (int round = 0; round < 3 && f.faces.size() >= 2; ++round)
   {
-    dropNearParallel(faces, edgeCosine_);
-    if (faces.size() < 2)
+    dropNearParallel(f.faces, edgeCosine_);
+    if (f.faces.size() < 2)
       break;
-    groups.assign(faces.size(), {});
-    for (int s : near)
+    residualScales(f);
+    f.groups.resize(f.faces.size());
+    for (std::vector<int>& members : f.groups)
+      members.clear();
+    for (int s : f.near)
     {
-      size_t best = 0;
-      for (size_t k = 1; k < faces.size(); ++k)
-        if (residual(samples_[s], faces[k]) < residual(samples_[s], faces[best]))
-          best = k;
-      if (residual(samples_[s], faces[best]) <= o_.trim)
-        groups[best].push_back(s);
+      const auto nearest = nearestFace(s, f);
+      if (nearest.second <= o_.trim)
+        f.groups[nearest.first].push_back(s);
     }
-    std::vector<Face> refitted;
-    for (size_t k = 0; k < faces.size(); ++k)
+    f.refitted.clear();
+    for (size_t k = 0; k < f.faces.size(); ++k)
     {
-      const Face f = fitPlane(samples_, groups[k], faces[k].normal, o_.minimumSamples);
-      if (f.count > 0)
-        refitted.push_back(f);
+      const Face face = fitPlane(samples_, f.groups[k], f.faces[k].normal, o_.minimumSamples);
+      if (face.count > 0)
+        f.refitted.push_back(face);
     }
-    faces.swap(refitted);
-    std::stable_sort(faces.begin(), faces.end(), byCount);
+    f.faces.swap(f.refitted);
+    std::stable_sort(f.faces.begin(), f.faces.end(), byCount);
   }
-  int explained = 0;
-  for (int s : near)
-    explained += std::any_of(faces.begin(), faces.end(), [&](const Face& f) { return residual(samples_[s], f) <= kExplainedWithin; });
-  dropNearParallel(faces, edgeCosine_);
-  result.count = static_cast<int>(faces.size());
-  std::copy(faces.begin(), faces.end(), result.faces.begin());
-  const bool planar = explained >= o_.explained * near.size();
-  result.edge = result.count >= 2 && planar && kindOf(result.faces.data(), result.count) != 0;
-  if (!planar || (result.count >= 2 && !result.edge))
-    result.count = 0; // faces that do not explain the staircase, or make no edge, say nothing
-  return result;
+  residualScales(f);
+  size_t explained = 0;
+  for (int s : f.near)
+    explained += !f.faces.empty() && nearestFace(s, f).second <= kExplainedWithin;
+  dropNearParallel(f.faces, edgeCosine_);
+  const bool planar = explained >= o_.explained * f.near.size();
+  const int count = static_cast<int>(f.faces.size());
+  c.edge = count >= 2 && planar && kindOf(f.faces.data(), count) != 0;
+  if (planar && (count == 1 || c.edge)) // faces that do not explain the staircase, or make no edge, say nothing
+  {
+    c.count = count;
+    std::copy(f.faces.begin(), f.faces.end(), c.faces.begin());
+  }
 }
 
 void EdgeSharpener::fitCandidates()
 {
-  local_.assign(candidates_.size(), {});
   forEachChunk(candidates_.size(), chunkCount(candidates_.size(), 256), [&](size_t, size_t begin, size_t end) {
-    std::vector<int> near;
-    std::vector<std::vector<int>> groups;
+    FitScratch scratch;
     for (size_t i = begin; i < end; ++i)
-      if (std::abs(psi_[candidates_[i]]) <= 1.5 * hMax_)
-        local_[i] = fitFaces(candidates_[i], near, groups);
+      if (!candidates_[i].fitted && std::abs(psi_[candidates_[i].voxel]) <= 1.5 * hMax_)
+        fitFaces(candidates_[i], scratch);
   });
-}
-
-/// nearEdge_: voxels within `near` of an edge voxel. False when there is none.
-bool EdgeSharpener::markNearEdges()
-{
-  nearEdge_.assign(box_.size, 0.0f);
-  bool any = false;
-  for (size_t i = 0; i < candidates_.size(); ++i)
-    if (local_[i].edge)
-      any = true, nearEdge_[candidates_[i]] = 1.0f;
-  if (any)
-    runningMaximum(box_, o_.near, nearEdge_);
-  return any;
 }
 
 /// The faces of the voxels near edges merged into planes (largest first: each joins the first plane
 /// within mergeAngle and mergeOffset), their normals and points averaged by sample count; faces of
 /// small planes dropped.
-void EdgeSharpener::mergeFaces()
+void EdgeSharpener::mergeFaces(double flatCurvature)
 {
+  planes_.clear();
+  curved_.clear();
   struct Ref
   {
     int count;
@@ -437,9 +531,9 @@ void EdgeSharpener::mergeFaces()
   };
   std::vector<Ref> refs;
   for (size_t i = 0; i < candidates_.size(); ++i)
-    if (nearEdge_[candidates_[i]] > 0)
-      for (int k = 0; k < local_[i].count; ++k)
-        refs.push_back({ local_[i].faces[k].count, i, k });
+    if (candidates_[i].nearEdge)
+      for (int k = 0; k < candidates_[i].count; ++k)
+        refs.push_back({ candidates_[i].faces[k].count, i, k });
   std::stable_sort(refs.begin(), refs.end(), [](const Ref& a, const Ref& b) { return a.count > b.count; });
   const double mergeCosine = std::cos(o_.mergeAngle * kDegree), offset = o_.mergeOffset * hMax_;
   std::vector<Vec3> normalSum, pointSum;
@@ -447,7 +541,7 @@ void EdgeSharpener::mergeFaces()
   std::vector<int> voxels;
   for (const Ref& r : refs)
   {
-    const Face& f = local_[r.candidate].faces[r.face];
+    const Face& f = candidates_[r.candidate].faces[r.face];
     size_t k = 0;
     for (; k < weight.size(); ++k)
     {
@@ -466,15 +560,15 @@ void EdgeSharpener::mergeFaces()
     normalSum[k] = normalSum[k] + f.count * f.normal;
     pointSum[k] = pointSum[k] + f.count * f.point;
     weight[k] += f.count;
-    local_[r.candidate].plane[r.face] = static_cast<int>(k);
+    candidates_[r.candidate].plane[r.face] = static_cast<int>(k);
   }
   // a face bent by a curved surface (two balls crossing: sharp where they meet, curved elsewhere)
   // gives members that each look flat but drift off any one plane and turn with their place on it
   std::vector<double> drift(weight.size(), 0.0), turn(weight.size(), 0.0), spread(weight.size(), 0.0);
   for (const Ref& r : refs)
   {
-    const Face& f = local_[r.candidate].faces[r.face];
-    const size_t k = static_cast<size_t>(local_[r.candidate].plane[r.face]);
+    const Face& f = candidates_[r.candidate].faces[r.face];
+    const size_t k = static_cast<size_t>(candidates_[r.candidate].plane[r.face]);
     const Vec3 n = (1.0 / norm(normalSum[k])) * normalSum[k];
     const Vec3 offset = f.point - (1.0 / weight[k]) * pointSum[k];
     const Vec3 along = offset - dot(n, offset) * n;
@@ -482,45 +576,61 @@ void EdgeSharpener::mergeFaces()
     turn[k] += f.count * dot(along, f.normal - n);
     spread[k] += f.count * dot(along, along);
   }
-  std::vector<bool> flat(weight.size());
-  for (size_t k = 0; k < weight.size(); ++k) // RMS drift, and the curvature turn / spread (1 / radius)
-    flat[k] = std::sqrt(drift[k] / weight[k]) <= o_.flatDrift * hMax_ &&
-      std::abs(turn[k]) <= o_.flatCurvature * spread[k] / hMax_;
   const double largest = weight.empty() ? 0.0 : *std::max_element(weight.begin(), weight.end());
-  for (size_t k = 0; k < weight.size(); ++k)
-    planes_.push_back({ (1.0 / norm(normalSum[k])) * normalSum[k], (1.0 / weight[k]) * pointSum[k],
-      flat[k] && weight[k] >= o_.significant * largest && voxels[k] >= o_.planeVoxels ? static_cast<int>(weight[k]) : 0 });
+  for (size_t k = 0; k < weight.size(); ++k) // RMS drift, and the curvature turn / spread (1 / radius)
+  {
+    const bool flat = std::sqrt(drift[k] / weight[k]) <= o_.flatDrift * hMax_ &&
+      std::abs(turn[k]) <= flatCurvature * spread[k] / hMax_;
+    const bool large = weight[k] >= o_.significant * largest && voxels[k] >= o_.planeVoxels;
+    planes_.push_back({ (1.0 / norm(normalSum[k])) * normalSum[k], (1.0 / weight[k]) * pointSum[k], flat && large ? static_cast<int>(weight[k]) : 0 });
+    curved_.push_back(!flat && large);
+  }
 }
 
-/// Each voxel near an edge: the distance to the planes of the voxels within `vote` of it.
-std::size_t EdgeSharpener::replace(std::vector<float>& out, double delta) const
+/// The planes (ids into planes_) of the voxels near an edge within `vote` of voxel v, small ones
+/// left out; false when one of their faces belongs to a curved one (the planes that are left would
+/// not describe the surface there).
+bool EdgeSharpener::planesAround(size_t v, std::vector<int>& ids) const
+{
+  ids.clear();
+  int p[3];
+  coordinates(v, p);
+  for (int z = std::max(p[2] - o_.vote, 0); z <= std::min(p[2] + o_.vote, box_.n[2] - 1); ++z)
+    for (int y = std::max(p[1] - o_.vote, 0); y <= std::min(p[1] + o_.vote, box_.n[1] - 1); ++y)
+    {
+      const size_t row = box_.stride[2] * z + box_.stride[1] * y;
+      auto c = std::lower_bound(candidates_.begin(), candidates_.end(), row + std::max(p[0] - o_.vote, 0),
+        [](const Candidate& a, size_t x) { return a.voxel < x; });
+      for (; c != candidates_.end() && c->voxel <= row + std::min(p[0] + o_.vote, box_.n[0] - 1); ++c)
+        if (c->nearEdge)
+          for (int k = 0; k < c->count; ++k)
+          {
+            if (curved_[c->plane[k]])
+              return false;
+            if (planes_[c->plane[k]].count > 0)
+              ids.push_back(c->plane[k]);
+          }
+    }
+  std::sort(ids.begin(), ids.end());
+  ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+  return !ids.empty();
+}
+
+/// Each voxel near an edge: the distance to the planes around it (their intersection at a convex
+/// edge or corner, their union at a concave one), where it is within a voxel of psi and on the
+/// voxel's side (or nearly: then held to delta).
+std::size_t EdgeSharpener::replace(double delta)
 {
   const size_t chunks = chunkCount(candidates_.size(), 1024);
   std::vector<size_t> changed(chunks, 0);
+  std::vector<float> value(candidates_.size(), std::numeric_limits<float>::quiet_NaN());
   forEachChunk(candidates_.size(), chunks, [&](size_t chunk, size_t begin, size_t end) {
     std::vector<int> ids;
     std::vector<Face> faces;
     for (size_t i = begin; i < end; ++i)
     {
-      const size_t v = candidates_[i];
-      if (nearEdge_[v] <= 0)
-        continue;
-      int p[3];
-      coordinates(v, p);
-      ids.clear();
-      for (int z = std::max(p[2] - o_.vote, 0); z <= std::min(p[2] + o_.vote, box_.n[2] - 1); ++z)
-        for (int y = std::max(p[1] - o_.vote, 0); y <= std::min(p[1] + o_.vote, box_.n[1] - 1); ++y)
-          for (int x = std::max(p[0] - o_.vote, 0); x <= std::min(p[0] + o_.vote, box_.n[0] - 1); ++x)
-          {
-            const int c = candidateOf_[box_.stride[2] * z + box_.stride[1] * y + x];
-            if (c >= 0 && nearEdge_[candidates_[c]] > 0)
-              for (int k = 0; k < local_[c].count; ++k)
-                if (planes_[local_[c].plane[k]].count > 0)
-                  ids.push_back(local_[c].plane[k]);
-          }
-      std::sort(ids.begin(), ids.end());
-      ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
-      if (ids.empty())
+      const size_t v = candidates_[i].voxel;
+      if (!candidates_[i].nearEdge || !planesAround(v, ids))
         continue;
       faces.clear();
       for (int id : ids)
@@ -534,20 +644,20 @@ std::size_t EdgeSharpener::replace(std::vector<float>& out, double delta) const
       const double slack = 0.2 * hMax_;
       if (std::abs(d - psi_[v]) > 1.2 * hMax_ || (inside_[v] ? d < -slack : d > slack))
         continue;
-      out[v] = static_cast<float>(inside_[v] ? std::max(d, delta) : std::min(d, -delta));
+      value[i] = static_cast<float>(inside_[v] ? std::max(d, delta) : std::min(d, -delta));
       ++changed[chunk];
     }
   });
+  for (size_t i = 0; i < candidates_.size(); ++i)
+    if (!std::isnan(value[i]))
+      psi_[candidates_[i].voxel] = value[i];
   return std::accumulate(changed.begin(), changed.end(), size_t{ 0 });
 }
 }
 
 std::size_t sharpenLabelEdges(const VoxelBox& box, const std::array<double, 3>& h, std::vector<float>& psi,
-  const std::vector<uint8_t>& inside, double delta, const LabelEdgeSharpeningOptions& options)
+  const std::vector<uint8_t>& inside, double delta, std::vector<float>& scratch, const LabelEdgeSharpeningOptions& options)
 {
-  std::vector<float> out = psi;
-  const std::size_t changed = EdgeSharpener(box, h, psi, inside, options).run(out, delta);
-  psi.swap(out);
-  return changed;
+  return EdgeSharpener(box, h, psi, inside, scratch, options).run(delta);
 }
 }

@@ -43,7 +43,7 @@ struct LabelEdgeSharpeningOptions
   /// ... and planes whose faces lie off them by more than this (RMS) or turn with their place on
   /// them by more than this curvature (1 / radius, per voxel): curved faces near a crease, such as
   /// two balls crossing, which are sharp where they meet and round elsewhere.
-  double flatDrift = 0.08;
+  double flatDrift = 0.15;
   double flatCurvature = 0.02;
   /// A voxel takes the planes of the voxels within this distance.
   int vote = 2;
@@ -66,6 +66,8 @@ struct LabelEdgeSharpeningOptions
 /// the voxels around it: their intersection at a convex edge or corner, their union at a concave
 /// one, the plane alone on a face. Balls, shells and other smooth shapes have no such edges and
 /// keep psi. Sign constraints kept (delta). Returns the number of voxels changed.
+/// `scratch`: a buffer for one value per voxel of the box (its contents are lost).
 std::size_t sharpenLabelEdges(const VoxelBox& box, const std::array<double, 3>& h, std::vector<float>& psi,
-  const std::vector<uint8_t>& inside, double delta, const LabelEdgeSharpeningOptions& options = {});
+  const std::vector<uint8_t>& inside, double delta, std::vector<float>& scratch,
+  const LabelEdgeSharpeningOptions& options = {});
 }

@@ -346,7 +346,7 @@ public:
       blendWide(box);
     }
     if (sharpEdges_)
-      sharpenLabelEdges(box, h_, psi_, inside_, delta_);
+      sharpenLabelEdges(box, h_, psi_, inside_, delta_, tmp_);
     collect(box, boundary, own, out);
     progress(1.0);
   }
