@@ -15,6 +15,7 @@ namespace
 constexpr double kDegree = M_PI / 180.0;
 constexpr double kExplainedWithin = 0.6; ///< voxels along a sample's edge: "explained" by a face
 constexpr int kMaxFaces = 3;
+constexpr double kEdgeReach = 2.5; ///< voxels: an edge voxel's faces meet within this of it
 
 /// A staircase sample: the midpoint of a voxel edge from the label to another, the smooth
 /// estimate's outward normal there and the edge's axis.
@@ -127,6 +128,25 @@ int kindOf(const Face* faces, int count)
   return kind;
 }
 
+/// Whether every two of the faces meet along a line within `reach` of p: the two sides of a thin
+/// layer face away from each other at up to 180 degrees, but meet far away if at all.
+bool meetNear(const Face* faces, int count, const Vec3& p, double reach)
+{
+  for (int i = 0; i < count; ++i)
+    for (int j = i + 1; j < count; ++j)
+    {
+      // the point of the line nearest p: p + a n_i + b n_j
+      const double g = dot(faces[i].normal, faces[j].normal), det = 1.0 - g * g;
+      if (det < 1e-6)
+        return false;
+      const double ri = dot(faces[i].normal, faces[i].point - p), rj = dot(faces[j].normal, faces[j].point - p);
+      const double a = (ri - g * rj) / det, b = (rj - g * ri) / det;
+      if (a * a + b * b + 2.0 * a * b * g > reach * reach)
+        return false;
+    }
+  return true;
+}
+
 /// The distance at p to the faces' intersection (kind +1) or union (-1), positive inside.
 double distanceTo(const Face* faces, int count, int kind, const Vec3& p)
 {
@@ -135,6 +155,74 @@ double distanceTo(const Face* faces, int count, int kind, const Vec3& p)
     d = kind > 0 ? std::min(d, faces[i].inside(p)) : std::max(d, faces[i].inside(p));
   return d;
 }
+
+/// How a plane's member faces bend away from it: a height quadric h = c0 + c1 u + c2 w + c3 u^2 +
+/// c4 u w + c5 w^2 (u, w along the plane, h across) fitted by least squares to the faces' points,
+/// each weighted by its samples; the directions the points do not spread along are held flat (a
+/// small ridge). The faces' points come from the staircase's own samples, whose errors average out
+/// (their normals come from the smoothed estimate, which tilts near every edge).
+class Bending
+{
+public:
+  void add(const Vec3& normal, double weight, const Vec3& offset)
+  {
+    if (!started_)
+      perpendicularPair(normal, u_, w_), started_ = true;
+    const double u = dot(offset, u_), w = dot(offset, w_), h = dot(offset, normal);
+    const double terms[6] = { 1.0, u, w, u * u, u * w, w * w };
+    for (int i = 0; i < 6; ++i)
+    {
+      rhs_[i] += weight * terms[i] * h;
+      for (int j = 0; j < 6; ++j)
+        m_[i][j] += weight * terms[i] * terms[j];
+    }
+  }
+  /// The largest principal curvature's size (1 / radius, world units).
+  double largest() const
+  {
+    double m[6][7];
+    double trace = 0.0;
+    for (int i = 0; i < 6; ++i)
+      trace += m_[i][i];
+    for (int i = 0; i < 6; ++i)
+    {
+      for (int j = 0; j < 6; ++j)
+        m[i][j] = m_[i][j] + (i == j ? 1e-9 * trace + 1e-300 : 0.0);
+      m[i][6] = rhs_[i];
+    }
+    for (int col = 0; col < 6; ++col) // Gaussian elimination, partial pivoting
+    {
+      int pivot = col;
+      for (int r = col + 1; r < 6; ++r)
+        if (std::abs(m[r][col]) > std::abs(m[pivot][col]))
+          pivot = r;
+      std::swap(m[col], m[pivot]);
+      if (!(std::abs(m[col][col]) > 0))
+        return 0.0;
+      for (int r = col + 1; r < 6; ++r)
+      {
+        const double f = m[r][col] / m[col][col];
+        for (int k = col; k < 7; ++k)
+          m[r][k] -= f * m[col][k];
+      }
+    }
+    double c[6];
+    for (int i = 5; i >= 0; --i)
+    {
+      double sum = m[i][6];
+      for (int k = i + 1; k < 6; ++k)
+        sum -= m[i][k] * c[k];
+      c[i] = sum / m[i][i];
+    }
+    const double a = 2.0 * c[3], b = c[4], d = 2.0 * c[5]; // the height's Hessian
+    return std::abs(0.5 * (a + d)) + std::sqrt(0.25 * (a - d) * (a - d) + b * b);
+  }
+
+private:
+  bool started_ = false;
+  Vec3 u_, w_;
+  double m_[6][6] = {}, rhs_[6] = {};
+};
 
 /// Faces kept in order, those within edgeAngle of an earlier (larger) one dropped.
 void dropNearParallel(std::vector<Face>& faces, double edgeCosine)
@@ -498,7 +586,8 @@ void EdgeSharpener::fitFaces(Candidate& c, FitScratch& f) const
   dropNearParallel(f.faces, edgeCosine_);
   const bool planar = explained >= o_.explained * f.near.size();
   const int count = static_cast<int>(f.faces.size());
-  c.edge = count >= 2 && planar && kindOf(f.faces.data(), count) != 0;
+  c.edge = count >= 2 && planar && kindOf(f.faces.data(), count) != 0 &&
+    meetNear(f.faces.data(), count, centre(c.voxel), kEdgeReach * hMax_);
   if (planar && (count == 1 || c.edge)) // faces that do not explain the staircase, or make no edge, say nothing
   {
     c.count = count;
@@ -562,25 +651,25 @@ void EdgeSharpener::mergeFaces(double flatCurvature)
     weight[k] += f.count;
     candidates_[r.candidate].plane[r.face] = static_cast<int>(k);
   }
-  // a face bent by a curved surface (two balls crossing: sharp where they meet, curved elsewhere)
-  // gives members that each look flat but drift off any one plane and turn with their place on it
-  std::vector<double> drift(weight.size(), 0.0), turn(weight.size(), 0.0), spread(weight.size(), 0.0);
+  // a face bent by a curved surface (two balls crossing: sharp where they meet, curved elsewhere;
+  // a bone's shaft, round one way and straight the other) gives members that each look flat but
+  // drift off any one plane and turn with their place on it
+  std::vector<double> drift(weight.size(), 0.0);
+  std::vector<Bending> bending(weight.size());
   for (const Ref& r : refs)
   {
     const Face& f = candidates_[r.candidate].faces[r.face];
     const size_t k = static_cast<size_t>(candidates_[r.candidate].plane[r.face]);
     const Vec3 n = (1.0 / norm(normalSum[k])) * normalSum[k];
     const Vec3 offset = f.point - (1.0 / weight[k]) * pointSum[k];
-    const Vec3 along = offset - dot(n, offset) * n;
     drift[k] += f.count * dot(n, offset) * dot(n, offset);
-    turn[k] += f.count * dot(along, f.normal - n);
-    spread[k] += f.count * dot(along, along);
+    bending[k].add(n, f.count, offset);
   }
   const double largest = weight.empty() ? 0.0 : *std::max_element(weight.begin(), weight.end());
-  for (size_t k = 0; k < weight.size(); ++k) // RMS drift, and the curvature turn / spread (1 / radius)
+  for (size_t k = 0; k < weight.size(); ++k)
   {
     const bool flat = std::sqrt(drift[k] / weight[k]) <= o_.flatDrift * hMax_ &&
-      std::abs(turn[k]) <= flatCurvature * spread[k] / hMax_;
+      bending[k].largest() * hMax_ <= flatCurvature;
     const bool large = weight[k] >= o_.significant * largest && voxels[k] >= o_.planeVoxels;
     planes_.push_back({ (1.0 / norm(normalSum[k])) * normalSum[k], (1.0 / weight[k]) * pointSum[k], flat && large ? static_cast<int>(weight[k]) : 0 });
     curved_.push_back(!flat && large);

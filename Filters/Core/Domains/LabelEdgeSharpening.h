@@ -44,7 +44,7 @@ struct LabelEdgeSharpeningOptions
   /// them by more than this curvature (1 / radius, per voxel): curved faces near a crease, such as
   /// two balls crossing, which are sharp where they meet and round elsewhere.
   double flatDrift = 0.15;
-  double flatCurvature = 0.02;
+  double flatCurvature = 0.03;
   /// A voxel takes the planes of the voxels within this distance.
   int vote = 2;
   /// Voxels with |psi| up to this are set (outside a convex edge the staircase's distance exceeds
