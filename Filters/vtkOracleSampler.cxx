@@ -53,9 +53,13 @@ int vtkOracleSampler::RequestInformation(
 
 int vtkOracleSampler::RequestUpdateExtent(vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector*)
 {
-  // The input is a domain collection, not an image: ask for all of it.
+  // The input is a domain collection, not an image: ask for all of it (its whole extent where the
+  // pipeline gave it one: without an update extent beside it VTK prints an error).
   vtkInformation* inInfo = inputVector[0]->GetInformationObject(0);
-  inInfo->Remove(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT());
+  if (inInfo->Has(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()))
+    inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(), inInfo->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()), 6);
+  else
+    inInfo->Remove(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT());
   return 1;
 }
 

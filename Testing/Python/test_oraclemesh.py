@@ -71,6 +71,25 @@ class DemoScene(unittest.TestCase):
         self.assertEqual(counts, reference_counts())
 
 
+class Sampler(unittest.TestCase):
+    def test_a_label_map_domain_sampled_alone_prints_nothing(self):
+        # the domain's output carries its image's extent keys: the sampler asks for all of it
+        # without leaving VTK an extent to complain about ("No update extent has been set")
+        code = (
+            "import oraclemesh as om\n"
+            "from vtkmodules.vtkIOXML import vtkXMLImageDataReader\n"
+            "r = vtkXMLImageDataReader(); r.SetFileName(%r)\n"
+            "d = om.vtkLabelMapDomain(); d.SetInputConnection(r.GetOutputPort()); d.SetInterpolation(1)\n"
+            "s = om.vtkOracleSampler(); s.SetInputConnection(d.GetOutputPort()); s.SetDimensions(8, 8, 8)\n"
+            "s.SetBounds(-40, 40, -30, 30, 0, 90); s.Update()\n"
+            "print(s.GetOutput().GetPointData().GetArray('Material').GetRange())\n"
+        ) % os.path.join(DATA, "demo", "tibia_labels.vti")
+        result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=False)
+        self.assertEqual(result.returncode, 0, result.stderr)
+        self.assertEqual(result.stderr.strip(), "")
+        self.assertIn("(-1.0, 2.0)", result.stdout)
+
+
 class DemoData(unittest.TestCase):
     def test_the_generator_reproduces_the_bundled_files(self):
         with tempfile.TemporaryDirectory() as tmp:
