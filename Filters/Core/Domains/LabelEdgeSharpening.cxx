@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "LabelEdgeSharpening.h"
 
+#include "TrilinearSurfaceFit.h"
 #include "Vec3.h"
 
 #include <algorithm>
@@ -713,6 +714,8 @@ std::size_t EdgeSharpener::replace(double delta)
   const size_t chunks = chunkCount(candidates_.size(), 1024);
   std::vector<size_t> changed(chunks, 0);
   std::vector<float> value(candidates_.size(), std::numeric_limits<float>::quiet_NaN());
+  std::vector<std::vector<Face>> models(candidates_.size());
+  std::vector<int> kinds(candidates_.size(), 0);
   forEachChunk(candidates_.size(), chunks, [&](size_t chunk, size_t begin, size_t end) {
     std::vector<int> ids;
     std::vector<Face> faces;
@@ -734,12 +737,25 @@ std::size_t EdgeSharpener::replace(double delta)
       if (std::abs(d - psi_[v]) > 1.2 * hMax_ || (inside_[v] ? d < -slack : d > slack))
         continue;
       value[i] = static_cast<float>(inside_[v] ? std::max(d, delta) : std::min(d, -delta));
+      models[i] = faces;
+      kinds[i] = kind;
       ++changed[chunk];
     }
   });
+  std::vector<size_t> free, freeCandidate;
   for (size_t i = 0; i < candidates_.size(); ++i)
     if (!std::isnan(value[i]))
+    {
       psi_[candidates_[i].voxel] = value[i];
+      free.push_back(candidates_[i].voxel);
+      freeCandidate.push_back(i);
+    }
+  // the planes' distances at the voxel centres chamfer every convex edge between them: fitted
+  // instead to the planes between the centres
+  fitTrilinearToSurface(box_, h_, psi_, inside_, delta, free, [&](size_t voxel, const Vec3& p) {
+    const size_t i = freeCandidate[static_cast<size_t>(std::lower_bound(free.begin(), free.end(), voxel) - free.begin())];
+    return distanceTo(models[i].data(), static_cast<int>(models[i].size()), kinds[i], p);
+  });
   return std::accumulate(changed.begin(), changed.end(), size_t{ 0 });
 }
 }

@@ -64,7 +64,9 @@ struct LabelEdgeSharpeningOptions
 /// concave edge, the voxel is an edge voxel. The faces of the voxels near edges are merged into
 /// planes over the whole label, and every voxel near an edge takes the distance to the planes of
 /// the voxels around it: their intersection at a convex edge or corner, their union at a concave
-/// one, the plane alone on a face. Balls, shells and other smooth shapes have no such edges and
+/// one, the plane alone on a face; then those values are refitted so that psi's trilinear
+/// interpolant follows the planes between the voxel centres (fitTrilinearToSurface: the distances
+/// alone chamfer every convex edge). Balls, shells and other smooth shapes have no such edges and
 /// keep psi. Sign constraints kept (delta). Returns the number of voxels changed.
 /// `scratch`: a buffer for one value per voxel of the box (its contents are lost).
 std::size_t sharpenLabelEdges(const VoxelBox& box, const std::array<double, 3>& h, std::vector<float>& psi,
