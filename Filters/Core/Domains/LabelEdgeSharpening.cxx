@@ -171,6 +171,7 @@ public:
       perpendicularPair(normal, u_, w_), started_ = true;
     const double u = dot(offset, u_), w = dot(offset, w_), h = dot(offset, normal);
     const double terms[6] = { 1.0, u, w, u * u, u * w, w * w };
+    hh_ += weight * h * h;
     for (int i = 0; i < 6; ++i)
     {
       rhs_[i] += weight * terms[i] * h;
@@ -178,6 +179,32 @@ public:
         m_[i][j] += weight * terms[i] * terms[j];
     }
   }
+  /// The least-squares plane through the points (h = c0 + c1 u + c2 w, the tilts held to 0 where
+  /// the points do not spread), as a normal and a point, and the points' RMS distance from it.
+  double plane(const Vec3& normal, const Vec3& centre, Vec3& fittedNormal, Vec3& fittedPoint) const
+  {
+    const double ridge = 1e-6 * (m_[1][1] + m_[2][2]) + 1e-300;
+    double m[3][4];
+    for (int i = 0; i < 3; ++i)
+    {
+      for (int j = 0; j < 3; ++j)
+        m[i][j] = m_[i][j] + (i == j && i > 0 ? ridge : 0.0);
+      m[i][3] = rhs_[i];
+    }
+    double c[3];
+    if (!solve3(m, c))
+    {
+      fittedNormal = normal;
+      fittedPoint = centre;
+      return std::sqrt(hh_ / std::max(m_[0][0], 1e-300));
+    }
+    fittedNormal = normal - c[1] * u_ - c[2] * w_;
+    fittedNormal = (1.0 / norm(fittedNormal)) * fittedNormal;
+    fittedPoint = centre + c[0] * normal;
+    const double squares = hh_ - (c[0] * rhs_[0] + c[1] * rhs_[1] + c[2] * rhs_[2]);
+    return std::sqrt(std::max(squares, 0.0) / std::max(m_[0][0], 1e-300));
+  }
+
   /// The largest principal curvature's size (1 / radius, world units).
   double largest() const
   {
@@ -222,7 +249,36 @@ public:
 private:
   bool started_ = false;
   Vec3 u_, w_;
-  double m_[6][6] = {}, rhs_[6] = {};
+  /// Gaussian elimination of the 3 x 4 system m (partial pivoting); false when singular.
+  static bool solve3(double m[3][4], double c[3])
+  {
+    for (int col = 0; col < 3; ++col)
+    {
+      int pivot = col;
+      for (int r = col + 1; r < 3; ++r)
+        if (std::abs(m[r][col]) > std::abs(m[pivot][col]))
+          pivot = r;
+      std::swap(m[col], m[pivot]);
+      if (!(std::abs(m[col][col]) > 0))
+        return false;
+      for (int r = col + 1; r < 3; ++r)
+      {
+        const double f = m[r][col] / m[col][col];
+        for (int k = col; k < 4; ++k)
+          m[r][k] -= f * m[col][k];
+      }
+    }
+    for (int i = 2; i >= 0; --i)
+    {
+      double sum = m[i][3];
+      for (int k = i + 1; k < 3; ++k)
+        sum -= m[i][k] * c[k];
+      c[i] = sum / m[i][i];
+    }
+    return true;
+  }
+
+  double m_[6][6] = {}, rhs_[6] = {}, hh_ = 0.0;
 };
 
 /// Faces kept in order, those within edgeAngle of an earlier (larger) one dropped.
@@ -654,8 +710,7 @@ void EdgeSharpener::mergeFaces(double flatCurvature)
   }
   // a face bent by a curved surface (two balls crossing: sharp where they meet, curved elsewhere;
   // a bone's shaft, round one way and straight the other) gives members that each look flat but
-  // drift off any one plane and turn with their place on it
-  std::vector<double> drift(weight.size(), 0.0);
+  // drift off any one plane and bend with their place on it
   std::vector<Bending> bending(weight.size());
   for (const Ref& r : refs)
   {
@@ -663,16 +718,19 @@ void EdgeSharpener::mergeFaces(double flatCurvature)
     const size_t k = static_cast<size_t>(candidates_[r.candidate].plane[r.face]);
     const Vec3 n = (1.0 / norm(normalSum[k])) * normalSum[k];
     const Vec3 offset = f.point - (1.0 / weight[k]) * pointSum[k];
-    drift[k] += f.count * dot(n, offset) * dot(n, offset);
     bending[k].add(n, f.count, offset);
   }
   const double largest = weight.empty() ? 0.0 : *std::max_element(weight.begin(), weight.end());
   for (size_t k = 0; k < weight.size(); ++k)
   {
-    const bool flat = std::sqrt(drift[k] / weight[k]) <= o_.flatDrift * hMax_ &&
-      bending[k].largest() * hMax_ <= flatCurvature;
+    // the plane through its faces' points (the mean of their normals tilts a long face by a
+    // degree or so, which is a fifth of a voxel at its ends)
+    const Vec3 mean = (1.0 / norm(normalSum[k])) * normalSum[k], centre = (1.0 / weight[k]) * pointSum[k];
+    Vec3 normal, point;
+    const double drift = bending[k].plane(mean, centre, normal, point);
+    const bool flat = drift <= o_.flatDrift * hMax_ && bending[k].largest() * hMax_ <= flatCurvature;
     const bool large = weight[k] >= o_.significant * largest && voxels[k] >= o_.planeVoxels;
-    planes_.push_back({ (1.0 / norm(normalSum[k])) * normalSum[k], (1.0 / weight[k]) * pointSum[k], flat && large ? static_cast<int>(weight[k]) : 0 });
+    planes_.push_back({ normal, point, flat && large ? static_cast<int>(weight[k]) : 0 });
     curved_.push_back(!flat && large);
   }
 }
