@@ -29,7 +29,8 @@ struct LabelEdgeSharpeningOptions
   /// A sample belongs to the face it lies nearest to, along its voxel edge, when within this many
   /// voxels (a plane's staircase keeps every sample within half a voxel).
   double trim = 0.7;
-  /// An edge's faces must explain this share of the samples around it (within 0.6 voxel).
+  /// A voxel's faces (one, or an edge's) must explain this share of the samples around it (within
+  /// 0.6 voxel), and an edge's faces meet within 2.5 voxels of it.
   double explained = 0.85;
   /// Voxels this near an edge take the faces' planes.
   int near = 4;
@@ -40,9 +41,11 @@ struct LabelEdgeSharpeningOptions
   double significant = 0.1;
   /// ... and planes found around fewer voxels than this (an edge needs some length) ...
   int planeVoxels = 8;
-  /// ... and planes whose faces lie off them by more than this (RMS) or turn with their place on
-  /// them by more than this curvature (1 / radius, per voxel): curved faces near a crease, such as
-  /// two balls crossing, which are sharp where they meet and round elsewhere.
+  /// ... and planes whose faces' points lie off the least-squares plane through them by more than
+  /// this (RMS) or bend by more than this curvature (the largest principal curvature of a height
+  /// quadric through them, 1 / radius per voxel; 1.5 times it while only the edges' own faces are
+  /// known): curved faces near a crease, such as two balls crossing, sharp where they meet and
+  /// round elsewhere, or a bone's shaft, round one way and straight the other.
   double flatDrift = 0.15;
   double flatCurvature = 0.03;
   /// A voxel takes the planes of the voxels within this distance.
