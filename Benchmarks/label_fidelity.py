@@ -92,6 +92,19 @@ class Box:
         return (2.0 * self.h) ** 3
 
 
+class NotchedBox(Box):
+    """A box with one octant cut away (three concave edges meeting at a concave corner)."""
+
+    def sdf(self, p):
+        q = (p - self.c) @ self.rot
+        # the octant q > 0 (its own distance: inside -min(q), outside the length past it)
+        octant = np.where((q > 0).all(axis=1), -q.min(axis=1), np.linalg.norm(np.minimum(q, 0.0), axis=1))
+        return np.maximum(super().sdf(p), -octant)
+
+    def volume(self):
+        return 7.0 * self.h ** 3
+
+
 def make_case(name):
     """(dims, spacing, shapes: [(label, shape)] innermost first, exact volume per label)."""
     rng = np.random.default_rng(sum(map(ord, name)))  # a fixed seed per case
@@ -128,8 +141,9 @@ CASES = ("sphere_r4.5", "sphere_r10", "nested", "tilted_box", "shell_1.5", "ct_a
 def generated_case(name):
     """The cases --generated lists, by name: ball_<radius>_<seed>, shell_<radius>_<thickness>_<seed>
     (a core of the radius inside a shell of the thickness), box_<half>_<seed> (a randomly rotated
-    cube) and ct_<seed> (two nested balls of 3.5 and 7 mm on a 0.5 x 0.5 x 1.25 grid); centres jittered
-    by the seed."""
+    cube), notch_<half>_<seed> (the same with an octant cut away), lens_<radius>_<seed> (two balls
+    that cross, centres a radius apart) and ct_<seed> (two nested balls of 3.5 and 7 mm on a 0.5 x
+    0.5 x 1.25 grid); centres jittered by the seed."""
     kind, *numbers = name.split("_")
     try:
         *sizes, seed = [float(x) for x in numbers]
@@ -149,6 +163,10 @@ def generated_case(name):
         n = int(3.6 * sizes[0] + 6)
         c = np.full(3, (n - 1) / 2) + jitter()
         return (n, n, n), np.ones(3), [(1, Box(c, sizes[0], rotation(rng)))]
+    if kind == "notch" and len(sizes) == 1:
+        n = int(3.6 * sizes[0] + 6)
+        c = np.full(3, (n - 1) / 2) + jitter()
+        return (n, n, n), np.ones(3), [(1, NotchedBox(c, sizes[0], rotation(rng)))]
     if kind == "lens" and len(sizes) == 1:
         r = sizes[0]
         n = int(3 * r + 8)
@@ -164,14 +182,16 @@ def generated_case(name):
 
 
 def generated_cases(seeds=(11, 12)):
-    """Twelve generated cases per seed (--generated): balls of radius 3.5 to 14 voxels, shells 1.5 and 2
-    voxels thick, tilted boxes of half 5 and 9, two balls of radius 6 or 14 that cross (the crease
-    where they meet is sharp, their faces are not), a CT-like grid."""
+    """Thirteen generated cases per seed (--generated): balls of radius 3.5 to 14 voxels, shells 1.5
+    and 2 voxels thick, tilted boxes of half 5 and 9, a tilted box of half 7 with an octant cut
+    away (concave edges and corners), two balls of radius 6 or 14 that cross (the crease where they
+    meet is sharp, their faces are not), a CT-like grid."""
     names = []
     for seed in seeds:
         names += [f"ball_{r}_{seed}" for r in (3.5, 6, 8, 14)]
         names += [f"shell_{r}_{t}_{seed}" for r, t in ((6, 1.5), (10, 2), (12, 1.5))]
-        names += [f"box_{h}_{seed}" for h in (5, 9)] + [f"lens_{r}_{seed}" for r in (6, 14)] + [f"ct_{seed}"]
+        names += [f"box_{h}_{seed}" for h in (5, 9)] + [f"notch_7_{seed}"] + [f"lens_{r}_{seed}" for r in (6, 14)]
+        names += [f"ct_{seed}"]
     return names
 
 

@@ -457,6 +457,7 @@ private:
   void mergeFaces(double flatCurvature);
   std::size_t replace(double delta);
   bool planesAround(size_t v, std::vector<int>& ids) const;
+  int surfaceOf(const std::vector<int>& ids, std::vector<Face>& faces) const;
 
   const VoxelBox& box_;
   std::array<double, 3> h_;
@@ -471,7 +472,7 @@ private:
   std::vector<size_t> sampleVoxel_;  ///< the voxel of each sample
   std::vector<Candidate> candidates_; ///< in voxel order
   std::vector<Face> planes_;         ///< merged over the label (count 0: dropped)
-  std::vector<bool> curved_;         ///< per plane: dropped as curved (not as small)
+  std::vector<bool> blocking_;       ///< per plane: dropped, but no stray
 };
 
 /// The staircase's samples, each filed under the label's voxel it starts from (chunks of voxels
@@ -668,7 +669,7 @@ void EdgeSharpener::fitCandidates()
 void EdgeSharpener::mergeFaces(double flatCurvature)
 {
   planes_.clear();
-  curved_.clear();
+  blocking_.clear();
   struct Ref
   {
     int count;
@@ -708,6 +709,7 @@ void EdgeSharpener::mergeFaces(double flatCurvature)
     weight[k] += f.count;
     candidates_[r.candidate].plane[r.face] = static_cast<int>(k);
   }
+  const double largest = weight.empty() ? 0.0 : *std::max_element(weight.begin(), weight.end());
   // a face bent by a curved surface (two balls crossing: sharp where they meet, curved elsewhere;
   // a bone's shaft, round one way and straight the other) gives members that each look flat but
   // drift off any one plane and bend with their place on it
@@ -720,7 +722,6 @@ void EdgeSharpener::mergeFaces(double flatCurvature)
     const Vec3 offset = f.point - (1.0 / weight[k]) * pointSum[k];
     bending[k].add(n, f.count, offset);
   }
-  const double largest = weight.empty() ? 0.0 : *std::max_element(weight.begin(), weight.end());
   for (size_t k = 0; k < weight.size(); ++k)
   {
     // the plane through its faces' points (the mean of their normals tilts a long face by a
@@ -731,13 +732,21 @@ void EdgeSharpener::mergeFaces(double flatCurvature)
     const bool flat = drift <= o_.flatDrift * hMax_ && bending[k].largest() * hMax_ <= flatCurvature;
     const bool large = weight[k] >= o_.significant * largest && voxels[k] >= o_.planeVoxels;
     planes_.push_back({ normal, point, flat && large ? static_cast<int>(weight[k]) : 0 });
-    curved_.push_back(!flat && large);
+    // dropped, yet found around too many voxels to be a stray fit at a corner: a curved face or a
+    // small one, whose neighbours' planes alone would not describe the surface there
+    blocking_.push_back(!(flat && large) && voxels[k] >= o_.blockingVoxels);
   }
+  // ... unless it lies along a plane that is kept (the same face, split off by the merge)
+  for (size_t k = 0; k < planes_.size(); ++k)
+    for (size_t j = 0; j < planes_.size() && blocking_[k]; ++j)
+      if (planes_[j].count > 0 && dot(planes_[j].normal, planes_[k].normal) >= std::cos(2.0 * o_.mergeAngle * kDegree) &&
+        std::abs(planes_[j].inside(planes_[k].point)) <= 2.0 * o_.mergeOffset * hMax_)
+        blocking_[k] = false;
 }
 
-/// The planes (ids into planes_) of the voxels near an edge within `vote` of voxel v, small ones
-/// left out; false when one of their faces belongs to a curved one (the planes that are left would
-/// not describe the surface there).
+/// The planes (ids into planes_) of the voxels near an edge within `vote` of voxel v, stray ones
+/// left out; false when one of their faces belongs to a dropped plane that is no stray (the planes
+/// that are left would not describe the surface there).
 bool EdgeSharpener::planesAround(size_t v, std::vector<int>& ids) const
 {
   ids.clear();
@@ -753,7 +762,7 @@ bool EdgeSharpener::planesAround(size_t v, std::vector<int>& ids) const
         if (c->nearEdge)
           for (int k = 0; k < c->count; ++k)
           {
-            if (curved_[c->plane[k]])
+            if (blocking_[c->plane[k]])
               return false;
             if (planes_[c->plane[k]].count > 0)
               ids.push_back(c->plane[k]);
@@ -767,13 +776,24 @@ bool EdgeSharpener::planesAround(size_t v, std::vector<int>& ids) const
 /// Each voxel near an edge: the distance to the planes around it (their intersection at a convex
 /// edge or corner, their union at a concave one), where it is within a voxel of psi and on the
 /// voxel's side (or nearly: then held to delta).
+/// The planes `ids` as one surface: their faces, the largest first, those within edgeAngle of a
+/// larger one dropped, and their kind (+1 intersection, -1 union; 0: neither).
+int EdgeSharpener::surfaceOf(const std::vector<int>& ids, std::vector<Face>& faces) const
+{
+  faces.clear();
+  for (int id : ids)
+    faces.push_back(planes_[id]);
+  std::stable_sort(faces.begin(), faces.end(), [](const Face& a, const Face& b) { return a.count > b.count; });
+  dropNearParallel(faces, edgeCosine_);
+  return faces.size() == 1 ? 1 : kindOf(faces.data(), static_cast<int>(faces.size()));
+}
+
 std::size_t EdgeSharpener::replace(double delta)
 {
   const size_t chunks = chunkCount(candidates_.size(), 1024);
   std::vector<size_t> changed(chunks, 0);
   std::vector<float> value(candidates_.size(), std::numeric_limits<float>::quiet_NaN());
-  std::vector<std::vector<Face>> models(candidates_.size());
-  std::vector<int> kinds(candidates_.size(), 0);
+  std::vector<std::vector<int>> around(candidates_.size());
   forEachChunk(candidates_.size(), chunks, [&](size_t chunk, size_t begin, size_t end) {
     std::vector<int> ids;
     std::vector<Face> faces;
@@ -782,12 +802,7 @@ std::size_t EdgeSharpener::replace(double delta)
       const size_t v = candidates_[i].voxel;
       if (!candidates_[i].nearEdge || !planesAround(v, ids))
         continue;
-      faces.clear();
-      for (int id : ids)
-        faces.push_back(planes_[id]);
-      std::stable_sort(faces.begin(), faces.end(), [](const Face& a, const Face& b) { return a.count > b.count; });
-      dropNearParallel(faces, edgeCosine_);
-      const int kind = faces.size() == 1 ? 1 : kindOf(faces.data(), static_cast<int>(faces.size()));
+      const int kind = surfaceOf(ids, faces);
       if (kind == 0)
         continue;
       const double d = distanceTo(faces.data(), static_cast<int>(faces.size()), kind, centre(v));
@@ -795,8 +810,7 @@ std::size_t EdgeSharpener::replace(double delta)
       if (std::abs(d - psi_[v]) > 1.2 * hMax_ || (inside_[v] ? d < -slack : d > slack))
         continue;
       value[i] = static_cast<float>(inside_[v] ? std::max(d, delta) : std::min(d, -delta));
-      models[i] = faces;
-      kinds[i] = kind;
+      around[i] = ids;
       ++changed[chunk];
     }
   });
@@ -809,10 +823,20 @@ std::size_t EdgeSharpener::replace(double delta)
       freeCandidate.push_back(i);
     }
   // the planes' distances at the voxel centres chamfer every convex edge between them: fitted
-  // instead to the planes between the centres
-  fitTrilinearToSurface(box_, h_, psi_, inside_, delta, free, [&](size_t voxel, const Vec3& p) {
-    const size_t i = freeCandidate[static_cast<size_t>(std::lower_bound(free.begin(), free.end(), voxel) - free.begin())];
-    return distanceTo(models[i].data(), static_cast<int>(models[i].size()), kinds[i], p);
+  // instead to the planes between the centres, each cell to the planes of all its free corners
+  fitTrilinearToSurface(box_, h_, psi_, inside_, delta, free, [&](const std::vector<size_t>& corners) {
+    std::vector<int> ids;
+    for (size_t voxel : corners)
+    {
+      const std::vector<int>& mine = around[freeCandidate[static_cast<size_t>(std::lower_bound(free.begin(), free.end(), voxel) - free.begin())]];
+      ids.insert(ids.end(), mine.begin(), mine.end());
+    }
+    std::sort(ids.begin(), ids.end());
+    ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+    std::vector<Face> faces;
+    const int kind = surfaceOf(ids, faces);
+    return kind == 0 ? std::function<double(const Vec3&)>()
+                     : [faces, kind](const Vec3& p) { return distanceTo(faces.data(), static_cast<int>(faces.size()), kind, p); };
   });
   return std::accumulate(changed.begin(), changed.end(), size_t{ 0 });
 }

@@ -37,7 +37,7 @@ struct LabelEdgeSharpeningOptions
   /// Faces of different voxels within these are one plane.
   double mergeAngle = 10.0;
   double mergeOffset = 0.5;
-  /// Planes carrying less than this share of the largest plane's samples are dropped.
+  /// Planes carrying less than this share of the largest plane's samples are dropped ...
   double significant = 0.1;
   /// ... and planes found around fewer voxels than this (an edge needs some length) ...
   int planeVoxels = 8;
@@ -48,6 +48,9 @@ struct LabelEdgeSharpeningOptions
   /// round elsewhere, or a bone's shaft, round one way and straight the other.
   double flatDrift = 0.15;
   double flatCurvature = 0.03;
+  /// A dropped plane found around at least this many voxels is no stray fit at a corner: the
+  /// voxels near it keep psi.
+  int blockingVoxels = 40;
   /// A voxel takes the planes of the voxels within this distance.
   int vote = 2;
   /// Voxels with |psi| up to this are set (outside a convex edge the staircase's distance exceeds

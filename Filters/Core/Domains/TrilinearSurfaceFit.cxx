@@ -15,6 +15,8 @@ constexpr double kHold = 1e-3;                                ///< pull towards 
 constexpr int kSweeps = 200;
 constexpr double kSettled = 1e-5;                             ///< voxels: the largest change of a sweep
 
+using CellSurface = std::function<std::function<double(const Vec3&)>(const std::vector<size_t>&)>;
+
 /// A free voxel's equation: coefficients to the 27 voxels around it (index 9 (dz + 1) + 3 (dy + 1)
 /// + dx + 1; the fixed ones already moved to the right-hand side), the right-hand side, its start.
 struct Row
@@ -39,10 +41,10 @@ public:
       rows_[i].start = psi[free[i]];
   }
 
-  void assemble(const std::function<double(size_t, const Vec3&)>& surfaceDistance)
+  void assemble(const CellSurface& cellSurface)
   {
     for (size_t cell : cells())
-      addCell(cell, surfaceDistance);
+      addCell(cell, cellSurface);
   }
 
   void solve(const std::vector<uint8_t>& inside, double delta)
@@ -113,33 +115,34 @@ private:
   }
 
   /// One cell's least-squares terms: sum over its points of w (sum_c t_c psi_c - d)^2.
-  void addCell(size_t cell, const std::function<double(size_t, const Vec3&)>& surfaceDistance)
+  void addCell(size_t cell, const CellSurface& cellSurface)
   {
     int lo[3];
     coordinates(cell, lo);
     std::array<size_t, 8> corner;
     std::array<long, 8> row;
+    std::vector<size_t> freeCorners;
     for (int c = 0; c < 8; ++c)
     {
       corner[c] = cell + (c & 1) + box_.stride[1] * ((c >> 1) & 1) + box_.stride[2] * ((c >> 2) & 1);
       row[c] = rowOf(corner[c]);
+      if (row[c] >= 0)
+        freeCorners.push_back(corner[c]);
     }
+    const std::function<double(const Vec3&)> surfaceDistance = cellSurface(freeCorners);
+    if (!surfaceDistance)
+      return;
     double m[8][8] = {}, r[8] = {};
     for (int s = 0; s < kPerCell; ++s)
     {
       const double f[3] = { (s % kSamples + 0.5) / kSamples, ((s / kSamples) % kSamples + 0.5) / kSamples,
         (s / (kSamples * kSamples) + 0.5) / kSamples };
       double t[8];
-      int seen = -1; // the free corner nearest the point sees the surface there
       for (int c = 0; c < 8; ++c)
-      {
         t[c] = (c & 1 ? f[0] : 1 - f[0]) * (c & 2 ? f[1] : 1 - f[1]) * (c & 4 ? f[2] : 1 - f[2]);
-        if (row[c] >= 0 && (seen < 0 || t[c] > t[seen]))
-          seen = c;
-      }
       const Vec3 p{ (box_.lo[0] + lo[0] + f[0]) * h_[0], (box_.lo[1] + lo[1] + f[1]) * h_[1],
         (box_.lo[2] + lo[2] + f[2]) * h_[2] };
-      const double d = surfaceDistance(corner[seen], p);
+      const double d = surfaceDistance(p);
       if (!std::isfinite(d))
         continue;
       const double w = std::exp(-(d * d) / (kWeightWidth * kWeightWidth * hMax_ * hMax_)) / kPerCell;
@@ -180,12 +183,12 @@ private:
 
 void fitTrilinearToSurface(const VoxelBox& box, const std::array<double, 3>& h, std::vector<float>& psi,
   const std::vector<uint8_t>& inside, double delta, const std::vector<size_t>& free,
-  const std::function<double(size_t, const Vec3&)>& surfaceDistance)
+  const CellSurface& cellSurface)
 {
   if (free.empty())
     return;
   Fit fit(box, h, psi, free);
-  fit.assemble(surfaceDistance);
+  fit.assemble(cellSurface);
   fit.solve(inside, delta);
 }
 }

@@ -14,8 +14,9 @@ namespace omesh
 {
 /// Refits the values of `psi` (a signed distance on `box`, positive inside, world units, voxel
 /// sizes `h`) at the `free` voxels (box offsets, increasing) so that psi's trilinear interpolant
-/// follows a known surface near them: `surfaceDistance(voxel, p)` is the signed distance at p to
-/// the surface as seen from that free voxel.
+/// follows a known surface near them: `cellSurface(free corners)` gives, for a cell of voxel
+/// centres, the signed distance to the surface as its free corners see it together (an empty
+/// function: none, the cell says nothing).
 ///
 /// Values equal to the exact distances put the interpolant's zero set inside a convex edge (it is
 /// below any concave function between the voxel centres: a chamfer of up to 0.34 voxel along a
@@ -26,5 +27,5 @@ namespace omesh
 /// say little). Projected Gauss-Seidel over the voxels in order.
 void fitTrilinearToSurface(const VoxelBox& box, const std::array<double, 3>& h, std::vector<float>& psi,
   const std::vector<uint8_t>& inside, double delta, const std::vector<size_t>& free,
-  const std::function<double(size_t, const Vec3&)>& surfaceDistance);
+  const std::function<std::function<double(const Vec3&)>(const std::vector<size_t>&)>& cellSurface);
 }
