@@ -157,6 +157,37 @@ double distanceTo(const Face* faces, int count, int kind, const Vec3& p)
   return d;
 }
 
+/// Solves the N x N system in the first N columns of m for the right-hand side in its last one
+/// (Gaussian elimination, partial pivoting; m is overwritten). False when singular.
+template <int N>
+bool solveLinear(double (&m)[N][N + 1], double (&c)[N])
+{
+  for (int col = 0; col < N; ++col)
+  {
+    int pivot = col;
+    for (int r = col + 1; r < N; ++r)
+      if (std::abs(m[r][col]) > std::abs(m[pivot][col]))
+        pivot = r;
+    std::swap(m[col], m[pivot]);
+    if (!(std::abs(m[col][col]) > 0))
+      return false;
+    for (int r = col + 1; r < N; ++r)
+    {
+      const double f = m[r][col] / m[col][col];
+      for (int k = col; k <= N; ++k)
+        m[r][k] -= f * m[col][k];
+    }
+  }
+  for (int i = N - 1; i >= 0; --i)
+  {
+    double sum = m[i][N];
+    for (int k = i + 1; k < N; ++k)
+      sum -= m[i][k] * c[k];
+    c[i] = sum / m[i][i];
+  }
+  return true;
+}
+
 /// How a plane's member faces bend away from it: a height quadric h = c0 + c1 u + c2 w + c3 u^2 +
 /// c4 u w + c5 w^2 (u, w along the plane, h across) fitted by least squares to the faces' points,
 /// each weighted by its samples; the directions the points do not spread along are held flat (a
@@ -192,7 +223,7 @@ public:
       m[i][3] = rhs_[i];
     }
     double c[3];
-    if (!solve3(m, c))
+    if (!solveLinear<3>(m, c))
     {
       fittedNormal = normal;
       fittedPoint = centre;
@@ -218,30 +249,9 @@ public:
         m[i][j] = m_[i][j] + (i == j ? 1e-9 * trace + 1e-300 : 0.0);
       m[i][6] = rhs_[i];
     }
-    for (int col = 0; col < 6; ++col) // Gaussian elimination, partial pivoting
-    {
-      int pivot = col;
-      for (int r = col + 1; r < 6; ++r)
-        if (std::abs(m[r][col]) > std::abs(m[pivot][col]))
-          pivot = r;
-      std::swap(m[col], m[pivot]);
-      if (!(std::abs(m[col][col]) > 0))
-        return 0.0;
-      for (int r = col + 1; r < 6; ++r)
-      {
-        const double f = m[r][col] / m[col][col];
-        for (int k = col; k < 7; ++k)
-          m[r][k] -= f * m[col][k];
-      }
-    }
     double c[6];
-    for (int i = 5; i >= 0; --i)
-    {
-      double sum = m[i][6];
-      for (int k = i + 1; k < 6; ++k)
-        sum -= m[i][k] * c[k];
-      c[i] = sum / m[i][i];
-    }
+    if (!solveLinear<6>(m, c))
+      return 0.0;
     const double a = 2.0 * c[3], b = c[4], d = 2.0 * c[5]; // the height's Hessian
     return std::abs(0.5 * (a + d)) + std::sqrt(0.25 * (a - d) * (a - d) + b * b);
   }
@@ -249,34 +259,6 @@ public:
 private:
   bool started_ = false;
   Vec3 u_, w_;
-  /// Gaussian elimination of the 3 x 4 system m (partial pivoting); false when singular.
-  static bool solve3(double m[3][4], double c[3])
-  {
-    for (int col = 0; col < 3; ++col)
-    {
-      int pivot = col;
-      for (int r = col + 1; r < 3; ++r)
-        if (std::abs(m[r][col]) > std::abs(m[pivot][col]))
-          pivot = r;
-      std::swap(m[col], m[pivot]);
-      if (!(std::abs(m[col][col]) > 0))
-        return false;
-      for (int r = col + 1; r < 3; ++r)
-      {
-        const double f = m[r][col] / m[col][col];
-        for (int k = col; k < 4; ++k)
-          m[r][k] -= f * m[col][k];
-      }
-    }
-    for (int i = 2; i >= 0; --i)
-    {
-      double sum = m[i][3];
-      for (int k = i + 1; k < 3; ++k)
-        sum -= m[i][k] * c[k];
-      c[i] = sum / m[i][i];
-    }
-    return true;
-  }
 
   double m_[6][6] = {}, rhs_[6] = {}, hh_ = 0.0;
 };
