@@ -46,7 +46,7 @@ struct LabelEdgeSharpeningOptions
   /// quadric through them, 1 / radius per voxel; 1.5 times it while only the edges' own faces are
   /// known): curved faces near a crease, such as two balls crossing, sharp where they meet and
   /// round elsewhere, or a bone's shaft, round one way and straight the other.
-  double flatDrift = 0.15;
+  double flatDrift = 0.09;
   double flatCurvature = 0.03;
   /// A dropped plane found around at least this many voxels is no stray fit at a corner: the
   /// voxels near it keep psi.
