@@ -456,3 +456,31 @@ TEST(LabelSmoothing, BallsShellsAndCrossingBallsHaveNoSharpEdges)
     EXPECT_EQ(sharp, rounded) << name;
   }
 }
+
+TEST(LabelSmoothing, ANotchedCubeIsNoWorseAtItsConcaveEdges)
+{
+  // A tilted cube with one octant cut away: three concave edges meet at a concave corner and the
+  // notch's faces are small beside the cube's. Voxels near a face the sharpening drops stay smooth
+  // (the remaining planes alone once cut the material away there by up to 3 voxels): closer than
+  // without on average (0.05-0.056 against 0.10-0.12 here), and no further at worst (0.53-0.58
+  // against 0.59-0.64).
+  std::mt19937 rng(11);
+  LabelSmoothingOptions round;
+  round.sharpEdges = false;
+  for (int trial = 0; trial < 2; ++trial)
+  {
+    const TiltedCube cube(Vec3{ 14.2, 13.9, 14.4 } + 0.5 * randomUnit(rng), 7.0, rng);
+    auto distance = [&](const Vec3& p) {
+      const Vec3 l = cube.local(p);
+      const double octant = l.x > 0 && l.y > 0 && l.z > 0 ? -std::min({ l.x, l.y, l.z })
+                                                           : norm(Vec3{ std::min(l.x, 0.0), std::min(l.y, 0.0), std::min(l.z, 0.0) });
+      return std::max(cube.distance(p), -octant);
+    };
+    const SampledMap m({ 30, 30, 30 }, { 1, 1, 1 }, [&](const Vec3& p) { return distance(p) < 0 ? 1 : 0; });
+    const InterfaceDistances sharp = interfaceDistances(*m.domain(LabelInterpolation::Smooth), m, distance);
+    const InterfaceDistances rounded = interfaceDistances(*m.domain(LabelInterpolation::Smooth, round), m, distance);
+    SCOPED_TRACE("trial " + std::to_string(trial));
+    EXPECT_LT(sharp.mean, 0.8 * rounded.mean);
+    EXPECT_LT(sharp.max, rounded.max + 0.05);
+  }
+}
