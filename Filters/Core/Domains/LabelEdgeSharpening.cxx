@@ -331,16 +331,10 @@ public:
   }
 
 private:
-  void coordinates(size_t v, int p[3]) const
-  {
-    p[0] = static_cast<int>(v % box_.n[0]);
-    p[1] = static_cast<int>((v / box_.n[0]) % box_.n[1]);
-    p[2] = static_cast<int>(v / box_.stride[2]);
-  }
   Vec3 centre(size_t v) const
   {
     int p[3];
-    coordinates(v, p);
+    box_.coordinates(v, p);
     return { (box_.lo[0] + p[0]) * h_[0], (box_.lo[1] + p[1]) * h_[1], (box_.lo[2] + p[2]) * h_[2] };
   }
 
@@ -348,7 +342,7 @@ private:
   Vec3 gradient(size_t v) const
   {
     int p[3];
-    coordinates(v, p);
+    box_.coordinates(v, p);
     Vec3 g;
     for (int a = 0; a < 3; ++a)
     {
@@ -373,7 +367,7 @@ private:
         if (std::abs(psi_[v]) > 0.5 * hMax_ || norm(gradient(v)) < 0.5)
           continue;
         int p[3];
-        coordinates(v, p);
+        box_.coordinates(v, p);
         double lap = 0.0;
         for (int a = 0; a < 3; ++a)
         {
@@ -409,12 +403,6 @@ private:
       [](const Candidate& a, const Candidate& b) { return a.voxel < b.voxel; });
   }
 
-  /// The candidate at voxel v, or null.
-  const Candidate* candidateAt(size_t v) const
-  {
-    const auto it = std::lower_bound(candidates_.begin(), candidates_.end(), v, [](const Candidate& c, size_t x) { return c.voxel < x; });
-    return it != candidates_.end() && it->voxel == v ? &*it : nullptr;
-  }
 
   /// scratch_: the edge voxels found so far, grown by r. False when there is none.
   bool markEdges(int r)
@@ -470,7 +458,7 @@ void EdgeSharpener::collectSamples()
       if (!inside_[v] || psi_[v] > 2.0 * hMax_) // (a voxel next to another label lies within a voxel of it)
         continue;
       int p[3];
-      coordinates(v, p);
+      box_.coordinates(v, p);
       for (int a = 0; a < 3; ++a)
         for (int side = -1; side <= 1; side += 2)
         {
@@ -501,7 +489,7 @@ void EdgeSharpener::gather(size_t v, std::vector<int>& out) const
 {
   out.clear();
   int p[3];
-  coordinates(v, p);
+  box_.coordinates(v, p);
   const Vec3 c = centre(v);
   const double r2 = (o_.reach + 0.5) * (o_.reach + 0.5) * hMax_ * hMax_;
   for (int z = std::max(p[2] - window_[2], 0); z <= std::min(p[2] + window_[2], box_.n[2] - 1); ++z)
@@ -733,7 +721,7 @@ bool EdgeSharpener::planesAround(size_t v, std::vector<int>& ids) const
 {
   ids.clear();
   int p[3];
-  coordinates(v, p);
+  box_.coordinates(v, p);
   for (int z = std::max(p[2] - o_.vote, 0); z <= std::min(p[2] + o_.vote, box_.n[2] - 1); ++z)
     for (int y = std::max(p[1] - o_.vote, 0); y <= std::min(p[1] + o_.vote, box_.n[1] - 1); ++y)
     {

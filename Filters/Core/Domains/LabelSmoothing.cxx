@@ -82,7 +82,7 @@ void distanceTransform1D(const double* f, double* d, int n, double w, int* v, do
   }
 }
 
-/// VoxelBox b (lo[0] = INT_MAX: empty) grown to hold the voxels from lo to hi (both included).
+/// Box b (lo[0] = INT_MAX: empty) grown to hold the voxels from lo to hi (both included).
 void growBox(VoxelBox& b, const std::array<int, 3>& lo, const std::array<int, 3>& hi)
 {
   if (b.lo[0] == std::numeric_limits<int>::max())

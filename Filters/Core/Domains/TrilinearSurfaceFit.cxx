@@ -74,12 +74,6 @@ public:
   }
 
 private:
-  void coordinates(size_t v, int p[3]) const
-  {
-    p[0] = static_cast<int>(v % box_.n[0]);
-    p[1] = static_cast<int>((v / box_.n[0]) % box_.n[1]);
-    p[2] = static_cast<int>(v / box_.stride[2]);
-  }
   /// The voxel at neighbour index k of v (k's offset inside the box: the rows only hold those).
   size_t neighbour(size_t v, int k) const
   {
@@ -101,7 +95,7 @@ private:
     for (size_t v : free_)
     {
       int p[3];
-      coordinates(v, p);
+      box_.coordinates(v, p);
       for (int c = 0; c < 8; ++c)
       {
         const int q[3] = { p[0] - (c & 1), p[1] - ((c >> 1) & 1), p[2] - ((c >> 2) & 1) };
@@ -118,7 +112,7 @@ private:
   void addCell(size_t cell, const CellSurface& cellSurface)
   {
     int lo[3];
-    coordinates(cell, lo);
+    box_.coordinates(cell, lo);
     std::array<size_t, 8> corner;
     std::array<long, 8> row;
     std::vector<size_t> freeCorners;

@@ -54,6 +54,13 @@ struct VoxelBox
   {
     return static_cast<size_t>(p[0] - lo[0]) + stride[1] * (p[1] - lo[1]) + stride[2] * (p[2] - lo[2]);
   }
+  /// The box-local coordinates of the voxel at `offset` (of its dense arrays).
+  void coordinates(size_t offset, int p[3]) const
+  {
+    p[0] = static_cast<int>(offset % static_cast<size_t>(n[0]));
+    p[1] = static_cast<int>((offset / static_cast<size_t>(n[0])) % static_cast<size_t>(n[1]));
+    p[2] = static_cast<int>(offset / stride[2]);
+  }
   int longest() const { return std::max({ n[0], n[1], n[2] }); }
 };
 
