@@ -2,6 +2,7 @@
 #include "LabelSmoothing.h"
 
 #include "LabelEdgeSharpening.h"
+#include "LabelPlateauFit.h"
 #include "VoxelBox.h"
 #include "SmallPieceVolumes.h"
 #include "WorkerThreads.h"
@@ -33,7 +34,10 @@
 //     narrow filter's reach: the narrow filter keeps the patch flat (up to 0.4 voxel inside the
 //     ball at its pole), the wide one carries the ball's curvature across it; near an edge the
 //     wide one rounds more and bulges the faces beside it.
-//  2c. Where the label has flat faces meeting at sharp edges and corners, psi near them becomes the
+//  2c. Where the label's surface touches a grid plane, the flat patch its voxels leave gets the
+//     height of a cap fitted to the staircase around it (fitLabelPlateaus, LabelPlateauFit.h): a
+//     ball's pole that almost reaches the next layer was half a voxel off, beyond both filters' reach.
+//  2d. Where the label has flat faces meeting at sharp edges and corners, psi near them becomes the
 //     distance to the faces' planes (sharpenLabelEdges, LabelEdgeSharpening.h): both filters round
 //     an edge by about a voxel and bulge the faces beside it.
 //  3. Each voxel edge between two labels gets the crossing of the two labels' psi along it, each
@@ -278,6 +282,7 @@ public:
     , delta_(0.01 * hMin_)
     , rounds_(options.iterations)
     , sharpEdges_(options.sharpEdges)
+    , fitPlateaus_(options.fitPlateaus)
     , wideSigma_(options.wideSigma > options.sigma ? options.wideSigma * hMax_ : 0.0)
     , filter_(sigmas(options.sigma, h), h)
     , wideFilter_(sigmas(wideSigma_ > 0 ? options.wideSigma : options.sigma, h), h)
@@ -345,6 +350,8 @@ public:
       psi_.swap(wide_);
       blendWide(box);
     }
+    if (fitPlateaus_)
+      fitLabelPlateaus(box, h_, psi_, inside_, [&](size_t o) { return index_[globalOf(box, o)]; }, delta_);
     if (sharpEdges_)
       sharpenLabelEdges(box, h_, psi_, inside_, delta_, tmp_);
     collect(box, boundary, own, out);
@@ -392,6 +399,15 @@ public:
 private:
   /// A filter's reach in voxels (of every axis): the truncated Gaussian's and one more.
   int reachOf(double sigma) const { return 1 + static_cast<int>(std::ceil(3.0 * sigma / hMax_)); }
+
+  /// The image index of the box's voxel at offset o.
+  size_t globalOf(const VoxelBox& box, size_t o) const
+  {
+    int p[3];
+    box.coordinates(o, p);
+    return static_cast<size_t>(p[0] + box.lo[0]) +
+      static_cast<size_t>(dims_[0]) * (static_cast<size_t>(p[1] + box.lo[1]) + static_cast<size_t>(dims_[1]) * (p[2] + box.lo[2]));
+  }
 
   size_t offsetOf(const VoxelBox& box, size_t v) const
   {
@@ -464,6 +480,7 @@ private:
   double hMin_, hMax_, sigma_, delta_;
   int rounds_;
   bool sharpEdges_;
+  bool fitPlateaus_;
   double wideSigma_; ///< 0: no wide filter
   QuadraticPreservingFilter filter_, wideFilter_;
   std::vector<uint8_t> inside_;

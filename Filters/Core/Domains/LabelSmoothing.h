@@ -19,6 +19,9 @@ struct LabelSmoothingOptions
   /// patch of voxels at its poles, which the narrow filter leaves flat. 0 (or at most `sigma`):
   /// none.
   double wideSigma = 1.5;
+  /// The flat patches the voxels leave where a surface touches a grid plane given the height of a
+  /// cap fitted to the staircase around them (fitLabelPlateaus, LabelPlateauFit.h).
+  bool fitPlateaus = true;
   /// Flat faces meeting at sharp edges and corners kept sharp (sharpenLabelEdges,
   /// LabelEdgeSharpening.h).
   bool sharpEdges = true;
