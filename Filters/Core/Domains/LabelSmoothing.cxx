@@ -2,6 +2,7 @@
 #include "LabelSmoothing.h"
 
 #include "LabelEdgeSharpening.h"
+#include "LabelPieces.h"
 #include "LabelPlateauFit.h"
 #include "VoxelBox.h"
 #include "SmallPieceVolumes.h"
@@ -51,6 +52,7 @@ namespace omesh
 namespace
 {
 constexpr double kFar = 1e30; // "no seed" in the distance transform
+
 
 /// d[p] = min over seeds q (f[q] < kFar) of f[q] + w (p - q)^2, for p, q in [0, n): the lower
 /// envelope of parabolas (Felzenszwalb and Huttenlocher 2012). v, z: scratch of n and n + 1.
@@ -201,25 +203,13 @@ private:
   std::array<double, 3> halfVariance_{};
 };
 
-/// Boundary voxels (a differently labelled voxel among their 26 neighbours), in increasing order,
-/// and per label the box of its own boundary voxels (lo[0] = INT_MAX where it has none). Slabs of
-/// z in parallel, concatenated in order.
-void findBoundary(const std::array<int, 3>& dims, const std::vector<uint16_t>& index, std::vector<size_t>& boundary,
-  std::vector<VoxelBox>& boxes)
+/// Boundary voxels (a differently labelled voxel among their 26 neighbours), in increasing order:
+/// slabs of z in parallel, concatenated in order.
+std::vector<size_t> findBoundary(const std::array<int, 3>& dims, const std::vector<uint16_t>& index)
 {
   const size_t sy = static_cast<size_t>(dims[0]), sz = sy * dims[1];
-  const auto noBox = [] {
-    VoxelBox b;
-    b.lo = { std::numeric_limits<int>::max(), 0, 0 };
-    return b;
-  };
-  for (VoxelBox& b : boxes)
-    b = noBox();
-  // each slab keeps a box per label: at most about a million boxes in all (atlases of thousands
-  // of labels get fewer slabs)
-  const size_t slabs = std::min(chunkCount(static_cast<size_t>(dims[2]), 2), std::max<size_t>(1, (1u << 20) / std::max<size_t>(boxes.size(), 1)));
+  const size_t slabs = chunkCount(static_cast<size_t>(dims[2]), 2);
   std::vector<std::vector<size_t>> found(slabs);
-  std::vector<std::vector<VoxelBox>> slabBoxes(slabs, std::vector<VoxelBox>(boxes.size(), noBox()));
   forEachChunk(static_cast<size_t>(dims[2]), slabs, [&](size_t slab, size_t zBegin, size_t zEnd) {
     for (int z = static_cast<int>(zBegin); z < static_cast<int>(zEnd); ++z)
       for (int y = 0; y < dims[1]; ++y)
@@ -235,19 +225,77 @@ void findBoundary(const std::array<int, 3>& dims, const std::vector<uint16_t>& i
               for (int dx = std::max(x - 1, 0); dx <= std::min(x + 1, dims[0] - 1); ++dx)
                 mixed = mixed || row[dx] != own;
             }
-          if (!mixed)
-            continue;
-          found[slab].push_back(v);
-          growBox(slabBoxes[slab][own], { x, y, z }, { x, y, z });
+          if (mixed)
+            found[slab].push_back(v);
         }
   });
-  for (size_t slab = 0; slab < slabs; ++slab)
+  std::vector<size_t> boundary;
+  for (const std::vector<size_t>& slab : found)
+    boundary.insert(boundary.end(), slab.begin(), slab.end());
+  return boundary;
+}
+
+constexpr uint32_t kWholeLabel = UINT32_MAX; ///< EstimatePass::piece: the label's small pieces
+
+/// One smooth estimate: of a large piece of a label alone (where the label has more than one), or
+/// of a label's other pieces together with all its voxels inside; its box and its boundary voxels
+/// (indices into the boundary list).
+struct EstimatePass
+{
+  int label;
+  uint32_t piece;
+  VoxelBox box;
+  std::vector<uint32_t> own;
+};
+
+/// The estimates to make and the boundary voxels each speaks for; boxes grown by `reach`.
+std::vector<EstimatePass> planPasses(const std::array<int, 3>& dims, const LabelPieces& pieces, int labelCount,
+  const std::vector<size_t>& boundary, int reach, int pieceVoxels)
+{
+  std::vector<size_t> piecesOfLabel(static_cast<size_t>(std::max(labelCount, 0)), 0);
+  for (uint32_t p = 0; p < pieces.count(); ++p)
+    ++piecesOfLabel[pieces.label(p)];
+  std::vector<EstimatePass> passes;
+  std::vector<uint32_t> passOfPiece(pieces.count()), labelPass(piecesOfLabel.size(), UINT32_MAX);
+  VoxelBox empty;
+  empty.lo[0] = std::numeric_limits<int>::max();
+  for (uint32_t p = 0; p < pieces.count(); ++p)
   {
-    boundary.insert(boundary.end(), found[slab].begin(), found[slab].end());
-    for (size_t label = 0; label < boxes.size(); ++label)
-      if (slabBoxes[slab][label].lo[0] != std::numeric_limits<int>::max())
-        growBox(boxes[label], slabBoxes[slab][label].lo, slabBoxes[slab][label].hi);
+    const int label = pieces.label(p);
+    if (piecesOfLabel[label] > 1 && pieceVoxels > 0 && pieces.voxels(p) >= static_cast<size_t>(pieceVoxels))
+    {
+      passOfPiece[p] = static_cast<uint32_t>(passes.size());
+      passes.push_back({ label, p, empty, {} });
+      continue;
+    }
+    if (labelPass[label] == UINT32_MAX)
+    {
+      labelPass[label] = static_cast<uint32_t>(passes.size());
+      passes.push_back({ label, kWholeLabel, empty, {} });
+    }
+    passOfPiece[p] = labelPass[label];
   }
+  const size_t sy = static_cast<size_t>(dims[0]), sz = sy * dims[1];
+  for (size_t bi = 0; bi < boundary.size(); ++bi)
+  {
+    const size_t v = boundary[bi];
+    EstimatePass& pass = passes[passOfPiece[pieces.at(v)]];
+    const std::array<int, 3> p{ static_cast<int>(v % sy), static_cast<int>((v / sy) % dims[1]), static_cast<int>(v / sz) };
+    growBox(pass.box, p, p);
+    pass.own.push_back(static_cast<uint32_t>(bi));
+  }
+  passes.erase(std::remove_if(passes.begin(), passes.end(), [](const EstimatePass& e) { return e.own.empty(); }),
+    passes.end());
+  for (EstimatePass& pass : passes)
+  {
+    for (int a = 0; a < 3; ++a) // the neighbours across the boundary, and the filter's reach
+    {
+      pass.box.lo[a] = std::max(pass.box.lo[a] - 1 - reach, 0);
+      pass.box.hi[a] = std::min(pass.box.hi[a] + 2 + reach, dims[a]);
+    }
+    pass.box.finish();
+  }
+  return passes;
 }
 
 /// What the labels say about each boundary voxel: per direction (+x, -x, +y, -y, +z, -z) the
@@ -271,10 +319,11 @@ struct Crossings
 class LabelField
 {
 public:
-  LabelField(const std::array<int, 3>& dims, const std::vector<uint16_t>& index, const std::array<double, 3>& h,
-    const LabelSmoothingOptions& options)
+  LabelField(const std::array<int, 3>& dims, const std::vector<uint16_t>& index, const LabelPieces& pieces,
+    const std::array<double, 3>& h, const LabelSmoothingOptions& options)
     : dims_(dims)
     , index_(index)
+    , pieces_(pieces)
     , h_(h)
     , hMin_(std::min({ h[0], h[1], h[2] }))
     , hMax_(std::max({ h[0], h[1], h[2] }))
@@ -307,22 +356,14 @@ public:
   /// boundary voxels (`own`: indices into `boundary`), the crossings of its edges to other labels
   /// and its own psi. `progress(fraction of this box)` after each round.
   template <class Progress>
-  void run(int label, const VoxelBox& box, const std::vector<size_t>& boundary, const std::vector<uint32_t>& own,
-    Crossings& out, Progress&& progress)
+  void run(const EstimatePass& pass, const std::vector<size_t>& boundary, Crossings& out, Progress&& progress)
   {
-    const size_t sy = static_cast<size_t>(dims_[0]), sz = sy * dims_[1];
-    inside_.resize(box.size);
-    const size_t slices = static_cast<size_t>(box.n[2]);
-    forEachChunk(slices, chunkCount(slices, 2), [&](size_t, size_t zBegin, size_t zEnd) {
-      for (int z = static_cast<int>(zBegin); z < static_cast<int>(zEnd); ++z)
-        for (int y = 0; y < box.n[1]; ++y)
-        {
-          const uint16_t* row = index_.data() + box.lo[0] + sy * (box.lo[1] + y) + sz * (box.lo[2] + z);
-          uint8_t* in = inside_.data() + box.stride[1] * y + box.stride[2] * z;
-          for (int x = 0; x < box.n[0]; ++x)
-            in[x] = row[x] == label;
-        }
-    });
+    const VoxelBox& box = pass.box;
+    const std::vector<uint32_t>& own = pass.own;
+    if (pass.piece != kWholeLabel)
+      pieces_.fill(box, pass.piece, inside_);
+    else
+      fillLabel(box, pass.label);
     squaredDistances(box, inside_, h_, tmp_); // to the label's centres
     for (uint8_t& i : inside_)
       i = !i;
@@ -400,6 +441,24 @@ private:
   /// A filter's reach in voxels (of every axis): the truncated Gaussian's and one more.
   int reachOf(double sigma) const { return 1 + static_cast<int>(std::ceil(3.0 * sigma / hMax_)); }
 
+  /// inside_: the box's voxels of `label`.
+  void fillLabel(const VoxelBox& box, int label)
+  {
+    const size_t sy = static_cast<size_t>(dims_[0]), sz = sy * dims_[1];
+    inside_.resize(box.size);
+    const size_t slices = static_cast<size_t>(box.n[2]);
+    forEachChunk(slices, chunkCount(slices, 2), [&](size_t, size_t zBegin, size_t zEnd) {
+      for (int z = static_cast<int>(zBegin); z < static_cast<int>(zEnd); ++z)
+        for (int y = 0; y < box.n[1]; ++y)
+        {
+          const uint16_t* row = index_.data() + box.lo[0] + sy * (box.lo[1] + y) + sz * (box.lo[2] + z);
+          uint8_t* in = inside_.data() + box.stride[1] * y + box.stride[2] * z;
+          for (int x = 0; x < box.n[0]; ++x)
+            in[x] = row[x] == label;
+        }
+    });
+  }
+
   /// The image index of the box's voxel at offset o.
   size_t globalOf(const VoxelBox& box, size_t o) const
   {
@@ -476,6 +535,7 @@ private:
 
   const std::array<int, 3>& dims_;
   const std::vector<uint16_t>& index_;
+  const LabelPieces& pieces_;
   std::array<double, 3> h_;
   double hMin_, hMax_, sigma_, delta_;
   int rounds_;
@@ -545,43 +605,26 @@ std::vector<float> labelInterfaceWeights(const std::array<int, 3>& dims, const s
   int labelCount, const std::array<double, 3>& spacing, const LabelSmoothingOptions& options)
 {
   std::vector<float> weights(index.size(), 1.0f);
-  std::vector<size_t> boundary;
-  std::vector<VoxelBox> boxes(static_cast<size_t>(std::max(labelCount, 0)));
-  findBoundary(dims, index, boundary, boxes);
+  std::vector<size_t> boundary = findBoundary(dims, index);
   if (boundary.empty())
     return weights;
 
-  LabelField field(dims, index, spacing, options);
+  const LabelPieces pieces(dims, index);
+  LabelField field(dims, index, pieces, spacing, options);
+  std::vector<EstimatePass> passes = planPasses(dims, pieces, labelCount, boundary, field.boxReach(), options.pieceVoxels);
   double work = 0.0;
-  for (VoxelBox& b : boxes)
-  {
-    if (b.lo[0] == std::numeric_limits<int>::max())
-      continue;
-    for (int a = 0; a < 3; ++a) // the neighbours across the boundary, and the filter's reach
-    {
-      b.lo[a] = std::max(b.lo[a] - 1 - field.boxReach(), 0);
-      b.hi[a] = std::min(b.hi[a] + 2 + field.boxReach(), dims[a]);
-    }
-    b.finish();
-    work += static_cast<double>(b.size);
-  }
-  // each label's boundary voxels (indices into boundary)
-  std::vector<std::vector<uint32_t>> own(boxes.size());
-  for (size_t bi = 0; bi < boundary.size(); ++bi)
-    own[index[boundary[bi]]].push_back(static_cast<uint32_t>(bi));
+  for (const EstimatePass& pass : passes)
+    work += static_cast<double>(pass.box.size);
   Crossings crossings(boundary.size(), std::log(0.5 * field.hMin()));
   double done = 0.0;
-  for (int label = 0; label < labelCount; ++label)
+  for (EstimatePass& pass : passes)
   {
-    const VoxelBox& box = boxes[label];
-    if (box.size == 0)
-      continue;
-    field.run(label, box, boundary, own[label], crossings, [&](double fraction) {
-      if (options.progress && !options.progress(0.95 * (done + fraction * box.size) / work))
+    field.run(pass, boundary, crossings, [&](double fraction) {
+      if (options.progress && !options.progress(0.95 * (done + fraction * pass.box.size) / work))
         throw LabelSmoothingAborted();
     });
-    done += static_cast<double>(box.size);
-    std::vector<uint32_t>().swap(own[label]);
+    done += static_cast<double>(pass.box.size);
+    std::vector<uint32_t>().swap(pass.own);
   }
   const std::vector<double> x = fitLogWeights(dims, boundary, crossings);
   for (size_t bi = 0; bi < boundary.size(); ++bi)

@@ -25,6 +25,11 @@ struct LabelSmoothingOptions
   /// Flat faces meeting at sharp edges and corners kept sharp (sharpenLabelEdges,
   /// LabelEdgeSharpening.h).
   bool sharpEdges = true;
+  /// Pieces (6-connected, LabelPieces.h) of a label of at least this many voxels get an estimate
+  /// of their own, so that a label on both sides of a thin layer of another keeps the layer; the
+  /// smaller ones share their label's (an estimate costs about its piece's box grown by the
+  /// filter's reach). 0: one estimate per label.
+  int pieceVoxels = 500;
   /// Filter-and-constrain rounds per label and filter (see the .cxx).
   int iterations = 3;
   /// Pieces of a label of at most this many voxels keep their voxel volume (keepSmallPieceVolumes,
