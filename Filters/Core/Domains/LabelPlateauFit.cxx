@@ -160,7 +160,8 @@ private:
   double c_[N] = {};
 };
 
-/// A patch whose cap the walls agree on: its columns (i + n_b j) and the cap.
+/// A patch whose cap the walls agree on: its columns (i + n_b j), the cap, and whether the cap
+/// sets its rim too (a hill's top or a pit's bottom; a terrace's rim may lie across an edge).
 struct PatchCap
 {
   Frame frame;

@@ -15,7 +15,8 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
-// How the weights are found, per label L (in a box around L's boundary):
+// How the weights are found, per label L (in a box around L's boundary; where L has several
+// 6-connected pieces, each large one on its own, L's others together: LabelPieces.h):
 //  1. psi = the signed distance between voxel centres of L and the others (Felzenszwalb and
 //     Huttenlocher's exact transform), less half a voxel: a staircase's distance function.
 //  2. Rounds of: psi <- G * psi - (var / 2) Lap (G * psi) (G: a Gaussian of `sigma` voxels along
