@@ -670,7 +670,7 @@ void EdgeSharpener::mergeFaces(double flatCurvature)
     Vec3 normal, point;
     const double drift = bending[k].plane(mean, centre, normal, point);
     const bool flat = drift <= o_.flatDrift * hMax_ && bending[k].largest() * hMax_ <= flatCurvature;
-    const bool large = weight[k] >= o_.significant * largest && voxels[k] >= o_.planeVoxels;
+    const bool large = voxels[k] >= o_.planeVoxels && (weight[k] >= o_.significant * largest || voxels[k] >= o_.largeVoxels);
     planes_.push_back({ normal, point, flat && large ? static_cast<int>(weight[k]) : 0 });
     // dropped, yet found around too many voxels to be a stray fit at a corner: a curved face or a
     // small one, whose neighbours' planes alone would not describe the surface there

@@ -37,8 +37,10 @@ struct LabelEdgeSharpeningOptions
   /// Faces of different voxels within these are one plane.
   double mergeAngle = 10.0;
   double mergeOffset = 0.5;
-  /// Planes carrying less than this share of the largest plane's samples are dropped ...
+  /// Planes carrying less than this share of the largest plane's samples are dropped (unless
+  /// found around at least `largeVoxels` voxels: a notch's faces beside a box's large ones) ...
   double significant = 0.1;
+  int largeVoxels = 80;
   /// ... and planes found around fewer voxels than this (an edge needs some length) ...
   int planeVoxels = 8;
   /// ... and planes whose faces' points lie off the least-squares plane through them by more than
