@@ -54,7 +54,6 @@ namespace
 {
 constexpr double kFar = 1e30; // "no seed" in the distance transform
 
-
 /// d[p] = min over seeds q (f[q] < kFar) of f[q] + w (p - q)^2, for p, q in [0, n): the lower
 /// envelope of parabolas (Felzenszwalb and Huttenlocher 2012). v, z: scratch of n and n + 1.
 void distanceTransform1D(const double* f, double* d, int n, double w, int* v, double* z)
@@ -316,7 +315,8 @@ struct Crossings
   std::vector<float> tSum, tWeight, prior, priorWeight;
 };
 
-/// One label's smooth signed distance and what it says about the crossings of its voxels' edges.
+/// One label's (or piece's) smooth signed distance and what it says about the crossings of its
+/// voxels' edges.
 class LabelField
 {
 public:
@@ -353,9 +353,9 @@ public:
     return { sigma * h[0], sigma * h[1], sigma * h[2] };
   }
 
-  /// Steps 1 and 2 for `label` in `box`, and step 3's input from this label: for each of its
-  /// boundary voxels (`own`: indices into `boundary`), the crossings of its edges to other labels
-  /// and its own psi. `progress(fraction of this box)` after each round.
+  /// Steps 1 and 2 for the pass's piece (or label) in its box, and step 3's input from it: for
+  /// each of its boundary voxels (`pass.own`: indices into `boundary`), the crossings of its edges
+  /// to other labels and its own psi. `progress(fraction of the box)` after each round.
   template <class Progress>
   void run(const EstimatePass& pass, const std::vector<size_t>& boundary, Crossings& out, Progress&& progress)
   {
