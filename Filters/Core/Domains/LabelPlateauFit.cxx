@@ -255,6 +255,7 @@ private:
     int i0, i1, j0, j1;
     double u0, v0, reach, width;
     std::vector<int> tops;
+    int& top(int i, int j) { return tops[(i - i0) + (i1 - i0 + 1) * (j - j0)]; }
     int top(int i, int j) const { return tops[(i - i0) + (i1 - i0 + 1) * (j - j0)]; }
   };
 
@@ -306,7 +307,7 @@ private:
           for (int m = -1; m >= -options_.layers && t == kNoTop; --m)
             if (f.has(i, j, m) && inside_[f.at(i, j, m)])
               t = m;
-        w.tops[(i - w.i0) + (w.i1 - w.i0 + 1) * (j - w.j0)] = t;
+        w.top(i, j) = t;
       }
     return w;
   }
@@ -396,16 +397,15 @@ void applyCap(const PatchCap& p, const std::array<double, 3>& h, const std::vect
   const Frame& f = p.frame;
   const int nb = f.columns(0);
   std::vector<int> columns = p.columns;
-  for (int cell : p.columns)
-  {
-    if (!p.rim)
-      break;
-    const int i = cell % nb, j = cell / nb;
-    const int next[4][2] = { { i - 1, j }, { i + 1, j }, { i, j - 1 }, { i, j + 1 } };
-    for (const auto& q : next)
-      if (f.has(q[0], q[1], 0))
-        columns.push_back(q[0] + nb * q[1]);
-  }
+  if (p.rim)
+    for (int cell : p.columns)
+    {
+      const int i = cell % nb, j = cell / nb;
+      const int next[4][2] = { { i - 1, j }, { i + 1, j }, { i, j - 1 }, { i, j + 1 } };
+      for (const auto& q : next)
+        if (f.has(q[0], q[1], 0))
+          columns.push_back(q[0] + nb * q[1]);
+    }
   std::sort(columns.begin(), columns.end());
   columns.erase(std::unique(columns.begin(), columns.end()), columns.end());
   for (int cell : columns)
