@@ -34,6 +34,13 @@ placements: generated_cases), e.g. with --interpolations smooth.
 
     PYTHONPATH=build/lib/python3.11/site-packages python3 Benchmarks/label_fidelity.py --oraclemesh - --work DIR --cost 256
 
+--chords: instead, what the facets' chords alone cost a material's volume at these criteria: exact
+balls of the generated radii meshed as analytic spheres (no label map), with linear and with
+10-node tetrahedra (mid-edge nodes on the sphere), against the voxel count's RMS error over 200
+random placements of each ball on the grid:
+
+    PYTHONPATH=build/lib/python3.11/site-packages python3 Benchmarks/label_fidelity.py --oraclemesh - --work DIR --chords
+
 --check (ctest Python.label_fidelity): four cases, OracleMesh only (Trilinear and Smooth). Smooth
 must keep the distances of CHECK_BOUNDS (the aims, 0.08 voxel on average and 0.35 at most), be at least 20 % closer than Trilinear on average, keep
 every label with each material one piece, the shell's volume within 3 %, and give a valid mesh
@@ -431,6 +438,50 @@ def cost(n, work):
     return 0
 
 
+def mesh_criteria(unit):
+    """The criteria of every run, in world units for a voxel of `unit` (the geometric mean spacing)."""
+    return {"facet_angle": 25, "facet_size": 1.0 * unit, "facet_distance": 0.03 * unit, "cell_size": 2.0 * unit,
+            "radius_edge": 3}
+
+
+def chords(placements=200):
+    """--chords: volume errors of exact balls meshed at mesh_criteria, linear and 10-node, and the voxel
+    count's RMS error over random placements of the same balls on a grid of spacing 1."""
+    import oraclemesh as om
+    rng = np.random.default_rng(1)
+    keys = {"radius_edge": "cell_radius_edge_ratio"}
+    criteria = {keys.get(k, k): v for k, v in mesh_criteria(1.0).items()}
+    print("| ball radius (voxels) | linear tetrahedra | 10-node tetrahedra | voxel count (RMS) | tets |")
+    print("|---:|---:|---:|---:|---:|")
+    for radius in (3.5, 4.5, 6, 8, 10, 14):
+        exact = 4.0 / 3.0 * math.pi * radius ** 3
+        scene = {"domains": [{"type": "sphere", "center": [0.3, 0.1, -0.2], "radius": radius, "material": 1}],
+                 "mesh": {"criteria": criteria, "seed": 1}}
+        linear, quadratic = om.mesh(scene), om.mesh(scene, element_order=2)
+        n = int(math.ceil(radius)) + 1
+        grid = np.stack(np.meshgrid(*[np.arange(-n, n + 1)] * 3, indexing="ij"), axis=-1).reshape(-1, 3)
+        counts = [np.count_nonzero(np.linalg.norm(grid - rng.uniform(-0.5, 0.5, 3), axis=1) < radius)
+                  for _ in range(placements)]
+        rms = math.sqrt(np.mean([((c - exact) / exact) ** 2 for c in counts]))
+        errors = [(m.quality["materials"][1]["volume"] - exact) / exact for m in (linear, quadratic)]
+        print(f"| {radius} | {errors[0]:+.3%} | {errors[1]:+.4%} | {rms:.3%} | {linear.quality['tets']} |")
+    return 0
+
+
+def volume_summary(rows):
+    """Per tool: on how many cases the mesh and the oracle are closer to the exact volumes than the voxel
+    count, and the RMS of each over the cases (each case's worst material)."""
+    for tool in sorted({r["tool"] for r in rows}):
+        mine = [r for r in rows if r["tool"] == tool]
+        rms = lambda key: math.sqrt(np.mean([r[key] ** 2 for r in mine]))
+        line = (f"{tool}: mesh closer to exact than the voxel count on {sum(r['vol_err'] < r['voxel_err'] for r in mine)}"
+                f" of {len(mine)}; RMS over cases: mesh {rms('vol_err'):.2%}, voxel count {rms('voxel_err'):.2%}")
+        if all(r["oracle_vol_err"] is not None for r in mine):
+            line += (f", oracle {rms('oracle_vol_err'):.2%} (closer than the count on "
+                     f"{sum(r['oracle_vol_err'] < r['voxel_err'] for r in mine)})")
+        print(line)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--oraclemesh", required=True, help="PeerOracleMesh")
@@ -443,7 +494,10 @@ def main():
     ap.add_argument("--check", action="store_true", help="four cases, assert the Smooth aims")
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--cost", type=int, metavar="N", help="the cost of building an N^3 10-label oracle instead")
+    ap.add_argument("--chords", action="store_true", help="the facets' chords' volume error on exact balls instead")
     args = ap.parse_args()
+    if args.chords:
+        return chords()
     if args.cost:
         os.makedirs(args.work, exist_ok=True)
         return cost(args.cost, args.work)
@@ -460,8 +514,7 @@ def main():
         exact = exact_volumes(shapes)
         voxel = {lab: float(np.count_nonzero(labels == lab)) * float(np.prod(h)) for lab in exact}
         voxel_err = max(abs(voxel[m] - exact[m]) / exact[m] for m in exact)
-        criteria = {"facet_angle": 25, "facet_size": 1.0 * unit, "facet_distance": 0.03 * unit,
-                    "cell_size": 2.0 * unit, "radius_edge": 3}
+        criteria = mesh_criteria(unit)
         runs = [("oraclemesh", i) for i in interpolations]
         if args.cgal and not args.check:
             runs.append(("cgal", "trilinear"))
@@ -508,6 +561,8 @@ def main():
         print(f"| {r['case']} | {r['tool']} | {r['dist_mean']:.3f} | {r['dist_max']:.3f} | {r['vol_err']:.2%} | "
               f"{oracle} | {r['voxel_err']:.2%} | {r['lost'] or '-'} | {pieces} | {r['tets']} | {r['min_dihedral']:.1f} | "
               f"{r['seconds']:.2f} |")
+    print()
+    volume_summary(rows)
     with open(os.path.join(args.work, "results.jsonl"), "w") as f:
         for r in rows:
             f.write(json.dumps(r, default=str) + "\n")
