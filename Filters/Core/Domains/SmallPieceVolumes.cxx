@@ -30,6 +30,15 @@ double jitter(size_t cell, int sample, int axis)
   return static_cast<double>(z >> 11) * 0x1.0p-53;
 }
 constexpr int kRounds = 3;  ///< of corrections over all small pieces
+/// The smooth volume stays where it is within this many of the count's standard deviations.
+constexpr double kTolerance = 1.0;
+/// A piece of at least kThinVoxels with fewer interior voxels (all 26 neighbours its own) than
+/// kThinShare of them is thin everywhere (a shell, a plate): its count is off by up to half a voxel
+/// at nearly every voxel and its smooth volume is the closer one (shells 1.5 voxels thick: 0.5 %
+/// against the count's 1.3 %). A smaller one is a speck a few voxels across, whose corners are all
+/// there is of it: it keeps its count.
+constexpr double kThinShare = 0.1;
+constexpr size_t kThinVoxels = 500;
 
 enum : uint8_t
 {
@@ -101,13 +110,16 @@ public:
         boundary_.push_back(v);
         original_.push_back(weights_[v]);
       }
+    if (voxels_.size() >= kThinVoxels &&
+      static_cast<double>(voxels_.size() - boundary_.size()) < kThinShare * static_cast<double>(voxels_.size()))
+      return;
     // each boundary voxel puts the count off by up to half a voxel either way (variance 1/12 of a
-    // voxel): within half a standard deviation of it the smooth volume stays as it is
+    // voxel): within kTolerance standard deviations of it the smooth volume stays as it is
     const double target = static_cast<double>(voxels_.size());
     thresholds();
     const double volume = whole_ + static_cast<double>(std::count_if(threshold_.begin(), threshold_.end(),
                                      [](double t) { return t < 1.0; })) / kPerCell;
-    if (std::abs(volume - target) <= 0.5 * std::sqrt(static_cast<double>(boundary_.size()) / 12.0))
+    if (std::abs(volume - target) <= kTolerance * std::sqrt(static_cast<double>(boundary_.size()) / 12.0))
       return;
     // the factor that puts target - whole of the samples on the piece's side: between the k-th and
     // the (k+1)-th smallest threshold
