@@ -479,11 +479,18 @@ TEST(OracleMesher, InterfaceSliversAreRefined)
   MesherOptions opt = options(FeatureStrategy::None, 0.2);
   opt.perturb = opt.exude = opt.improveAngles = false; // what refinement alone guarantees
   opt.interfaceSliverAngle = 0.0;
+  opt.enclosedSliverAngle = 0.0;
   const double without = worstInterfaceTet(meshOracle(o, {}, {}, opt));
   opt.interfaceSliverAngle = 15.0;
   const double with = worstInterfaceTet(meshOracle(o, {}, {}, opt));
   EXPECT_GE(with, 15.0);
   EXPECT_LT(without, 15.0) << "the case should have interface slivers to refine";
+  // those with all four vertices on interfaces: up to the quality window's lower bound by default,
+  // with or without the quality step
+  opt.interfaceSliverAngle = 0.0;
+  opt.enclosedSliverAngle = -1.0;
+  opt.improvementMinAngle = 14.0;
+  EXPECT_GE(worstInterfaceTet(meshOracle(o, {}, {}, opt)), 14.0);
 }
 
 // Radius-edge refinement bounds no dihedral angle: slivers (even flat ones, four cocircular

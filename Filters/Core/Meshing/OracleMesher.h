@@ -69,6 +69,12 @@ struct MesherOptions
   /// size (their circumcentres make smaller interface slivers: at 1.1 that converged onto points).
   /// Not covered by CGAL's termination guarantee: refinement also stops at the vertex budget.
   double interfaceSliverAngle = 10.0;
+  /// Tetrahedra with all four vertices on interfaces or feature lines are refined below this
+  /// (degrees; at least interfaceSliverAngle): the quality step moves no vertex where interfaces
+  /// meet nor flips an interface triangle, so such a tetrahedron on a cut rim or a crease stayed at
+  /// 11-13 degrees. -1 = improvementMinAngle (whether the step runs or not: the same refinement
+  /// either way), 0 = only the interface rule above.
+  double enclosedSliverAngle = -1.0;
   bool perturb = true;
   bool exude = true;
   /// The optimisation policy: each optimiser works where its work pays, in steps, not
