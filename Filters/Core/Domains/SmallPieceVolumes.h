@@ -11,10 +11,11 @@ namespace omesh
 /// Scales the interface weights of every small piece of a label map so that the region the weights
 /// give it (the labels picked as LabelInterpolation::Smooth picks them) has its voxel count's
 /// volume (where they differ by more than the count's own uncertainty: each of its B boundary
-/// voxels puts the count off by up to half a voxel, a standard deviation of sqrt(B / 12)). A piece is a 26-connected set of voxels of one label with at most `maxVoxels` of them,
-/// away from the image's border; a thin one of at least 500 voxels (fewer than a tenth of them away
-/// from other labels: a shell, a plate) keeps its smooth volume. Smoothing rounds a piece's edges and corners within the band the
-/// voxels allow, which is much of a piece a few voxels across (a ball of radius 2.4 voxels loses a
+/// voxels puts the count off by up to half a voxel, a standard deviation of sqrt(B / 12)). A piece
+/// is a 26-connected set of voxels of one label with at most `maxVoxels` of them, away from the
+/// image's border; a thin one of at least 500 voxels (fewer than a tenth of them away from other
+/// labels: a shell, a plate) keeps its smooth volume. Smoothing rounds a piece's edges and corners
+/// within the band the voxels allow, which is much of a piece a few voxels across (a ball of radius 2.4 voxels loses a
 /// tenth of its volume, a block of 4 x 4 x 3 voxels a twentieth); a larger piece is left as it is
 /// (its smooth volume is about as close to the true one as its voxel count).
 ///

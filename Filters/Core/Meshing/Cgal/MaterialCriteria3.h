@@ -191,17 +191,24 @@ protected:
     const int interfaceVertices = onInterface(0) + onInterface(1) + onInterface(2) + onInterface(3);
     const bool belowFloor = m.cellRadiusEdgeRatio > 0 && m.cellRadiusEdgeRatio < kSliverFloorRadiusEdge &&
       m.cellSize > 0 && sqRadius < squared(m.cellSize / 8.0);
-    const double sliverBound = std::max(anySliverAngle_,
-      belowFloor ? 0.0 : interfaceVertices == 4 ? enclosedSliverAngle_ : interfaceVertices == 3 ? interfaceSliverAngle_ : 0.0);
+    // the bound and its cosine, chosen together
+    double sliverBound = anySliverAngle_, cosBound = cosAnySliverAngle_;
+    if (interfaceVertices >= 3 && !belowFloor)
+    {
+      const bool enclosed = interfaceVertices == 4;
+      const double bound = enclosed ? enclosedSliverAngle_ : interfaceSliverAngle_;
+      if (bound > sliverBound)
+      {
+        sliverBound = bound;
+        cosBound = enclosed ? cosEnclosedSliverAngle_ : cosInterfaceSliverAngle_;
+      }
+    }
     if (sliverBound > 0 && worst >= 1.0 && !(weighted(0) || weighted(1) || weighted(2) || weighted(3)))
     {
       // most cells are above the bound (92 % of those asked on the label map at h 4): squared
       // cosines say so without the angle's square roots, divisions and acos (~340 instructions
       // instead of ~480); the angle itself only where it may decide
       const Vec3 vp = toVec(p), vq = toVec(q), vr = toVec(r), vs = toVec(s);
-      const double cosBound = sliverBound == anySliverAngle_ ? cosAnySliverAngle_
-        : sliverBound == interfaceSliverAngle_              ? cosInterfaceSliverAngle_
-                                                            : cosEnclosedSliverAngle_;
       if (!dihedralAnglesCertainlyAtLeast(vp, vq, vr, vs, cosBound))
       {
         const double a = minDihedralAngle(vp, vq, vr, vs);
